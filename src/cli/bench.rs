@@ -1,0 +1,148 @@
+//! `gtsphere bench parse`: parse speed and peak memory on generated particle files.
+//!
+//! Each measurement runs `gtsphere info --json` in a fresh child process, so that its peak
+//! resident memory (VmHWM) belongs to that parse alone. Reported: median MB/s over the runs,
+//! IR bytes, peak resident bytes, and peak / IR.
+
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitCode};
+
+use clap::{Subcommand, ValueEnum};
+
+use crate::error::Error;
+
+#[derive(Debug, Subcommand)]
+pub enum BenchCommand {
+    /// Parse speed (MB/s, one core) and peak memory on generated files of N particles.
+    Parse {
+        /// Number of particles.
+        #[arg(long, default_value_t = 1_000_000)]
+        particles: usize,
+        /// Runs per layout (the median is reported).
+        #[arg(long, default_value_t = 3)]
+        runs: usize,
+        /// Where the generated files go (kept for reuse). Default: the system temp folder.
+        #[arg(long)]
+        dir: Option<PathBuf>,
+        /// Which layouts to measure.
+        #[arg(long, value_enum, default_values_t = [Layout::Flat, Layout::Group])]
+        layout: Vec<Layout>,
+    },
+}
+
+/// How the particles are laid out in the file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Layout {
+    /// A million top-level Transforms.
+    Flat,
+    /// A million children of one Group (what VMD-style exporters write).
+    Group,
+}
+
+/// Writes `n` particles: `Transform { translation .. children Shape { appearance Appearance {
+/// material Material { diffuseColor .. } } geometry Sphere { radius .. } } }`, with
+/// deterministic pseudo-random positions, colours and radii.
+pub fn write_particles(out: &mut impl Write, n: usize, layout: Layout) -> std::io::Result<()> {
+    writeln!(out, "#VRML V2.0 utf8")?;
+    if layout == Layout::Group {
+        writeln!(out, "Group {{ children [")?;
+    }
+    let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
+    let mut next = || {
+        // xorshift64*: deterministic, fast, good enough for test geometry.
+        state ^= state >> 12;
+        state ^= state << 25;
+        state ^= state >> 27;
+        (state.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let radius = 0.6 * (n.max(1) as f64).powf(-1.0 / 3.0);
+    for _ in 0..n {
+        let (x, y, z) = (2.0 * next() - 1.0, 2.0 * next() - 1.0, 2.0 * next() - 1.0);
+        let (r, g, b) = (next(), next(), next());
+        let rad = radius * (0.5 + next());
+        writeln!(
+            out,
+            "Transform {{ translation {x:.6} {y:.6} {z:.6} children Shape {{ appearance Appearance {{ material Material {{ diffuseColor {r:.3} {g:.3} {b:.3} }} }} geometry Sphere {{ radius {rad:.5} }} }} }}"
+        )?;
+    }
+    if layout == Layout::Group {
+        writeln!(out, "] }}")?;
+    }
+    Ok(())
+}
+
+fn generate(dir: &Path, n: usize, layout: Layout) -> Result<PathBuf, Error> {
+    let name = format!("gtsphere-bench-{}-{n}.wrl", format!("{layout:?}").to_lowercase());
+    let path = dir.join(name);
+    if path.is_file() {
+        return Ok(path);
+    }
+    let io = |e| Error::Io {
+        path: path.display().to_string(),
+        source: e,
+    };
+    let tmp = path.with_extension("wrl.part");
+    let file = std::fs::File::create(&tmp).map_err(io)?;
+    let mut w = BufWriter::with_capacity(1 << 20, file);
+    write_particles(&mut w, n, layout).map_err(io)?;
+    w.flush().map_err(io)?;
+    drop(w);
+    std::fs::rename(&tmp, &path).map_err(io)?;
+    Ok(path)
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+pub fn run(cmd: BenchCommand) -> Result<ExitCode, Error> {
+    let BenchCommand::Parse {
+        particles,
+        runs,
+        dir,
+        layout,
+    } = cmd;
+    let dir = dir.unwrap_or_else(std::env::temp_dir);
+    let exe = std::env::current_exe().map_err(|e| Error::Other(format!("cannot find own executable: {e}")))?;
+    println!("| layout | particles | file MB | median MB/s | median s | IR MB | peak RSS MB | peak / IR |");
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|");
+    for l in layout {
+        let path = generate(&dir, particles, l)?;
+        let mut speeds = Vec::new();
+        let mut secs = Vec::new();
+        let mut ir = 0.0;
+        let mut peak: f64 = 0.0;
+        let mut bytes = 0.0;
+        for _ in 0..runs.max(1) {
+            let out = Command::new(&exe)
+                .args(["info", "--json"])
+                .arg(&path)
+                .output()
+                .map_err(|e| Error::Other(format!("cannot run {}: {e}", exe.display())))?;
+            if !out.status.success() {
+                return Err(Error::Other(String::from_utf8_lossy(&out.stderr).into_owned()));
+            }
+            let v: serde_json::Value = serde_json::from_slice(&out.stdout)
+                .map_err(|e| Error::Other(format!("bad JSON from info: {e}")))?;
+            speeds.push(v["mb_per_s"].as_f64().unwrap_or(0.0));
+            secs.push(v["parse_seconds"].as_f64().unwrap_or(0.0));
+            ir = v["ir_bytes"].as_f64().unwrap_or(0.0) / 1e6;
+            bytes = v["bytes_read"].as_f64().unwrap_or(0.0) / 1e6;
+            peak = peak.max(v["peak_rss_bytes"].as_f64().unwrap_or(0.0) / 1e6);
+        }
+        println!(
+            "| {:?} | {} | {:.1} | {:.1} | {:.3} | {:.1} | {:.1} | {:.2} |",
+            l,
+            particles,
+            bytes,
+            median(speeds),
+            median(secs),
+            ir,
+            peak,
+            if ir > 0.0 { peak / ir } else { 0.0 }
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,194 @@
+//! `gtsphere info SCENE [--json]`.
+
+use std::path::Path;
+use std::process::ExitCode;
+
+use serde_json::json;
+
+use crate::error::Error;
+use crate::scene::{Light, Scene};
+use crate::vrml::{load_path, LoadOptions, LoadReport};
+
+pub fn run(path: &Path, as_json: bool, strict: bool, no_inline: bool) -> Result<ExitCode, Error> {
+    let opts = LoadOptions {
+        strict,
+        inline: !no_inline,
+        ..LoadOptions::default()
+    };
+    let (scene, report) = load_path(path, &opts)?;
+    if as_json {
+        println!("{}", serde_json::to_string_pretty(&to_json(path, &scene, &report)).unwrap_or_default());
+    } else {
+        print!("{}", to_text(path, &scene, &report));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn mb_per_s(r: &LoadReport) -> f64 {
+    if r.seconds > 0.0 {
+        r.bytes as f64 / 1e6 / r.seconds
+    } else {
+        0.0
+    }
+}
+
+/// The report as JSON (keys documented in the README).
+pub fn to_json(path: &Path, s: &Scene, r: &LoadReport) -> serde_json::Value {
+    let gas = s.gas_count();
+    let viewpoints: Vec<_> = s
+        .viewpoints
+        .iter()
+        .map(|v| {
+            json!({
+                "name": v.name,
+                "description": v.description,
+                "position": v.position.to_array(),
+                "orientation_quat_xyzw": v.orientation.to_array(),
+                "field_of_view": v.field_of_view,
+            })
+        })
+        .collect();
+    json!({
+        "file": path.display().to_string(),
+        "spheres": s.spheres.len(),
+        "opaque": s.spheres.len() - gas,
+        "gas": gas,
+        "ellipsoids": s.ellipsoid_count(),
+        "materials": s.materials.len(),
+        "lights": {
+            "point": s.point_light_count(),
+            "directional": s.directional_light_count(),
+            "headlight": s.headlight,
+        },
+        "viewpoints": viewpoints,
+        "default_camera": s.viewpoints.is_empty(),
+        "background": s.background.to_array(),
+        "skipped": r.skipped,
+        "warnings": r.warnings.iter().map(|w| w.headline()).collect::<Vec<_>>(),
+        "bounds": s.bounds(),
+        "ir_bytes": s.heap_bytes(),
+        "recorded_bytes": r.recorded_bytes,
+        "bytes_read": r.bytes,
+        "parse_seconds": r.seconds,
+        "mb_per_s": mb_per_s(r),
+        "nodes": r.nodes,
+        "files": r.files,
+        "peak_rss_bytes": super::peak_rss_bytes(),
+    })
+}
+
+fn human(bytes: u64) -> String {
+    let b = bytes as f64;
+    if b >= 1e9 {
+        format!("{:.2} GB", b / 1e9)
+    } else if b >= 1e6 {
+        format!("{:.2} MB", b / 1e6)
+    } else if b >= 1e3 {
+        format!("{:.1} kB", b / 1e3)
+    } else {
+        format!("{bytes} B")
+    }
+}
+
+pub fn to_text(path: &Path, s: &Scene, r: &LoadReport) -> String {
+    use std::fmt::Write;
+    let mut o = String::new();
+    let gas = s.gas_count();
+    let _ = writeln!(o, "scene:      {}", path.display());
+    if r.files.len() > 1 {
+        let _ = writeln!(o, "inlined:    {}", r.files[1..].join(", "));
+    }
+    let _ = writeln!(
+        o,
+        "read:       {} in {:.3} s ({:.1} MB/s), {} nodes",
+        human(r.bytes),
+        r.seconds,
+        mb_per_s(r),
+        r.nodes
+    );
+    let _ = writeln!(
+        o,
+        "spheres:    {} (opaque {}, gas {}, ellipsoids {})",
+        s.spheres.len(),
+        s.spheres.len() - gas,
+        gas,
+        s.ellipsoid_count()
+    );
+    let _ = writeln!(o, "materials:  {} distinct", s.materials.len());
+    let _ = writeln!(
+        o,
+        "lights:     {} point, {} directional; headlight {}",
+        s.point_light_count(),
+        s.directional_light_count(),
+        if s.headlight { "on" } else { "off" }
+    );
+    for l in &s.lights {
+        match l {
+            Light::Point(p) => {
+                let _ = writeln!(
+                    o,
+                    "            PointLight at ({:.4}, {:.4}, {:.4}) intensity {} radius {}{}",
+                    p.location.x, p.location.y, p.location.z, p.intensity, p.radius,
+                    if p.on { "" } else { " (off)" }
+                );
+            }
+            Light::Directional(d) => {
+                let _ = writeln!(
+                    o,
+                    "            DirectionalLight towards ({:.4}, {:.4}, {:.4}) intensity {} lights spheres {}..{}{}",
+                    d.direction.x, d.direction.y, d.direction.z, d.intensity, d.scope.0, d.scope.1,
+                    if d.on { "" } else { " (off)" }
+                );
+            }
+        }
+    }
+    if s.viewpoints.is_empty() {
+        let _ = writeln!(o, "viewpoints: none (the renderer frames the scene bounds, looking down -z)");
+    } else {
+        let _ = writeln!(o, "viewpoints: {}", s.viewpoints.len());
+        for v in &s.viewpoints {
+            let _ = writeln!(
+                o,
+                "            {} {:?} at ({:.4}, {:.4}, {:.4}) fieldOfView {:.4}",
+                v.name.as_deref().unwrap_or("(no DEF name)"),
+                v.description,
+                v.position.x,
+                v.position.y,
+                v.position.z,
+                v.field_of_view
+            );
+        }
+    }
+    match s.bounds() {
+        Some(b) => {
+            let _ = writeln!(
+                o,
+                "bounds:     ({:.4}, {:.4}, {:.4}) .. ({:.4}, {:.4}, {:.4})",
+                b.min[0], b.min[1], b.min[2], b.max[0], b.max[1], b.max[2]
+            );
+        }
+        None => {
+            let _ = writeln!(o, "bounds:     empty (no spheres)");
+        }
+    }
+    if r.skipped.is_empty() {
+        let _ = writeln!(o, "skipped:    none");
+    } else {
+        let list: Vec<String> = r.skipped.iter().map(|(k, v)| format!("{k} {v}")).collect();
+        let _ = writeln!(o, "skipped:    {} (not rendered)", list.join(", "));
+    }
+    let _ = writeln!(
+        o,
+        "memory:     IR {}, recorded DEF/PROTO events {}{}",
+        human(s.heap_bytes() as u64),
+        human(r.recorded_bytes as u64),
+        super::peak_rss_bytes()
+            .map(|p| format!(", peak resident {}", human(p)))
+            .unwrap_or_default()
+    );
+    let _ = writeln!(o, "warnings:   {}", r.warnings.len());
+    for w in &r.warnings {
+        let _ = writeln!(o, "{w}");
+    }
+    o
+}

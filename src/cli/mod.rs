@@ -1,0 +1,63 @@
+//! Command-line arguments (clap) and the subcommands. Raw arguments are turned into library
+//! options here; the library never sees clap.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+use crate::error::Error;
+
+pub mod bench;
+pub mod info;
+
+#[derive(Debug, Parser)]
+#[command(name = "gtsphere", version, about = "Ground-truth renderer for particle data drawn as spheres")]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Read a VRML97 scene and report what it holds: spheres, lights, viewpoints, skipped nodes,
+    /// bounds, memory, parse speed, and every warning.
+    Info {
+        /// Scene file (.wrl, .wrz, .wrl.gz; gzip is detected by content).
+        scene: PathBuf,
+        /// Print one JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+        /// Turn every warning into an error.
+        #[arg(long)]
+        strict: bool,
+        /// Do not load Inline nodes.
+        #[arg(long)]
+        no_inline: bool,
+    },
+    /// Benchmarks that print a table.
+    Bench {
+        #[command(subcommand)]
+        what: bench::BenchCommand,
+    },
+}
+
+pub fn run(cli: Cli) -> Result<ExitCode, Error> {
+    match cli.command {
+        Command::Info {
+            scene,
+            json,
+            strict,
+            no_inline,
+        } => info::run(&scene, json, strict, no_inline),
+        Command::Bench { what } => bench::run(what),
+    }
+}
+
+/// Peak resident memory of this process so far (Linux `VmHWM`), in bytes.
+pub fn peak_rss_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}

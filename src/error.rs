@@ -1,0 +1,32 @@
+//! The library's error type. `main` prints it and picks the exit code.
+
+use crate::diag::Diagnostic;
+
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// A positioned problem in a scene file (syntax, types, undefined names, bad values).
+    #[error("{0}")]
+    Diag(Box<Diagnostic>),
+    /// Several positioned problems (for example every warning under `--strict`).
+    #[error("{}", .0.iter().map(|d| d.to_string()).collect::<Vec<_>>().join("\n"))]
+    Diags(Vec<Diagnostic>),
+    #[error("{path}: {source}")]
+    Io {
+        path: String,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{0}")]
+    Other(String),
+}
+
+impl Error {
+    /// The diagnostics behind this error, if it is positioned.
+    pub fn diagnostics(&self) -> Vec<&Diagnostic> {
+        match self {
+            Error::Diag(d) => vec![d],
+            Error::Diags(v) => v.iter().collect(),
+            _ => Vec::new(),
+        }
+    }
+}

@@ -1,0 +1,14 @@
+//! gtsphere: a ground-truth renderer for particle data drawn as spheres.
+//!
+//! Data flows one way: bytes ([`input`]) -> source text ([`source`]) -> syntax events
+//! ([`vrml::parse`]) -> scene IR ([`vrml::lower`] into [`scene::Scene`]).
+
+pub mod diag;
+pub mod error;
+pub mod input;
+pub mod scene;
+pub mod source;
+pub mod vrml;
+pub mod cli;
+
+pub use error::Error;

@@ -1,0 +1,210 @@
+//! The scene IR: only what a picture needs (MODEL.md section 1). Knows nothing of VRML.
+
+use glam::{DAffine3, DQuat, DVec3};
+
+/// Index meaning "no ellipsoid transform": the sphere is a true sphere.
+pub const NO_ELLIPSOID: u32 = u32::MAX;
+
+/// Where an IR item came from: file index into [`Scene::files`] and byte offset.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct Origin {
+    pub file: u32,
+    pub offset: u64,
+}
+
+/// A sphere in world space. For an ellipsoid (non-uniform scale), `ellipsoid` indexes
+/// [`Scene::ellipsoids`], the affine map from the unit sphere to the world, and `center`/`radius`
+/// are its centre and a bounding radius.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sphere {
+    pub center: DVec3,
+    pub radius: f64,
+    pub material: u32,
+    pub ellipsoid: u32,
+    pub origin: Origin,
+}
+
+/// VRML97 Material (with VRML defaults), or the unlit white of a Shape without one.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    pub diffuse: DVec3,
+    pub emissive: DVec3,
+    pub specular: DVec3,
+    pub shininess: f64,
+    pub ambient_intensity: f64,
+    pub transparency: f64,
+    /// A Shape with no Appearance or no Material: colour (1,1,1), lights ignored (VRML 4.14.2).
+    pub unlit: bool,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Material {
+            diffuse: DVec3::splat(0.8),
+            emissive: DVec3::ZERO,
+            specular: DVec3::ZERO,
+            shininess: 0.2,
+            ambient_intensity: 0.2,
+            transparency: 0.0,
+            unlit: false,
+        }
+    }
+}
+
+impl Material {
+    pub fn unlit() -> Self {
+        Material {
+            unlit: true,
+            ..Material::default()
+        }
+    }
+    /// Gas: `0 < transparency <= 1` (MODEL.md section 1).
+    pub fn is_gas(&self) -> bool {
+        !self.unlit && self.transparency > 0.0
+    }
+    /// Extinction of a gas sphere of radius `r`: transmittance along a diameter equals transparency.
+    pub fn sigma(&self, r: f64) -> f64 {
+        -self.transparency.ln() / (2.0 * r)
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointLight {
+    pub location: DVec3,
+    pub color: DVec3,
+    pub intensity: f64,
+    pub ambient_intensity: f64,
+    pub attenuation: DVec3,
+    pub radius: f64,
+    pub on: bool,
+    pub origin: Origin,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DirectionalLight {
+    /// Unit direction the light travels in (world space).
+    pub direction: DVec3,
+    pub color: DVec3,
+    pub intensity: f64,
+    pub ambient_intensity: f64,
+    pub on: bool,
+    /// The spheres it lights: `scope.0 .. scope.1` in [`Scene::spheres`] (VRML scoping).
+    pub scope: (u32, u32),
+    pub origin: Origin,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Light {
+    Point(PointLight),
+    Directional(DirectionalLight),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Viewpoint {
+    /// DEF name, if any.
+    pub name: Option<String>,
+    pub description: String,
+    pub position: DVec3,
+    pub orientation: DQuat,
+    /// Angle of the smaller image side, radians.
+    pub field_of_view: f64,
+    pub origin: Origin,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    pub spheres: Vec<Sphere>,
+    pub ellipsoids: Vec<DAffine3>,
+    pub materials: Vec<Material>,
+    pub lights: Vec<Light>,
+    pub viewpoints: Vec<Viewpoint>,
+    /// NavigationInfo.headlight of the first NavigationInfo (default TRUE).
+    pub headlight: bool,
+    /// Background.skyColor[0] of the first Background (default black).
+    pub background: DVec3,
+    /// Source file names, indexed by [`Origin::file`].
+    pub files: Vec<String>,
+}
+
+impl Default for Scene {
+    fn default() -> Self {
+        Scene {
+            spheres: Vec::new(),
+            ellipsoids: Vec::new(),
+            materials: Vec::new(),
+            lights: Vec::new(),
+            viewpoints: Vec::new(),
+            headlight: true,
+            background: DVec3::ZERO,
+            files: Vec::new(),
+        }
+    }
+}
+
+/// Axis-aligned bounds.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Bounds {
+    pub min: [f64; 3],
+    pub max: [f64; 3],
+}
+
+impl Scene {
+    pub fn gas_count(&self) -> usize {
+        self.spheres
+            .iter()
+            .filter(|s| self.materials[s.material as usize].is_gas())
+            .count()
+    }
+    pub fn ellipsoid_count(&self) -> usize {
+        self.spheres
+            .iter()
+            .filter(|s| s.ellipsoid != NO_ELLIPSOID)
+            .count()
+    }
+    pub fn point_light_count(&self) -> usize {
+        self.lights
+            .iter()
+            .filter(|l| matches!(l, Light::Point(_)))
+            .count()
+    }
+    pub fn directional_light_count(&self) -> usize {
+        self.lights.len() - self.point_light_count()
+    }
+
+    /// World bounds of all spheres (exact for ellipsoids), or None for an empty scene.
+    pub fn bounds(&self) -> Option<Bounds> {
+        let mut lo = DVec3::splat(f64::INFINITY);
+        let mut hi = DVec3::splat(f64::NEG_INFINITY);
+        for s in &self.spheres {
+            let half = if s.ellipsoid == NO_ELLIPSOID {
+                DVec3::splat(s.radius)
+            } else {
+                // Half extent along world axis i of A(unit sphere) is the norm of row i.
+                let m = self.ellipsoids[s.ellipsoid as usize].matrix3;
+                DVec3::new(m.row(0).length(), m.row(1).length(), m.row(2).length())
+            };
+            lo = lo.min(s.center - half);
+            hi = hi.max(s.center + half);
+        }
+        (lo.x <= hi.x).then(|| Bounds {
+            min: lo.to_array(),
+            max: hi.to_array(),
+        })
+    }
+
+    /// Heap bytes held by the IR.
+    pub fn heap_bytes(&self) -> usize {
+        use std::mem::size_of;
+        self.spheres.capacity() * size_of::<Sphere>()
+            + self.ellipsoids.capacity() * size_of::<DAffine3>()
+            + self.materials.capacity() * size_of::<Material>()
+            + self.lights.capacity() * size_of::<Light>()
+            + self.viewpoints.capacity() * size_of::<Viewpoint>()
+            + self
+                .viewpoints
+                .iter()
+                .map(|v| v.description.capacity() + v.name.as_ref().map_or(0, |n| n.capacity()))
+                .sum::<usize>()
+            + self.files.iter().map(|f| f.capacity()).sum::<usize>()
+    }
+}

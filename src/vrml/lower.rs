@@ -1,0 +1,2085 @@
+//! Lowering: the only module that speaks both VRML and the scene IR.
+//!
+//! It receives parser events in file order and builds the [`Scene`] as nodes complete:
+//! - grouping nodes remember where their contents start in the IR and, when they close, apply
+//!   their matrix to that range (VRML allows `translation` after `children`); the same range is
+//!   the scope of the DirectionalLights among their children;
+//! - DEF'd nodes and PROTO declarations are recorded as events in an arena and replayed for
+//!   USE and PROTO instances; nothing else is kept, so a million particles never make a tree;
+//! - unknown node types, unknown fields and other loosely valid constructs are warnings with
+//!   `file:line:col`, and `--strict` turns every warning into an error.
+//!
+//! Supported nodes (fields with VRML97 defaults; everything else is counted and skipped):
+//! | node | fields used |
+//! |---|---|
+//! | Group, Anchor, Billboard, Collision | `children` (Billboard is not turned to the viewer; Collision's `proxy` is ignored) |
+//! | Transform | `children translation rotation scale scaleOrientation center` |
+//! | Switch | `choice whichChoice` (default -1: nothing) |
+//! | LOD | `level` (the first level only) |
+//! | Inline | `url`: local relative VRML97 files only, never a network URL; depth limit 16, cycles refused |
+//! | Shape, Appearance, Material | `appearance material geometry`; Material: all six fields |
+//! | Sphere | `radius` (default 1, must be > 0) |
+//! | PointLight | `ambientIntensity attenuation color intensity location on radius` |
+//! | DirectionalLight | `ambientIntensity color direction intensity on` |
+//! | Viewpoint | `position orientation fieldOfView description` |
+//! | NavigationInfo | `headlight` (first one wins) |
+//! | Background | `skyColor[0]` (first one wins) |
+
+use std::collections::{BTreeMap, HashMap};
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+use std::rc::Rc;
+use std::sync::Arc;
+use std::time::Instant;
+
+use glam::{DAffine3, DMat3, DQuat, DVec3};
+
+use super::parse::Parser;
+use super::schema::{self, Access, FieldType};
+use super::syntax::{Event, OwnedEvent, Sink, Value};
+use crate::diag::{Diagnostic, Severity};
+use crate::error::Error;
+use crate::scene::{
+    DirectionalLight, Light, Material, Origin, PointLight, Scene, Sphere, Viewpoint, NO_ELLIPSOID,
+};
+use crate::source::SourceWindow;
+
+/// How to load a scene.
+#[derive(Clone, Debug)]
+pub struct LoadOptions {
+    /// Every warning becomes an error.
+    pub strict: bool,
+    /// Refuse scenes that expand (through USE and PROTO instances) to more nodes than this.
+    pub max_nodes: u64,
+    /// Load `Inline` nodes (local relative files only).
+    pub inline: bool,
+    /// How deep Inline files may nest.
+    pub max_inline_depth: usize,
+}
+
+impl Default for LoadOptions {
+    fn default() -> Self {
+        LoadOptions {
+            strict: false,
+            max_nodes: 500_000_000,
+            inline: true,
+            max_inline_depth: 16,
+        }
+    }
+}
+
+/// What loading found besides the scene.
+#[derive(Clone, Debug, Default)]
+pub struct LoadReport {
+    pub warnings: Vec<Diagnostic>,
+    /// Node types that are not modelled, with the number of instances met.
+    pub skipped: BTreeMap<String, u64>,
+    /// Source bytes read (decompressed), over all files.
+    pub bytes: u64,
+    /// Compressed or plain bytes on disk are not tracked; this is wall time of parse + lowering.
+    pub seconds: f64,
+    /// Nodes lowered (USE and PROTO expansions included).
+    pub nodes: u64,
+    /// Files read (the scene and its Inlines).
+    pub files: Vec<String>,
+    /// Bytes held by the recorded DEF/PROTO events at the end.
+    pub recorded_bytes: usize,
+}
+
+/// Loads a scene file (plain or gzip-compressed).
+pub fn load_path(path: &Path, opts: &LoadOptions) -> Result<(Scene, LoadReport), Error> {
+    let t0 = Instant::now();
+    let mut low = Lowerer::new(opts.clone());
+    low.load_file(path, None)?;
+    low.finish(t0)
+}
+
+/// Loads scene text held in memory; `name` is used in messages and to resolve Inlines.
+pub fn load_str(name: &str, text: &str, opts: &LoadOptions) -> Result<(Scene, LoadReport), Error> {
+    let t0 = Instant::now();
+    let mut low = Lowerer::new(opts.clone());
+    let src = SourceWindow::from_str(name, text);
+    low.load_source(src, Path::new(name))?;
+    low.finish(t0)
+}
+
+// ---------------------------------------------------------------------------------------------
+// Recorded events
+
+/// An event in the arena: as written, or a USE already resolved to the recording it names.
+#[derive(Clone, Debug)]
+enum Rec {
+    Ev(OwnedEvent),
+    /// A USE resolved when it was recorded (later redefinitions do not change what it means).
+    Used { range: Range<usize>, at: u64 },
+}
+
+#[derive(Clone, Debug)]
+struct DefEntry {
+    range: Range<usize>,
+    ty: Rc<str>,
+}
+
+#[derive(Debug)]
+struct InterfaceField {
+    access: Access,
+    ty: FieldType,
+    name: Rc<str>,
+    /// The default value's events (one Field event, or NodesStart .. NodesEnd).
+    default: Option<Range<usize>>,
+}
+
+#[derive(Debug)]
+struct ProtoDecl {
+    name: Rc<str>,
+    fields: Vec<InterfaceField>,
+    /// Body events (PROTO only); None for EXTERNPROTO.
+    body: Option<Range<usize>>,
+    at: u64,
+}
+
+impl ProtoDecl {
+    fn field(&self, name: &str) -> Option<&InterfaceField> {
+        self.fields.iter().find(|f| &*f.name == name)
+    }
+    /// Resolves `set_x` and `x_changed` of an exposedField `x`, like the standard tables do.
+    fn event(&self, name: &str) -> Option<(&InterfaceField, Access)> {
+        if let Some(f) = self.field(name) {
+            return Some((f, f.access));
+        }
+        if let Some(base) = name.strip_prefix("set_") {
+            if let Some(f) = self.field(base).filter(|f| f.access == Access::ExposedField) {
+                return Some((f, Access::EventIn));
+            }
+        }
+        if let Some(base) = name.strip_suffix("_changed") {
+            if let Some(f) = self.field(base).filter(|f| f.access == Access::ExposedField) {
+                return Some((f, Access::EventOut));
+            }
+        }
+        None
+    }
+}
+
+/// A DEF and PROTO namespace: one per file, one per PROTO body expansion.
+#[derive(Default)]
+struct Scope {
+    defs: HashMap<Rc<str>, DefEntry>,
+    protos: HashMap<Rc<str>, Rc<ProtoDecl>>,
+    /// Names whose DEF'd node is still open (a Script may USE itself).
+    open_defs: Vec<Rc<str>>,
+    /// File scopes stop PROTO lookups from reaching the including file.
+    file_root: bool,
+}
+
+/// What an active recording is for.
+#[derive(Debug)]
+enum RecKind {
+    Def(Rc<str>),
+    ProtoDecl,
+    /// A node inside a Switch's `choice`: kept for replay when the Switch closes.
+    Choice,
+    /// A PROTO instance: expanded when it closes.
+    Instance,
+    /// The value of one interface field default.
+    Default,
+}
+
+#[derive(Debug)]
+struct Recorder {
+    start: usize,
+    /// Open nodes (or PROTOs for a ProtoDecl) inside the recording; it ends when this returns to 0.
+    depth: u32,
+    kind: RecKind,
+}
+
+// ---------------------------------------------------------------------------------------------
+// Open nodes
+
+#[derive(Clone, Copy, Debug, Default)]
+struct Marks {
+    spheres: usize,
+    lights: usize,
+    views: usize,
+    ellipsoids: usize,
+}
+
+#[derive(Debug)]
+struct TransformFields {
+    translation: DVec3,
+    rotation: [f64; 4],
+    scale: DVec3,
+    scale_orientation: [f64; 4],
+    center: DVec3,
+}
+
+impl Default for TransformFields {
+    fn default() -> Self {
+        TransformFields {
+            translation: DVec3::ZERO,
+            rotation: [0.0, 0.0, 1.0, 0.0],
+            scale: DVec3::ONE,
+            scale_orientation: [0.0, 0.0, 1.0, 0.0],
+            center: DVec3::ZERO,
+        }
+    }
+}
+
+#[derive(Debug)]
+enum Geom {
+    Sphere(f64, u64),
+    Other,
+}
+
+#[derive(Debug)]
+enum Kind {
+    /// Group, Transform, Anchor, Billboard, Collision, Inline, and each file's root.
+    Group {
+        transform: Option<Box<TransformFields>>,
+        marks: Marks,
+        dirlights: Vec<usize>,
+        inline_urls: Option<Vec<String>>,
+    },
+    Switch {
+        which: i64,
+        choices: Vec<Range<usize>>,
+        marks: Marks,
+        dirlights: Vec<usize>,
+    },
+    Lod {
+        levels: u32,
+        marks: Marks,
+        dirlights: Vec<usize>,
+    },
+    Shape {
+        appearance: Option<Option<u32>>,
+        geometry: Option<Geom>,
+    },
+    Appearance {
+        material: Option<u32>,
+    },
+    Material(Material),
+    Sphere {
+        radius: f64,
+    },
+    PointLight(PointLight),
+    DirectionalLight(DirectionalLight),
+    Viewpoint(Viewpoint),
+    NavigationInfo {
+        headlight: Option<bool>,
+    },
+    Background {
+        sky: Option<DVec3>,
+    },
+    /// Not modelled: its contents are read (DEFs inside stay usable) but not lowered.
+    Skip,
+    /// Recorded, not lowered (PROTO instance, Switch choice, ignored LOD level or proxy).
+    Quiet,
+}
+
+#[derive(Debug)]
+struct Frame {
+    ty: Rc<str>,
+    spec: Option<&'static schema::NodeSpec>,
+    /// The PROTO whose instance this is (interface used for field checks).
+    proto: Option<Rc<ProtoDecl>>,
+    kind: Kind,
+    at: u64,
+    def: Option<Rc<str>>,
+    /// This frame started a suppression (contents are not lowered).
+    quiet: bool,
+}
+
+/// What a closed node hands to the field it stands in.
+enum Result_ {
+    Nothing,
+    Material(u32),
+    Appearance(Option<u32>),
+    Geometry(Geom),
+}
+
+/// The node-valued field being filled, with the frame index that owns it.
+#[derive(Debug)]
+struct FieldCtx {
+    name: Rc<str>,
+    frame: usize,
+}
+
+struct Lowerer {
+    opts: LoadOptions,
+    scene: Scene,
+    arena: Vec<Rec>,
+    /// Arena entries below this are referenced by DEFs or PROTOs and must stay.
+    pinned: usize,
+    recorders: Vec<Recorder>,
+    scopes: Vec<Scope>,
+    frames: Vec<Frame>,
+    fields: Vec<FieldCtx>,
+    /// Open frames that suppress lowering (Skip / Quiet frames, PROTO declarations).
+    quiet: u32,
+    /// Open PROTO declarations being recorded (their contents are neither lowered nor checked).
+    in_proto_decl: u32,
+    /// IS substitutions of the PROTO expansions under way (innermost last).
+    substs: Vec<Rc<Subst>>,
+    warnings: Vec<Diagnostic>,
+    warn_index: HashMap<(Arc<str>, String), usize>,
+    skipped: BTreeMap<String, u64>,
+    materials: HashMap<[u64; 13], u32>,
+    nodes: u64,
+    replay_depth: u32,
+    file: u32,
+    inline_stack: Vec<PathBuf>,
+    bytes: u64,
+    /// The first NavigationInfo / Background is bound; later ones are ignored.
+    nav_bound: bool,
+    bg_bound: bool,
+    /// Replaying a USE or a Switch choice: DEFs inside were registered when first read.
+    reusing: u32,
+}
+
+/// The values an instance gives its PROTO's interface fields.
+#[derive(Debug)]
+struct Subst {
+    proto: Rc<ProtoDecl>,
+    values: HashMap<Rc<str>, Range<usize>>,
+}
+
+const MAX_REPLAY_DEPTH: u32 = 200;
+
+fn type_name(v: &Value) -> String {
+    match v {
+        Value::Numbers { values, .. } => format!("{} number(s)", values.len()),
+        Value::Bools { values, .. } => format!("{} boolean(s)", values.len()),
+        Value::Strings { values, .. } => format!("{} string(s)", values.len()),
+        Value::Empty => "[ ]".into(),
+        Value::Is(n) => format!("IS {n}"),
+    }
+}
+
+/// Checks a generic value against a field type; the error says what was expected.
+fn check_value(ty: FieldType, v: &Value) -> Result<(), String> {
+    let ok = match (ty, v) {
+        (_, Value::Is(_)) => true,
+        (t, Value::Empty) => t.is_mf(),
+        (FieldType::SFBool, Value::Bools { values, bracketed }) => values.len() == 1 && !bracketed,
+        (FieldType::SFString, Value::Strings { values, bracketed }) => {
+            values.len() == 1 && !bracketed
+        }
+        (FieldType::MFString, Value::Strings { values, bracketed }) => {
+            *bracketed || values.len() == 1
+        }
+        (FieldType::SFImage, Value::Numbers { values, integer, .. }) => {
+            *integer && values.len() >= 3 && {
+                let (w, h) = (values[0], values[1]);
+                w >= 0.0 && h >= 0.0 && values.len() as f64 == 3.0 + w * h
+            }
+        }
+        (
+            t,
+            Value::Numbers {
+                values,
+                integer,
+                bracketed,
+            },
+        ) => match t.arity() {
+            Some(_) if t.is_integer() && !integer => false,
+            Some(k) if t.is_mf() => {
+                values.len() % k == 0 && (*bracketed || values.len() == k)
+            }
+            Some(k) => values.len() == k && !bracketed,
+            None => false,
+        },
+        _ => false,
+    };
+    if ok {
+        Ok(())
+    } else {
+        let want = match ty.arity() {
+            Some(k) if ty.is_integer() => format!("{} ({k} integer(s) per value)", ty.name()),
+            Some(k) => format!("{} ({k} number(s) per value)", ty.name()),
+            None => ty.name().to_string(),
+        };
+        Err(format!("expects {want}, found {}", type_name(v)))
+    }
+}
+
+fn nums<'a>(v: &Value<'a>) -> &'a [f64] {
+    match *v {
+        Value::Numbers { values, .. } => values,
+        _ => &[],
+    }
+}
+fn vec3(v: &Value) -> DVec3 {
+    let n = nums(v);
+    DVec3::new(n[0], n[1], n[2])
+}
+fn num1(v: &Value) -> f64 {
+    nums(v)[0]
+}
+fn bool1(v: &Value) -> bool {
+    matches!(v, Value::Bools { values, .. } if values[0])
+}
+fn rot4(v: &Value) -> [f64; 4] {
+    let n = nums(v);
+    [n[0], n[1], n[2], n[3]]
+}
+
+/// Axis-angle rotation; a zero axis means no rotation.
+fn quat(r: [f64; 4]) -> DQuat {
+    let axis = DVec3::new(r[0], r[1], r[2]);
+    let len = axis.length();
+    if len == 0.0 || !len.is_finite() || r[3] == 0.0 {
+        DQuat::IDENTITY
+    } else {
+        DQuat::from_axis_angle(axis / len, r[3])
+    }
+}
+
+fn transform_matrix(t: &TransformFields) -> DAffine3 {
+    // M = T * C * R * SR * S * -SR * -C (VRML97 6.52)
+    let sr = quat(t.scale_orientation);
+    DAffine3::from_translation(t.translation)
+        * DAffine3::from_translation(t.center)
+        * DAffine3::from_quat(quat(t.rotation))
+        * DAffine3::from_quat(sr)
+        * DAffine3::from_scale(t.scale)
+        * DAffine3::from_quat(sr.inverse())
+        * DAffine3::from_translation(-t.center)
+}
+
+/// The uniform scale of a linear map that is a similarity (rotation, reflection, uniform scale).
+fn similarity_scale(m: &DMat3) -> Option<f64> {
+    let g = m.transpose() * *m;
+    let d = (g.x_axis.x + g.y_axis.y + g.z_axis.z) / 3.0;
+    let tol = 1e-12 * d.abs().max(f64::MIN_POSITIVE);
+    let off = [g.x_axis.y, g.x_axis.z, g.y_axis.z];
+    let diag = [g.x_axis.x, g.y_axis.y, g.z_axis.z];
+    if off.iter().all(|o| o.abs() <= tol) && diag.iter().all(|x| (x - d).abs() <= tol) {
+        Some(d.sqrt())
+    } else {
+        None
+    }
+}
+
+/// The rotation closest to a linear map (for viewpoint orientations under scaled transforms).
+fn rotation_part(m: &DMat3) -> DQuat {
+    let x = m.x_axis.normalize_or_zero();
+    let y0 = m.y_axis - x * x.dot(m.y_axis);
+    let y = y0.normalize_or_zero();
+    let z = x.cross(y);
+    if x == DVec3::ZERO || y == DVec3::ZERO {
+        return DQuat::IDENTITY;
+    }
+    DQuat::from_mat3(&DMat3::from_cols(x, y, z)).normalize()
+}
+
+fn material_key(m: &Material) -> [u64; 13] {
+    [
+        m.diffuse.x.to_bits(),
+        m.diffuse.y.to_bits(),
+        m.diffuse.z.to_bits(),
+        m.emissive.x.to_bits(),
+        m.emissive.y.to_bits(),
+        m.emissive.z.to_bits(),
+        m.specular.x.to_bits(),
+        m.specular.y.to_bits(),
+        m.specular.z.to_bits(),
+        m.shininess.to_bits(),
+        m.ambient_intensity.to_bits(),
+        m.transparency.to_bits(),
+        m.unlit as u64,
+    ]
+}
+
+fn is_local_relative(url: &str) -> bool {
+    let lower = url.to_ascii_lowercase();
+    let has_scheme = lower
+        .find(':')
+        .is_some_and(|k| k > 1 && lower[..k].chars().all(|c| c.is_ascii_alphanumeric() || "+-.".contains(c)));
+    !has_scheme && !url.starts_with('/') && !url.starts_with('\\') && !url.is_empty()
+}
+
+impl Lowerer {
+    fn new(opts: LoadOptions) -> Self {
+        let mut low = Lowerer {
+            opts,
+            scene: Scene::default(),
+            arena: Vec::new(),
+            pinned: 0,
+            recorders: Vec::new(),
+            scopes: Vec::new(),
+            frames: Vec::new(),
+            fields: Vec::new(),
+            quiet: 0,
+            in_proto_decl: 0,
+            substs: Vec::new(),
+            warnings: Vec::new(),
+            warn_index: HashMap::new(),
+            skipped: BTreeMap::new(),
+            materials: HashMap::new(),
+            nodes: 0,
+            replay_depth: 0,
+            file: 0,
+            inline_stack: Vec::new(),
+            bytes: 0,
+            nav_bound: false,
+            bg_bound: false,
+            reusing: 0,
+        };
+        low.material_index(Material::unlit());
+        low
+    }
+
+    fn finish(mut self, t0: Instant) -> Result<(Scene, LoadReport), Error> {
+        if self.opts.strict && !self.warnings.is_empty() {
+            let errs = self
+                .warnings
+                .into_iter()
+                .map(|mut d| {
+                    d.severity = Severity::Error;
+                    d
+                })
+                .collect();
+            return Err(Error::Diags(errs));
+        }
+        self.scene.spheres.shrink_to_fit();
+        self.scene.materials.shrink_to_fit();
+        let report = LoadReport {
+            warnings: self.warnings,
+            skipped: self.skipped,
+            bytes: self.bytes,
+            seconds: t0.elapsed().as_secs_f64(),
+            nodes: self.nodes,
+            files: self.scene.files.clone(),
+            recorded_bytes: self.arena.capacity() * std::mem::size_of::<Rec>(),
+        };
+        Ok((self.scene, report))
+    }
+
+    fn material_index(&mut self, m: Material) -> u32 {
+        let key = material_key(&m);
+        if let Some(&i) = self.materials.get(&key) {
+            return i;
+        }
+        let i = self.scene.materials.len() as u32;
+        self.scene.materials.push(m);
+        self.materials.insert(key, i);
+        i
+    }
+
+    fn marks(&self) -> Marks {
+        Marks {
+            spheres: self.scene.spheres.len(),
+            lights: self.scene.lights.len(),
+            views: self.scene.viewpoints.len(),
+            ellipsoids: self.scene.ellipsoids.len(),
+        }
+    }
+
+    fn origin(&self, at: u64) -> Origin {
+        Origin {
+            file: self.file,
+            offset: at,
+        }
+    }
+
+    // ----- diagnostics
+
+    fn error(&self, src: &SourceWindow, at: u64, msg: impl Into<String>) -> Error {
+        Error::Diag(Box::new(src.diagnostic(Severity::Error, at, msg.into())))
+    }
+
+    /// A warning; repeats of the same message in the same file are folded into the first.
+    fn warn(&mut self, src: &SourceWindow, at: u64, msg: impl Into<String>) {
+        let msg = msg.into();
+        let key = (src.name.clone(), msg);
+        if let Some(&i) = self.warn_index.get(&key) {
+            self.warnings[i].repeats += 1;
+            return;
+        }
+        let d = src.diagnostic(Severity::Warning, at, key.1.clone());
+        self.warn_index.insert(key, self.warnings.len());
+        self.warnings.push(d);
+    }
+
+    // ----- files
+
+    fn load_file(&mut self, path: &Path, _at: Option<u64>) -> Result<(), Error> {
+        let src = crate::input::open(path)?;
+        self.load_source(src, path)
+    }
+
+    fn load_source(&mut self, src: SourceWindow, path: &Path) -> Result<(), Error> {
+        let saved_file = self.file;
+        self.file = self.scene.files.len() as u32;
+        self.scene.files.push(src.name.to_string());
+        self.inline_stack.push(path.to_path_buf());
+        self.scopes.push(Scope {
+            file_root: true,
+            ..Scope::default()
+        });
+        // The file's root groups its top-level nodes (scope of top-level DirectionalLights).
+        let root = Frame {
+            ty: Rc::from("<file>"),
+            spec: None,
+            proto: None,
+            kind: Kind::Group {
+                transform: None,
+                marks: self.marks(),
+                dirlights: Vec::new(),
+                inline_urls: None,
+            },
+            at: 0,
+            def: None,
+            quiet: false,
+        };
+        self.frames.push(root);
+        let depth = self.frames.len();
+        // A new file is a new namespace, even when reached again through a USE'd Inline.
+        let reusing = std::mem::replace(&mut self.reusing, 0);
+        let substs = std::mem::take(&mut self.substs);
+        let mut parser = Parser::new(src);
+        let r = parser.run(self);
+        self.reusing = reusing;
+        self.substs = substs;
+        r?;
+        let src = &parser.src;
+        if let Some(at) = src.bad_utf8 {
+            self.warn(src, at, "invalid UTF-8 (bytes replaced by '?')");
+        }
+        debug_assert_eq!(self.frames.len(), depth);
+        let root = self.frames.pop().expect("file root frame");
+        self.close_group_like(src, root.kind, 0)?;
+        self.scopes.pop();
+        self.inline_stack.pop();
+        self.bytes += src.bytes_read;
+        self.file = saved_file;
+        Ok(())
+    }
+
+    fn load_inline(&mut self, src: &SourceWindow, at: u64, urls: &[String]) -> Result<(), Error> {
+        if !self.opts.inline {
+            return Ok(());
+        }
+        let base = self
+            .inline_stack
+            .last()
+            .and_then(|p| p.parent().map(Path::to_path_buf))
+            .unwrap_or_default();
+        let mut tried = Vec::new();
+        for url in urls {
+            if !is_local_relative(url) {
+                tried.push(format!("'{url}' (not a local relative path)"));
+                continue;
+            }
+            let path = base.join(url);
+            if !path.is_file() {
+                tried.push(format!("'{url}' (no such file)"));
+                continue;
+            }
+            let canon = path.canonicalize().unwrap_or(path.clone());
+            if self
+                .inline_stack
+                .iter()
+                .any(|p| p.canonicalize().map(|c| c == canon).unwrap_or(false))
+            {
+                return Err(self.error(src, at, format!("Inline '{url}' includes itself (a cycle)")));
+            }
+            if self.inline_stack.len() > self.opts.max_inline_depth {
+                return Err(self.error(
+                    src,
+                    at,
+                    format!("Inline '{url}' nests deeper than {} files", self.opts.max_inline_depth),
+                ));
+            }
+            // Only VRML97 is read; other formats (X3D, 3DS, VRML 1.0) are reported, not fatal.
+            let mut head = [0u8; 16];
+            let n = crate::input::open(&path)
+                .ok()
+                .map(|mut w| {
+                    let _ = w.fill(16);
+                    let b = w.rest().as_bytes();
+                    let k = b.len().min(16);
+                    head[..k].copy_from_slice(&b[..k]);
+                    k
+                })
+                .unwrap_or(0);
+            if !head[..n].starts_with(b"#VRML V2.0") {
+                tried.push(format!("'{url}' (not a VRML97 file)"));
+                continue;
+            }
+            return self.load_file(&path, Some(at));
+        }
+        let what = if tried.is_empty() {
+            "no url".to_string()
+        } else {
+            tried.join(", ")
+        };
+        self.warn(src, at, format!("Inline not loaded: {what}"));
+        Ok(())
+    }
+
+    // ----- recording
+
+    fn record(&mut self, ev: &Event) {
+        if self.recorders.is_empty() {
+            return;
+        }
+        self.arena.push(Rec::Ev(ev.to_owned_event()));
+    }
+
+    fn lookup_def(&self, name: &str) -> Option<&DefEntry> {
+        self.scopes.last().and_then(|s| s.defs.get(name))
+    }
+
+    fn lookup_proto(&self, name: &str) -> Option<Rc<ProtoDecl>> {
+        for s in self.scopes.iter().rev() {
+            if let Some(p) = s.protos.get(name) {
+                return Some(p.clone());
+            }
+            if s.file_root {
+                break;
+            }
+        }
+        None
+    }
+
+    /// Called after an event has been handled: closes recorders whose node (or PROTO) ended.
+    fn end_recorders(&mut self, ev: &Event) -> Vec<(RecKind, Range<usize>)> {
+        let mut done = Vec::new();
+        let (open, close) = match ev {
+            Event::NodeStart { .. } => (true, false),
+            Event::NodeEnd { .. } => (false, true),
+            Event::ProtoStart { .. } => (true, false),
+            Event::ProtoEnd { .. } => (false, true),
+            _ => (false, false),
+        };
+        if !open && !close {
+            return done;
+        }
+        let n = self.recorders.len();
+        for r in self.recorders.iter_mut() {
+            if open {
+                r.depth += 1;
+            } else {
+                r.depth -= 1;
+            }
+        }
+        // A recorder that began at this very event started with depth 0 before the increment.
+        while let Some(r) = self.recorders.last() {
+            if r.depth == 0 {
+                let r = self.recorders.pop().expect("recorder");
+                done.push((r.kind, r.start..self.arena.len()));
+            } else {
+                break;
+            }
+        }
+        let _ = n;
+        done
+    }
+
+    fn start_recorder(&mut self, kind: RecKind) {
+        // The opening event is pushed right after; depth becomes 1 in end_recorders.
+        self.recorders.push(Recorder {
+            start: self.arena.len(),
+            depth: 0,
+            kind,
+        });
+    }
+
+    /// Drops arena entries that nothing refers to (after a PROTO instance or Switch choice).
+    fn release(&mut self, from: usize) {
+        if self.recorders.is_empty() {
+            let keep = from.max(self.pinned);
+            if keep < self.arena.len() {
+                self.arena.truncate(keep);
+            }
+        }
+    }
+
+    // ----- replay
+
+    fn replay(&mut self, src: &SourceWindow, range: Range<usize>, at: u64) -> Result<(), Error> {
+        if self.replay_depth >= MAX_REPLAY_DEPTH {
+            return Err(self.error(
+                src,
+                at,
+                format!("USE and PROTO expansions nest deeper than {MAX_REPLAY_DEPTH}"),
+            ));
+        }
+        self.replay_depth += 1;
+        let mut i = range.start;
+        while i < range.end {
+            let rec = self.arena[i].clone();
+            match rec {
+                Rec::Ev(ev) => self.handle(src, ev.as_event())?,
+                Rec::Used { range, at } => self.use_range(src, range, at)?,
+            }
+            i += 1;
+        }
+        self.replay_depth -= 1;
+        Ok(())
+    }
+
+    /// A resolved USE: recorded as such if recording, replayed if lowering.
+    fn use_range(&mut self, src: &SourceWindow, range: Range<usize>, at: u64) -> Result<(), Error> {
+        if !self.recorders.is_empty() {
+            self.arena.push(Rec::Used {
+                range: range.clone(),
+                at,
+            });
+        }
+        if self.quiet == 0 {
+            // Replaying must not record the replayed events again into the same recorders:
+            // they already hold the `Used` entry.
+            let saved = std::mem::take(&mut self.recorders);
+            self.reusing += 1;
+            let r = self.replay(src, range, at);
+            self.reusing -= 1;
+            self.recorders = saved;
+            r?;
+        } else if let Some(Frame {
+            kind: Kind::Switch { choices, .. },
+            ..
+        }) = self.frames.last_mut()
+        {
+            // A USE among a Switch's choices is a choice of its own.
+            choices.push(range);
+        }
+        Ok(())
+    }
+
+    // ----- the event handler
+
+    fn handle(&mut self, src: &SourceWindow, ev: Event<'_>) -> Result<(), Error> {
+        // IS inside a PROTO expansion is replaced by the instance's value before anything else.
+        if let Event::Field {
+            name,
+            at,
+            value: Value::Is(target),
+        } = ev
+        {
+            if self.in_proto_decl == 0 {
+                return self.substitute(src, name, target, at);
+            }
+        }
+        if let Event::Use { name, at } = ev {
+            if self.in_proto_decl == 0 {
+                return self.on_use(src, name, at);
+            }
+        }
+        self.record(&ev);
+        match ev {
+            Event::NodeStart { def, ty, at } => self.node_start(src, def, ty, at)?,
+            Event::NodeEnd { at } => {
+                let done = self.end_recorders(&ev);
+                if self.in_proto_decl > 0 {
+                    // Inside a PROTO declaration nodes are only recorded (no frames were opened).
+                    return Ok(());
+                }
+                self.node_end(src, at, done)?;
+                return Ok(());
+            }
+            Event::Field { name, at, value } => self.field(src, name, at, value)?,
+            Event::NodesStart { name, at } => self.nodes_start(src, name, at)?,
+            Event::NodesEnd { .. } => {
+                self.fields.pop();
+            }
+            Event::Use { .. } => {}
+            Event::Null { .. } => {}
+            Event::Decl {
+                access, ty, at, ..
+            } => {
+                if self.in_proto_decl == 0 {
+                    if schema::Access::from_keyword(access).is_none() {
+                        return Err(self.error(src, at, format!("unknown access type '{access}'")));
+                    }
+                    if FieldType::from_name(ty).is_none() {
+                        return Err(self.error(src, at, format!("unknown field type '{ty}'")));
+                    }
+                    if let Some(f) = self.frames.last() {
+                        if &*f.ty == "Script" && access == "exposedField" {
+                            self.warn(src, at, "a Script may not declare an exposedField");
+                        }
+                    }
+                }
+            }
+            Event::ProtoStart { .. } => {
+                if self.in_proto_decl == 0 {
+                    // Start recording the declaration (including this event).
+                    self.recorders.push(Recorder {
+                        start: self.arena.len() - usize::from(!self.recorders.is_empty()),
+                        depth: 0,
+                        kind: RecKind::ProtoDecl,
+                    });
+                    if self.recorders.len() == 1 {
+                        self.arena.push(Rec::Ev(ev.to_owned_event()));
+                    }
+                }
+                self.in_proto_decl += 1;
+                self.quiet += 1;
+            }
+            Event::ProtoBody { .. } => {}
+            Event::ProtoEnd { .. } => {
+                self.in_proto_decl -= 1;
+                self.quiet -= 1;
+                let done = self.end_recorders(&ev);
+                for (kind, range) in done {
+                    if let RecKind::ProtoDecl = kind {
+                        self.declare_proto(src, range)?;
+                    }
+                }
+                return Ok(());
+            }
+            Event::Route {
+                from_node,
+                from_field,
+                to_node,
+                to_field,
+                at,
+            } => {
+                if self.in_proto_decl == 0 {
+                    self.check_route(src, from_node, from_field, to_node, to_field, at);
+                }
+            }
+        }
+        let done = self.end_recorders(&ev);
+        debug_assert!(done.is_empty());
+        Ok(())
+    }
+
+    fn on_use(&mut self, src: &SourceWindow, name: &str, at: u64) -> Result<(), Error> {
+        let Some(d) = self.lookup_def(name) else {
+            let open = self
+                .scopes
+                .last()
+                .is_some_and(|s| s.open_defs.iter().any(|n| &**n == name));
+            if open && self.quiet > 0 {
+                // A Script that refers to itself: fine, it is not lowered.
+                if !self.recorders.is_empty() {
+                    self.arena.push(Rec::Ev(OwnedEvent::Use {
+                        name: name.into(),
+                        at,
+                    }));
+                }
+                return Ok(());
+            }
+            let msg = if open {
+                format!("USE of '{name}' inside its own definition")
+            } else {
+                format!("USE of undefined name '{name}'")
+            };
+            return Err(self.error(src, at, msg));
+        };
+        let range = d.range.clone();
+        let ty = d.ty.clone();
+        self.check_child(src, &ty, at);
+        self.use_range(src, range, at)
+    }
+
+    /// Replaces `field IS target` by the PROTO instance's value (or the interface default).
+    fn substitute(&mut self, src: &SourceWindow, name: &str, target: &str, at: u64) -> Result<(), Error> {
+        let Some(sub) = self.substs.last().cloned() else {
+            return Err(self.error(src, at, format!("'{name} IS {target}' outside a PROTO body")));
+        };
+        let Some(f) = sub.proto.field(target) else {
+            return Err(self.error(
+                src,
+                at,
+                format!("'IS {target}': PROTO {} has no interface field '{target}'", sub.proto.name),
+            ));
+        };
+        let range = sub.values.get(target).cloned().or_else(|| f.default.clone());
+        let Some(range) = range else {
+            // An event (eventIn/eventOut) has no value to substitute.
+            return Ok(());
+        };
+        // Emit the value under this field's own name, resolving the instance's scope by
+        // replaying it with the instance's IS substitutions (the next one out).
+        let saved = self.substs.pop();
+        let first = self.arena[range.start].clone();
+        let r = match first {
+            Rec::Ev(OwnedEvent::Field { value, at: vat, .. }) => {
+                let v = value.clone();
+                self.handle(src, Event::Field { name, at: vat, value: v.as_value() })
+            }
+            Rec::Ev(OwnedEvent::NodesStart { at: vat, .. }) => {
+                self.handle(src, Event::NodesStart { name, at: vat })
+                    .and_then(|_| self.replay(src, range.start + 1..range.end - 1, at))
+                    .and_then(|_| self.handle(src, Event::NodesEnd { at: vat }))
+            }
+            _ => Ok(()),
+        };
+        if let Some(s) = saved {
+            self.substs.push(s);
+        }
+        r
+    }
+
+    fn node_start(&mut self, src: &SourceWindow, def: Option<&str>, ty: &str, at: u64) -> Result<(), Error> {
+        let def_rc: Option<Rc<str>> = def.map(Rc::from);
+        if self.in_proto_decl > 0 {
+            return Ok(());
+        }
+        if let (Some(d), 0) = (&def_rc, self.reusing) {
+            // Record the DEF'd node (this NodeStart was pushed just before, if recording).
+            let start = if self.recorders.is_empty() {
+                self.arena.push(Rec::Ev(OwnedEvent::NodeStart {
+                    def: Some(d.clone()),
+                    ty: ty.into(),
+                    at,
+                }));
+                self.arena.len() - 1
+            } else {
+                self.arena.len() - 1
+            };
+            self.recorders.push(Recorder {
+                start,
+                depth: 0,
+                kind: RecKind::Def(d.clone()),
+            });
+            if let Some(s) = self.scopes.last_mut() {
+                s.open_defs.push(d.clone());
+            }
+        }
+        self.nodes += 1;
+        if self.nodes > self.opts.max_nodes {
+            return Err(self.error(
+                src,
+                at,
+                format!("the scene expands to more than {} nodes (USE/PROTO blow-up?)", self.opts.max_nodes),
+            ));
+        }
+        let ty_rc: Rc<str> = Rc::from(ty);
+        if self.quiet > 0 {
+            // Not lowered; a frame keeps the nesting.
+            self.frames.push(Frame {
+                ty: ty_rc,
+                spec: None,
+                proto: None,
+                kind: Kind::Quiet,
+                at,
+                def: def_rc,
+                quiet: false,
+            });
+            return Ok(());
+        }
+        self.check_child(src, ty, at);
+        // Where does this node stand?
+        let ctx_field = self.fields.last().map(|f| (f.name.clone(), f.frame));
+        let parent_kind = ctx_field.as_ref().map(|(_, i)| &self.frames[*i].kind);
+        let in_choice = matches!(parent_kind, Some(Kind::Switch { .. }))
+            && ctx_field.as_ref().is_some_and(|(n, _)| &**n == "choice");
+        let ignored_level = match (parent_kind, &ctx_field) {
+            (Some(Kind::Lod { levels, .. }), Some((n, _))) => &**n == "level" && *levels > 0,
+            (Some(Kind::Group { .. }), Some((n, _))) => &**n == "proxy",
+            _ => false,
+        };
+        if let (Some(Kind::Lod { .. }), Some((n, i))) = (parent_kind, &ctx_field) {
+            if &**n == "level" {
+                if let Kind::Lod { levels, .. } = &mut self.frames[*i].kind {
+                    *levels += 1;
+                }
+            }
+        }
+        if in_choice || ignored_level {
+            if in_choice && self.recorders.iter().all(|r| !matches!(r.kind, RecKind::Choice)) {
+                self.start_recorder_here(ty, def, at);
+                if let Some(r) = self.recorders.last_mut() {
+                    r.kind = RecKind::Choice;
+                }
+            }
+            self.push_quiet(ty_rc, def_rc, at);
+            return Ok(());
+        }
+        if let Some(proto) = self.lookup_proto(ty) {
+            if proto.body.is_some() {
+                // Record the instance, expand it when it closes.
+                self.start_recorder_here(ty, def, at);
+                if let Some(r) = self.recorders.last_mut() {
+                    r.kind = RecKind::Instance;
+                }
+            } else {
+                *self.skipped.entry(ty.to_string()).or_default() += 1;
+                self.warn(
+                    src,
+                    at,
+                    format!("EXTERNPROTO {ty} is not available (external prototypes are not loaded): skipped"),
+                );
+            }
+            self.frames.push(Frame {
+                ty: ty_rc,
+                spec: None,
+                proto: Some(proto),
+                kind: Kind::Quiet,
+                at,
+                def: def_rc,
+                quiet: true,
+            });
+            self.quiet += 1;
+            return Ok(());
+        }
+        let spec = schema::node_spec(ty);
+        let m = self.marks();
+        let group = |transform| Kind::Group {
+            transform,
+            marks: m,
+            dirlights: Vec::new(),
+            inline_urls: None,
+        };
+        let kind = match ty {
+            "Group" | "Anchor" | "Billboard" | "Collision" => group(None),
+            "Transform" => group(Some(Box::default())),
+            "Inline" => Kind::Group {
+                transform: None,
+                marks: m,
+                dirlights: Vec::new(),
+                inline_urls: Some(Vec::new()),
+            },
+            "Switch" => Kind::Switch {
+                which: -1,
+                choices: Vec::new(),
+                marks: m,
+                dirlights: Vec::new(),
+            },
+            "LOD" => Kind::Lod {
+                levels: 0,
+                marks: m,
+                dirlights: Vec::new(),
+            },
+            "Shape" => Kind::Shape {
+                appearance: None,
+                geometry: None,
+            },
+            "Appearance" => Kind::Appearance { material: None },
+            "Material" => Kind::Material(Material::default()),
+            "Sphere" => Kind::Sphere { radius: 1.0 },
+            "PointLight" => Kind::PointLight(PointLight {
+                location: DVec3::ZERO,
+                color: DVec3::ONE,
+                intensity: 1.0,
+                ambient_intensity: 0.0,
+                attenuation: DVec3::new(1.0, 0.0, 0.0),
+                radius: 100.0,
+                on: true,
+                origin: self.origin(at),
+            }),
+            "DirectionalLight" => Kind::DirectionalLight(DirectionalLight {
+                direction: DVec3::new(0.0, 0.0, -1.0),
+                color: DVec3::ONE,
+                intensity: 1.0,
+                ambient_intensity: 0.0,
+                on: true,
+                scope: (0, 0),
+                origin: self.origin(at),
+            }),
+            "Viewpoint" => Kind::Viewpoint(Viewpoint {
+                name: def.map(str::to_string),
+                description: String::new(),
+                position: DVec3::new(0.0, 0.0, 10.0),
+                orientation: DQuat::IDENTITY,
+                field_of_view: std::f64::consts::FRAC_PI_4,
+                origin: self.origin(at),
+            }),
+            "NavigationInfo" => Kind::NavigationInfo { headlight: None },
+            "Background" => Kind::Background { sky: None },
+            _ => {
+                // Standard nodes we do not model are counted in the report, not warned about:
+                // they are valid VRML, and `--strict` is about validity.
+                if spec.is_none() {
+                    self.warn(src, at, format!("unknown node type '{ty}': skipped"));
+                }
+                *self.skipped.entry(ty.to_string()).or_default() += 1;
+                self.frames.push(Frame {
+                    ty: ty_rc,
+                    spec,
+                    proto: None,
+                    kind: Kind::Skip,
+                    at,
+                    def: def_rc,
+                    quiet: true,
+                });
+                self.quiet += 1;
+                return Ok(());
+            }
+        };
+        self.frames.push(Frame {
+            ty: ty_rc,
+            spec,
+            proto: None,
+            kind,
+            at,
+            def: def_rc,
+            quiet: false,
+        });
+        Ok(())
+    }
+
+    /// Starts a recorder whose first event is the NodeStart just handled.
+    fn start_recorder_here(&mut self, ty: &str, def: Option<&str>, at: u64) {
+        let start = if self.recorders.is_empty() {
+            self.arena.push(Rec::Ev(OwnedEvent::NodeStart {
+                def: def.map(Rc::from),
+                ty: ty.into(),
+                at,
+            }));
+            self.arena.len() - 1
+        } else {
+            // Already recorded by the enclosing recorder; a DEF recorder may have started here too.
+            self.recorders
+                .last()
+                .filter(|r| r.depth == 0)
+                .map(|r| r.start)
+                .unwrap_or(self.arena.len() - 1)
+        };
+        self.recorders.push(Recorder {
+            start,
+            depth: 0,
+            kind: RecKind::Default,
+        });
+    }
+
+    fn push_quiet(&mut self, ty: Rc<str>, def: Option<Rc<str>>, at: u64) {
+        self.frames.push(Frame {
+            ty,
+            spec: None,
+            proto: None,
+            kind: Kind::Quiet,
+            at,
+            def,
+            quiet: true,
+        });
+        self.quiet += 1;
+    }
+
+    /// Warns when a node type does not belong in the field it stands in.
+    fn check_child(&mut self, src: &SourceWindow, ty: &str, at: u64) {
+        let Some(ctx) = self.fields.last() else {
+            return;
+        };
+        let parent = &self.frames[ctx.frame];
+        let allowed: &[&str] = match (&parent.kind, &*ctx.name) {
+            (Kind::Shape { .. }, "appearance") => &["Appearance"],
+            (Kind::Appearance { .. }, "material") => &["Material"],
+            _ => return,
+        };
+        if !allowed.contains(&ty) && self.lookup_proto(ty).is_none() {
+            let msg = format!("{ty} is not allowed in field '{}' of {}: ignored", ctx.name, parent.ty);
+            self.warn(src, at, msg);
+        }
+    }
+
+    fn field(&mut self, src: &SourceWindow, name: &str, at: u64, value: Value<'_>) -> Result<(), Error> {
+        if self.quiet > 0 {
+            return Ok(());
+        }
+        let Some(frame) = self.frames.last() else {
+            return Ok(());
+        };
+        let Some(spec) = frame.spec else {
+            return Ok(());
+        };
+        let ty = frame.ty.clone();
+        let Some((f, access)) = spec.event(name) else {
+            self.warn(src, at, format!("unknown field '{name}' of {ty}: ignored"));
+            return Ok(());
+        };
+        if matches!(access, Access::EventIn | Access::EventOut) {
+            self.warn(src, at, format!("'{name}' of {ty} is an {}, not a field: ignored", access.keyword()));
+            return Ok(());
+        }
+        if f.ty.is_node() {
+            if value == Value::Empty {
+                return Ok(());
+            }
+            return Err(self.error(src, at, format!("field '{name}' of {ty} expects {}, found {}", f.ty.name(), type_name(&value))));
+        }
+        if let Err(e) = check_value(f.ty, &value) {
+            return Err(self.error(src, at, format!("field '{name}' of {ty} {e}")));
+        }
+        self.apply_field(src, f.name, at, &value)
+    }
+
+    fn apply_field(&mut self, src: &SourceWindow, name: &str, at: u64, v: &Value<'_>) -> Result<(), Error> {
+        let frame = self.frames.last_mut().expect("open frame");
+        let mut problem: Option<String> = None;
+        match &mut frame.kind {
+            Kind::Group {
+                transform: Some(t), ..
+            } => match name {
+                "translation" => t.translation = vec3(v),
+                "rotation" => t.rotation = rot4(v),
+                "scale" => t.scale = vec3(v),
+                "scaleOrientation" => t.scale_orientation = rot4(v),
+                "center" => t.center = vec3(v),
+                _ => {}
+            },
+            Kind::Group {
+                inline_urls: Some(u),
+                ..
+            } => {
+                if name == "url" {
+                    if let Value::Strings { values, .. } = v {
+                        *u = values.to_vec();
+                    }
+                }
+            }
+            Kind::Switch { which, .. } => {
+                if name == "whichChoice" {
+                    *which = num1(v) as i64;
+                }
+            }
+            Kind::Material(m) => match name {
+                "diffuseColor" => m.diffuse = vec3(v),
+                "emissiveColor" => m.emissive = vec3(v),
+                "specularColor" => m.specular = vec3(v),
+                "shininess" => m.shininess = num1(v),
+                "ambientIntensity" => m.ambient_intensity = num1(v),
+                "transparency" => {
+                    let t = num1(v);
+                    if !(0.0..=1.0).contains(&t) {
+                        problem = Some(format!("transparency {t} is outside [0, 1]: clamped"));
+                    }
+                    m.transparency = t.clamp(0.0, 1.0);
+                }
+                _ => {}
+            },
+            Kind::Sphere { radius } => {
+                if name == "radius" {
+                    let r = num1(v);
+                    if r <= 0.0 || !r.is_finite() {
+                        return Err(Error::Diag(Box::new(src.diagnostic(
+                            Severity::Error,
+                            at,
+                            format!("Sphere radius must be positive, found {r}"),
+                        ))));
+                    }
+                    *radius = r;
+                }
+            }
+            Kind::PointLight(l) => match name {
+                "location" => l.location = vec3(v),
+                "color" => l.color = vec3(v),
+                "intensity" => l.intensity = num1(v),
+                "ambientIntensity" => l.ambient_intensity = num1(v),
+                "attenuation" => l.attenuation = vec3(v),
+                "radius" => {
+                    l.radius = num1(v);
+                    if l.radius < 0.0 {
+                        problem = Some("PointLight radius must not be negative".into());
+                    }
+                }
+                "on" => l.on = bool1(v),
+                _ => {}
+            },
+            Kind::DirectionalLight(l) => match name {
+                "direction" => l.direction = vec3(v),
+                "color" => l.color = vec3(v),
+                "intensity" => l.intensity = num1(v),
+                "ambientIntensity" => l.ambient_intensity = num1(v),
+                "on" => l.on = bool1(v),
+                _ => {}
+            },
+            Kind::Viewpoint(vp) => match name {
+                "position" => vp.position = vec3(v),
+                "orientation" => vp.orientation = quat(rot4(v)),
+                "fieldOfView" => {
+                    let f = num1(v);
+                    if !(f > 0.0 && f < std::f64::consts::PI) {
+                        problem = Some(format!("fieldOfView {f} is outside (0, pi): using pi/4"));
+                        vp.field_of_view = std::f64::consts::FRAC_PI_4;
+                    } else {
+                        vp.field_of_view = f;
+                    }
+                }
+                "description" => {
+                    if let Value::Strings { values, .. } = v {
+                        vp.description = values[0].clone();
+                    }
+                }
+                _ => {}
+            },
+            Kind::NavigationInfo { headlight } => {
+                if name == "headlight" {
+                    *headlight = Some(bool1(v));
+                }
+            }
+            Kind::Background { sky } => {
+                if name == "skyColor" {
+                    let n = nums(v);
+                    if n.len() >= 3 {
+                        *sky = Some(DVec3::new(n[0], n[1], n[2]));
+                    }
+                }
+            }
+            _ => {}
+        }
+        if let Some(p) = problem {
+            self.warn(src, at, p);
+        }
+        Ok(())
+    }
+
+    fn nodes_start(&mut self, src: &SourceWindow, name: &str, at: u64) -> Result<(), Error> {
+        let idx = self.frames.len().saturating_sub(1);
+        if self.quiet == 0 {
+            if let Some(frame) = self.frames.last() {
+                if let Some(spec) = frame.spec {
+                    let ty = frame.ty.clone();
+                    match spec.event(name) {
+                        None => self.warn(src, at, format!("unknown field '{name}' of {ty}: ignored")),
+                        Some((f, access)) => {
+                            if !f.ty.is_node() {
+                                return Err(self.error(src, at, format!("field '{name}' of {ty} expects {}, found a node", f.ty.name())));
+                            }
+                            if matches!(access, Access::EventIn | Access::EventOut) {
+                                self.warn(src, at, format!("'{name}' of {ty} is an {}, not a field: ignored", access.keyword()));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        self.fields.push(FieldCtx {
+            name: Rc::from(name),
+            frame: idx,
+        });
+        Ok(())
+    }
+
+    fn node_end(&mut self, src: &SourceWindow, at: u64, done: Vec<(RecKind, Range<usize>)>) -> Result<(), Error> {
+        // Register DEFs first: the node is complete.
+        let mut instance = None;
+        let mut choice = None;
+        for (kind, range) in done {
+            match kind {
+                RecKind::Def(name) => {
+                    if self.in_proto_decl == 0 {
+                        let ty = match &self.arena[range.start] {
+                            Rec::Ev(OwnedEvent::NodeStart { ty, .. }) => ty.clone(),
+                            _ => Rc::from("?"),
+                        };
+                        if let Some(s) = self.scopes.last_mut() {
+                            s.open_defs.retain(|n| *n != name);
+                            s.defs.insert(name, DefEntry { range: range.clone(), ty });
+                        }
+                        self.pinned = self.pinned.max(range.end);
+                    }
+                }
+                RecKind::Instance => instance = Some(range),
+                RecKind::Choice => choice = Some(range),
+                _ => {}
+            }
+        }
+        let frame = self.frames.pop().expect("NodeEnd without an open node");
+        if frame.quiet {
+            self.quiet -= 1;
+        }
+        if let Some(range) = choice {
+            if let Some(Frame {
+                kind: Kind::Switch { choices, .. },
+                ..
+            }) = self.frames.last_mut()
+            {
+                choices.push(range);
+            }
+            return Ok(());
+        }
+        if let Some(range) = instance {
+            if let Some(proto) = frame.proto.clone() {
+                self.expand(src, proto, range.clone(), frame.at)?;
+                // The instance's recording is no longer needed unless a DEF refers into it.
+                self.release(range.start);
+            }
+            return Ok(());
+        }
+        if self.quiet > 0 || matches!(frame.kind, Kind::Quiet | Kind::Skip) {
+            let result = if matches!(frame.kind, Kind::Skip) && self.quiet == 0 {
+                Result_::Geometry(Geom::Other)
+            } else {
+                Result_::Nothing
+            };
+            return self.deliver(src, result, at);
+        }
+        let result = self.close(src, frame)?;
+        self.deliver(src, result, at)
+    }
+
+    /// Hands a closed node's result to the field it stands in.
+    fn deliver(&mut self, _src: &SourceWindow, result: Result_, _at: u64) -> Result<(), Error> {
+        let Some(ctx) = self.fields.last() else {
+            return Ok(());
+        };
+        let name = ctx.name.clone();
+        let frame = &mut self.frames[ctx.frame];
+        match (&mut frame.kind, &*name, result) {
+            (Kind::Shape { appearance, .. }, "appearance", Result_::Appearance(m)) => *appearance = Some(m),
+            (Kind::Shape { geometry, .. }, "geometry", Result_::Geometry(g)) => *geometry = Some(g),
+            (Kind::Appearance { material }, "material", Result_::Material(m)) => *material = Some(m),
+            _ => {}
+        }
+        Ok(())
+    }
+
+    fn close(&mut self, src: &SourceWindow, frame: Frame) -> Result<Result_, Error> {
+        let at = frame.at;
+        Ok(match frame.kind {
+            Kind::Group {
+                inline_urls: Some(ref urls),
+                ..
+            } => {
+                let urls = urls.clone();
+                // Load the inlined file inside this group, then close the group over it.
+                self.frames.push(frame);
+                self.load_inline(src, at, &urls)?;
+                let frame = self.frames.pop().expect("inline frame");
+                self.close_group_like(src, frame.kind, at)?;
+                Result_::Nothing
+            }
+            Kind::Switch {
+                which,
+                ref choices,
+                ..
+            } => {
+                let chosen = usize::try_from(which).ok().and_then(|w| choices.get(w)).cloned();
+                let n = choices.len();
+                if let Some(range) = chosen {
+                    self.frames.push(frame);
+                    let saved = std::mem::take(&mut self.recorders);
+                    self.reusing += 1;
+                    let r = self.replay(src, range, at);
+                    self.reusing -= 1;
+                    self.recorders = saved;
+                    r?;
+                    let frame = self.frames.pop().expect("switch frame");
+                    self.close_group_like(src, frame.kind, at)?;
+                } else {
+                    if which >= 0 && which as usize >= n {
+                        self.warn(src, at, format!("Switch whichChoice {which} is out of range (0..{n}): nothing shown"));
+                    }
+                    self.close_group_like(src, frame.kind, at)?;
+                }
+                Result_::Nothing
+            }
+            k @ (Kind::Group { .. } | Kind::Lod { .. }) => {
+                self.close_group_like(src, k, at)?;
+                Result_::Nothing
+            }
+            Kind::Shape {
+                appearance,
+                geometry,
+            } => {
+                if let Some(Geom::Sphere(radius, sat)) = geometry {
+                    let material = match appearance {
+                        Some(Some(m)) => m,
+                        _ => 0, // unlit
+                    };
+                    self.scene.spheres.push(Sphere {
+                        center: DVec3::ZERO,
+                        radius,
+                        material,
+                        ellipsoid: NO_ELLIPSOID,
+                        origin: self.origin(sat),
+                    });
+                }
+                Result_::Nothing
+            }
+            Kind::Appearance { material } => Result_::Appearance(material),
+            Kind::Material(m) => Result_::Material(self.material_index(m)),
+            Kind::Sphere { radius } => Result_::Geometry(Geom::Sphere(radius, at)),
+            Kind::PointLight(l) => {
+                self.scene.lights.push(Light::Point(l));
+                Result_::Nothing
+            }
+            Kind::DirectionalLight(mut l) => {
+                let d = l.direction;
+                if d.length_squared() == 0.0 || !d.is_finite() {
+                    self.warn(src, at, "DirectionalLight direction is zero: using 0 0 -1");
+                    l.direction = DVec3::new(0.0, 0.0, -1.0);
+                } else {
+                    l.direction = d.normalize();
+                }
+                let idx = self.scene.lights.len();
+                self.scene.lights.push(Light::Directional(l));
+                // Scope: the siblings in the enclosing grouping node (set when it closes).
+                if let Some(g) = self.frames.iter_mut().rev().find(|f| {
+                    matches!(f.kind, Kind::Group { .. } | Kind::Switch { .. } | Kind::Lod { .. })
+                }) {
+                    match &mut g.kind {
+                        Kind::Group { dirlights, .. }
+                        | Kind::Switch { dirlights, .. }
+                        | Kind::Lod { dirlights, .. } => dirlights.push(idx),
+                        _ => {}
+                    }
+                }
+                Result_::Nothing
+            }
+            Kind::Viewpoint(v) => {
+                self.scene.viewpoints.push(v);
+                Result_::Nothing
+            }
+            Kind::NavigationInfo { headlight } => {
+                if !self.nav_bound {
+                    self.scene.headlight = headlight.unwrap_or(true);
+                    self.nav_bound = true;
+                }
+                Result_::Nothing
+            }
+            Kind::Background { sky } => {
+                if !self.bg_bound {
+                    self.scene.background = sky.unwrap_or(DVec3::ZERO);
+                    self.bg_bound = true;
+                }
+                Result_::Nothing
+            }
+            Kind::Skip | Kind::Quiet => Result_::Nothing,
+        })
+    }
+
+    /// Closes a grouping node: its matrix applies to everything lowered since it opened, and
+    /// its DirectionalLights light exactly that range.
+    fn close_group_like(&mut self, src: &SourceWindow, kind: Kind, at: u64) -> Result<(), Error> {
+        let (transform, marks, dirlights) = match kind {
+            Kind::Group {
+                transform,
+                marks,
+                dirlights,
+                ..
+            } => (transform, marks, dirlights),
+            Kind::Switch {
+                marks, dirlights, ..
+            }
+            | Kind::Lod {
+                marks, dirlights, ..
+            } => (None, marks, dirlights),
+            _ => return Ok(()),
+        };
+        let end = self.scene.spheres.len() as u32;
+        for i in dirlights {
+            if let Light::Directional(l) = &mut self.scene.lights[i] {
+                l.scope = (marks.spheres as u32, end);
+            }
+        }
+        let Some(t) = transform else {
+            return Ok(());
+        };
+        let m = transform_matrix(&t);
+        if m == DAffine3::IDENTITY {
+            return Ok(());
+        }
+        if !m.is_finite() || m.matrix3.determinant() == 0.0 {
+            // A zero scale (or a degenerate scaleOrientation) flattens the contents: not shown.
+            self.warn(src, at, "a Transform with a zero or non-finite scale hides its contents");
+            self.scene.spheres.truncate(marks.spheres);
+            self.scene.lights.truncate(marks.lights);
+            self.scene.viewpoints.truncate(marks.views);
+            return Ok(());
+        }
+        self.apply(&m, marks);
+        Ok(())
+    }
+
+    fn apply(&mut self, m: &DAffine3, marks: Marks) {
+        let lin = m.matrix3;
+        let sim = similarity_scale(&lin);
+        let max_scale = lin
+            .x_axis
+            .length()
+            .max(lin.y_axis.length())
+            .max(lin.z_axis.length());
+        for i in marks.spheres..self.scene.spheres.len() {
+            let s = &mut self.scene.spheres[i];
+            if s.ellipsoid == NO_ELLIPSOID {
+                if let Some(k) = sim {
+                    s.center = m.transform_point3(s.center);
+                    s.radius *= k;
+                    continue;
+                }
+                let a = *m * DAffine3::from_scale_rotation_translation(DVec3::splat(s.radius), DQuat::IDENTITY, s.center);
+                s.ellipsoid = self.scene.ellipsoids.len() as u32;
+                self.scene.ellipsoids.push(a);
+            } else {
+                let e = &mut self.scene.ellipsoids[s.ellipsoid as usize];
+                *e = *m * *e;
+            }
+            let e = self.scene.ellipsoids[s.ellipsoid as usize];
+            s.center = e.translation;
+            let l = e.matrix3;
+            // A bounding radius: the half extents' length bounds every point of the ellipsoid.
+            s.radius = DVec3::new(l.row(0).length(), l.row(1).length(), l.row(2).length()).length();
+        }
+        for l in &mut self.scene.lights[marks.lights..] {
+            match l {
+                Light::Point(p) => {
+                    p.location = m.transform_point3(p.location);
+                    p.radius *= sim.unwrap_or(max_scale);
+                }
+                Light::Directional(d) => {
+                    d.direction = m.transform_vector3(d.direction).normalize_or(d.direction);
+                }
+            }
+        }
+        let rot = rotation_part(&lin);
+        for v in &mut self.scene.viewpoints[marks.views..] {
+            v.position = m.transform_point3(v.position);
+            v.orientation = (rot * v.orientation).normalize();
+        }
+        let _ = marks.ellipsoids;
+    }
+
+    // ----- PROTO
+
+    fn declare_proto(&mut self, src: &SourceWindow, range: Range<usize>) -> Result<(), Error> {
+        if self.in_proto_decl > 0 {
+            // Nested in another declaration: it is declared when that body is expanded.
+            return Ok(());
+        }
+        let (name, external, at) = match &self.arena[range.start] {
+            Rec::Ev(OwnedEvent::ProtoStart { name, external, at }) => (name.clone(), *external, *at),
+            _ => return Err(Error::Other("internal: PROTO recording without its start".into())),
+        };
+        let mut fields: Vec<InterfaceField> = Vec::new();
+        let mut i = range.start + 1;
+        let mut body = None;
+        while i < range.end {
+            match &self.arena[i] {
+                Rec::Ev(OwnedEvent::Decl { access, ty, name: fname, at }) => {
+                    let access_k = Access::from_keyword(access)
+                        .ok_or_else(|| self.error(src, *at, format!("unknown access type '{access}'")))?;
+                    let fty = FieldType::from_name(ty)
+                        .ok_or_else(|| self.error(src, *at, format!("unknown field type '{ty}'")))?;
+                    let fname = fname.clone();
+                    let dat = *at;
+                    if fields.iter().any(|f| f.name == fname) {
+                        self.warn(src, dat, format!("PROTO {name} declares '{fname}' twice"));
+                    }
+                    let mut default = None;
+                    if !external && matches!(access_k, Access::Field | Access::ExposedField) {
+                        // The value events follow the declaration.
+                        let vstart = i + 1;
+                        let vend = value_end(&self.arena, vstart);
+                        if let Some(Rec::Ev(OwnedEvent::Field { value, at: vat, .. })) = self.arena.get(vstart) {
+                            if let Err(e) = check_value(fty, &value.as_value()) {
+                                return Err(self.error(src, *vat, format!("default of '{fname}' {e}")));
+                            }
+                        }
+                        self.resolve_default_uses(src, vstart..vend)?;
+                        default = Some(vstart..vend);
+                        i = vend - 1;
+                    }
+                    fields.push(InterfaceField {
+                        access: access_k,
+                        ty: fty,
+                        name: fname,
+                        default,
+                    });
+                }
+                Rec::Ev(OwnedEvent::ProtoBody { .. }) => {
+                    body = Some(i + 1..range.end - 1);
+                    break;
+                }
+                _ => {}
+            }
+            i += 1;
+        }
+        // exposedField x already defines set_x and x_changed.
+        for f in &fields {
+            if matches!(f.access, Access::EventIn | Access::EventOut) {
+                let base = f.name.strip_prefix("set_").or_else(|| f.name.strip_suffix("_changed"));
+                if let Some(b) = base {
+                    if fields.iter().any(|g| &*g.name == b && g.access == Access::ExposedField) {
+                        self.warn(src, at, format!("PROTO {name}: '{}' conflicts with exposedField '{b}'", f.name));
+                    }
+                }
+            }
+        }
+        let decl = Rc::new(ProtoDecl {
+            name: name.clone(),
+            fields,
+            body,
+            at,
+        });
+        if let Some(b) = decl.body.clone() {
+            self.check_body(src, &decl, b)?;
+        }
+        self.pinned = self.pinned.max(range.end);
+        if let Some(s) = self.scopes.last_mut() {
+            s.protos.insert(name, decl);
+        }
+        Ok(())
+    }
+
+    /// Resolves the USEs in an interface default value: a DEF earlier in the same value, or a
+    /// DEF of the enclosing file made before the declaration. Each default is a namespace of its
+    /// own, so a USE of a DEF in another field's default is an error (OpenVRML's test suite).
+    fn resolve_default_uses(&mut self, src: &SourceWindow, range: Range<usize>) -> Result<(), Error> {
+        let mut open: Vec<(Option<Rc<str>>, usize)> = Vec::new();
+        let mut local: HashMap<Rc<str>, Range<usize>> = HashMap::new();
+        let mut protos = 0;
+        for i in range {
+            let Rec::Ev(ev) = &self.arena[i] else { continue };
+            match ev {
+                OwnedEvent::ProtoStart { .. } => protos += 1,
+                OwnedEvent::ProtoEnd { .. } => protos -= 1,
+                _ if protos > 0 => {}
+                OwnedEvent::NodeStart { def, .. } => open.push((def.clone(), i)),
+                OwnedEvent::NodeEnd { .. } => {
+                    if let Some((Some(name), start)) = open.pop() {
+                        local.insert(name, start..i + 1);
+                    }
+                }
+                OwnedEvent::Use { name, at } => {
+                    let at = *at;
+                    let found = local
+                        .get(name)
+                        .cloned()
+                        .or_else(|| self.lookup_def(name).map(|d| d.range.clone()));
+                    match found {
+                        Some(r) => self.arena[i] = Rec::Used { range: r, at },
+                        None => {
+                            let msg = format!("USE of undefined name '{name}' in a PROTO field default");
+                            return Err(self.error(src, at, msg));
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// Checks every `IS` in a PROTO body: the interface field exists, and its type and access
+    /// fit the body field (VRML97 4.8.3, Table 4.4).
+    fn check_body(&mut self, src: &SourceWindow, decl: &ProtoDecl, body: Range<usize>) -> Result<(), Error> {
+        let mut types: Vec<Rc<str>> = Vec::new();
+        let mut proto_depth = 0;
+        for i in body {
+            let Rec::Ev(ev) = &self.arena[i] else { continue };
+            match ev {
+                OwnedEvent::ProtoStart { .. } => proto_depth += 1,
+                OwnedEvent::ProtoEnd { .. } => proto_depth -= 1,
+                _ if proto_depth > 0 => {}
+                OwnedEvent::NodeStart { ty, .. } => types.push(ty.clone()),
+                OwnedEvent::NodeEnd { .. } => {
+                    types.pop();
+                }
+                OwnedEvent::Field {
+                    name,
+                    at,
+                    value: super::syntax::OwnedValue::Is(target),
+                } => {
+                    let Some(iface) = decl.field(target) else {
+                        return Err(self.error(src, *at, format!("'IS {target}': PROTO {} has no interface field '{target}'", decl.name)));
+                    };
+                    let Some(node_ty) = types.last() else { continue };
+                    let Some(spec) = schema::node_spec(node_ty) else { continue };
+                    let Some((f, access)) = spec.event(name) else { continue };
+                    if f.ty != iface.ty {
+                        return Err(self.error(
+                            src,
+                            *at,
+                            format!(
+                                "'{name} IS {target}': {node_ty}.{name} is {} but interface field '{target}' is {}",
+                                f.ty.name(),
+                                iface.ty.name()
+                            ),
+                        ));
+                    }
+                    let ok = match (iface.access, access) {
+                        (Access::ExposedField, a) => a == Access::ExposedField,
+                        (Access::Field, a) => matches!(a, Access::Field | Access::ExposedField),
+                        (Access::EventIn, a) => matches!(a, Access::EventIn | Access::ExposedField),
+                        (Access::EventOut, a) => matches!(a, Access::EventOut | Access::ExposedField),
+                    };
+                    if !ok {
+                        self.warn(
+                            src,
+                            *at,
+                            format!("'{name} IS {target}': a {} cannot be mapped to an interface {}", access.keyword(), iface.access.keyword()),
+                        );
+                    }
+                }
+                OwnedEvent::Field { name, at, .. } | OwnedEvent::NodesStart { name, at } => {
+                    let Some(node_ty) = types.last() else { continue };
+                    let Some(spec) = schema::node_spec(node_ty) else { continue };
+                    if let Some((_, a @ (Access::EventIn | Access::EventOut))) = spec.event(name) {
+                        self.warn(src, *at, format!("'{name}' of {node_ty} is an {}, not a field: ignored", a.keyword()));
+                    }
+                }
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// Expands a recorded PROTO instance: its field values replace `IS` in the body's first node.
+    fn expand(&mut self, src: &SourceWindow, proto: Rc<ProtoDecl>, inst: Range<usize>, at: u64) -> Result<(), Error> {
+        let body = proto.body.clone().expect("PROTO with a body");
+        // The instance's fields (skip its NodeStart and NodeEnd).
+        let mut values = HashMap::new();
+        let mut i = inst.start + 1;
+        while i + 1 < inst.end {
+            let end = value_end(&self.arena, i);
+            let (fname, fat) = match &self.arena[i] {
+                Rec::Ev(OwnedEvent::Field { name, at, .. }) | Rec::Ev(OwnedEvent::NodesStart { name, at }) => (name.clone(), *at),
+                _ => {
+                    i = end;
+                    continue;
+                }
+            };
+            match proto.field(&fname) {
+                None => self.warn(src, fat, format!("unknown field '{fname}' of PROTO {}: ignored", proto.name)),
+                Some(f) => {
+                    if let Rec::Ev(OwnedEvent::Field { value, .. }) = &self.arena[i] {
+                        if f.ty.is_node() {
+                            if *value != super::syntax::OwnedValue::Empty {
+                                return Err(self.error(src, fat, format!("field '{fname}' of PROTO {} expects {}", proto.name, f.ty.name())));
+                            }
+                        } else if let Err(e) = check_value(f.ty, &value.as_value()) {
+                            return Err(self.error(src, fat, format!("field '{fname}' of PROTO {} {e}", proto.name)));
+                        }
+                    } else if !f.ty.is_node() {
+                        return Err(self.error(src, fat, format!("field '{fname}' of PROTO {} expects {}, found a node", proto.name, f.ty.name())));
+                    }
+                    if matches!(f.access, Access::EventIn | Access::EventOut) {
+                        self.warn(src, fat, format!("'{fname}' of PROTO {} is an {}, not a field: ignored", proto.name, f.access.keyword()));
+                    } else {
+                        values.insert(fname, i..end);
+                    }
+                }
+            }
+            i = end;
+        }
+        // The body runs in a namespace of its own, with this instance's substitutions.
+        self.scopes.push(Scope::default());
+        self.substs.push(Rc::new(Subst { proto: proto.clone(), values }));
+        let saved = std::mem::take(&mut self.recorders);
+        let reusing = std::mem::replace(&mut self.reusing, 0);
+        let r = self.replay_first_node(src, body, at);
+        self.reusing = reusing;
+        self.recorders = saved;
+        self.substs.pop();
+        self.scopes.pop();
+        r
+    }
+
+    /// Replays a PROTO body up to the end of its first node (earlier PROTO declarations included).
+    fn replay_first_node(&mut self, src: &SourceWindow, body: Range<usize>, at: u64) -> Result<(), Error> {
+        let mut i = body.start;
+        let mut depth = 0i32;
+        let mut protos = 0i32;
+        while i < body.end {
+            let rec = self.arena[i].clone();
+            let mut first_done = false;
+            match &rec {
+                Rec::Ev(ev) => {
+                    match ev {
+                        OwnedEvent::ProtoStart { .. } => protos += 1,
+                        OwnedEvent::ProtoEnd { .. } => protos -= 1,
+                        OwnedEvent::NodeStart { .. } if protos == 0 => depth += 1,
+                        OwnedEvent::NodeEnd { .. } if protos == 0 => {
+                            depth -= 1;
+                            first_done = depth == 0;
+                        }
+                        _ => {}
+                    }
+                    self.replay_depth += 1;
+                    if self.replay_depth > MAX_REPLAY_DEPTH {
+                        return Err(self.error(src, at, format!("PROTO expansions nest deeper than {MAX_REPLAY_DEPTH}")));
+                    }
+                    let r = self.handle(src, ev.as_event());
+                    self.replay_depth -= 1;
+                    r?;
+                }
+                Rec::Used { range, at } => {
+                    if protos == 0 && depth == 0 {
+                        // A USE as the body's first node.
+                        self.use_range(src, range.clone(), *at)?;
+                        return Ok(());
+                    }
+                    self.use_range(src, range.clone(), *at)?
+                }
+            }
+            if first_done {
+                break;
+            }
+            i += 1;
+        }
+        Ok(())
+    }
+
+    // ----- ROUTE
+
+    fn check_route(&mut self, src: &SourceWindow, from: &str, ff: &str, to: &str, tf: &str, at: u64) {
+        let end = |this: &mut Self, node: &str, field: &str, want_out: bool| -> Option<FieldType> {
+            let Some(d) = this.lookup_def(node) else {
+                this.warn(src, at, format!("ROUTE refers to undefined node '{node}'"));
+                return None;
+            };
+            let ty = d.ty.clone();
+            let found = if let Some(p) = this.lookup_proto(&ty) {
+                p.event(field).map(|(f, a)| (f.ty, a))
+            } else if let Some(spec) = schema::node_spec(&ty) {
+                if &*ty == "Script" {
+                    return None;
+                }
+                spec.event(field).map(|(f, a)| (f.ty, a))
+            } else {
+                return None;
+            };
+            let Some((fty, access)) = found else {
+                this.warn(src, at, format!("ROUTE: {ty} '{node}' has no event '{field}'"));
+                return None;
+            };
+            let ok = if want_out {
+                matches!(access, Access::EventOut | Access::ExposedField)
+            } else {
+                matches!(access, Access::EventIn | Access::ExposedField)
+            };
+            if !ok {
+                let want = if want_out { "an eventOut" } else { "an eventIn" };
+                this.warn(src, at, format!("ROUTE: '{node}.{field}' is not {want}"));
+                return None;
+            }
+            Some(fty)
+        };
+        let a = end(self, from, ff, true);
+        let b = end(self, to, tf, false);
+        if let (Some(a), Some(b)) = (a, b) {
+            if a != b {
+                self.warn(src, at, format!("ROUTE from {} to {}: the types differ", a.name(), b.name()));
+            }
+        }
+    }
+}
+
+/// The end (exclusive) of the value that starts at `i`: one Field, or NodesStart .. NodesEnd.
+fn value_end(arena: &[Rec], i: usize) -> usize {
+    match arena.get(i) {
+        Some(Rec::Ev(OwnedEvent::NodesStart { .. })) => {
+            let mut depth = 0;
+            let mut k = i;
+            while k < arena.len() {
+                match &arena[k] {
+                    Rec::Ev(OwnedEvent::NodesStart { .. }) => depth += 1,
+                    Rec::Ev(OwnedEvent::NodesEnd { .. }) => {
+                        depth -= 1;
+                        if depth == 0 {
+                            return k + 1;
+                        }
+                    }
+                    _ => {}
+                }
+                k += 1;
+            }
+            arena.len()
+        }
+        _ => i + 1,
+    }
+}
+
+impl Sink for Lowerer {
+    fn event(&mut self, src: &SourceWindow, ev: Event<'_>) -> Result<(), Error> {
+        self.handle(src, ev)
+    }
+}

@@ -1,0 +1,9 @@
+//! VRML97: lexer, streaming parser, node field tables, and lowering to the scene IR.
+
+pub mod lex;
+pub mod lower;
+pub mod parse;
+pub mod schema;
+pub mod syntax;
+
+pub use lower::{load_path, load_str, LoadOptions, LoadReport};

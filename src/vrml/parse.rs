@@ -1,0 +1,721 @@
+//! The VRML97 parser: an explicit-stack state machine over a streaming text window.
+//!
+//! Each step reads one item (a node header, a field with its value, a list element, an
+//! interface declaration, a ROUTE) with the nom parsers of [`super::lex`] and pushes events
+//! to the [`Sink`]. Nesting lives on a heap stack, so 100 000 nested Groups cannot overflow
+//! the call stack, and nothing but the current item is held: the sink decides what to keep.
+
+use super::lex::{self, identifier, number, starts_number, string, ws, NumberProblem};
+use super::syntax::{Event, Sink, Value};
+use crate::diag::Severity;
+use crate::error::Error;
+use crate::source::SourceWindow;
+
+#[derive(Clone, Copy, Debug)]
+enum Frame {
+    Top,
+    /// Inside a node's braces.
+    Body,
+    /// Inside the brackets of an MFNode value.
+    List,
+    /// A node given without brackets as a field value: `NodesEnd` follows when it closes.
+    Single,
+    /// A PROTO or EXTERNPROTO interface.
+    Iface { external: bool },
+    ProtoBody,
+}
+
+/// A parse failure inside one item: where, what, and whether the input ran out first.
+struct PErr<'a> {
+    at: &'a str,
+    msg: String,
+    incomplete: bool,
+}
+
+type PResult<'a, T> = Result<(&'a str, T), PErr<'a>>;
+
+fn fail<T>(at: &str, msg: impl Into<String>) -> PResult<'_, T> {
+    Err(PErr {
+        at,
+        msg: msg.into(),
+        incomplete: at.is_empty(),
+    })
+}
+
+/// Scratch vectors that hold a value's items while its event is delivered.
+#[derive(Default)]
+struct Scratch {
+    nums: Vec<f64>,
+    bools: Vec<bool>,
+    strs: Vec<String>,
+}
+
+/// What a field value turned out to be.
+enum Val<'a> {
+    Value(Value<'a>),
+    Use(&'a str),
+    Null,
+    /// A node without brackets; its header has been read.
+    Node(Option<&'a str>, &'a str),
+    /// `[` followed by nodes: the list's items follow.
+    List,
+}
+
+enum Item<'a> {
+    /// `}` `]`
+    Close,
+    Node(Option<&'a str>, &'a str),
+    Use(&'a str),
+    Null,
+    Proto(&'a str, bool),
+    Route(&'a str, &'a str, &'a str, &'a str),
+    Field(&'a str, Val<'a>),
+    Decl(&'a str, &'a str, &'a str, Option<Val<'a>>),
+    /// The URL list that ends an EXTERNPROTO.
+    Urls(&'a [String]),
+}
+
+const KEYWORDS: [&str; 12] = [
+    "DEF",
+    "USE",
+    "PROTO",
+    "EXTERNPROTO",
+    "ROUTE",
+    "TO",
+    "IS",
+    "NULL",
+    "TRUE",
+    "FALSE",
+    "eventIn",
+    "eventOut",
+];
+
+fn is_nan_word(id: &str) -> bool {
+    let l = id.to_ascii_lowercase();
+    matches!(l.as_str(), "nan" | "inf" | "infinity")
+}
+
+fn ident<'a>(i: &'a str, what: &str) -> PResult<'a, &'a str> {
+    match identifier(i) {
+        Ok((rest, id)) => Ok((rest, id)),
+        Err(_) => fail(i, format!("expected {what}")),
+    }
+}
+
+/// `[DEF name] Type {` with the first identifier already read.
+fn node_header<'a>(first: &'a str, rest: &'a str) -> PResult<'a, (Option<&'a str>, &'a str)> {
+    let (def, ty, rest) = if first == "DEF" {
+        let (r, name) = ident(ws(rest), "a name after DEF")?;
+        let (r, ty) = ident(ws(r), "a node type after the DEF name")?;
+        (Some(name), ty, r)
+    } else {
+        (None, first, rest)
+    };
+    if KEYWORDS.contains(&ty) || ty == "field" || ty == "exposedField" {
+        return fail(rest, format!("expected a node type, found keyword '{ty}'"));
+    }
+    let r = ws(rest);
+    match r.as_bytes().first() {
+        Some(b'{') => Ok((&r[1..], (def, ty))),
+        None => fail(r, format!("expected '{{' after node type '{ty}'")),
+        Some(_) => fail(r, format!("expected '{{' after node type '{ty}'")),
+    }
+}
+
+fn num<'a>(i: &'a str) -> PResult<'a, lex::Number> {
+    match number(i) {
+        Ok((rest, n)) => Ok((rest, n)),
+        Err(NumberProblem::OutOfRange) => {
+            fail(i, "number out of range (NaN and infinite values are not allowed)")
+        }
+        Err(NumberProblem::NotANumber) => fail(i, "invalid number"),
+    }
+}
+
+fn str_lit(i: &str) -> PResult<'_, String> {
+    match string(i) {
+        Ok(r) => Ok(r),
+        Err(_) => Err(PErr {
+            at: i,
+            msg: "unterminated string".into(),
+            incomplete: true,
+        }),
+    }
+}
+
+/// A field value of any type, read generically.
+fn value<'a>(i: &'a str, s: &'a mut Scratch) -> PResult<'a, Val<'a>> {
+    s.nums.clear();
+    s.bools.clear();
+    s.strs.clear();
+    match i.as_bytes().first() {
+        None => fail(i, "expected a field value"),
+        Some(b'[') => {
+            let j = ws(&i[1..]);
+            match j.as_bytes().first() {
+                None => fail(j, "expected a value or ']'"),
+                Some(b']') => Ok((&j[1..], Val::Value(Value::Empty))),
+                Some(b'"') | Some(b'0'..=b'9' | b'+' | b'-' | b'.') => bracketed(j, s),
+                Some(_) => match identifier(j) {
+                    Ok((_, "TRUE" | "FALSE")) => bracketed(j, s),
+                    Ok((_, id)) if is_nan_word(id) => {
+                        fail(j, "NaN and infinite numbers are not allowed")
+                    }
+                    Ok(_) => Ok((j, Val::List)),
+                    Err(_) => fail(j, "expected a value or ']'"),
+                },
+            }
+        }
+        Some(b'"') => {
+            let (r, st) = str_lit(i)?;
+            s.strs.push(st);
+            Ok((
+                r,
+                Val::Value(Value::Strings {
+                    values: &s.strs,
+                    bracketed: false,
+                }),
+            ))
+        }
+        Some(b'0'..=b'9' | b'+' | b'-' | b'.') => {
+            let mut r = i;
+            let mut integer = true;
+            loop {
+                let (r2, n) = num(r)?;
+                s.nums.push(n.value);
+                integer &= n.integer;
+                r = r2;
+                let next = ws(r);
+                if next.is_empty() {
+                    // The numbers may go on past the window (or the file ends inside a node).
+                    return Err(PErr {
+                        at: next,
+                        msg: "unexpected end of file in a field value".into(),
+                        incomplete: true,
+                    });
+                }
+                if !starts_number(next) {
+                    break;
+                }
+                r = next;
+            }
+            Ok((
+                r,
+                Val::Value(Value::Numbers {
+                    values: &s.nums,
+                    integer,
+                    bracketed: false,
+                }),
+            ))
+        }
+        Some(_) => {
+            let (r, id) = ident(i, "a field value")?;
+            match id {
+                "TRUE" | "FALSE" => {
+                    s.bools.push(id == "TRUE");
+                    Ok((
+                        r,
+                        Val::Value(Value::Bools {
+                            values: &s.bools,
+                            bracketed: false,
+                        }),
+                    ))
+                }
+                "NULL" => Ok((r, Val::Null)),
+                "IS" => {
+                    let (r, name) = ident(ws(r), "an interface field name after IS")?;
+                    Ok((r, Val::Value(Value::Is(name))))
+                }
+                "USE" => {
+                    let (r, name) = ident(ws(r), "a name after USE")?;
+                    Ok((r, Val::Use(name)))
+                }
+                _ if is_nan_word(id) => fail(i, "NaN and infinite numbers are not allowed"),
+                _ => {
+                    let (r, (def, ty)) = node_header(id, r)?;
+                    Ok((r, Val::Node(def, ty)))
+                }
+            }
+        }
+    }
+}
+
+/// A bracketed list of numbers, strings or booleans (after the `[`).
+fn bracketed<'a>(mut j: &'a str, s: &'a mut Scratch) -> PResult<'a, Val<'a>> {
+    let mut integer = true;
+    #[derive(PartialEq, Clone, Copy)]
+    enum Kind {
+        Num,
+        Str,
+        Bool,
+    }
+    let mut kind = None;
+    loop {
+        j = ws(j);
+        let this = match j.as_bytes().first() {
+            None => return fail(j, "expected ']' to close the list"),
+            Some(b']') => {
+                let values = match kind {
+                    Some(Kind::Str) => Value::Strings {
+                        values: &s.strs,
+                        bracketed: true,
+                    },
+                    Some(Kind::Bool) => Value::Bools {
+                        values: &s.bools,
+                        bracketed: true,
+                    },
+                    _ => Value::Numbers {
+                        values: &s.nums,
+                        integer,
+                        bracketed: true,
+                    },
+                };
+                return Ok((&j[1..], Val::Value(values)));
+            }
+            Some(b'"') => {
+                let (r, st) = str_lit(j)?;
+                s.strs.push(st);
+                j = r;
+                Kind::Str
+            }
+            Some(b'0'..=b'9' | b'+' | b'-' | b'.') => {
+                let (r, n) = num(j)?;
+                s.nums.push(n.value);
+                integer &= n.integer;
+                j = r;
+                Kind::Num
+            }
+            Some(_) => match identifier(j) {
+                Ok((r, b @ ("TRUE" | "FALSE"))) => {
+                    s.bools.push(b == "TRUE");
+                    j = r;
+                    Kind::Bool
+                }
+                Ok((_, id)) if is_nan_word(id) => {
+                    return fail(j, "NaN and infinite numbers are not allowed")
+                }
+                _ => return fail(j, "expected a value or ']' in this list"),
+            },
+        };
+        if kind.is_some_and(|k| k != this) {
+            return fail(j, "a list must not mix numbers, strings and booleans");
+        }
+        kind = Some(this);
+    }
+}
+
+/// A statement at the top level or in a PROTO body.
+fn statement(i: &str) -> PResult<'_, Item<'_>> {
+    let (r, id) = ident(i, "a node, PROTO, EXTERNPROTO or ROUTE")?;
+    match id {
+        "PROTO" | "EXTERNPROTO" => {
+            let (r, name) = ident(ws(r), "a PROTO name")?;
+            let r = ws(r);
+            if !r.starts_with('[') {
+                return fail(r, format!("expected '[' to open the interface of {id} {name}"));
+            }
+            Ok((&r[1..], Item::Proto(name, id == "EXTERNPROTO")))
+        }
+        "ROUTE" => match lex::route_body(r) {
+            Ok((r, (a, b, c, d))) => Ok((r, Item::Route(a, b, c, d))),
+            Err(_) => fail(r, "expected 'ROUTE node.eventOut TO node.eventIn'"),
+        },
+        "USE" => {
+            let (r, name) = ident(ws(r), "a name after USE")?;
+            Ok((r, Item::Use(name)))
+        }
+        _ => {
+            let (r, (def, ty)) = node_header(id, r)?;
+            Ok((r, Item::Node(def, ty)))
+        }
+    }
+}
+
+/// An interface declaration `access type name [value]`; `with_value` for PROTO and Script.
+fn decl<'a>(
+    access: &'a str,
+    r: &'a str,
+    with_value: bool,
+    s: &'a mut Scratch,
+) -> PResult<'a, Item<'a>> {
+    let (r, ty) = ident(ws(r), "a field type")?;
+    let (r, name) = ident(ws(r), "a field name")?;
+    if with_value && (access == "field" || access == "exposedField") {
+        let (r, v) = value(ws(r), s)?;
+        Ok((r, Item::Decl(access, ty, name, Some(v))))
+    } else if with_value {
+        // eventIn/eventOut of a Script inside a PROTO may be `IS`-mapped.
+        let r2 = ws(r);
+        if let Ok((r3, "IS")) = identifier(r2) {
+            let (r4, target) = ident(ws(r3), "an interface field name after IS")?;
+            return Ok((r4, Item::Decl(access, ty, name, Some(Val::Value(Value::Is(target))))));
+        }
+        Ok((r, Item::Decl(access, ty, name, None)))
+    } else {
+        Ok((r, Item::Decl(access, ty, name, None)))
+    }
+}
+
+fn is_access(id: &str) -> bool {
+    matches!(id, "eventIn" | "eventOut" | "field" | "exposedField")
+}
+
+/// One element of a node body.
+fn body_element<'a>(i: &'a str, s: &'a mut Scratch) -> PResult<'a, Item<'a>> {
+    if let Some(r) = i.strip_prefix('}') {
+        return Ok((r, Item::Close));
+    }
+    let (r, id) = ident(i, "a field name or '}'")?;
+    match id {
+        "PROTO" | "EXTERNPROTO" | "ROUTE" => statement(i),
+        _ if is_access(id) => decl(id, r, true, s),
+        "DEF" | "USE" => fail(i, format!("expected a field name before {id}")),
+        _ => {
+            let (r, v) = value(ws(r), s)?;
+            Ok((r, Item::Field(id, v)))
+        }
+    }
+}
+
+fn list_item(i: &str) -> PResult<'_, Item<'_>> {
+    if let Some(r) = i.strip_prefix(']') {
+        return Ok((r, Item::Close));
+    }
+    let (r, id) = ident(i, "a node, USE or ']'")?;
+    match id {
+        "USE" => {
+            let (r, name) = ident(ws(r), "a name after USE")?;
+            Ok((r, Item::Use(name)))
+        }
+        "NULL" => Ok((r, Item::Null)),
+        // PROTO declarations are allowed among nodes only at statement level; be lenient.
+        _ => {
+            let (r, (def, ty)) = node_header(id, r)?;
+            Ok((r, Item::Node(def, ty)))
+        }
+    }
+}
+
+fn iface_element<'a>(i: &'a str, external: bool, s: &'a mut Scratch) -> PResult<'a, Item<'a>> {
+    if let Some(r) = i.strip_prefix(']') {
+        return Ok((r, Item::Close));
+    }
+    let (r, id) = ident(i, "an interface declaration or ']'")?;
+    if !is_access(id) {
+        return fail(
+            i,
+            format!("expected eventIn, eventOut, field or exposedField, found '{id}'"),
+        );
+    }
+    decl(id, r, !external, s)
+}
+
+/// The URL list after an EXTERNPROTO interface: a string or a bracketed list of strings.
+fn url_list<'a>(i: &'a str, s: &'a mut Scratch) -> PResult<'a, Item<'a>> {
+    match value(i, s)? {
+        (r, Val::Value(Value::Strings { values, .. })) => Ok((r, Item::Urls(values))),
+        (r, Val::Value(Value::Empty)) => Ok((r, Item::Urls(&[]))),
+        _ => fail(i, "expected the EXTERNPROTO's URL list (a string or [ strings ])"),
+    }
+}
+
+/// Parses one VRML97 source, pushing events to `sink`.
+pub struct Parser {
+    pub src: SourceWindow,
+    stack: Vec<Frame>,
+    scratch: Scratch,
+}
+
+fn io_err(src: &SourceWindow, e: std::io::Error) -> Error {
+    Error::Io {
+        path: src.name.to_string(),
+        source: e,
+    }
+}
+
+impl Parser {
+    pub fn new(src: SourceWindow) -> Self {
+        Parser {
+            src,
+            stack: Vec::new(),
+            scratch: Scratch::default(),
+        }
+    }
+
+    fn error_at(&self, at: u64, msg: impl Into<String>) -> Error {
+        Error::Diag(Box::new(self.src.diagnostic(Severity::Error, at, msg.into())))
+    }
+
+    fn skip_ws(&mut self) -> Result<(), Error> {
+        loop {
+            self.src.ensure().map_err(|e| io_err(&self.src, e))?;
+            let rest = ws(self.src.rest());
+            if rest.is_empty() && !self.src.eof {
+                // Possibly inside a long comment: read more and skip again from here.
+                self.src.grow().map_err(|e| io_err(&self.src, e))?;
+                continue;
+            }
+            let n = rest.len();
+            self.src.advance_to(n);
+            return Ok(());
+        }
+    }
+
+    fn header(&mut self) -> Result<(), Error> {
+        self.src.ensure().map_err(|e| io_err(&self.src, e))?;
+        let text = self.src.rest();
+        let bom = if text.starts_with('\u{feff}') { 3 } else { 0 };
+        let text = &text[bom..];
+        if lex::header(text).is_err() {
+            let msg = if text.starts_with("#VRML V1.0") {
+                "VRML 1.0 files are not supported: gtsphere reads VRML97 ('#VRML V2.0 utf8')"
+            } else if text.starts_with("#X3D") || text.starts_with("<?xml") {
+                "X3D files are not supported: gtsphere reads VRML97 ('#VRML V2.0 utf8')"
+            } else {
+                "not a VRML97 file: the first line must start with '#VRML V2.0 utf8'"
+            };
+            return Err(self.error_at(self.src.offset(), msg));
+        }
+        // The rest of the header line is a comment (exporters write their name there).
+        let end = text.find('\n').unwrap_or(text.len());
+        let n = text.len() - end;
+        self.src.advance_to(n);
+        Ok(())
+    }
+
+    /// Reads the whole source.
+    pub fn run(&mut self, sink: &mut dyn Sink) -> Result<(), Error> {
+        self.header()?;
+        self.stack.push(Frame::Top);
+        loop {
+            self.skip_ws()?;
+            let at = self.src.offset();
+            let top = *self.stack.last().unwrap_or(&Frame::Top);
+            if self.src.rest().is_empty() {
+                let what = match top {
+                    Frame::Top => return Ok(()),
+                    Frame::Body | Frame::Single => "expected '}' to close a node",
+                    Frame::List => "expected ']' to close a list of nodes",
+                    Frame::Iface { .. } => "expected ']' to close a PROTO interface",
+                    Frame::ProtoBody => "expected '}' to close a PROTO body",
+                };
+                return Err(self.error_at(at, format!("unexpected end of file: {what}")));
+            }
+            if let Frame::ProtoBody = top {
+                if self.src.rest().starts_with('}') {
+                    self.src.pos += 1;
+                    self.stack.pop();
+                    sink.event(&self.src, Event::ProtoEnd { at, urls: &[] })?;
+                    continue;
+                }
+            }
+            if let Frame::Iface { external } = top {
+                if self.src.rest().starts_with(']') {
+                    self.src.pos += 1;
+                    self.stack.pop();
+                    self.skip_ws()?;
+                    let at2 = self.src.offset();
+                    if external {
+                        self.step(sink, at2, url_list)?;
+                    } else {
+                        if !self.src.rest().starts_with('{') {
+                            return Err(self.error_at(at2, "expected '{' to open the PROTO body"));
+                        }
+                        self.src.pos += 1;
+                        self.stack.push(Frame::ProtoBody);
+                        sink.event(&self.src, Event::ProtoBody { at: at2 })?;
+                    }
+                    continue;
+                }
+            }
+            match top {
+                Frame::Top | Frame::ProtoBody => {
+                    self.step(sink, at, |i, _| statement(i))?
+                }
+                Frame::Body => self.step(sink, at, body_element)?,
+                Frame::List => self.step(sink, at, |i, _| list_item(i))?,
+                Frame::Iface { external } => {
+                    self.step(sink, at, |i, s| iface_element(i, external, s))?
+                }
+                Frame::Single => unreachable!("a Single frame is popped when its node closes"),
+            }
+        }
+    }
+
+    /// Runs one item parser, retrying with more input when it ran into the end of the window,
+    /// then turns the item into events.
+    fn step<F>(&mut self, sink: &mut dyn Sink, at: u64, f: F) -> Result<(), Error>
+    where
+        F: for<'a> Fn(&'a str, &'a mut Scratch) -> PResult<'a, Item<'a>>,
+    {
+        loop {
+            let eof = self.src.eof;
+            match f(self.src.rest(), &mut self.scratch) {
+                Err(e) if !(e.incomplete && !eof) => {
+                    let off = self.src.offset_of(e.at);
+                    let msg = e.msg;
+                    return Err(self.error_at(off, msg));
+                }
+                Ok((rest, _)) if rest.is_empty() && !eof => {}
+                Err(_) => {}
+                Ok((rest, item)) => {
+                    let k = self.stack.len();
+                    let top = self.stack.last().copied();
+                    let under = k.checked_sub(2).map(|j| self.stack[j]);
+                    let pushes = emit(&self.src, sink, at, item, top, under, rest)?;
+                    let n = rest.len();
+                    self.src.advance_to(n);
+                    self.apply(pushes);
+                    return Ok(());
+                }
+            }
+            self.src.grow().map_err(|e| io_err(&self.src, e))?;
+        }
+    }
+
+    fn apply(&mut self, p: StackOp) {
+        match p {
+            StackOp::None => {}
+            StackOp::Push(f) => self.stack.push(f),
+            StackOp::Push2(a, b) => {
+                self.stack.push(a);
+                self.stack.push(b);
+            }
+            StackOp::Pop => {
+                self.stack.pop();
+            }
+            StackOp::PopCloseSingle => {
+                self.stack.pop();
+                if let Some(Frame::Single) = self.stack.last() {
+                    self.stack.pop();
+                }
+            }
+        }
+    }
+}
+
+enum StackOp {
+    None,
+    Push(Frame),
+    Push2(Frame, Frame),
+    Pop,
+    PopCloseSingle,
+}
+
+/// Offset of the start of `rest`-relative text, for events inside one item.
+fn off(src: &SourceWindow, s: &str) -> u64 {
+    src.offset_of(s)
+}
+
+fn emit_val(
+    src: &SourceWindow,
+    sink: &mut dyn Sink,
+    name: &str,
+    at: u64,
+    v: Val<'_>,
+    end: &str,
+) -> Result<StackOp, Error> {
+    match v {
+        Val::Value(value) => {
+            sink.event(src, Event::Field { name, at, value })?;
+            Ok(StackOp::None)
+        }
+        Val::Use(u) => {
+            sink.event(src, Event::NodesStart { name, at })?;
+            sink.event(src, Event::Use { name: u, at })?;
+            sink.event(src, Event::NodesEnd { at: off(src, end) })?;
+            Ok(StackOp::None)
+        }
+        Val::Null => {
+            sink.event(src, Event::NodesStart { name, at })?;
+            sink.event(src, Event::Null { at })?;
+            sink.event(src, Event::NodesEnd { at: off(src, end) })?;
+            Ok(StackOp::None)
+        }
+        Val::Node(def, ty) => {
+            sink.event(src, Event::NodesStart { name, at })?;
+            sink.event(src, Event::NodeStart { def, ty, at })?;
+            Ok(StackOp::Push2(Frame::Single, Frame::Body))
+        }
+        Val::List => {
+            sink.event(src, Event::NodesStart { name, at })?;
+            Ok(StackOp::Push(Frame::List))
+        }
+    }
+}
+
+fn emit(
+    src: &SourceWindow,
+    sink: &mut dyn Sink,
+    at: u64,
+    item: Item<'_>,
+    top: Option<Frame>,
+    under: Option<Frame>,
+    rest: &str,
+) -> Result<StackOp, Error> {
+    match item {
+        Item::Urls(urls) => {
+            sink.event(src, Event::ProtoEnd { at, urls })?;
+            Ok(StackOp::None)
+        }
+        Item::Close => match top {
+            Some(Frame::List) => {
+                sink.event(src, Event::NodesEnd { at })?;
+                Ok(StackOp::Pop)
+            }
+            _ => {
+                sink.event(src, Event::NodeEnd { at })?;
+                // Closing a node given without brackets also closes its field.
+                if let Some(Frame::Single) = under {
+                    sink.event(src, Event::NodesEnd { at })?;
+                }
+                Ok(StackOp::PopCloseSingle)
+            }
+        },
+        Item::Node(def, ty) => {
+            sink.event(src, Event::NodeStart { def, ty, at })?;
+            Ok(StackOp::Push(Frame::Body))
+        }
+        Item::Use(name) => {
+            sink.event(src, Event::Use { name, at })?;
+            Ok(StackOp::None)
+        }
+        Item::Null => {
+            sink.event(src, Event::Null { at })?;
+            Ok(StackOp::None)
+        }
+        Item::Proto(name, external) => {
+            sink.event(src, Event::ProtoStart { name, at, external })?;
+            Ok(StackOp::Push(Frame::Iface { external }))
+        }
+        Item::Route(a, b, c, d) => {
+            sink.event(
+                src,
+                Event::Route {
+                    from_node: a,
+                    from_field: b,
+                    to_node: c,
+                    to_field: d,
+                    at,
+                },
+            )?;
+            Ok(StackOp::None)
+        }
+        Item::Field(name, v) => emit_val(src, sink, name, at, v, rest),
+        Item::Decl(access, ty, name, v) => {
+            sink.event(
+                src,
+                Event::Decl {
+                    access,
+                    ty,
+                    name,
+                    at,
+                },
+            )?;
+            match v {
+                Some(v) => emit_val(src, sink, name, at, v, rest),
+                None => Ok(StackOp::None),
+            }
+        }
+    }
+}
