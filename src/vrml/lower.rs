@@ -94,6 +94,20 @@ pub fn load_path(path: &Path, opts: &LoadOptions) -> Result<(Scene, LoadReport),
     low.finish(t0)
 }
 
+/// Loads a scene from bytes in memory (plain or gzip-compressed, any encoding errors
+/// reported like a file's); `name` is used in messages and to resolve Inlines.
+pub fn load_bytes(name: &str, bytes: Vec<u8>, opts: &LoadOptions) -> Result<(Scene, LoadReport), Error> {
+    let t0 = Instant::now();
+    let mut low = Lowerer::new(opts.clone());
+    let reader = crate::input::sniff(std::io::Cursor::new(bytes)).map_err(|e| Error::Io {
+        path: name.to_string(),
+        source: e,
+    })?;
+    let src = SourceWindow::new(Arc::from(name), reader);
+    low.load_source(src, Path::new(name))?;
+    low.finish(t0)
+}
+
 /// Loads scene text held in memory; `name` is used in messages and to resolve Inlines.
 pub fn load_str(name: &str, text: &str, opts: &LoadOptions) -> Result<(Scene, LoadReport), Error> {
     let t0 = Instant::now();

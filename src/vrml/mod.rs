@@ -6,4 +6,4 @@ pub mod parse;
 pub mod schema;
 pub mod syntax;
 
-pub use lower::{load_path, load_str, LoadOptions, LoadReport};
+pub use lower::{load_bytes, load_path, load_str, LoadOptions, LoadReport};
