@@ -6,10 +6,10 @@
 
 use nom::branch::alt;
 use nom::bytes::complete::{tag, take_while1};
-use nom::character::complete::{char, digit0, digit1, hex_digit1, one_of};
+use nom::character::complete::{char, hex_digit1, one_of};
 use nom::combinator::{opt, recognize};
 use nom::error::{Error, ErrorKind};
-use nom::sequence::{pair, preceded};
+use nom::sequence::preceded;
 use nom::{IResult, Parser};
 
 /// Skips white space: blanks, tabs, CR, LF, commas and `#` comments to the end of the line.
@@ -85,16 +85,39 @@ pub enum NumberProblem {
     OutOfRange,
 }
 
+/// The text of a float: `[+-]? (digits (. digits*)? | . digits) ([eE] [+-]? digits)?`.
 fn float_text(i: &str) -> IResult<&str, &str> {
-    recognize((
-        opt(one_of("+-")),
-        alt((
-            recognize(pair(digit1, opt(pair(char('.'), digit0)))),
-            recognize(pair(char('.'), digit1)),
-        )),
-        opt((one_of("eE"), opt(one_of("+-")), digit1)),
-    ))
-    .parse(i)
+    let b = i.as_bytes();
+    let digits = |mut k: usize| {
+        let s = k;
+        while k < b.len() && b[k].is_ascii_digit() {
+            k += 1;
+        }
+        (k, k - s)
+    };
+    let mut k = usize::from(matches!(b.first(), Some(b'+' | b'-')));
+    let (k1, int_digits) = digits(k);
+    k = k1;
+    let mut frac_digits = 0;
+    if b.get(k) == Some(&b'.') {
+        let (k2, n) = digits(k + 1);
+        k = k2;
+        frac_digits = n;
+    }
+    if int_digits == 0 && frac_digits == 0 {
+        return Err(nom::Err::Error(Error::new(i, ErrorKind::Digit)));
+    }
+    if matches!(b.get(k), Some(b'e' | b'E')) {
+        let mut j = k + 1;
+        if matches!(b.get(j), Some(b'+' | b'-')) {
+            j += 1;
+        }
+        let (j2, n) = digits(j);
+        if n > 0 {
+            k = j2;
+        }
+    }
+    Ok((&i[k..], &i[..k]))
 }
 
 fn hex_text(i: &str) -> IResult<&str, (Option<char>, &str)> {

@@ -252,6 +252,7 @@ fn bracketed<'a>(mut j: &'a str, s: &'a mut Scratch) -> PResult<'a, Val<'a>> {
     let mut kind = None;
     loop {
         j = ws(j);
+        let item = j;
         let this = match j.as_bytes().first() {
             None => return fail(j, "expected ']' to close the list"),
             Some(b']') => {
@@ -298,7 +299,7 @@ fn bracketed<'a>(mut j: &'a str, s: &'a mut Scratch) -> PResult<'a, Val<'a>> {
             },
         };
         if kind.is_some_and(|k| k != this) {
-            return fail(j, "a list must not mix numbers, strings and booleans");
+            return fail(item, "a list must not mix numbers, strings and booleans");
         }
         kind = Some(this);
     }
@@ -426,11 +427,14 @@ pub struct Parser {
     scratch: Scratch,
 }
 
+/// A read error (I/O, corrupt gzip) at the point where the text stopped.
 fn io_err(src: &SourceWindow, e: std::io::Error) -> Error {
-    Error::Io {
-        path: src.name.to_string(),
-        source: e,
-    }
+    let at = src.base + src.buf.len() as u64;
+    Error::Diag(Box::new(src.diagnostic(
+        Severity::Error,
+        at,
+        format!("cannot read further: {e}"),
+    )))
 }
 
 impl Parser {

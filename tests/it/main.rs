@@ -1,1 +1,9 @@
+//! One integration-test binary of named modules.
+
+mod corpus;
 mod corpus_counts;
+mod errors;
+mod lexical;
+mod roundtrip;
+mod semantics;
+mod support;

@@ -1,0 +1,46 @@
+// Shared by the fuzz targets: load bytes and check the scene's invariants.
+
+use gtsphere::scene::NO_ELLIPSOID;
+use gtsphere::vrml::{load_bytes, LoadOptions};
+
+pub fn check(bytes: Vec<u8>) {
+    let opts = LoadOptions {
+        max_nodes: 200_000,
+        inline: false,
+        ..Default::default()
+    };
+    // Any input: Ok or Err, never a panic, hang or unbounded memory.
+    let Ok((scene, report)) = load_bytes("fuzz.wrl", bytes, &opts) else {
+        return;
+    };
+    assert!(report.nodes <= opts.max_nodes, "nodes {} > max_nodes", report.nodes);
+    for (i, s) in scene.spheres.iter().enumerate() {
+        assert!(
+            s.radius.is_finite() && s.radius > 0.0,
+            "sphere {i}: radius {} not finite and > 0",
+            s.radius
+        );
+        assert!(s.center.is_finite(), "sphere {i}: centre {} not finite", s.center);
+        assert!(
+            (s.material as usize) < scene.materials.len(),
+            "sphere {i}: material index {} out of range ({})",
+            s.material,
+            scene.materials.len()
+        );
+        assert!(
+            s.ellipsoid == NO_ELLIPSOID || (s.ellipsoid as usize) < scene.ellipsoids.len(),
+            "sphere {i}: ellipsoid index {} out of range ({})",
+            s.ellipsoid,
+            scene.ellipsoids.len()
+        );
+    }
+    // Touch the derived values.
+    let b = scene.bounds();
+    assert_eq!(b.is_some(), !scene.spheres.is_empty());
+    let _ = scene.gas_count();
+    let _ = scene.ellipsoid_count();
+    let _ = scene.point_light_count();
+    let _ = scene.directional_light_count();
+    let _ = scene.heap_bytes();
+    std::hint::black_box((&b, &report.warnings, &report.skipped));
+}

@@ -1,0 +1,264 @@
+//! What the IR means: transforms, ellipsoids, light scoping, Switch, LOD, materials, bindables.
+//! Expected values are worked out by hand in each test.
+
+use glam::DVec3;
+use gtsphere::scene::{Light, NO_ELLIPSOID};
+
+use super::support::{close, scene};
+
+const BALL: &str = "Shape { geometry Sphere {} }";
+
+#[test]
+fn translation_after_children_applies() {
+    let (s, _) = scene(&format!("Transform {{ children {BALL} translation 1 2 3 }}"));
+    assert_eq!(s.spheres[0].center.to_array(), [1.0, 2.0, 3.0]);
+}
+
+#[test]
+fn rotation_then_translation() {
+    // Sphere at local (1,0,0); rotate 90 degrees about z -> (0,1,0); then translate (0,0,5).
+    let (s, _) = scene(&format!(
+        "Transform {{ translation 0 0 5 rotation 0 0 1 1.5707963267948966 children Transform {{ translation 1 0 0 children {BALL} }} }}"
+    ));
+    let c = s.spheres[0].center;
+    assert!(close(c.x, 0.0, 1e-15) && close(c.y, 1.0, 1e-15) && close(c.z, 5.0, 1e-15), "{c}");
+}
+
+#[test]
+fn uniform_scale_scales_the_radius_about_the_center_field() {
+    // T * C * S * -C: point p=(0,0,0) -> C + S(p - C) = (1,1,1) + 2*(-1,-1,-1) = (-1,-1,-1).
+    let (s, _) = scene(&format!(
+        "Transform {{ scale 2 2 2 center 1 1 1 children Shape {{ geometry Sphere {{ radius 0.5 }} }} }}"
+    ));
+    let b = s.spheres[0];
+    assert_eq!(b.center.to_array(), [-1.0, -1.0, -1.0]);
+    assert_eq!(b.radius, 1.0);
+    assert_eq!(b.ellipsoid, NO_ELLIPSOID);
+}
+
+#[test]
+fn non_uniform_scale_makes_an_ellipsoid() {
+    let (s, _) = scene(&format!(
+        "Transform {{ translation 1 0 0 scale 1 2 3 children Shape {{ geometry Sphere {{ radius 2 }} }} }}"
+    ));
+    let b = s.spheres[0];
+    assert_ne!(b.ellipsoid, NO_ELLIPSOID);
+    let e = s.ellipsoids[b.ellipsoid as usize];
+    // The unit sphere maps to semi-axes 2, 4, 6 centred at (1,0,0).
+    assert_eq!(e.transform_point3(DVec3::X).to_array(), [3.0, 0.0, 0.0]);
+    assert_eq!(e.transform_point3(DVec3::Y).to_array(), [1.0, 4.0, 0.0]);
+    assert_eq!(e.transform_point3(DVec3::Z).to_array(), [1.0, 0.0, 6.0]);
+    let bb = s.bounds().expect("bounds");
+    assert_eq!((bb.min, bb.max), ([-1.0, -4.0, -6.0], [3.0, 4.0, 6.0]));
+    assert_eq!(s.ellipsoid_count(), 1);
+}
+
+#[test]
+fn scale_orientation_rotates_the_scale_axes() {
+    // Scale 2 along the axis that scaleOrientation (90 degrees about z) turns x into: world y.
+    let (s, _) = scene(&format!(
+        "Transform {{ scale 2 1 1 scaleOrientation 0 0 1 1.5707963267948966 children {BALL} }}"
+    ));
+    let e = s.ellipsoids[s.spheres[0].ellipsoid as usize];
+    let y = e.transform_point3(DVec3::Y);
+    let x = e.transform_point3(DVec3::X);
+    assert!(close(y.y, 2.0, 1e-15) && close(x.x, 1.0, 1e-15), "{x} {y}");
+}
+
+#[test]
+fn rotation_about_a_zero_axis_is_no_rotation() {
+    let (s, _) = scene(&format!("Transform {{ rotation 0 0 0 0 translation 1 0 0 children {BALL} }}"));
+    assert_eq!(s.spheres[0].center.to_array(), [1.0, 0.0, 0.0]);
+}
+
+#[test]
+fn zero_scale_hides_contents_with_a_warning() {
+    let (s, r) = scene(&format!("Transform {{ scale 0 1 1 children {BALL} }}\n{BALL}"));
+    assert_eq!(s.spheres.len(), 1);
+    assert!(r.warnings[0].message.contains("zero or non-finite scale"));
+}
+
+#[test]
+fn directional_light_lights_only_its_siblings() {
+    let (s, _) = scene(&format!(
+        "{BALL}\nGroup {{ children [ {BALL} DirectionalLight {{ direction 0 -1 0 }} Transform {{ children {BALL} }} ] }}\n{BALL}\nDirectionalLight {{}}"
+    ));
+    let scopes: Vec<(u32, u32)> = s
+        .lights
+        .iter()
+        .map(|l| match l {
+            Light::Directional(d) => d.scope,
+            Light::Point(_) => panic!("no point lights here"),
+        })
+        .collect();
+    assert_eq!(scopes, vec![(1, 3), (0, 4)]);
+}
+
+#[test]
+fn light_fields_and_transforms() {
+    let (s, _) = scene(
+        "Transform { translation 0 0 1 scale 2 2 2 children [\n\
+           PointLight { location 1 0 0 radius 10 intensity 0.5 attenuation 1 0.5 0 on FALSE }\n\
+           DirectionalLight { direction 0 0 2 color 1 0 0 ambientIntensity 0.25 } ] }",
+    );
+    match s.lights[0] {
+        Light::Point(p) => {
+            assert_eq!(p.location.to_array(), [2.0, 0.0, 1.0]);
+            assert_eq!((p.radius, p.intensity, p.on), (20.0, 0.5, false));
+            assert_eq!(p.attenuation.to_array(), [1.0, 0.5, 0.0]);
+        }
+        _ => panic!("first light is the PointLight"),
+    }
+    match s.lights[1] {
+        Light::Directional(d) => {
+            assert_eq!(d.direction.to_array(), [0.0, 0.0, 1.0]);
+            assert_eq!((d.color.to_array(), d.ambient_intensity), ([1.0, 0.0, 0.0], 0.25));
+        }
+        _ => panic!("second light is the DirectionalLight"),
+    }
+}
+
+#[test]
+fn switch_shows_only_which_choice() {
+    let (s, _) = scene(&format!(
+        "Switch {{ choice [ Shape {{ geometry Sphere {{ radius 1 }} }} Shape {{ geometry Sphere {{ radius 2 }} }} ] whichChoice 1 }}\n\
+         Switch {{ choice [ {BALL} ] }}"
+    ));
+    assert_eq!(s.spheres.len(), 1);
+    assert_eq!(s.spheres[0].radius, 2.0);
+}
+
+#[test]
+fn defs_inside_unchosen_switch_children_are_usable() {
+    let (s, _) = scene("Switch { choice DEF B Shape { geometry Sphere { radius 3 } } }\nUSE B\nUSE B");
+    assert_eq!(s.spheres.len(), 2);
+    assert_eq!(s.spheres[0].radius, 3.0);
+}
+
+#[test]
+fn lod_renders_its_first_level_only() {
+    let (s, _) = scene(
+        "LOD { range [ 10 ] level [ Shape { geometry Sphere { radius 1 } } Shape { geometry Sphere { radius 2 } } ] }",
+    );
+    assert_eq!(s.spheres.len(), 1);
+    assert_eq!(s.spheres[0].radius, 1.0);
+}
+
+#[test]
+fn collision_proxy_is_not_rendered() {
+    let (s, _) = scene(&format!("Collision {{ proxy {BALL} children [ {BALL} {BALL} ] }}"));
+    assert_eq!(s.spheres.len(), 2);
+}
+
+#[test]
+fn materials_are_shared_not_copied() {
+    let m = "appearance Appearance { material Material { diffuseColor 0.1 0.2 0.3 } }";
+    let (s, _) = scene(&format!(
+        "Shape {{ {m} geometry Sphere {{}} }}\nShape {{ {m} geometry Sphere {{}} }}\n\
+         DEF A Appearance {{ material Material {{ transparency 0.5 }} }}\n\
+         Shape {{ appearance USE A geometry Sphere {{}} }}\nShape {{ appearance USE A geometry Sphere {{}} }}\n{BALL}"
+    ));
+    let ids: Vec<u32> = s.spheres.iter().map(|b| b.material).collect();
+    assert_eq!(ids[0], ids[1]);
+    assert_eq!(ids[2], ids[3]);
+    assert_ne!(ids[0], ids[2]);
+    // Unlit white (index 0), the blue-ish one, the gas one.
+    assert_eq!(s.materials.len(), 3);
+    assert!(s.materials[ids[4] as usize].unlit);
+    assert_eq!(s.gas_count(), 2);
+    let gas = s.materials[ids[2] as usize];
+    assert!(close(gas.sigma(1.0), 0.5f64.ln().abs() / 2.0, 1e-15));
+}
+
+#[test]
+fn vrml_material_defaults() {
+    let (s, _) = scene("Shape { appearance Appearance { material Material {} } geometry Sphere {} }");
+    let m = s.materials[s.spheres[0].material as usize];
+    assert_eq!(m.diffuse.to_array(), [0.8; 3]);
+    assert_eq!((m.ambient_intensity, m.shininess, m.transparency), (0.2, 0.2, 0.0));
+    assert_eq!((m.emissive, m.specular), (DVec3::ZERO, DVec3::ZERO));
+    assert!(!m.unlit);
+}
+
+#[test]
+fn first_navigation_info_and_background_are_bound() {
+    let (s, _) = scene(
+        "NavigationInfo { headlight FALSE }\nNavigationInfo { headlight TRUE }\n\
+         Background { skyColor [ 0.1 0.2 0.3, 1 1 1 ] }\nBackground { skyColor 1 0 0 }",
+    );
+    assert!(!s.headlight);
+    assert_eq!(s.background.to_array(), [0.1, 0.2, 0.3]);
+    let (s, _) = scene(BALL);
+    assert!(s.headlight);
+    assert_eq!(s.background, DVec3::ZERO);
+}
+
+#[test]
+fn viewpoints_are_transformed_and_named() {
+    let (s, _) = scene(
+        "Transform { translation 0 0 -5 rotation 0 1 0 3.141592653589793 children\n\
+         DEF Front Viewpoint { position 0 0 10 fieldOfView 0.5 description \"front\" } }",
+    );
+    let v = &s.viewpoints[0];
+    assert_eq!(v.name.as_deref(), Some("Front"));
+    assert_eq!(v.description, "front");
+    assert_eq!(v.field_of_view, 0.5);
+    assert!(close(v.position.z, -15.0, 1e-12) && v.position.x.abs() < 1e-12, "{}", v.position);
+    // Looking down -z, turned by pi about y: now looking down +z.
+    let look = v.orientation * DVec3::NEG_Z;
+    assert!(close(look.z, 1.0, 1e-12), "{look}");
+}
+
+#[test]
+fn inline_of_a_local_file_and_refusal_of_urls() {
+    let dir = std::env::temp_dir().join(format!("gtsphere-inline-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("sub")).expect("tmp");
+    std::fs::write(
+        dir.join("main.wrl"),
+        "#VRML V2.0 utf8\nTransform { translation 10 0 0 children Inline { url [ \"http://example.org/x.wrl\" \"sub/part.wrl\" ] } }\nInline { url \"missing.wrl\" }\nInline { url \"/etc/passwd\" }\n",
+    )
+    .expect("write");
+    std::fs::write(
+        dir.join("sub/part.wrl"),
+        "#VRML V2.0 utf8\nDEF B Shape { geometry Sphere {} }\nTransform { translation 1 0 0 children USE B }\nDirectionalLight {}\n",
+    )
+    .expect("write");
+    let (s, r) = gtsphere::vrml::load_path(&dir.join("main.wrl"), &Default::default()).expect("inline");
+    let xs: Vec<f64> = s.spheres.iter().map(|b| b.center.x).collect();
+    assert_eq!(xs, vec![10.0, 11.0]);
+    match s.lights[0] {
+        Light::Directional(d) => assert_eq!(d.scope, (0, 2)),
+        _ => panic!("directional"),
+    }
+    let msgs: Vec<&str> = r.warnings.iter().map(|w| w.message.as_str()).collect();
+    assert_eq!(msgs.len(), 2, "{msgs:?}");
+    assert!(msgs[0].contains("'missing.wrl' (no such file)"));
+    assert!(msgs[1].contains("'/etc/passwd' (not a local relative path)"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn inline_cycles_are_refused() {
+    let dir = std::env::temp_dir().join(format!("gtsphere-cycle-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("tmp");
+    std::fs::write(dir.join("a.wrl"), "#VRML V2.0 utf8\nInline { url \"b.wrl\" }\n").expect("write");
+    std::fs::write(dir.join("b.wrl"), "#VRML V2.0 utf8\nInline { url \"a.wrl\" }\n").expect("write");
+    let e = gtsphere::vrml::load_path(&dir.join("a.wrl"), &Default::default()).expect_err("cycle");
+    assert!(e.to_string().contains("includes itself (a cycle)"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn exponential_use_blowup_is_refused() {
+    let mut text = String::from("DEF L0 Shape { geometry Sphere {} }\n");
+    for i in 1..40 {
+        text.push_str(&format!("DEF L{i} Group {{ children [ USE L{} USE L{} ] }}\n", i - 1, i - 1));
+    }
+    let opts = gtsphere::vrml::LoadOptions {
+        max_nodes: 1_000_000,
+        ..Default::default()
+    };
+    let e = gtsphere::vrml::load_bytes("bomb.wrl", format!("#VRML V2.0 utf8\n{text}").into_bytes(), &opts)
+        .expect_err("blow-up");
+    assert!(e.to_string().contains("expands to more than 1000000 nodes"), "{e}");
+}

@@ -1,0 +1,44 @@
+//! Helpers shared by the integration tests.
+
+use gtsphere::scene::Scene;
+use gtsphere::vrml::{load_bytes, LoadOptions, LoadReport};
+
+/// Every test goes through the streaming reader (1 MiB chunks), as files do.
+fn load_str(name: &str, text: &str, opts: &LoadOptions) -> Result<(Scene, LoadReport), gtsphere::Error> {
+    load_bytes(name, text.as_bytes().to_vec(), opts)
+}
+
+pub fn load(text: &str) -> (Scene, LoadReport) {
+    match load_str("test.wrl", text, &LoadOptions::default()) {
+        Ok(r) => r,
+        Err(e) => panic!("load failed:\n{e}"),
+    }
+}
+
+/// Loads `#VRML V2.0 utf8` + `body`.
+pub fn scene(body: &str) -> (Scene, LoadReport) {
+    load(&format!("#VRML V2.0 utf8\n{body}"))
+}
+
+/// The error message of a scene that must fail, as printed (`file:line:col: message` ...).
+pub fn error_of(text: &str) -> String {
+    match load_str("test.wrl", text, &LoadOptions::default()) {
+        Ok(_) => panic!("expected an error for:\n{text}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+pub fn strict_error_of(text: &str) -> String {
+    let opts = LoadOptions {
+        strict: true,
+        ..LoadOptions::default()
+    };
+    match load_str("test.wrl", text, &opts) {
+        Ok(_) => panic!("expected a strict error for:\n{text}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+pub fn close(a: f64, b: f64, tol: f64) -> bool {
+    (a - b).abs() <= tol * (1.0 + b.abs())
+}
