@@ -49,7 +49,10 @@ impl fmt::Display for Diagnostic {
         write!(f, "{}", self.headline())?;
         if let Some(line) = &self.snippet {
             // Tabs would shift the caret; show them as single spaces.
-            let shown: String = line.chars().map(|c| if c == '\t' { ' ' } else { c }).collect();
+            let shown: String = line
+                .chars()
+                .map(|c| if c == '\t' { ' ' } else { c })
+                .collect();
             let pad = (self.col.saturating_sub(1)) as usize;
             write!(f, "\n  {}\n  {}^", shown, " ".repeat(pad))?;
         }

@@ -3,12 +3,12 @@
 //! Data flows one way: bytes ([`input`]) -> source text ([`source`]) -> syntax events
 //! ([`vrml::parse`]) -> scene IR ([`vrml::lower`] into [`scene::Scene`]).
 
+pub mod cli;
 pub mod diag;
 pub mod error;
 pub mod input;
 pub mod scene;
 pub mod source;
 pub mod vrml;
-pub mod cli;
 
 pub use error::Error;

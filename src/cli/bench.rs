@@ -73,7 +73,10 @@ pub fn write_particles(out: &mut impl Write, n: usize, layout: Layout) -> std::i
 }
 
 fn generate(dir: &Path, n: usize, layout: Layout) -> Result<PathBuf, Error> {
-    let name = format!("gtsphere-bench-{}-{n}.wrl", format!("{layout:?}").to_lowercase());
+    let name = format!(
+        "gtsphere-bench-{}-{n}.wrl",
+        format!("{layout:?}").to_lowercase()
+    );
     let path = dir.join(name);
     if path.is_file() {
         return Ok(path);
@@ -105,7 +108,8 @@ pub fn run(cmd: BenchCommand) -> Result<ExitCode, Error> {
         layout,
     } = cmd;
     let dir = dir.unwrap_or_else(std::env::temp_dir);
-    let exe = std::env::current_exe().map_err(|e| Error::Other(format!("cannot find own executable: {e}")))?;
+    let exe = std::env::current_exe()
+        .map_err(|e| Error::Other(format!("cannot find own executable: {e}")))?;
     println!("| layout | particles | file MB | median MB/s | median s | IR MB | peak RSS MB | peak / IR |");
     println!("|---|---:|---:|---:|---:|---:|---:|---:|");
     for l in layout {
@@ -122,7 +126,9 @@ pub fn run(cmd: BenchCommand) -> Result<ExitCode, Error> {
                 .output()
                 .map_err(|e| Error::Other(format!("cannot run {}: {e}", exe.display())))?;
             if !out.status.success() {
-                return Err(Error::Other(String::from_utf8_lossy(&out.stderr).into_owned()));
+                return Err(Error::Other(
+                    String::from_utf8_lossy(&out.stderr).into_owned(),
+                ));
             }
             let v: serde_json::Value = serde_json::from_slice(&out.stdout)
                 .map_err(|e| Error::Other(format!("bad JSON from info: {e}")))?;

@@ -17,7 +17,10 @@ pub fn run(path: &Path, as_json: bool, strict: bool, no_inline: bool) -> Result<
     };
     let (scene, report) = load_path(path, &opts)?;
     if as_json {
-        println!("{}", serde_json::to_string_pretty(&to_json(path, &scene, &report)).unwrap_or_default());
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&to_json(path, &scene, &report)).unwrap_or_default()
+        );
     } else {
         print!("{}", to_text(path, &scene, &report));
     }
@@ -128,7 +131,11 @@ pub fn to_text(path: &Path, s: &Scene, r: &LoadReport) -> String {
                 let _ = writeln!(
                     o,
                     "            PointLight at ({:.4}, {:.4}, {:.4}) intensity {} radius {}{}",
-                    p.location.x, p.location.y, p.location.z, p.intensity, p.radius,
+                    p.location.x,
+                    p.location.y,
+                    p.location.z,
+                    p.intensity,
+                    p.radius,
                     if p.on { "" } else { " (off)" }
                 );
             }
@@ -143,7 +150,10 @@ pub fn to_text(path: &Path, s: &Scene, r: &LoadReport) -> String {
         }
     }
     if s.viewpoints.is_empty() {
-        let _ = writeln!(o, "viewpoints: none (the renderer frames the scene bounds, looking down -z)");
+        let _ = writeln!(
+            o,
+            "viewpoints: none (the renderer frames the scene bounds, looking down -z)"
+        );
     } else {
         let _ = writeln!(o, "viewpoints: {}", s.viewpoints.len());
         for v in &s.viewpoints {

@@ -12,7 +12,11 @@ pub mod bench;
 pub mod info;
 
 #[derive(Debug, Parser)]
-#[command(name = "gtsphere", version, about = "Ground-truth renderer for particle data drawn as spheres")]
+#[command(
+    name = "gtsphere",
+    version,
+    about = "Ground-truth renderer for particle data drawn as spheres"
+)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,

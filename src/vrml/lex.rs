@@ -134,7 +134,13 @@ pub fn number(i: &str) -> Result<(&str, Number), NumberProblem> {
         let v = u64::from_str_radix(digits, 16).map_err(|_| NumberProblem::OutOfRange)?;
         let v = v as f64;
         let value = if sign == Some('-') { -v } else { v };
-        return Ok((rest, Number { value, integer: true }));
+        return Ok((
+            rest,
+            Number {
+                value,
+                integer: true,
+            },
+        ));
     }
     let (rest, text) = float_text(i).map_err(|_| NumberProblem::NotANumber)?;
     // A number must not run straight into an identifier character ("1a" is not a number).
@@ -206,7 +212,14 @@ fn ws_p(i: &str) -> IResult<&str, ()> {
 
 /// The `#VRML V2.0 utf8` header. Anything after `utf8` on the line is accepted.
 pub fn header(i: &str) -> IResult<&str, &str> {
-    let (rest, h) = recognize((tag("#VRML"), take_while1(|c| c == ' ' || c == '\t'), tag("V2.0"), take_while1(|c| c == ' ' || c == '\t'), tag("utf8"))).parse(i)?;
+    let (rest, h) = recognize((
+        tag("#VRML"),
+        take_while1(|c| c == ' ' || c == '\t'),
+        tag("V2.0"),
+        take_while1(|c| c == ' ' || c == '\t'),
+        tag("utf8"),
+    ))
+    .parse(i)?;
     Ok((rest, h))
 }
 
@@ -220,7 +233,17 @@ mod tests {
 
     #[test]
     fn numbers_agree_with_std_parse() {
-        for s in ["0", "-0", ".5", "+2.", "1e-3", "1E+3", "-1.25e-18", "12345678901234567", "0.30000000000000004"] {
+        for s in [
+            "0",
+            "-0",
+            ".5",
+            "+2.",
+            "1e-3",
+            "1E+3",
+            "-1.25e-18",
+            "12345678901234567",
+            "0.30000000000000004",
+        ] {
             let want: f64 = s.parse().unwrap();
             assert_eq!(num(s).value.to_bits(), want.to_bits(), "{s}");
         }
@@ -230,7 +253,13 @@ mod tests {
 
     #[test]
     fn hex_integers() {
-        assert_eq!(num("0xFF"), Number { value: 255.0, integer: true });
+        assert_eq!(
+            num("0xFF"),
+            Number {
+                value: 255.0,
+                integer: true
+            }
+        );
         assert_eq!(num("0Xff").value, 255.0);
         assert_eq!(num("-0x10").value, -16.0);
         assert_eq!(num("0xFFFFFFFF").value, 4294967295.0);
@@ -264,7 +293,10 @@ mod tests {
 
     #[test]
     fn strings_with_escapes() {
-        assert_eq!(string(r#""a\"b\\c" x"#).unwrap(), (" x", "a\"b\\c".to_string()));
+        assert_eq!(
+            string(r#""a\"b\\c" x"#).unwrap(),
+            (" x", "a\"b\\c".to_string())
+        );
         assert_eq!(string("\"two\nlines\"").unwrap().1, "two\nlines");
         assert!(string("\"unterminated").is_err());
     }

@@ -96,7 +96,11 @@ pub fn load_path(path: &Path, opts: &LoadOptions) -> Result<(Scene, LoadReport),
 
 /// Loads a scene from bytes in memory (plain or gzip-compressed, any encoding errors
 /// reported like a file's); `name` is used in messages and to resolve Inlines.
-pub fn load_bytes(name: &str, bytes: Vec<u8>, opts: &LoadOptions) -> Result<(Scene, LoadReport), Error> {
+pub fn load_bytes(
+    name: &str,
+    bytes: Vec<u8>,
+    opts: &LoadOptions,
+) -> Result<(Scene, LoadReport), Error> {
     let t0 = Instant::now();
     let mut low = Lowerer::new(opts.clone());
     let reader = crate::input::sniff(std::io::Cursor::new(bytes)).map_err(|e| Error::Io {
@@ -125,7 +129,10 @@ pub fn load_str(name: &str, text: &str, opts: &LoadOptions) -> Result<(Scene, Lo
 enum Rec {
     Ev(OwnedEvent),
     /// A USE resolved when it was recorded (later redefinitions do not change what it means).
-    Used { range: Range<usize>, at: u64 },
+    Used {
+        range: Range<usize>,
+        at: u64,
+    },
 }
 
 #[derive(Clone, Debug)]
@@ -149,7 +156,6 @@ struct ProtoDecl {
     fields: Vec<InterfaceField>,
     /// Body events (PROTO only); None for EXTERNPROTO.
     body: Option<Range<usize>>,
-    at: u64,
 }
 
 impl ProtoDecl {
@@ -162,12 +168,18 @@ impl ProtoDecl {
             return Some((f, f.access));
         }
         if let Some(base) = name.strip_prefix("set_") {
-            if let Some(f) = self.field(base).filter(|f| f.access == Access::ExposedField) {
+            if let Some(f) = self
+                .field(base)
+                .filter(|f| f.access == Access::ExposedField)
+            {
                 return Some((f, Access::EventIn));
             }
         }
         if let Some(base) = name.strip_suffix("_changed") {
-            if let Some(f) = self.field(base).filter(|f| f.access == Access::ExposedField) {
+            if let Some(f) = self
+                .field(base)
+                .filter(|f| f.access == Access::ExposedField)
+            {
                 return Some((f, Access::EventOut));
             }
         }
@@ -299,7 +311,6 @@ struct Frame {
     proto: Option<Rc<ProtoDecl>>,
     kind: Kind,
     at: u64,
-    def: Option<Rc<str>>,
     /// This frame started a suppression (contents are not lowered).
     quiet: bool,
 }
@@ -382,7 +393,12 @@ fn check_value(ty: FieldType, v: &Value) -> Result<(), String> {
         (FieldType::MFString, Value::Strings { values, bracketed }) => {
             *bracketed || values.len() == 1
         }
-        (FieldType::SFImage, Value::Numbers { values, integer, .. }) => {
+        (
+            FieldType::SFImage,
+            Value::Numbers {
+                values, integer, ..
+            },
+        ) => {
             *integer && values.len() >= 3 && {
                 let (w, h) = (values[0], values[1]);
                 w >= 0.0 && h >= 0.0 && values.len() as f64 == 3.0 + w * h
@@ -397,9 +413,7 @@ fn check_value(ty: FieldType, v: &Value) -> Result<(), String> {
             },
         ) => match t.arity() {
             Some(_) if t.is_integer() && !integer => false,
-            Some(k) if t.is_mf() => {
-                values.len() % k == 0 && (*bracketed || values.len() == k)
-            }
+            Some(k) if t.is_mf() => values.len() % k == 0 && (*bracketed || values.len() == k),
             Some(k) => values.len() == k && !bracketed,
             None => false,
         },
@@ -507,9 +521,12 @@ fn material_key(m: &Material) -> [u64; 13] {
 
 fn is_local_relative(url: &str) -> bool {
     let lower = url.to_ascii_lowercase();
-    let has_scheme = lower
-        .find(':')
-        .is_some_and(|k| k > 1 && lower[..k].chars().all(|c| c.is_ascii_alphanumeric() || "+-.".contains(c)));
+    let has_scheme = lower.find(':').is_some_and(|k| {
+        k > 1
+            && lower[..k]
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || "+-.".contains(c))
+    });
     !has_scheme && !url.starts_with('/') && !url.starts_with('\\') && !url.is_empty()
 }
 
@@ -644,7 +661,6 @@ impl Lowerer {
                 inline_urls: None,
             },
             at: 0,
-            def: None,
             quiet: false,
         };
         self.frames.push(root);
@@ -697,13 +713,20 @@ impl Lowerer {
                 .iter()
                 .any(|p| p.canonicalize().map(|c| c == canon).unwrap_or(false))
             {
-                return Err(self.error(src, at, format!("Inline '{url}' includes itself (a cycle)")));
+                return Err(self.error(
+                    src,
+                    at,
+                    format!("Inline '{url}' includes itself (a cycle)"),
+                ));
             }
             if self.inline_stack.len() > self.opts.max_inline_depth {
                 return Err(self.error(
                     src,
                     at,
-                    format!("Inline '{url}' nests deeper than {} files", self.opts.max_inline_depth),
+                    format!(
+                        "Inline '{url}' nests deeper than {} files",
+                        self.opts.max_inline_depth
+                    ),
                 ));
             }
             // Only VRML97 is read; other formats (X3D, 3DS, VRML 1.0) are reported, not fatal.
@@ -790,15 +813,6 @@ impl Lowerer {
         }
         let _ = n;
         done
-    }
-
-    fn start_recorder(&mut self, kind: RecKind) {
-        // The opening event is pushed right after; depth becomes 1 in end_recorders.
-        self.recorders.push(Recorder {
-            start: self.arena.len(),
-            depth: 0,
-            kind,
-        });
     }
 
     /// Drops arena entries that nothing refers to (after a PROTO instance or Switch choice).
@@ -901,9 +915,7 @@ impl Lowerer {
             }
             Event::Use { .. } => {}
             Event::Null { .. } => {}
-            Event::Decl {
-                access, ty, at, ..
-            } => {
+            Event::Decl { access, ty, at, .. } => {
                 if self.in_proto_decl == 0 {
                     if schema::Access::from_keyword(access).is_none() {
                         return Err(self.error(src, at, format!("unknown access type '{access}'")));
@@ -992,18 +1004,35 @@ impl Lowerer {
     }
 
     /// Replaces `field IS target` by the PROTO instance's value (or the interface default).
-    fn substitute(&mut self, src: &SourceWindow, name: &str, target: &str, at: u64) -> Result<(), Error> {
+    fn substitute(
+        &mut self,
+        src: &SourceWindow,
+        name: &str,
+        target: &str,
+        at: u64,
+    ) -> Result<(), Error> {
         let Some(sub) = self.substs.last().cloned() else {
-            return Err(self.error(src, at, format!("'{name} IS {target}' outside a PROTO body")));
+            return Err(self.error(
+                src,
+                at,
+                format!("'{name} IS {target}' outside a PROTO body"),
+            ));
         };
         let Some(f) = sub.proto.field(target) else {
             return Err(self.error(
                 src,
                 at,
-                format!("'IS {target}': PROTO {} has no interface field '{target}'", sub.proto.name),
+                format!(
+                    "'IS {target}': PROTO {} has no interface field '{target}'",
+                    sub.proto.name
+                ),
             ));
         };
-        let range = sub.values.get(target).cloned().or_else(|| f.default.clone());
+        let range = sub
+            .values
+            .get(target)
+            .cloned()
+            .or_else(|| f.default.clone());
         let Some(range) = range else {
             // An event (eventIn/eventOut) has no value to substitute.
             return Ok(());
@@ -1015,13 +1044,19 @@ impl Lowerer {
         let r = match first {
             Rec::Ev(OwnedEvent::Field { value, at: vat, .. }) => {
                 let v = value.clone();
-                self.handle(src, Event::Field { name, at: vat, value: v.as_value() })
+                self.handle(
+                    src,
+                    Event::Field {
+                        name,
+                        at: vat,
+                        value: v.as_value(),
+                    },
+                )
             }
-            Rec::Ev(OwnedEvent::NodesStart { at: vat, .. }) => {
-                self.handle(src, Event::NodesStart { name, at: vat })
-                    .and_then(|_| self.replay(src, range.start + 1..range.end - 1, at))
-                    .and_then(|_| self.handle(src, Event::NodesEnd { at: vat }))
-            }
+            Rec::Ev(OwnedEvent::NodesStart { at: vat, .. }) => self
+                .handle(src, Event::NodesStart { name, at: vat })
+                .and_then(|_| self.replay(src, range.start + 1..range.end - 1, at))
+                .and_then(|_| self.handle(src, Event::NodesEnd { at: vat })),
             _ => Ok(()),
         };
         if let Some(s) = saved {
@@ -1030,7 +1065,13 @@ impl Lowerer {
         r
     }
 
-    fn node_start(&mut self, src: &SourceWindow, def: Option<&str>, ty: &str, at: u64) -> Result<(), Error> {
+    fn node_start(
+        &mut self,
+        src: &SourceWindow,
+        def: Option<&str>,
+        ty: &str,
+        at: u64,
+    ) -> Result<(), Error> {
         let def_rc: Option<Rc<str>> = def.map(Rc::from);
         if self.in_proto_decl > 0 {
             return Ok(());
@@ -1061,7 +1102,10 @@ impl Lowerer {
             return Err(self.error(
                 src,
                 at,
-                format!("the scene expands to more than {} nodes (USE/PROTO blow-up?)", self.opts.max_nodes),
+                format!(
+                    "the scene expands to more than {} nodes (USE/PROTO blow-up?)",
+                    self.opts.max_nodes
+                ),
             ));
         }
         let ty_rc: Rc<str> = Rc::from(ty);
@@ -1073,7 +1117,6 @@ impl Lowerer {
                 proto: None,
                 kind: Kind::Quiet,
                 at,
-                def: def_rc,
                 quiet: false,
             });
             return Ok(());
@@ -1097,13 +1140,18 @@ impl Lowerer {
             }
         }
         if in_choice || ignored_level {
-            if in_choice && self.recorders.iter().all(|r| !matches!(r.kind, RecKind::Choice)) {
+            if in_choice
+                && self
+                    .recorders
+                    .iter()
+                    .all(|r| !matches!(r.kind, RecKind::Choice))
+            {
                 self.start_recorder_here(ty, def, at);
                 if let Some(r) = self.recorders.last_mut() {
                     r.kind = RecKind::Choice;
                 }
             }
-            self.push_quiet(ty_rc, def_rc, at);
+            self.push_quiet(ty_rc, at);
             return Ok(());
         }
         if let Some(proto) = self.lookup_proto(ty) {
@@ -1127,7 +1175,6 @@ impl Lowerer {
                 proto: Some(proto),
                 kind: Kind::Quiet,
                 at,
-                def: def_rc,
                 quiet: true,
             });
             self.quiet += 1;
@@ -1210,7 +1257,6 @@ impl Lowerer {
                     proto: None,
                     kind: Kind::Skip,
                     at,
-                    def: def_rc,
                     quiet: true,
                 });
                 self.quiet += 1;
@@ -1223,7 +1269,6 @@ impl Lowerer {
             proto: None,
             kind,
             at,
-            def: def_rc,
             quiet: false,
         });
         Ok(())
@@ -1253,14 +1298,13 @@ impl Lowerer {
         });
     }
 
-    fn push_quiet(&mut self, ty: Rc<str>, def: Option<Rc<str>>, at: u64) {
+    fn push_quiet(&mut self, ty: Rc<str>, at: u64) {
         self.frames.push(Frame {
             ty,
             spec: None,
             proto: None,
             kind: Kind::Quiet,
             at,
-            def,
             quiet: true,
         });
         self.quiet += 1;
@@ -1278,12 +1322,21 @@ impl Lowerer {
             _ => return,
         };
         if !allowed.contains(&ty) && self.lookup_proto(ty).is_none() {
-            let msg = format!("{ty} is not allowed in field '{}' of {}: ignored", ctx.name, parent.ty);
+            let msg = format!(
+                "{ty} is not allowed in field '{}' of {}: ignored",
+                ctx.name, parent.ty
+            );
             self.warn(src, at, msg);
         }
     }
 
-    fn field(&mut self, src: &SourceWindow, name: &str, at: u64, value: Value<'_>) -> Result<(), Error> {
+    fn field(
+        &mut self,
+        src: &SourceWindow,
+        name: &str,
+        at: u64,
+        value: Value<'_>,
+    ) -> Result<(), Error> {
         if self.quiet > 0 {
             return Ok(());
         }
@@ -1299,14 +1352,29 @@ impl Lowerer {
             return Ok(());
         };
         if matches!(access, Access::EventIn | Access::EventOut) {
-            self.warn(src, at, format!("'{name}' of {ty} is an {}, not a field: ignored", access.keyword()));
+            self.warn(
+                src,
+                at,
+                format!(
+                    "'{name}' of {ty} is an {}, not a field: ignored",
+                    access.keyword()
+                ),
+            );
             return Ok(());
         }
         if f.ty.is_node() {
             if value == Value::Empty {
                 return Ok(());
             }
-            return Err(self.error(src, at, format!("field '{name}' of {ty} expects {}, found {}", f.ty.name(), type_name(&value))));
+            return Err(self.error(
+                src,
+                at,
+                format!(
+                    "field '{name}' of {ty} expects {}, found {}",
+                    f.ty.name(),
+                    type_name(&value)
+                ),
+            ));
         }
         if let Err(e) = check_value(f.ty, &value) {
             return Err(self.error(src, at, format!("field '{name}' of {ty} {e}")));
@@ -1314,7 +1382,13 @@ impl Lowerer {
         self.apply_field(src, f.name, at, &value)
     }
 
-    fn apply_field(&mut self, src: &SourceWindow, name: &str, at: u64, v: &Value<'_>) -> Result<(), Error> {
+    fn apply_field(
+        &mut self,
+        src: &SourceWindow,
+        name: &str,
+        at: u64,
+        v: &Value<'_>,
+    ) -> Result<(), Error> {
         let frame = self.frames.last_mut().expect("open frame");
         let mut problem: Option<String> = None;
         match &mut frame.kind {
@@ -1331,18 +1405,12 @@ impl Lowerer {
             Kind::Group {
                 inline_urls: Some(u),
                 ..
-            } => {
-                if name == "url" {
-                    if let Value::Strings { values, .. } = v {
-                        *u = values.to_vec();
-                    }
+            } if name == "url" => {
+                if let Value::Strings { values, .. } = v {
+                    *u = values.to_vec();
                 }
             }
-            Kind::Switch { which, .. } => {
-                if name == "whichChoice" {
-                    *which = num1(v) as i64;
-                }
-            }
+            Kind::Switch { which, .. } if name == "whichChoice" => *which = num1(v) as i64,
             Kind::Material(m) => match name {
                 "diffuseColor" => m.diffuse = vec3(v),
                 "emissiveColor" => m.emissive = vec3(v),
@@ -1358,18 +1426,16 @@ impl Lowerer {
                 }
                 _ => {}
             },
-            Kind::Sphere { radius } => {
-                if name == "radius" {
-                    let r = num1(v);
-                    if r <= 0.0 || !r.is_finite() {
-                        return Err(Error::Diag(Box::new(src.diagnostic(
-                            Severity::Error,
-                            at,
-                            format!("Sphere radius must be positive, found {r}"),
-                        ))));
-                    }
-                    *radius = r;
+            Kind::Sphere { radius } if name == "radius" => {
+                let r = num1(v);
+                if r <= 0.0 || !r.is_finite() {
+                    return Err(Error::Diag(Box::new(src.diagnostic(
+                        Severity::Error,
+                        at,
+                        format!("Sphere radius must be positive, found {r}"),
+                    ))));
                 }
+                *radius = r;
             }
             Kind::PointLight(l) => match name {
                 "location" => l.location = vec3(v),
@@ -1413,17 +1479,13 @@ impl Lowerer {
                 }
                 _ => {}
             },
-            Kind::NavigationInfo { headlight } => {
-                if name == "headlight" {
-                    *headlight = Some(bool1(v));
-                }
+            Kind::NavigationInfo { headlight } if name == "headlight" => {
+                *headlight = Some(bool1(v));
             }
-            Kind::Background { sky } => {
-                if name == "skyColor" {
-                    let n = nums(v);
-                    if n.len() >= 3 {
-                        *sky = Some(DVec3::new(n[0], n[1], n[2]));
-                    }
+            Kind::Background { sky } if name == "skyColor" => {
+                let n = nums(v);
+                if n.len() >= 3 {
+                    *sky = Some(DVec3::new(n[0], n[1], n[2]));
                 }
             }
             _ => {}
@@ -1441,13 +1503,29 @@ impl Lowerer {
                 if let Some(spec) = frame.spec {
                     let ty = frame.ty.clone();
                     match spec.event(name) {
-                        None => self.warn(src, at, format!("unknown field '{name}' of {ty}: ignored")),
+                        None => {
+                            self.warn(src, at, format!("unknown field '{name}' of {ty}: ignored"))
+                        }
                         Some((f, access)) => {
                             if !f.ty.is_node() {
-                                return Err(self.error(src, at, format!("field '{name}' of {ty} expects {}, found a node", f.ty.name())));
+                                return Err(self.error(
+                                    src,
+                                    at,
+                                    format!(
+                                        "field '{name}' of {ty} expects {}, found a node",
+                                        f.ty.name()
+                                    ),
+                                ));
                             }
                             if matches!(access, Access::EventIn | Access::EventOut) {
-                                self.warn(src, at, format!("'{name}' of {ty} is an {}, not a field: ignored", access.keyword()));
+                                self.warn(
+                                    src,
+                                    at,
+                                    format!(
+                                        "'{name}' of {ty} is an {}, not a field: ignored",
+                                        access.keyword()
+                                    ),
+                                );
                             }
                         }
                     }
@@ -1461,24 +1539,33 @@ impl Lowerer {
         Ok(())
     }
 
-    fn node_end(&mut self, src: &SourceWindow, at: u64, done: Vec<(RecKind, Range<usize>)>) -> Result<(), Error> {
+    fn node_end(
+        &mut self,
+        src: &SourceWindow,
+        at: u64,
+        done: Vec<(RecKind, Range<usize>)>,
+    ) -> Result<(), Error> {
         // Register DEFs first: the node is complete.
         let mut instance = None;
         let mut choice = None;
         for (kind, range) in done {
             match kind {
-                RecKind::Def(name) => {
-                    if self.in_proto_decl == 0 {
-                        let ty = match &self.arena[range.start] {
-                            Rec::Ev(OwnedEvent::NodeStart { ty, .. }) => ty.clone(),
-                            _ => Rc::from("?"),
-                        };
-                        if let Some(s) = self.scopes.last_mut() {
-                            s.open_defs.retain(|n| *n != name);
-                            s.defs.insert(name, DefEntry { range: range.clone(), ty });
-                        }
-                        self.pinned = self.pinned.max(range.end);
+                RecKind::Def(name) if self.in_proto_decl == 0 => {
+                    let ty = match &self.arena[range.start] {
+                        Rec::Ev(OwnedEvent::NodeStart { ty, .. }) => ty.clone(),
+                        _ => Rc::from("?"),
+                    };
+                    if let Some(s) = self.scopes.last_mut() {
+                        s.open_defs.retain(|n| *n != name);
+                        s.defs.insert(
+                            name,
+                            DefEntry {
+                                range: range.clone(),
+                                ty,
+                            },
+                        );
                     }
+                    self.pinned = self.pinned.max(range.end);
                 }
                 RecKind::Instance => instance = Some(range),
                 RecKind::Choice => choice = Some(range),
@@ -1527,9 +1614,13 @@ impl Lowerer {
         let name = ctx.name.clone();
         let frame = &mut self.frames[ctx.frame];
         match (&mut frame.kind, &*name, result) {
-            (Kind::Shape { appearance, .. }, "appearance", Result_::Appearance(m)) => *appearance = Some(m),
+            (Kind::Shape { appearance, .. }, "appearance", Result_::Appearance(m)) => {
+                *appearance = Some(m)
+            }
             (Kind::Shape { geometry, .. }, "geometry", Result_::Geometry(g)) => *geometry = Some(g),
-            (Kind::Appearance { material }, "material", Result_::Material(m)) => *material = Some(m),
+            (Kind::Appearance { material }, "material", Result_::Material(m)) => {
+                *material = Some(m)
+            }
             _ => {}
         }
         Ok(())
@@ -1551,11 +1642,12 @@ impl Lowerer {
                 Result_::Nothing
             }
             Kind::Switch {
-                which,
-                ref choices,
-                ..
+                which, ref choices, ..
             } => {
-                let chosen = usize::try_from(which).ok().and_then(|w| choices.get(w)).cloned();
+                let chosen = usize::try_from(which)
+                    .ok()
+                    .and_then(|w| choices.get(w))
+                    .cloned();
                 let n = choices.len();
                 if let Some(range) = chosen {
                     self.frames.push(frame);
@@ -1617,7 +1709,10 @@ impl Lowerer {
                 self.scene.lights.push(Light::Directional(l));
                 // Scope: the siblings in the enclosing grouping node (set when it closes).
                 if let Some(g) = self.frames.iter_mut().rev().find(|f| {
-                    matches!(f.kind, Kind::Group { .. } | Kind::Switch { .. } | Kind::Lod { .. })
+                    matches!(
+                        f.kind,
+                        Kind::Group { .. } | Kind::Switch { .. } | Kind::Lod { .. }
+                    )
                 }) {
                     match &mut g.kind {
                         Kind::Group { dirlights, .. }
@@ -1683,7 +1778,11 @@ impl Lowerer {
         }
         if !m.is_finite() || m.matrix3.determinant() == 0.0 {
             // A zero scale (or a degenerate scaleOrientation) flattens the contents: not shown.
-            self.warn(src, at, "a Transform with a zero or non-finite scale hides its contents");
+            self.warn(
+                src,
+                at,
+                "a Transform with a zero or non-finite scale hides its contents",
+            );
             self.scene.spheres.truncate(marks.spheres);
             self.scene.lights.truncate(marks.lights);
             self.scene.viewpoints.truncate(marks.views);
@@ -1709,7 +1808,12 @@ impl Lowerer {
                     s.radius *= k;
                     continue;
                 }
-                let a = *m * DAffine3::from_scale_rotation_translation(DVec3::splat(s.radius), DQuat::IDENTITY, s.center);
+                let a = *m
+                    * DAffine3::from_scale_rotation_translation(
+                        DVec3::splat(s.radius),
+                        DQuat::IDENTITY,
+                        s.center,
+                    );
                 s.ellipsoid = self.scene.ellipsoids.len() as u32;
                 self.scene.ellipsoids.push(a);
             } else {
@@ -1749,19 +1853,32 @@ impl Lowerer {
             return Ok(());
         }
         let (name, external, at) = match &self.arena[range.start] {
-            Rec::Ev(OwnedEvent::ProtoStart { name, external, at }) => (name.clone(), *external, *at),
-            _ => return Err(Error::Other("internal: PROTO recording without its start".into())),
+            Rec::Ev(OwnedEvent::ProtoStart { name, external, at }) => {
+                (name.clone(), *external, *at)
+            }
+            _ => {
+                return Err(Error::Other(
+                    "internal: PROTO recording without its start".into(),
+                ))
+            }
         };
         let mut fields: Vec<InterfaceField> = Vec::new();
         let mut i = range.start + 1;
         let mut body = None;
         while i < range.end {
             match &self.arena[i] {
-                Rec::Ev(OwnedEvent::Decl { access, ty, name: fname, at }) => {
-                    let access_k = Access::from_keyword(access)
-                        .ok_or_else(|| self.error(src, *at, format!("unknown access type '{access}'")))?;
-                    let fty = FieldType::from_name(ty)
-                        .ok_or_else(|| self.error(src, *at, format!("unknown field type '{ty}'")))?;
+                Rec::Ev(OwnedEvent::Decl {
+                    access,
+                    ty,
+                    name: fname,
+                    at,
+                }) => {
+                    let access_k = Access::from_keyword(access).ok_or_else(|| {
+                        self.error(src, *at, format!("unknown access type '{access}'"))
+                    })?;
+                    let fty = FieldType::from_name(ty).ok_or_else(|| {
+                        self.error(src, *at, format!("unknown field type '{ty}'"))
+                    })?;
                     let fname = fname.clone();
                     let dat = *at;
                     if fields.iter().any(|f| f.name == fname) {
@@ -1772,9 +1889,15 @@ impl Lowerer {
                         // The value events follow the declaration.
                         let vstart = i + 1;
                         let vend = value_end(&self.arena, vstart);
-                        if let Some(Rec::Ev(OwnedEvent::Field { value, at: vat, .. })) = self.arena.get(vstart) {
+                        if let Some(Rec::Ev(OwnedEvent::Field { value, at: vat, .. })) =
+                            self.arena.get(vstart)
+                        {
                             if let Err(e) = check_value(fty, &value.as_value()) {
-                                return Err(self.error(src, *vat, format!("default of '{fname}' {e}")));
+                                return Err(self.error(
+                                    src,
+                                    *vat,
+                                    format!("default of '{fname}' {e}"),
+                                ));
                             }
                         }
                         self.resolve_default_uses(src, vstart..vend)?;
@@ -1799,10 +1922,23 @@ impl Lowerer {
         // exposedField x already defines set_x and x_changed.
         for f in &fields {
             if matches!(f.access, Access::EventIn | Access::EventOut) {
-                let base = f.name.strip_prefix("set_").or_else(|| f.name.strip_suffix("_changed"));
+                let base = f
+                    .name
+                    .strip_prefix("set_")
+                    .or_else(|| f.name.strip_suffix("_changed"));
                 if let Some(b) = base {
-                    if fields.iter().any(|g| &*g.name == b && g.access == Access::ExposedField) {
-                        self.warn(src, at, format!("PROTO {name}: '{}' conflicts with exposedField '{b}'", f.name));
+                    if fields
+                        .iter()
+                        .any(|g| &*g.name == b && g.access == Access::ExposedField)
+                    {
+                        self.warn(
+                            src,
+                            at,
+                            format!(
+                                "PROTO {name}: '{}' conflicts with exposedField '{b}'",
+                                f.name
+                            ),
+                        );
                     }
                 }
             }
@@ -1811,7 +1947,6 @@ impl Lowerer {
             name: name.clone(),
             fields,
             body,
-            at,
         });
         if let Some(b) = decl.body.clone() {
             self.check_body(src, &decl, b)?;
@@ -1826,12 +1961,18 @@ impl Lowerer {
     /// Resolves the USEs in an interface default value: a DEF earlier in the same value, or a
     /// DEF of the enclosing file made before the declaration. Each default is a namespace of its
     /// own, so a USE of a DEF in another field's default is an error (OpenVRML's test suite).
-    fn resolve_default_uses(&mut self, src: &SourceWindow, range: Range<usize>) -> Result<(), Error> {
+    fn resolve_default_uses(
+        &mut self,
+        src: &SourceWindow,
+        range: Range<usize>,
+    ) -> Result<(), Error> {
         let mut open: Vec<(Option<Rc<str>>, usize)> = Vec::new();
         let mut local: HashMap<Rc<str>, Range<usize>> = HashMap::new();
         let mut protos = 0;
         for i in range {
-            let Rec::Ev(ev) = &self.arena[i] else { continue };
+            let Rec::Ev(ev) = &self.arena[i] else {
+                continue;
+            };
             match ev {
                 OwnedEvent::ProtoStart { .. } => protos += 1,
                 OwnedEvent::ProtoEnd { .. } => protos -= 1,
@@ -1851,7 +1992,8 @@ impl Lowerer {
                     match found {
                         Some(r) => self.arena[i] = Rec::Used { range: r, at },
                         None => {
-                            let msg = format!("USE of undefined name '{name}' in a PROTO field default");
+                            let msg =
+                                format!("USE of undefined name '{name}' in a PROTO field default");
                             return Err(self.error(src, at, msg));
                         }
                     }
@@ -1864,11 +2006,18 @@ impl Lowerer {
 
     /// Checks every `IS` in a PROTO body: the interface field exists, and its type and access
     /// fit the body field (VRML97 4.8.3, Table 4.4).
-    fn check_body(&mut self, src: &SourceWindow, decl: &ProtoDecl, body: Range<usize>) -> Result<(), Error> {
+    fn check_body(
+        &mut self,
+        src: &SourceWindow,
+        decl: &ProtoDecl,
+        body: Range<usize>,
+    ) -> Result<(), Error> {
         let mut types: Vec<Rc<str>> = Vec::new();
         let mut proto_depth = 0;
         for i in body {
-            let Rec::Ev(ev) = &self.arena[i] else { continue };
+            let Rec::Ev(ev) = &self.arena[i] else {
+                continue;
+            };
             match ev {
                 OwnedEvent::ProtoStart { .. } => proto_depth += 1,
                 OwnedEvent::ProtoEnd { .. } => proto_depth -= 1,
@@ -1883,11 +2032,24 @@ impl Lowerer {
                     value: super::syntax::OwnedValue::Is(target),
                 } => {
                     let Some(iface) = decl.field(target) else {
-                        return Err(self.error(src, *at, format!("'IS {target}': PROTO {} has no interface field '{target}'", decl.name)));
+                        return Err(self.error(
+                            src,
+                            *at,
+                            format!(
+                                "'IS {target}': PROTO {} has no interface field '{target}'",
+                                decl.name
+                            ),
+                        ));
                     };
-                    let Some(node_ty) = types.last() else { continue };
-                    let Some(spec) = schema::node_spec(node_ty) else { continue };
-                    let Some((f, access)) = spec.event(name) else { continue };
+                    let Some(node_ty) = types.last() else {
+                        continue;
+                    };
+                    let Some(spec) = schema::node_spec(node_ty) else {
+                        continue;
+                    };
+                    let Some((f, access)) = spec.event(name) else {
+                        continue;
+                    };
                     if f.ty != iface.ty {
                         return Err(self.error(
                             src,
@@ -1903,21 +2065,38 @@ impl Lowerer {
                         (Access::ExposedField, a) => a == Access::ExposedField,
                         (Access::Field, a) => matches!(a, Access::Field | Access::ExposedField),
                         (Access::EventIn, a) => matches!(a, Access::EventIn | Access::ExposedField),
-                        (Access::EventOut, a) => matches!(a, Access::EventOut | Access::ExposedField),
+                        (Access::EventOut, a) => {
+                            matches!(a, Access::EventOut | Access::ExposedField)
+                        }
                     };
                     if !ok {
                         self.warn(
                             src,
                             *at,
-                            format!("'{name} IS {target}': a {} cannot be mapped to an interface {}", access.keyword(), iface.access.keyword()),
+                            format!(
+                                "'{name} IS {target}': a {} cannot be mapped to an interface {}",
+                                access.keyword(),
+                                iface.access.keyword()
+                            ),
                         );
                     }
                 }
                 OwnedEvent::Field { name, at, .. } | OwnedEvent::NodesStart { name, at } => {
-                    let Some(node_ty) = types.last() else { continue };
-                    let Some(spec) = schema::node_spec(node_ty) else { continue };
+                    let Some(node_ty) = types.last() else {
+                        continue;
+                    };
+                    let Some(spec) = schema::node_spec(node_ty) else {
+                        continue;
+                    };
                     if let Some((_, a @ (Access::EventIn | Access::EventOut))) = spec.event(name) {
-                        self.warn(src, *at, format!("'{name}' of {node_ty} is an {}, not a field: ignored", a.keyword()));
+                        self.warn(
+                            src,
+                            *at,
+                            format!(
+                                "'{name}' of {node_ty} is an {}, not a field: ignored",
+                                a.keyword()
+                            ),
+                        );
                     }
                 }
                 _ => {}
@@ -1927,7 +2106,13 @@ impl Lowerer {
     }
 
     /// Expands a recorded PROTO instance: its field values replace `IS` in the body's first node.
-    fn expand(&mut self, src: &SourceWindow, proto: Rc<ProtoDecl>, inst: Range<usize>, at: u64) -> Result<(), Error> {
+    fn expand(
+        &mut self,
+        src: &SourceWindow,
+        proto: Rc<ProtoDecl>,
+        inst: Range<usize>,
+        at: u64,
+    ) -> Result<(), Error> {
         let body = proto.body.clone().expect("PROTO with a body");
         // The instance's fields (skip its NodeStart and NodeEnd).
         let mut values = HashMap::new();
@@ -1935,28 +2120,61 @@ impl Lowerer {
         while i + 1 < inst.end {
             let end = value_end(&self.arena, i);
             let (fname, fat) = match &self.arena[i] {
-                Rec::Ev(OwnedEvent::Field { name, at, .. }) | Rec::Ev(OwnedEvent::NodesStart { name, at }) => (name.clone(), *at),
+                Rec::Ev(OwnedEvent::Field { name, at, .. })
+                | Rec::Ev(OwnedEvent::NodesStart { name, at }) => (name.clone(), *at),
                 _ => {
                     i = end;
                     continue;
                 }
             };
             match proto.field(&fname) {
-                None => self.warn(src, fat, format!("unknown field '{fname}' of PROTO {}: ignored", proto.name)),
+                None => self.warn(
+                    src,
+                    fat,
+                    format!("unknown field '{fname}' of PROTO {}: ignored", proto.name),
+                ),
                 Some(f) => {
                     if let Rec::Ev(OwnedEvent::Field { value, .. }) = &self.arena[i] {
                         if f.ty.is_node() {
                             if *value != super::syntax::OwnedValue::Empty {
-                                return Err(self.error(src, fat, format!("field '{fname}' of PROTO {} expects {}", proto.name, f.ty.name())));
+                                return Err(self.error(
+                                    src,
+                                    fat,
+                                    format!(
+                                        "field '{fname}' of PROTO {} expects {}",
+                                        proto.name,
+                                        f.ty.name()
+                                    ),
+                                ));
                             }
                         } else if let Err(e) = check_value(f.ty, &value.as_value()) {
-                            return Err(self.error(src, fat, format!("field '{fname}' of PROTO {} {e}", proto.name)));
+                            return Err(self.error(
+                                src,
+                                fat,
+                                format!("field '{fname}' of PROTO {} {e}", proto.name),
+                            ));
                         }
                     } else if !f.ty.is_node() {
-                        return Err(self.error(src, fat, format!("field '{fname}' of PROTO {} expects {}, found a node", proto.name, f.ty.name())));
+                        return Err(self.error(
+                            src,
+                            fat,
+                            format!(
+                                "field '{fname}' of PROTO {} expects {}, found a node",
+                                proto.name,
+                                f.ty.name()
+                            ),
+                        ));
                     }
                     if matches!(f.access, Access::EventIn | Access::EventOut) {
-                        self.warn(src, fat, format!("'{fname}' of PROTO {} is an {}, not a field: ignored", proto.name, f.access.keyword()));
+                        self.warn(
+                            src,
+                            fat,
+                            format!(
+                                "'{fname}' of PROTO {} is an {}, not a field: ignored",
+                                proto.name,
+                                f.access.keyword()
+                            ),
+                        );
                     } else {
                         values.insert(fname, i..end);
                     }
@@ -1966,7 +2184,10 @@ impl Lowerer {
         }
         // The body runs in a namespace of its own, with this instance's substitutions.
         self.scopes.push(Scope::default());
-        self.substs.push(Rc::new(Subst { proto: proto.clone(), values }));
+        self.substs.push(Rc::new(Subst {
+            proto: proto.clone(),
+            values,
+        }));
         let saved = std::mem::take(&mut self.recorders);
         let reusing = std::mem::replace(&mut self.reusing, 0);
         let r = self.replay_first_node(src, body, at);
@@ -1978,7 +2199,12 @@ impl Lowerer {
     }
 
     /// Replays a PROTO body up to the end of its first node (earlier PROTO declarations included).
-    fn replay_first_node(&mut self, src: &SourceWindow, body: Range<usize>, at: u64) -> Result<(), Error> {
+    fn replay_first_node(
+        &mut self,
+        src: &SourceWindow,
+        body: Range<usize>,
+        at: u64,
+    ) -> Result<(), Error> {
         let mut i = body.start;
         let mut depth = 0i32;
         let mut protos = 0i32;
@@ -1999,7 +2225,11 @@ impl Lowerer {
                     }
                     self.replay_depth += 1;
                     if self.replay_depth > MAX_REPLAY_DEPTH {
-                        return Err(self.error(src, at, format!("PROTO expansions nest deeper than {MAX_REPLAY_DEPTH}")));
+                        return Err(self.error(
+                            src,
+                            at,
+                            format!("PROTO expansions nest deeper than {MAX_REPLAY_DEPTH}"),
+                        ));
                     }
                     let r = self.handle(src, ev.as_event());
                     self.replay_depth -= 1;
@@ -2024,7 +2254,15 @@ impl Lowerer {
 
     // ----- ROUTE
 
-    fn check_route(&mut self, src: &SourceWindow, from: &str, ff: &str, to: &str, tf: &str, at: u64) {
+    fn check_route(
+        &mut self,
+        src: &SourceWindow,
+        from: &str,
+        ff: &str,
+        to: &str,
+        tf: &str,
+        at: u64,
+    ) {
         let end = |this: &mut Self, node: &str, field: &str, want_out: bool| -> Option<FieldType> {
             let Some(d) = this.lookup_def(node) else {
                 this.warn(src, at, format!("ROUTE refers to undefined node '{node}'"));
@@ -2042,7 +2280,11 @@ impl Lowerer {
                 return None;
             };
             let Some((fty, access)) = found else {
-                this.warn(src, at, format!("ROUTE: {ty} '{node}' has no event '{field}'"));
+                this.warn(
+                    src,
+                    at,
+                    format!("ROUTE: {ty} '{node}' has no event '{field}'"),
+                );
                 return None;
             };
             let ok = if want_out {
@@ -2051,7 +2293,11 @@ impl Lowerer {
                 matches!(access, Access::EventIn | Access::ExposedField)
             };
             if !ok {
-                let want = if want_out { "an eventOut" } else { "an eventIn" };
+                let want = if want_out {
+                    "an eventOut"
+                } else {
+                    "an eventIn"
+                };
                 this.warn(src, at, format!("ROUTE: '{node}.{field}' is not {want}"));
                 return None;
             }
@@ -2061,7 +2307,11 @@ impl Lowerer {
         let b = end(self, to, tf, false);
         if let (Some(a), Some(b)) = (a, b) {
             if a != b {
-                self.warn(src, at, format!("ROUTE from {} to {}: the types differ", a.name(), b.name()));
+                self.warn(
+                    src,
+                    at,
+                    format!("ROUTE from {} to {}: the types differ", a.name(), b.name()),
+                );
             }
         }
     }

@@ -21,7 +21,9 @@ enum Frame {
     /// A node given without brackets as a field value: `NodesEnd` follows when it closes.
     Single,
     /// A PROTO or EXTERNPROTO interface.
-    Iface { external: bool },
+    Iface {
+        external: bool,
+    },
     ProtoBody,
 }
 
@@ -125,9 +127,10 @@ fn node_header<'a>(first: &'a str, rest: &'a str) -> PResult<'a, (Option<&'a str
 fn num<'a>(i: &'a str) -> PResult<'a, lex::Number> {
     match number(i) {
         Ok((rest, n)) => Ok((rest, n)),
-        Err(NumberProblem::OutOfRange) => {
-            fail(i, "number out of range (NaN and infinite values are not allowed)")
-        }
+        Err(NumberProblem::OutOfRange) => fail(
+            i,
+            "number out of range (NaN and infinite values are not allowed)",
+        ),
         Err(NumberProblem::NotANumber) => fail(i, "invalid number"),
     }
 }
@@ -313,7 +316,10 @@ fn statement(i: &str) -> PResult<'_, Item<'_>> {
             let (r, name) = ident(ws(r), "a PROTO name")?;
             let r = ws(r);
             if !r.starts_with('[') {
-                return fail(r, format!("expected '[' to open the interface of {id} {name}"));
+                return fail(
+                    r,
+                    format!("expected '[' to open the interface of {id} {name}"),
+                );
             }
             Ok((&r[1..], Item::Proto(name, id == "EXTERNPROTO")))
         }
@@ -349,7 +355,10 @@ fn decl<'a>(
         let r2 = ws(r);
         if let Ok((r3, "IS")) = identifier(r2) {
             let (r4, target) = ident(ws(r3), "an interface field name after IS")?;
-            return Ok((r4, Item::Decl(access, ty, name, Some(Val::Value(Value::Is(target))))));
+            return Ok((
+                r4,
+                Item::Decl(access, ty, name, Some(Val::Value(Value::Is(target)))),
+            ));
         }
         Ok((r, Item::Decl(access, ty, name, None)))
     } else {
@@ -416,7 +425,10 @@ fn url_list<'a>(i: &'a str, s: &'a mut Scratch) -> PResult<'a, Item<'a>> {
     match value(i, s)? {
         (r, Val::Value(Value::Strings { values, .. })) => Ok((r, Item::Urls(values))),
         (r, Val::Value(Value::Empty)) => Ok((r, Item::Urls(&[]))),
-        _ => fail(i, "expected the EXTERNPROTO's URL list (a string or [ strings ])"),
+        _ => fail(
+            i,
+            "expected the EXTERNPROTO's URL list (a string or [ strings ])",
+        ),
     }
 }
 
@@ -447,7 +459,11 @@ impl Parser {
     }
 
     fn error_at(&self, at: u64, msg: impl Into<String>) -> Error {
-        Error::Diag(Box::new(self.src.diagnostic(Severity::Error, at, msg.into())))
+        Error::Diag(Box::new(self.src.diagnostic(
+            Severity::Error,
+            at,
+            msg.into(),
+        )))
     }
 
     fn skip_ws(&mut self) -> Result<(), Error> {
@@ -533,9 +549,7 @@ impl Parser {
                 }
             }
             match top {
-                Frame::Top | Frame::ProtoBody => {
-                    self.step(sink, at, |i, _| statement(i))?
-                }
+                Frame::Top | Frame::ProtoBody => self.step(sink, at, |i, _| statement(i))?,
                 Frame::Body => self.step(sink, at, body_element)?,
                 Frame::List => self.step(sink, at, |i, _| list_item(i))?,
                 Frame::Iface { external } => {
@@ -555,7 +569,7 @@ impl Parser {
         loop {
             let eof = self.src.eof;
             match f(self.src.rest(), &mut self.scratch) {
-                Err(e) if !(e.incomplete && !eof) => {
+                Err(e) if !e.incomplete || eof => {
                     let off = self.src.offset_of(e.at);
                     let msg = e.msg;
                     return Err(self.error_at(off, msg));

@@ -15,14 +15,22 @@ fn corpus_dir() -> PathBuf {
 
 fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
     let mut entries: Vec<_> = std::fs::read_dir(dir)
-        .unwrap_or_else(|e| panic!("{}: {e} (shared/ must be beside the checkout)", dir.display()))
+        .unwrap_or_else(|e| {
+            panic!(
+                "{}: {e} (shared/ must be beside the checkout)",
+                dir.display()
+            )
+        })
         .map(|e| e.expect("dir entry").path())
         .collect();
     entries.sort();
     for p in entries {
         if p.is_dir() {
             walk(&p, out);
-        } else if p.extension().is_some_and(|e| e == "wrl" || e == "wrz" || e == "gz") {
+        } else if p
+            .extension()
+            .is_some_and(|e| e == "wrl" || e == "wrz" || e == "gz")
+        {
             out.push(p);
         }
     }
@@ -57,12 +65,13 @@ fn every_corpus_file_reads_or_fails_with_a_positioned_error() {
                 );
                 for d in diags {
                     assert!(d.line >= 1 && d.col >= 1, "{}: {d}", f.display());
-                    assert!(
-                        e.to_string().starts_with(&format!("{}:", d.file)),
-                        "{e}"
-                    );
+                    assert!(e.to_string().starts_with(&format!("{}:", d.file)), "{e}");
                 }
-                failed.push(format!("{}: {}", f.display(), e.to_string().lines().next().unwrap_or("")));
+                failed.push(format!(
+                    "{}: {}",
+                    f.display(),
+                    e.to_string().lines().next().unwrap_or("")
+                ));
             }
         }
     }
@@ -85,7 +94,11 @@ fn expected_invalid_files_are_rejected_under_strict() {
         ..LoadOptions::default()
     };
     let list = expected_invalid();
-    assert_eq!(list.len(), 12, "MANIFEST lists 12 EXPECTED-INVALID files: {list:?}");
+    assert_eq!(
+        list.len(),
+        12,
+        "MANIFEST lists 12 EXPECTED-INVALID files: {list:?}"
+    );
     for rel in list {
         let path = corpus_dir().join(&rel);
         match load_path(&path, &strict) {
@@ -109,18 +122,39 @@ fn hand_counted_files_match() {
             s.directional_light_count(),
             s.viewpoints.len(),
         );
-        let want = (e.spheres, e.gas, e.point_lights, e.directional_lights, e.viewpoints);
-        assert_eq!(got, want, "{}: (spheres, gas, point, directional, viewpoints)", e.path);
-        let want_skipped: BTreeMap<String, u64> =
-            e.skipped.iter().map(|(k, v)| (k.to_string(), *v as u64)).collect();
+        let want = (
+            e.spheres,
+            e.gas,
+            e.point_lights,
+            e.directional_lights,
+            e.viewpoints,
+        );
+        assert_eq!(
+            got, want,
+            "{}: (spheres, gas, point, directional, viewpoints)",
+            e.path
+        );
+        let want_skipped: BTreeMap<String, u64> = e
+            .skipped
+            .iter()
+            .map(|(k, v)| (k.to_string(), *v as u64))
+            .collect();
         assert_eq!(r.skipped, want_skipped, "{}: skipped node types", e.path);
     }
 }
 
 #[test]
 fn files_without_viewpoint_say_so_and_files_with_them_keep_names() {
-    let (s, _) = load_path(&corpus_dir().join("tools/meshlab/meshlab_pointcloud500.wrl"), &LoadOptions::default()).expect("meshlab");
+    let (s, _) = load_path(
+        &corpus_dir().join("tools/meshlab/meshlab_pointcloud500.wrl"),
+        &LoadOptions::default(),
+    )
+    .expect("meshlab");
     assert!(s.viewpoints.is_empty());
-    let (s, _) = load_path(&corpus_dir().join("conformance/openvrml/models/SimplePROTO.wrl"), &LoadOptions::default()).expect("SimplePROTO");
+    let (s, _) = load_path(
+        &corpus_dir().join("conformance/openvrml/models/SimplePROTO.wrl"),
+        &LoadOptions::default(),
+    )
+    .expect("SimplePROTO");
     assert_eq!(s.viewpoints.len(), 3);
 }

@@ -8,9 +8,9 @@
 //! walked, local relative Inlines walked, non-sphere geometry and unmodelled nodes go to
 //! `skipped`, nodes inside an Appearance other than Material go to `skipped`).
 pub struct Expected {
-    pub path: &'static str,            // relative to shared/corpus
-    pub spheres: usize,                // all sphere instances (opaque + gas)
-    pub gas: usize,                    // of which gas (Material transparency > 0)
+    pub path: &'static str, // relative to shared/corpus
+    pub spheres: usize,     // all sphere instances (opaque + gas)
+    pub gas: usize,         // of which gas (Material transparency > 0)
     pub point_lights: usize,
     pub directional_lights: usize,
     pub viewpoints: usize,
@@ -373,7 +373,8 @@ pub const EXPECTED: &[Expected] = &[
     },
     // Shape{Box} at top level; Transform{Shape{Sphere}, Transform{scale 1 3 1, Shape{Sphere}}}.
     Expected {
-        path: "conformance/castle-demo-models/vrml_engine_doc_simple_examples/transform_accum_1.wrl",
+        path:
+            "conformance/castle-demo-models/vrml_engine_doc_simple_examples/transform_accum_1.wrl",
         spheres: 2,
         gas: 0,
         point_lights: 0,

@@ -8,7 +8,9 @@ fn first_line(s: &str) -> &str {
 
 #[test]
 fn syntax_error_has_position_line_and_caret() {
-    let e = error_of("#VRML V2.0 utf8\nGroup {\n  children [ Shape { geometry Sphere { radius 1 } ]\n}\n");
+    let e = error_of(
+        "#VRML V2.0 utf8\nGroup {\n  children [ Shape { geometry Sphere { radius 1 } ]\n}\n",
+    );
     assert_eq!(
         e,
         "test.wrl:3:51: expected a field name or '}'\n    children [ Shape { geometry Sphere { radius 1 } ]\n                                                    ^"
@@ -18,25 +20,43 @@ fn syntax_error_has_position_line_and_caret() {
 #[test]
 fn missing_brace_after_node_type() {
     let e = error_of("#VRML V2.0 utf8\nTransform translation 1 2 3");
-    assert_eq!(first_line(&e), "test.wrl:2:11: expected '{' after node type 'Transform'");
+    assert_eq!(
+        first_line(&e),
+        "test.wrl:2:11: expected '{' after node type 'Transform'"
+    );
 }
 
 #[test]
 fn unexpected_end_of_file() {
     let e = error_of("#VRML V2.0 utf8\nGroup { children [ Group {\n");
-    assert_eq!(first_line(&e), "test.wrl:3:1: unexpected end of file: expected '}' to close a node");
+    assert_eq!(
+        first_line(&e),
+        "test.wrl:3:1: unexpected end of file: expected '}' to close a node"
+    );
 }
 
 #[test]
 fn vrml1_and_x3d_are_not_supported() {
     let e = error_of("#VRML V1.0 ascii\nSeparator { }");
-    assert_eq!(first_line(&e), "test.wrl:1:1: VRML 1.0 files are not supported: gtsphere reads VRML97 ('#VRML V2.0 utf8')");
+    assert_eq!(
+        first_line(&e),
+        "test.wrl:1:1: VRML 1.0 files are not supported: gtsphere reads VRML97 ('#VRML V2.0 utf8')"
+    );
     let e = error_of("#X3D V3.2 utf8\nShape {}");
-    assert!(first_line(&e).starts_with("test.wrl:1:1: X3D files are not supported"), "{e}");
+    assert!(
+        first_line(&e).starts_with("test.wrl:1:1: X3D files are not supported"),
+        "{e}"
+    );
     let e = error_of("hello");
-    assert!(first_line(&e).starts_with("test.wrl:1:1: not a VRML97 file"), "{e}");
+    assert!(
+        first_line(&e).starts_with("test.wrl:1:1: not a VRML97 file"),
+        "{e}"
+    );
     let e = error_of("");
-    assert!(first_line(&e).starts_with("test.wrl:1:1: not a VRML97 file"), "{e}");
+    assert!(
+        first_line(&e).starts_with("test.wrl:1:1: not a VRML97 file"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -46,19 +66,34 @@ fn wrong_field_value_types() {
     let e = error_of("#VRML V2.0 utf8\nSwitch { whichChoice 1.5 }");
     assert_eq!(first_line(&e), "test.wrl:2:10: field 'whichChoice' of Switch expects SFInt32 (1 integer(s) per value), found 1 number(s)");
     let e = error_of("#VRML V2.0 utf8\nNavigationInfo { headlight 1 }");
-    assert_eq!(first_line(&e), "test.wrl:2:18: field 'headlight' of NavigationInfo expects SFBool, found 1 number(s)");
+    assert_eq!(
+        first_line(&e),
+        "test.wrl:2:18: field 'headlight' of NavigationInfo expects SFBool, found 1 number(s)"
+    );
     let e = error_of("#VRML V2.0 utf8\nShape { geometry 3 }");
-    assert_eq!(first_line(&e), "test.wrl:2:9: field 'geometry' of Shape expects SFNode, found 1 number(s)");
+    assert_eq!(
+        first_line(&e),
+        "test.wrl:2:9: field 'geometry' of Shape expects SFNode, found 1 number(s)"
+    );
     let e = error_of("#VRML V2.0 utf8\nTransform { translation Group {} }");
-    assert_eq!(first_line(&e), "test.wrl:2:13: field 'translation' of Transform expects SFVec3f, found a node");
+    assert_eq!(
+        first_line(&e),
+        "test.wrl:2:13: field 'translation' of Transform expects SFVec3f, found a node"
+    );
     let e = error_of("#VRML V2.0 utf8\nWorldInfo { title [ 1 \"a\" ] }");
-    assert_eq!(first_line(&e), "test.wrl:2:23: a list must not mix numbers, strings and booleans");
+    assert_eq!(
+        first_line(&e),
+        "test.wrl:2:23: a list must not mix numbers, strings and booleans"
+    );
 }
 
 #[test]
 fn use_of_an_undefined_name() {
     let e = error_of("#VRML V2.0 utf8\nGroup {}\n  USE Nowhere");
-    assert_eq!(first_line(&e), "test.wrl:3:3: USE of undefined name 'Nowhere'");
+    assert_eq!(
+        first_line(&e),
+        "test.wrl:3:3: USE of undefined name 'Nowhere'"
+    );
 }
 
 #[test]
@@ -66,25 +101,45 @@ fn nan_and_infinite_numbers() {
     let e = error_of("#VRML V2.0 utf8\nTransform { translation 0 nan 0 }");
     assert_eq!(first_line(&e), "test.wrl:2:13: field 'translation' of Transform expects SFVec3f (3 number(s) per value), found 1 number(s)");
     let e = error_of("#VRML V2.0 utf8\nTransform { translation NaN 0 0 }");
-    assert_eq!(first_line(&e), "test.wrl:2:25: NaN and infinite numbers are not allowed");
+    assert_eq!(
+        first_line(&e),
+        "test.wrl:2:25: NaN and infinite numbers are not allowed"
+    );
     let e = error_of("#VRML V2.0 utf8\nTransform { translation 1e999 0 0 }");
-    assert_eq!(first_line(&e), "test.wrl:2:25: number out of range (NaN and infinite values are not allowed)");
+    assert_eq!(
+        first_line(&e),
+        "test.wrl:2:25: number out of range (NaN and infinite values are not allowed)"
+    );
     let e = error_of("#VRML V2.0 utf8\nTransform { scale [ inf 1 1 ] }");
-    assert_eq!(first_line(&e), "test.wrl:2:21: NaN and infinite numbers are not allowed");
+    assert_eq!(
+        first_line(&e),
+        "test.wrl:2:21: NaN and infinite numbers are not allowed"
+    );
 }
 
 #[test]
 fn non_positive_radius() {
     for r in ["0", "-1", "-0"] {
-        let e = error_of(&format!("#VRML V2.0 utf8\nShape {{ geometry Sphere {{ radius {r} }} }}"));
-        assert_eq!(first_line(&e), format!("test.wrl:2:27: Sphere radius must be positive, found {}", r.parse::<f64>().unwrap()));
+        let e = error_of(&format!(
+            "#VRML V2.0 utf8\nShape {{ geometry Sphere {{ radius {r} }} }}"
+        ));
+        assert_eq!(
+            first_line(&e),
+            format!(
+                "test.wrl:2:27: Sphere radius must be positive, found {}",
+                r.parse::<f64>().unwrap()
+            )
+        );
     }
 }
 
 #[test]
 fn is_outside_a_proto() {
     let e = error_of("#VRML V2.0 utf8\nGroup {\n  children IS foo\n}");
-    assert_eq!(first_line(&e), "test.wrl:3:3: 'children IS foo' outside a PROTO body");
+    assert_eq!(
+        first_line(&e),
+        "test.wrl:3:3: 'children IS foo' outside a PROTO body"
+    );
 }
 
 #[test]
@@ -93,14 +148,22 @@ fn unknown_field_is_a_warning_with_position_and_strict_makes_it_an_error() {
     let (s, r) = super::support::load(text);
     assert_eq!(s.spheres.len(), 1);
     assert_eq!(r.warnings.len(), 1);
-    assert_eq!(r.warnings[0].headline(), "test.wrl:3:3: warning: unknown field 'kambiExtension' of Transform: ignored");
+    assert_eq!(
+        r.warnings[0].headline(),
+        "test.wrl:3:3: warning: unknown field 'kambiExtension' of Transform: ignored"
+    );
     let e = strict_error_of(text);
-    assert_eq!(first_line(&e), "test.wrl:3:3: unknown field 'kambiExtension' of Transform: ignored");
+    assert_eq!(
+        first_line(&e),
+        "test.wrl:3:3: unknown field 'kambiExtension' of Transform: ignored"
+    );
 }
 
 #[test]
 fn unknown_node_types_warn_once_per_type() {
-    let (s, r) = scene("Fancy { a 1 }\nFancy { b [ 1 2 ] c Shape { } }\nOther { }\nShape { geometry Sphere {} }");
+    let (s, r) = scene(
+        "Fancy { a 1 }\nFancy { b [ 1 2 ] c Shape { } }\nOther { }\nShape { geometry Sphere {} }",
+    );
     assert_eq!(s.spheres.len(), 1);
     let heads: Vec<String> = r.warnings.iter().map(|w| w.headline()).collect();
     assert_eq!(
@@ -117,10 +180,25 @@ fn unknown_node_types_warn_once_per_type() {
 fn errors_in_inlined_files_name_that_file() {
     let dir = std::env::temp_dir().join(format!("gtsphere-inline-err-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("tmp");
-    std::fs::write(dir.join("main.wrl"), "#VRML V2.0 utf8\nInline { url \"part.wrl\" }\n").expect("write");
-    std::fs::write(dir.join("part.wrl"), "#VRML V2.0 utf8\n\nShape { geometry Sphere { radius -2 } }\n").expect("write");
-    let e = gtsphere::vrml::load_path(&dir.join("main.wrl"), &Default::default()).expect_err("bad radius");
+    std::fs::write(
+        dir.join("main.wrl"),
+        "#VRML V2.0 utf8\nInline { url \"part.wrl\" }\n",
+    )
+    .expect("write");
+    std::fs::write(
+        dir.join("part.wrl"),
+        "#VRML V2.0 utf8\n\nShape { geometry Sphere { radius -2 } }\n",
+    )
+    .expect("write");
+    let e = gtsphere::vrml::load_path(&dir.join("main.wrl"), &Default::default())
+        .expect_err("bad radius");
     let part = dir.join("part.wrl");
-    assert_eq!(first_line(&e.to_string()), format!("{}:3:27: Sphere radius must be positive, found -2", part.display()));
+    assert_eq!(
+        first_line(&e.to_string()),
+        format!(
+            "{}:3:27: Sphere radius must be positive, found -2",
+            part.display()
+        )
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -6,7 +6,8 @@ use gtsphere::vrml::{load_bytes, LoadOptions};
 
 use super::support::{close, scene};
 
-const BALL: &str = "Shape { appearance Appearance { material Material { } } geometry Sphere { radius 2 } }";
+const BALL: &str =
+    "Shape { appearance Appearance { material Material { } } geometry Sphere { radius 2 } }";
 
 #[test]
 fn number_forms() {
@@ -58,7 +59,10 @@ fn commas_between_vector_components() {
 #[test]
 fn strings_with_escapes_and_newlines() {
     let (s, _) = scene("Viewpoint { description \"say \\\"hi\\\" \\\\ there\nsecond line\" }");
-    assert_eq!(s.viewpoints[0].description, "say \"hi\" \\ there\nsecond line");
+    assert_eq!(
+        s.viewpoints[0].description,
+        "say \"hi\" \\ there\nsecond line"
+    );
 }
 
 #[test]
@@ -125,10 +129,17 @@ fn gzip_is_read_by_content() {
 fn invalid_utf8_is_replaced_with_one_warning() {
     let mut bytes = b"#VRML V2.0 utf8\n# caf\xe9\nShape { geometry Sphere {} }\n".to_vec();
     bytes.extend_from_slice(b"# \xff\xfe\n");
-    let (s, r) = load_bytes("latin1.wrl", bytes, &LoadOptions::default()).expect("latin-1 comments");
+    let (s, r) =
+        load_bytes("latin1.wrl", bytes, &LoadOptions::default()).expect("latin-1 comments");
     assert_eq!(s.spheres.len(), 1);
     assert_eq!(r.warnings.len(), 1);
-    assert!(r.warnings[0].headline().starts_with("latin1.wrl:2:6: warning: invalid UTF-8"), "{}", r.warnings[0]);
+    assert!(
+        r.warnings[0]
+            .headline()
+            .starts_with("latin1.wrl:2:6: warning: invalid UTF-8"),
+        "{}",
+        r.warnings[0]
+    );
 }
 
 #[test]
@@ -146,8 +157,14 @@ fn proto_with_is_is_expanded() {
     let (a, b) = (s.spheres[0], s.spheres[1]);
     assert_eq!((a.center.to_array(), a.radius), ([1.0, 2.0, 3.0], 0.5));
     assert_eq!((b.center.to_array(), b.radius), ([0.0, 0.0, 0.0], 1.0));
-    assert_eq!(s.materials[a.material as usize].diffuse.to_array(), [1.0, 0.0, 0.0]);
-    assert_eq!(s.materials[b.material as usize].diffuse.to_array(), [1.0, 1.0, 1.0]);
+    assert_eq!(
+        s.materials[a.material as usize].diffuse.to_array(),
+        [1.0, 0.0, 0.0]
+    );
+    assert_eq!(
+        s.materials[b.material as usize].diffuse.to_array(),
+        [1.0, 1.0, 1.0]
+    );
 }
 
 #[test]
@@ -159,15 +176,18 @@ fn node_valued_proto_fields_and_nested_protos() {
                          Shape { geometry Sphere { radius 3 } } ] }",
     );
     assert_eq!(s.spheres.len(), 2);
-    assert_eq!(s.materials[s.spheres[0].material as usize].diffuse.to_array(), [1.0, 0.0, 0.0]);
+    assert_eq!(
+        s.materials[s.spheres[0].material as usize]
+            .diffuse
+            .to_array(),
+        [1.0, 0.0, 0.0]
+    );
     assert!(s.materials[s.spheres[1].material as usize].unlit);
 }
 
 #[test]
 fn only_the_first_node_of_a_proto_body_is_rendered() {
-    let (s, _) = scene(&format!(
-        "PROTO Two [] {{ {BALL} {BALL} }}\nTwo {{}}"
-    ));
+    let (s, _) = scene(&format!("PROTO Two [] {{ {BALL} {BALL} }}\nTwo {{}}"));
     assert_eq!(s.spheres.len(), 1);
 }
 
@@ -178,7 +198,10 @@ fn externproto_instances_are_skipped_with_a_warning() {
     ));
     assert_eq!(s.spheres.len(), 1);
     assert_eq!(r.skipped.get("Fancy"), Some(&1));
-    assert!(r.warnings.iter().any(|w| w.message.contains("EXTERNPROTO Fancy")));
+    assert!(r
+        .warnings
+        .iter()
+        .any(|w| w.message.contains("EXTERNPROTO Fancy")));
 }
 
 #[test]
@@ -222,7 +245,11 @@ fn deeply_nested_transforms_compose() {
         text.push_str("}\n");
     }
     let (s, _) = super::support::load(&text);
-    assert!(close(s.spheres[0].center.x, 1.0, 1e-12), "{}", s.spheres[0].center.x);
+    assert!(
+        close(s.spheres[0].center.x, 1.0, 1e-12),
+        "{}",
+        s.spheres[0].center.x
+    );
 }
 
 #[test]

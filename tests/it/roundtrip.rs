@@ -8,10 +8,24 @@ use proptest::prelude::*;
 
 #[derive(Clone, Debug)]
 enum Node {
-    Ball { radius: f64, color: [f64; 3], def: bool },
-    Light { dir: [f64; 3] },
-    Group { kids: Vec<Node> },
-    Transform { t: [f64; 3], axis: [f64; 3], angle: f64, scale: f64, kids: Vec<Node> },
+    Ball {
+        radius: f64,
+        color: [f64; 3],
+        def: bool,
+    },
+    Light {
+        dir: [f64; 3],
+    },
+    Group {
+        kids: Vec<Node>,
+    },
+    Transform {
+        t: [f64; 3],
+        axis: [f64; 3],
+        angle: f64,
+        scale: f64,
+        kids: Vec<Node>,
+    },
 }
 
 fn finite(lo: f64, hi: f64) -> impl Strategy<Value = f64> {
@@ -34,7 +48,13 @@ fn node() -> impl Strategy<Value = Node> {
                 0.01..100.0f64,
                 prop::collection::vec(inner, 0..6)
             )
-                .prop_map(|(t, axis, angle, scale, kids)| Node::Transform { t, axis, angle, scale, kids }),
+                .prop_map(|(t, axis, angle, scale, kids)| Node::Transform {
+                    t,
+                    axis,
+                    angle,
+                    scale,
+                    kids
+                }),
         ]
     })
 }
@@ -72,7 +92,8 @@ impl Printer {
                     self.defs += 1;
                     self.out.push_str(&format!("DEF B{} ", self.defs));
                 }
-                self.out.push_str("Shape { appearance Appearance { material Material { diffuseColor ");
+                self.out
+                    .push_str("Shape { appearance Appearance { material Material { diffuseColor ");
                 for c in color {
                     self.num(*c);
                 }
@@ -99,7 +120,13 @@ impl Printer {
                 }
                 self.out.push_str("] }");
             }
-            Node::Transform { t, axis, angle, scale, kids } => {
+            Node::Transform {
+                t,
+                axis,
+                angle,
+                scale,
+                kids,
+            } => {
                 // Fields after children half of the time.
                 let late = self.style % 2 == 0;
                 self.out.push_str("Transform { ");
@@ -156,9 +183,19 @@ fn expect(n: &Node, m: DAffine3, scale: f64, out: &mut Expected, scope_start: u3
             out.lights.push((d, scope_start, u32::MAX));
         }
         Node::Group { kids } => children(kids, m, scale, out),
-        Node::Transform { t, axis, angle, scale: s, kids } => {
+        Node::Transform {
+            t,
+            axis,
+            angle,
+            scale: s,
+            kids,
+        } => {
             let q = DQuat::from_axis_angle(DVec3::from_array(*axis).normalize(), *angle);
-            let local = DAffine3::from_scale_rotation_translation(DVec3::splat(*s), q, DVec3::from_array(*t));
+            let local = DAffine3::from_scale_rotation_translation(
+                DVec3::splat(*s),
+                q,
+                DVec3::from_array(*t),
+            );
             children(kids, m * local, scale * s, out);
         }
     }

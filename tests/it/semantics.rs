@@ -10,7 +10,9 @@ const BALL: &str = "Shape { geometry Sphere {} }";
 
 #[test]
 fn translation_after_children_applies() {
-    let (s, _) = scene(&format!("Transform {{ children {BALL} translation 1 2 3 }}"));
+    let (s, _) = scene(&format!(
+        "Transform {{ children {BALL} translation 1 2 3 }}"
+    ));
     assert_eq!(s.spheres[0].center.to_array(), [1.0, 2.0, 3.0]);
 }
 
@@ -21,15 +23,18 @@ fn rotation_then_translation() {
         "Transform {{ translation 0 0 5 rotation 0 0 1 1.5707963267948966 children Transform {{ translation 1 0 0 children {BALL} }} }}"
     ));
     let c = s.spheres[0].center;
-    assert!(close(c.x, 0.0, 1e-15) && close(c.y, 1.0, 1e-15) && close(c.z, 5.0, 1e-15), "{c}");
+    assert!(
+        close(c.x, 0.0, 1e-15) && close(c.y, 1.0, 1e-15) && close(c.z, 5.0, 1e-15),
+        "{c}"
+    );
 }
 
 #[test]
 fn uniform_scale_scales_the_radius_about_the_center_field() {
     // T * C * S * -C: point p=(0,0,0) -> C + S(p - C) = (1,1,1) + 2*(-1,-1,-1) = (-1,-1,-1).
-    let (s, _) = scene(&format!(
-        "Transform {{ scale 2 2 2 center 1 1 1 children Shape {{ geometry Sphere {{ radius 0.5 }} }} }}"
-    ));
+    let (s, _) = scene(
+        "Transform { scale 2 2 2 center 1 1 1 children Shape { geometry Sphere { radius 0.5 } } }",
+    );
     let b = s.spheres[0];
     assert_eq!(b.center.to_array(), [-1.0, -1.0, -1.0]);
     assert_eq!(b.radius, 1.0);
@@ -38,9 +43,9 @@ fn uniform_scale_scales_the_radius_about_the_center_field() {
 
 #[test]
 fn non_uniform_scale_makes_an_ellipsoid() {
-    let (s, _) = scene(&format!(
-        "Transform {{ translation 1 0 0 scale 1 2 3 children Shape {{ geometry Sphere {{ radius 2 }} }} }}"
-    ));
+    let (s, _) = scene(
+        "Transform { translation 1 0 0 scale 1 2 3 children Shape { geometry Sphere { radius 2 } } }",
+    );
     let b = s.spheres[0];
     assert_ne!(b.ellipsoid, NO_ELLIPSOID);
     let e = s.ellipsoids[b.ellipsoid as usize];
@@ -67,13 +72,17 @@ fn scale_orientation_rotates_the_scale_axes() {
 
 #[test]
 fn rotation_about_a_zero_axis_is_no_rotation() {
-    let (s, _) = scene(&format!("Transform {{ rotation 0 0 0 0 translation 1 0 0 children {BALL} }}"));
+    let (s, _) = scene(&format!(
+        "Transform {{ rotation 0 0 0 0 translation 1 0 0 children {BALL} }}"
+    ));
     assert_eq!(s.spheres[0].center.to_array(), [1.0, 0.0, 0.0]);
 }
 
 #[test]
 fn zero_scale_hides_contents_with_a_warning() {
-    let (s, r) = scene(&format!("Transform {{ scale 0 1 1 children {BALL} }}\n{BALL}"));
+    let (s, r) = scene(&format!(
+        "Transform {{ scale 0 1 1 children {BALL} }}\n{BALL}"
+    ));
     assert_eq!(s.spheres.len(), 1);
     assert!(r.warnings[0].message.contains("zero or non-finite scale"));
 }
@@ -112,7 +121,10 @@ fn light_fields_and_transforms() {
     match s.lights[1] {
         Light::Directional(d) => {
             assert_eq!(d.direction.to_array(), [0.0, 0.0, 1.0]);
-            assert_eq!((d.color.to_array(), d.ambient_intensity), ([1.0, 0.0, 0.0], 0.25));
+            assert_eq!(
+                (d.color.to_array(), d.ambient_intensity),
+                ([1.0, 0.0, 0.0], 0.25)
+            );
         }
         _ => panic!("second light is the DirectionalLight"),
     }
@@ -130,7 +142,8 @@ fn switch_shows_only_which_choice() {
 
 #[test]
 fn defs_inside_unchosen_switch_children_are_usable() {
-    let (s, _) = scene("Switch { choice DEF B Shape { geometry Sphere { radius 3 } } }\nUSE B\nUSE B");
+    let (s, _) =
+        scene("Switch { choice DEF B Shape { geometry Sphere { radius 3 } } }\nUSE B\nUSE B");
     assert_eq!(s.spheres.len(), 2);
     assert_eq!(s.spheres[0].radius, 3.0);
 }
@@ -146,7 +159,9 @@ fn lod_renders_its_first_level_only() {
 
 #[test]
 fn collision_proxy_is_not_rendered() {
-    let (s, _) = scene(&format!("Collision {{ proxy {BALL} children [ {BALL} {BALL} ] }}"));
+    let (s, _) = scene(&format!(
+        "Collision {{ proxy {BALL} children [ {BALL} {BALL} ] }}"
+    ));
     assert_eq!(s.spheres.len(), 2);
 }
 
@@ -172,10 +187,14 @@ fn materials_are_shared_not_copied() {
 
 #[test]
 fn vrml_material_defaults() {
-    let (s, _) = scene("Shape { appearance Appearance { material Material {} } geometry Sphere {} }");
+    let (s, _) =
+        scene("Shape { appearance Appearance { material Material {} } geometry Sphere {} }");
     let m = s.materials[s.spheres[0].material as usize];
     assert_eq!(m.diffuse.to_array(), [0.8; 3]);
-    assert_eq!((m.ambient_intensity, m.shininess, m.transparency), (0.2, 0.2, 0.0));
+    assert_eq!(
+        (m.ambient_intensity, m.shininess, m.transparency),
+        (0.2, 0.2, 0.0)
+    );
     assert_eq!((m.emissive, m.specular), (DVec3::ZERO, DVec3::ZERO));
     assert!(!m.unlit);
 }
@@ -203,7 +222,11 @@ fn viewpoints_are_transformed_and_named() {
     assert_eq!(v.name.as_deref(), Some("Front"));
     assert_eq!(v.description, "front");
     assert_eq!(v.field_of_view, 0.5);
-    assert!(close(v.position.z, -15.0, 1e-12) && v.position.x.abs() < 1e-12, "{}", v.position);
+    assert!(
+        close(v.position.z, -15.0, 1e-12) && v.position.x.abs() < 1e-12,
+        "{}",
+        v.position
+    );
     // Looking down -z, turned by pi about y: now looking down +z.
     let look = v.orientation * DVec3::NEG_Z;
     assert!(close(look.z, 1.0, 1e-12), "{look}");
@@ -223,7 +246,8 @@ fn inline_of_a_local_file_and_refusal_of_urls() {
         "#VRML V2.0 utf8\nDEF B Shape { geometry Sphere {} }\nTransform { translation 1 0 0 children USE B }\nDirectionalLight {}\n",
     )
     .expect("write");
-    let (s, r) = gtsphere::vrml::load_path(&dir.join("main.wrl"), &Default::default()).expect("inline");
+    let (s, r) =
+        gtsphere::vrml::load_path(&dir.join("main.wrl"), &Default::default()).expect("inline");
     let xs: Vec<f64> = s.spheres.iter().map(|b| b.center.x).collect();
     assert_eq!(xs, vec![10.0, 11.0]);
     match s.lights[0] {
@@ -241,8 +265,16 @@ fn inline_of_a_local_file_and_refusal_of_urls() {
 fn inline_cycles_are_refused() {
     let dir = std::env::temp_dir().join(format!("gtsphere-cycle-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("tmp");
-    std::fs::write(dir.join("a.wrl"), "#VRML V2.0 utf8\nInline { url \"b.wrl\" }\n").expect("write");
-    std::fs::write(dir.join("b.wrl"), "#VRML V2.0 utf8\nInline { url \"a.wrl\" }\n").expect("write");
+    std::fs::write(
+        dir.join("a.wrl"),
+        "#VRML V2.0 utf8\nInline { url \"b.wrl\" }\n",
+    )
+    .expect("write");
+    std::fs::write(
+        dir.join("b.wrl"),
+        "#VRML V2.0 utf8\nInline { url \"a.wrl\" }\n",
+    )
+    .expect("write");
     let e = gtsphere::vrml::load_path(&dir.join("a.wrl"), &Default::default()).expect_err("cycle");
     assert!(e.to_string().contains("includes itself (a cycle)"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
@@ -252,13 +284,24 @@ fn inline_cycles_are_refused() {
 fn exponential_use_blowup_is_refused() {
     let mut text = String::from("DEF L0 Shape { geometry Sphere {} }\n");
     for i in 1..40 {
-        text.push_str(&format!("DEF L{i} Group {{ children [ USE L{} USE L{} ] }}\n", i - 1, i - 1));
+        text.push_str(&format!(
+            "DEF L{i} Group {{ children [ USE L{} USE L{} ] }}\n",
+            i - 1,
+            i - 1
+        ));
     }
     let opts = gtsphere::vrml::LoadOptions {
         max_nodes: 1_000_000,
         ..Default::default()
     };
-    let e = gtsphere::vrml::load_bytes("bomb.wrl", format!("#VRML V2.0 utf8\n{text}").into_bytes(), &opts)
-        .expect_err("blow-up");
-    assert!(e.to_string().contains("expands to more than 1000000 nodes"), "{e}");
+    let e = gtsphere::vrml::load_bytes(
+        "bomb.wrl",
+        format!("#VRML V2.0 utf8\n{text}").into_bytes(),
+        &opts,
+    )
+    .expect_err("blow-up");
+    assert!(
+        e.to_string().contains("expands to more than 1000000 nodes"),
+        "{e}"
+    );
 }

@@ -4,7 +4,11 @@ use gtsphere::scene::Scene;
 use gtsphere::vrml::{load_bytes, LoadOptions, LoadReport};
 
 /// Every test goes through the streaming reader (1 MiB chunks), as files do.
-fn load_str(name: &str, text: &str, opts: &LoadOptions) -> Result<(Scene, LoadReport), gtsphere::Error> {
+fn load_str(
+    name: &str,
+    text: &str,
+    opts: &LoadOptions,
+) -> Result<(Scene, LoadReport), gtsphere::Error> {
     load_bytes(name, text.as_bytes().to_vec(), opts)
 }
 
