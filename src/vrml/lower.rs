@@ -1415,7 +1415,14 @@ impl Lowerer {
                 "diffuseColor" => m.diffuse = vec3(v),
                 "emissiveColor" => m.emissive = vec3(v),
                 "specularColor" => m.specular = vec3(v),
-                "shininess" => m.shininess = num1(v),
+                "shininess" => {
+                    let x = num1(v);
+                    if !(0.0..=1.0).contains(&x) {
+                        // VMD writes its raw Phong exponent (40) here; VRML97 says [0, 1].
+                        problem = Some(format!("shininess {x} is outside [0, 1]: clamped"));
+                    }
+                    m.shininess = x.clamp(0.0, 1.0);
+                }
                 "ambientIntensity" => m.ambient_intensity = num1(v),
                 "transparency" => {
                     let t = num1(v);

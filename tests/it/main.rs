@@ -7,3 +7,4 @@ mod lexical;
 mod roundtrip;
 mod semantics;
 mod support;
+mod vmd;
