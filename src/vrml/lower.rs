@@ -349,7 +349,8 @@ struct Lowerer {
     warnings: Vec<Diagnostic>,
     warn_index: HashMap<(Arc<str>, String), usize>,
     skipped: BTreeMap<String, u64>,
-    materials: HashMap<[u64; 13], u32>,
+    /// Indices into `scene.materials`, hashed by content (no copy of the key is kept).
+    materials: hashbrown::HashTable<u32>,
     nodes: u64,
     replay_depth: u32,
     file: u32,
@@ -519,6 +520,17 @@ fn material_key(m: &Material) -> [u64; 13] {
     ]
 }
 
+fn hash_key(key: &[u64; 13]) -> u64 {
+    use std::hash::{BuildHasher, Hash, Hasher};
+    let mut h = FIXED.build_hasher();
+    key.hash(&mut h);
+    h.finish()
+}
+
+/// A fixed hasher state: material hashes must be the same on every call.
+static FIXED: std::hash::BuildHasherDefault<std::collections::hash_map::DefaultHasher> =
+    std::hash::BuildHasherDefault::new();
+
 fn is_local_relative(url: &str) -> bool {
     let lower = url.to_ascii_lowercase();
     let has_scheme = lower.find(':').is_some_and(|k| {
@@ -547,7 +559,7 @@ impl Lowerer {
             warnings: Vec::new(),
             warn_index: HashMap::new(),
             skipped: BTreeMap::new(),
-            materials: HashMap::new(),
+            materials: hashbrown::HashTable::new(),
             nodes: 0,
             replay_depth: 0,
             file: 0,
@@ -589,12 +601,19 @@ impl Lowerer {
 
     fn material_index(&mut self, m: Material) -> u32 {
         let key = material_key(&m);
-        if let Some(&i) = self.materials.get(&key) {
+        let hash = hash_key(&key);
+        let mats = &self.scene.materials;
+        if let Some(&i) = self
+            .materials
+            .find(hash, |&i| material_key(&mats[i as usize]) == key)
+        {
             return i;
         }
         let i = self.scene.materials.len() as u32;
         self.scene.materials.push(m);
-        self.materials.insert(key, i);
+        let mats = &self.scene.materials;
+        self.materials
+            .insert_unique(hash, i, |&j| hash_key(&material_key(&mats[j as usize])));
         i
     }
 

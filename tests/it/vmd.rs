@@ -8,6 +8,10 @@ use gtsphere::vrml::{load_path, LoadOptions};
 
 use super::support::close;
 
+// 0.3927 below is the radius VMD printed with %g, not an approximation of pi/8.
+#[allow(clippy::approx_constant)]
+const R6: f64 = 0.3927;
+
 #[test]
 fn vmd_style_file_reads_with_colours_from_the_proto() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/vmd_style.wrl");
@@ -46,7 +50,7 @@ fn vmd_style_file_reads_with_colours_from_the_proto() {
         ),
         (
             [0.500438, -0.589095, 0.25082],
-            0.3927,
+            R6,
             [0.1625, 0.4875, 0.4875],
             0.7,
         ),
