@@ -521,10 +521,8 @@ fn material_key(m: &Material) -> [u64; 13] {
 }
 
 fn hash_key(key: &[u64; 13]) -> u64 {
-    use std::hash::{BuildHasher, Hash, Hasher};
-    let mut h = FIXED.build_hasher();
-    key.hash(&mut h);
-    h.finish()
+    use std::hash::BuildHasher;
+    FIXED.hash_one(key)
 }
 
 /// A fixed hasher state: material hashes must be the same on every call.
