@@ -520,6 +520,18 @@ fn material_key(m: &Material) -> [u64; 13] {
     ]
 }
 
+/// A sphere after transforms must still be finite with a positive radius (no overflow to
+/// infinity or NaN, no underflow to zero).
+fn check_sphere(center: DVec3, radius: f64) -> Result<(), String> {
+    if !center.is_finite() {
+        return Err(format!("a sphere centre overflow ({center})"));
+    }
+    if !(radius.is_finite() && radius > 0.0) {
+        return Err(format!("a sphere radius overflow or underflow ({radius})"));
+    }
+    Ok(())
+}
+
 fn hash_key(key: &[u64; 13]) -> u64 {
     use std::hash::BuildHasher;
     FIXED.hash_one(key)
@@ -1812,11 +1824,13 @@ impl Lowerer {
             self.scene.viewpoints.truncate(marks.views);
             return Ok(());
         }
-        self.apply(&m, marks);
-        Ok(())
+        // Each matrix is finite, but their product may not be: check what the contents became.
+        self.apply(&m, marks)
+            .map_err(|what| self.error(src, at, format!("this Transform makes {what}")))
     }
 
-    fn apply(&mut self, m: &DAffine3, marks: Marks) {
+    /// Applies `m` to everything lowered since `marks`; says what went out of range, if anything.
+    fn apply(&mut self, m: &DAffine3, marks: Marks) -> Result<(), String> {
         let lin = m.matrix3;
         let sim = similarity_scale(&lin);
         let max_scale = lin
@@ -1830,6 +1844,7 @@ impl Lowerer {
                 if let Some(k) = sim {
                     s.center = m.transform_point3(s.center);
                     s.radius *= k;
+                    check_sphere(s.center, s.radius)?;
                     continue;
                 }
                 let a = *m
@@ -1849,12 +1864,23 @@ impl Lowerer {
             let l = e.matrix3;
             // A bounding radius: the half extents' length bounds every point of the ellipsoid.
             s.radius = DVec3::new(l.row(0).length(), l.row(1).length(), l.row(2).length()).length();
+            check_sphere(s.center, s.radius)?;
+            // Rays are intersected in the ellipsoid's object space: the map must be invertible.
+            if !e.is_finite() || l.determinant() == 0.0 || !l.determinant().is_finite() {
+                return Err("an ellipsoid too thin or too large to represent in f64".into());
+            }
         }
         for l in &mut self.scene.lights[marks.lights..] {
             match l {
                 Light::Point(p) => {
                     p.location = m.transform_point3(p.location);
                     p.radius *= sim.unwrap_or(max_scale);
+                    if !p.location.is_finite() || !p.radius.is_finite() {
+                        return Err(format!(
+                            "a PointLight overflow (location {}, radius {})",
+                            p.location, p.radius
+                        ));
+                    }
                 }
                 Light::Directional(d) => {
                     d.direction = m.transform_vector3(d.direction).normalize_or(d.direction);
@@ -1865,8 +1891,12 @@ impl Lowerer {
         for v in &mut self.scene.viewpoints[marks.views..] {
             v.position = m.transform_point3(v.position);
             v.orientation = (rot * v.orientation).normalize();
+            if !v.position.is_finite() {
+                return Err(format!("a Viewpoint position overflow ({})", v.position));
+            }
         }
         let _ = marks.ellipsoids;
+        Ok(())
     }
 
     // ----- PROTO

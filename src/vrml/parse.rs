@@ -57,8 +57,8 @@ enum Val<'a> {
     Value(Value<'a>),
     Use(&'a str),
     Null,
-    /// A node without brackets; its header has been read.
-    Node(Option<&'a str>, &'a str),
+    /// A node without brackets; its header has been read. The last item is where it starts.
+    Node(Option<&'a str>, &'a str, &'a str),
     /// `[` followed by nodes: the list's items follow.
     List,
 }
@@ -236,7 +236,7 @@ fn value<'a>(i: &'a str, s: &'a mut Scratch) -> PResult<'a, Val<'a>> {
                 _ if is_nan_word(id) => fail(i, "NaN and infinite numbers are not allowed"),
                 _ => {
                     let (r, (def, ty)) = node_header(id, r)?;
-                    Ok((r, Val::Node(def, ty)))
+                    Ok((r, Val::Node(def, ty, i)))
                 }
             }
         }
@@ -650,8 +650,9 @@ fn emit_val(
             sink.event(src, Event::NodesEnd { at: off(src, end) })?;
             Ok(StackOp::None)
         }
-        Val::Node(def, ty) => {
+        Val::Node(def, ty, start) => {
             sink.event(src, Event::NodesStart { name, at })?;
+            let at = off(src, start);
             sink.event(src, Event::NodeStart { def, ty, at })?;
             Ok(StackOp::Push2(Frame::Single, Frame::Body))
         }

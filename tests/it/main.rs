@@ -4,6 +4,7 @@ mod corpus;
 mod corpus_counts;
 mod errors;
 mod lexical;
+mod regression;
 mod roundtrip;
 mod semantics;
 mod support;
