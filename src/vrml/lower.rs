@@ -1369,26 +1369,10 @@ impl Lowerer {
         if self.quiet > 0 {
             return Ok(());
         }
-        let Some(frame) = self.frames.last() else {
+        let Some((f, access, ty)) = self.field_spec(src, name, at) else {
             return Ok(());
         };
-        let Some(spec) = frame.spec else {
-            return Ok(());
-        };
-        let ty = frame.ty.clone();
-        let Some((f, access)) = spec.event(name) else {
-            self.warn(src, at, format!("unknown field '{name}' of {ty}: ignored"));
-            return Ok(());
-        };
-        if matches!(access, Access::EventIn | Access::EventOut) {
-            self.warn(
-                src,
-                at,
-                format!(
-                    "'{name}' of {ty} is an {}, not a field: ignored",
-                    access.keyword()
-                ),
-            );
+        if self.warn_if_event(src, name, &ty, access, at) {
             return Ok(());
         }
         if f.ty.is_node() {
@@ -1409,6 +1393,47 @@ impl Lowerer {
             return Err(self.error(src, at, format!("field '{name}' of {ty} {e}")));
         }
         self.apply_field(src, f.name, at, &value)
+    }
+
+    /// The field table entry for `name` in the innermost open standard node, with the access it
+    /// was used with and the node's type. Unknown names are warned about; nodes without a table
+    /// (PROTO instances, unknown types) give None silently.
+    fn field_spec(
+        &mut self,
+        src: &SourceWindow,
+        name: &str,
+        at: u64,
+    ) -> Option<(&'static schema::FieldSpec, Access, Rc<str>)> {
+        let frame = self.frames.last()?;
+        let spec = frame.spec?;
+        let ty = frame.ty.clone();
+        match spec.event(name) {
+            Some((f, access)) => Some((f, access, ty)),
+            None => {
+                self.warn(src, at, format!("unknown field '{name}' of {ty}: ignored"));
+                None
+            }
+        }
+    }
+
+    /// Warns when a value is given to an eventIn or eventOut; says whether it did.
+    fn warn_if_event(
+        &mut self,
+        src: &SourceWindow,
+        name: &str,
+        ty: &str,
+        access: Access,
+        at: u64,
+    ) -> bool {
+        let event = matches!(access, Access::EventIn | Access::EventOut);
+        if event {
+            let msg = format!(
+                "'{name}' of {ty} is an {}, not a field: ignored",
+                access.keyword()
+            );
+            self.warn(src, at, msg);
+        }
+        event
     }
 
     fn apply_field(
@@ -1535,37 +1560,18 @@ impl Lowerer {
     fn nodes_start(&mut self, src: &SourceWindow, name: &str, at: u64) -> Result<(), Error> {
         let idx = self.frames.len().saturating_sub(1);
         if self.quiet == 0 {
-            if let Some(frame) = self.frames.last() {
-                if let Some(spec) = frame.spec {
-                    let ty = frame.ty.clone();
-                    match spec.event(name) {
-                        None => {
-                            self.warn(src, at, format!("unknown field '{name}' of {ty}: ignored"))
-                        }
-                        Some((f, access)) => {
-                            if !f.ty.is_node() {
-                                return Err(self.error(
-                                    src,
-                                    at,
-                                    format!(
-                                        "field '{name}' of {ty} expects {}, found a node",
-                                        f.ty.name()
-                                    ),
-                                ));
-                            }
-                            if matches!(access, Access::EventIn | Access::EventOut) {
-                                self.warn(
-                                    src,
-                                    at,
-                                    format!(
-                                        "'{name}' of {ty} is an {}, not a field: ignored",
-                                        access.keyword()
-                                    ),
-                                );
-                            }
-                        }
-                    }
+            if let Some((f, access, ty)) = self.field_spec(src, name, at) {
+                if !f.ty.is_node() {
+                    return Err(self.error(
+                        src,
+                        at,
+                        format!(
+                            "field '{name}' of {ty} expects {}, found a node",
+                            f.ty.name()
+                        ),
+                    ));
                 }
+                self.warn_if_event(src, name, &ty, access, at);
             }
         }
         self.fields.push(FieldCtx {
@@ -2142,15 +2148,9 @@ impl Lowerer {
                     let Some(spec) = schema::node_spec(node_ty) else {
                         continue;
                     };
-                    if let Some((_, a @ (Access::EventIn | Access::EventOut))) = spec.event(name) {
-                        self.warn(
-                            src,
-                            *at,
-                            format!(
-                                "'{name}' of {node_ty} is an {}, not a field: ignored",
-                                a.keyword()
-                            ),
-                        );
+                    if let Some((_, access)) = spec.event(name) {
+                        let (name, at) = (name.clone(), *at);
+                        self.warn_if_event(src, &name, &node_ty.clone(), access, at);
                     }
                 }
                 _ => {}
