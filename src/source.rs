@@ -70,14 +70,6 @@ impl SourceWindow {
         }
     }
 
-    /// For text already in memory (tests, fuzzing).
-    pub fn from_str(name: &str, text: &str) -> Self {
-        let mut w = SourceWindow::new(Arc::from(name), Box::new(std::io::empty()));
-        w.append_bytes(text.as_bytes().to_vec());
-        w.eof = true;
-        w
-    }
-
     /// The unread text in the window.
     #[inline]
     pub fn rest(&self) -> &str {

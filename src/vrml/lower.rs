@@ -90,7 +90,7 @@ pub struct LoadReport {
 pub fn load_path(path: &Path, opts: &LoadOptions) -> Result<(Scene, LoadReport), Error> {
     let t0 = Instant::now();
     let mut low = Lowerer::new(opts.clone());
-    low.load_file(path, None)?;
+    low.load_file(path)?;
     low.finish(t0)
 }
 
@@ -113,12 +113,9 @@ pub fn load_bytes(
 }
 
 /// Loads scene text held in memory; `name` is used in messages and to resolve Inlines.
+/// The text goes through the same streaming reader as a file.
 pub fn load_str(name: &str, text: &str, opts: &LoadOptions) -> Result<(Scene, LoadReport), Error> {
-    let t0 = Instant::now();
-    let mut low = Lowerer::new(opts.clone());
-    let src = SourceWindow::from_str(name, text);
-    low.load_source(src, Path::new(name))?;
-    low.finish(t0)
+    load_bytes(name, text.as_bytes().to_vec(), opts)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -227,7 +224,6 @@ struct Marks {
     spheres: usize,
     lights: usize,
     views: usize,
-    ellipsoids: usize,
 }
 
 #[derive(Debug)]
@@ -632,7 +628,6 @@ impl Lowerer {
             spheres: self.scene.spheres.len(),
             lights: self.scene.lights.len(),
             views: self.scene.viewpoints.len(),
-            ellipsoids: self.scene.ellipsoids.len(),
         }
     }
 
@@ -664,7 +659,7 @@ impl Lowerer {
 
     // ----- files
 
-    fn load_file(&mut self, path: &Path, _at: Option<u64>) -> Result<(), Error> {
+    fn load_file(&mut self, path: &Path) -> Result<(), Error> {
         let src = crate::input::open(path)?;
         self.load_source(src, path)
     }
@@ -774,7 +769,7 @@ impl Lowerer {
                 tried.push(format!("'{url}' (not a VRML97 file)"));
                 continue;
             }
-            return self.load_file(&path, Some(at));
+            return self.load_file(&path);
         }
         let what = if tried.is_empty() {
             "no url".to_string()
@@ -823,7 +818,6 @@ impl Lowerer {
         if !open && !close {
             return done;
         }
-        let n = self.recorders.len();
         for r in self.recorders.iter_mut() {
             if open {
                 r.depth += 1;
@@ -840,7 +834,6 @@ impl Lowerer {
                 break;
             }
         }
-        let _ = n;
         done
     }
 
@@ -1901,7 +1894,6 @@ impl Lowerer {
                 return Err(format!("a Viewpoint position overflow ({})", v.position));
             }
         }
-        let _ = marks.ellipsoids;
         Ok(())
     }
 

@@ -1,16 +1,8 @@
 //! Helpers shared by the integration tests.
 
 use gtsphere::scene::Scene;
-use gtsphere::vrml::{load_bytes, LoadOptions, LoadReport};
-
-/// Every test goes through the streaming reader (1 MiB chunks), as files do.
-fn load_str(
-    name: &str,
-    text: &str,
-    opts: &LoadOptions,
-) -> Result<(Scene, LoadReport), gtsphere::Error> {
-    load_bytes(name, text.as_bytes().to_vec(), opts)
-}
+// load_str goes through the streaming reader (1 MiB chunks), as files do.
+use gtsphere::vrml::{load_str, LoadOptions, LoadReport};
 
 pub fn load(text: &str) -> (Scene, LoadReport) {
     match load_str("test.wrl", text, &LoadOptions::default()) {
