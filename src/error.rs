@@ -16,6 +16,10 @@ pub enum Error {
         #[source]
         source: std::io::Error,
     },
+    /// A picture that cannot be written or read: unsupported extension, inconsistent buffers,
+    /// a malformed or truncated file. `message` says what is wrong.
+    #[error("{path}: {message}")]
+    Image { path: String, message: String },
     #[error("{0}")]
     Other(String),
 }

@@ -6,7 +6,9 @@
 pub mod cli;
 pub mod diag;
 pub mod error;
+pub mod geom;
 pub mod input;
+pub mod output;
 pub mod scene;
 pub mod source;
 pub mod vrml;

@@ -3,7 +3,9 @@
 mod corpus;
 mod corpus_counts;
 mod errors;
+mod geom;
 mod lexical;
+mod output;
 mod regression;
 mod roundtrip;
 mod semantics;

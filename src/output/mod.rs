@@ -1,0 +1,262 @@
+//! Finished pictures to files and back: PNG (8-bit sRGB preview), EXR (linear f32 with alpha and
+//! AOV layers) and PFM (linear f32 RGB), chosen by the file extension.
+//!
+//! Writing never leaves a half-written file at the destination: the bytes go to a hidden
+//! sibling `.NAME.tmp.PID`, which is synced and then renamed over `NAME` (atomic within one
+//! directory); on any failure, or a panic, the temporary file is removed.
+
+mod exr;
+mod pfm;
+mod png;
+
+use std::ffi::OsString;
+use std::fs::{self, File, OpenOptions};
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use crate::Error;
+
+/// A finished picture in linear float, row 0 at the TOP, pixel (x, y) at index `y * width + x`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Image {
+    pub width: usize,
+    pub height: usize,
+    pub rgb: Vec<[f32; 3]>,
+    /// Coverage in `[0, 1]`; written as A in EXR.
+    pub alpha: Vec<f32>,
+    /// Extra single-channel layers (AOVs) with their EXR channel names, e.g. "depth",
+    /// "normal.X", "normal.Y", "normal.Z", "id", "error". Only EXR writes them.
+    pub layers: Vec<Layer>,
+}
+
+/// One extra single-channel layer, `width * height` values in the same order as [`Image::rgb`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Layer {
+    pub name: String,
+    pub data: Vec<f32>,
+}
+
+/// The file formats, chosen by extension ([`format_for`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// 8-bit RGB, sRGB transfer function, clamped to `[0, 1]`; no alpha, no layers.
+    Png,
+    /// Linear f32 R, G, B, A and every layer as a channel; one part, scanlines, ZIP (16 lines).
+    Exr,
+    /// Linear f32 RGB, little-endian, rows bottom to top; no alpha, no layers.
+    Pfm,
+}
+
+/// Format from the file extension (case-insensitive `.png`/`.exr`/`.pfm`); an error naming
+/// the path and the accepted extensions otherwise.
+pub fn format_for(path: &Path) -> Result<Format, Error> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("png") => Ok(Format::Png),
+        Some("exr") => Ok(Format::Exr),
+        Some("pfm") => Ok(Format::Pfm),
+        _ => {
+            let found = match path.extension() {
+                Some(e) => format!("extension '.{}'", e.to_string_lossy()),
+                None => "no extension".to_string(),
+            };
+            Err(image_error(
+                path,
+                format!("unsupported image file name ({found}); expected .png, .exr or .pfm"),
+            ))
+        }
+    }
+}
+
+/// Writes the image by extension to a temporary file in the same directory, then renames it
+/// over `path`; on any failure the temporary file is removed and `path` is untouched.
+///
+/// The extension and the image (buffer lengths, layer names) are checked before any file is
+/// created. Replacing `path` replaces the directory entry: an existing file's permissions are
+/// not carried over, and a symlink at `path` is replaced rather than followed.
+pub fn write_image(path: &Path, img: &Image) -> Result<(), Error> {
+    let format = format_for(path)?;
+    img.check().map_err(|m| image_error(path, m))?;
+    let (mut temp, file) = TempFile::create(path)?;
+    let written = (|| -> Result<(), Fault> {
+        let mut out = BufWriter::new(file);
+        match format {
+            Format::Png => png::write(&mut out, img)?,
+            Format::Exr => exr::write(&mut out, img)?,
+            Format::Pfm => pfm::write(&mut out, img)?,
+        }
+        out.flush()?;
+        let file = out.into_inner().map_err(io::IntoInnerError::into_error)?;
+        // Sync before the rename, so a crash cannot leave the new name on empty contents.
+        file.sync_all()?;
+        // Closed before the rename (required on Windows).
+        drop(file);
+        fs::rename(&temp.path, path)?;
+        Ok(())
+    })();
+    match written {
+        Ok(()) => {
+            temp.renamed = true;
+            Ok(())
+        }
+        // `temp` is dropped on return and removes the temporary file.
+        Err(fault) => Err(fault.at(path)),
+    }
+}
+
+/// Reads PFM, EXR (RGB, and A and the other channels as layers if present) and PNG (decoded
+/// back to linear). Without an alpha channel, alpha is 1 everywhere.
+///
+/// EXR channels come back sorted by name (the file stores them so), whatever the order of
+/// [`Image::layers`] when written.
+pub fn read_image(path: &Path) -> Result<Image, Error> {
+    let format = format_for(path)?;
+    let read = || -> Result<Image, Fault> {
+        let img = match format {
+            Format::Png => png::read(&fs::read(path)?)?,
+            Format::Pfm => pfm::read(&fs::read(path)?)?,
+            Format::Exr => exr::read(path)?,
+        };
+        // The decoders build consistent images; check anyway, callers index by these lengths.
+        img.check().map_err(Fault::Bad)?;
+        Ok(img)
+    };
+    read().map_err(|f| f.at(path))
+}
+
+impl Image {
+    /// `width * height`, after checking every buffer has that length and the layer names are
+    /// usable as distinct EXR channels.
+    fn check(&self) -> Result<usize, String> {
+        if self.width == 0 || self.height == 0 {
+            return Err(format!("image is empty ({}x{})", self.width, self.height));
+        }
+        let n = self
+            .width
+            .checked_mul(self.height)
+            .ok_or_else(|| format!("image size {}x{} overflows", self.width, self.height))?;
+        let expect = |what: &str, len: usize| {
+            if len == n {
+                Ok(())
+            } else {
+                Err(format!(
+                    "{what} has {len} values, expected {n} for {}x{}",
+                    self.width, self.height
+                ))
+            }
+        };
+        expect("rgb", self.rgb.len())?;
+        expect("alpha", self.alpha.len())?;
+        let mut names: Vec<&str> = Vec::with_capacity(self.layers.len());
+        for layer in &self.layers {
+            let name = layer.name.as_str();
+            if name.is_empty() {
+                return Err("a layer has an empty name".to_string());
+            }
+            if ["R", "G", "B", "A"].contains(&name) {
+                return Err(format!(
+                    "layer name '{name}' is reserved for the colour and alpha"
+                ));
+            }
+            if names.contains(&name) {
+                return Err(format!("two layers are named '{name}'"));
+            }
+            names.push(name);
+            expect(&format!("layer '{name}'"), layer.data.len())?;
+        }
+        Ok(n)
+    }
+}
+
+/// What went wrong inside a format module, before the path is attached.
+enum Fault {
+    Io(io::Error),
+    /// The image or the file is not what it should be; the message says how.
+    Bad(String),
+}
+
+impl From<io::Error> for Fault {
+    fn from(e: io::Error) -> Self {
+        Fault::Io(e)
+    }
+}
+
+impl Fault {
+    fn at(self, path: &Path) -> Error {
+        match self {
+            Fault::Io(source) => Error::Io {
+                path: path.display().to_string(),
+                source,
+            },
+            Fault::Bad(message) => image_error(path, message),
+        }
+    }
+}
+
+fn image_error(path: &Path, message: String) -> Error {
+    Error::Image {
+        path: path.display().to_string(),
+        message,
+    }
+}
+
+/// The hidden sibling the image is written to; removed on drop unless renamed.
+struct TempFile {
+    path: PathBuf,
+    renamed: bool,
+}
+
+impl TempFile {
+    /// Creates `.NAME.tmp.PID` next to `target` (`.NAME.tmp.PID.N` if that exists, say left by
+    /// a crashed run with the same id or another thread of this process). `create_new` never
+    /// opens a file someone else is writing.
+    fn create(target: &Path) -> Result<(TempFile, File), Error> {
+        let name = target
+            .file_name()
+            .ok_or_else(|| image_error(target, "not a file name".to_string()))?;
+        let dir = target.parent().unwrap_or(Path::new(""));
+        let pid = std::process::id();
+        for attempt in 0..1000u32 {
+            let mut temp_name = OsString::from(".");
+            temp_name.push(name);
+            temp_name.push(format!(".tmp.{pid}"));
+            if attempt > 0 {
+                temp_name.push(format!(".{attempt}"));
+            }
+            let path = dir.join(temp_name);
+            match OpenOptions::new().write(true).create_new(true).open(&path) {
+                Ok(file) => {
+                    let temp = TempFile {
+                        path,
+                        renamed: false,
+                    };
+                    return Ok((temp, file));
+                }
+                Err(e) if e.kind() == io::ErrorKind::AlreadyExists => continue,
+                Err(source) => {
+                    return Err(Error::Io {
+                        path: target.display().to_string(),
+                        source,
+                    })
+                }
+            }
+        }
+        Err(image_error(
+            target,
+            "cannot find a free temporary file name next to it".to_string(),
+        ))
+    }
+}
+
+impl Drop for TempFile {
+    fn drop(&mut self) {
+        if !self.renamed {
+            // The writer has closed the file by now. Nothing to report on failure: the
+            // caller already has the error that brought us here.
+            let _ = fs::remove_file(&self.path);
+        }
+    }
+}
