@@ -3,12 +3,14 @@
 //! Data flows one way: bytes ([`input`]) -> source text ([`source`]) -> syntax events
 //! ([`vrml::parse`]) -> scene IR ([`vrml::lower`] into [`scene::Scene`]).
 
+pub mod accel;
 pub mod cli;
 pub mod diag;
 pub mod error;
 pub mod geom;
 pub mod input;
 pub mod output;
+pub mod render;
 pub mod scene;
 pub mod source;
 pub mod vrml;

@@ -29,6 +29,23 @@ pub enum BenchCommand {
         #[arg(long, value_enum, default_values_t = [Layout::Flat, Layout::Group])]
         layout: Vec<Layout>,
     },
+    /// BVH build time, camera and shadow rays per second per core, and peak memory on N random
+    /// opaque spheres (the scene is described in `gtsphere bench trace --help`'s source,
+    /// src/cli/bench_trace.rs, and matches benches/embree).
+    Trace {
+        /// Number of spheres.
+        #[arg(long, default_value_t = 1_000_000)]
+        spheres: usize,
+        /// Image width and height in pixels (one ray through each pixel centre).
+        #[arg(long, default_value_t = 1024)]
+        size: u32,
+        /// Runs (the median is reported).
+        #[arg(long, default_value_t = 3)]
+        runs: usize,
+        /// Threads for the full-render pass (the ray passes use one thread).
+        #[arg(long, default_value_t = 1)]
+        threads: usize,
+    },
 }
 
 /// How the particles are laid out in the file.
@@ -101,12 +118,20 @@ fn median(mut v: Vec<f64>) -> f64 {
 }
 
 pub fn run(cmd: BenchCommand) -> Result<ExitCode, Error> {
-    let BenchCommand::Parse {
-        particles,
-        runs,
-        dir,
-        layout,
-    } = cmd;
+    let (particles, runs, dir, layout) = match cmd {
+        BenchCommand::Parse {
+            particles,
+            runs,
+            dir,
+            layout,
+        } => (particles, runs, dir, layout),
+        BenchCommand::Trace {
+            spheres,
+            size,
+            runs,
+            threads,
+        } => return super::bench_trace::run(spheres, size, runs, threads),
+    };
     let dir = dir.unwrap_or_else(std::env::temp_dir);
     let exe = std::env::current_exe()
         .map_err(|e| Error::Other(format!("cannot find own executable: {e}")))?;

@@ -9,7 +9,9 @@ use clap::{Parser, Subcommand};
 use crate::error::Error;
 
 pub mod bench;
+pub mod bench_trace;
 pub mod info;
+pub mod render;
 
 #[derive(Debug, Parser)]
 #[command(
@@ -39,6 +41,8 @@ pub enum Command {
         #[arg(long)]
         no_inline: bool,
     },
+    /// Render a scene to an image (.png, .exr or .pfm).
+    Render(render::RenderArgs),
     /// Benchmarks that print a table.
     Bench {
         #[command(subcommand)]
@@ -54,6 +58,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, Error> {
             strict,
             no_inline,
         } => info::run(&scene, json, strict, no_inline),
+        Command::Render(args) => render::run(&args),
         Command::Bench { what } => bench::run(what),
     }
 }

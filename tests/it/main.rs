@@ -1,5 +1,7 @@
 //! One integration-test binary of named modules.
 
+mod bvh;
+mod cli_render;
 mod corpus;
 mod corpus_counts;
 mod errors;
@@ -7,6 +9,7 @@ mod geom;
 mod lexical;
 mod output;
 mod regression;
+mod render_opaque;
 mod roundtrip;
 mod semantics;
 mod support;

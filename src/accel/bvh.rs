@@ -1,0 +1,439 @@
+//! The sphere BVH: obvhs's compressed wide BVH (CWBVH) over f32 boxes, with every sphere test
+//! done exactly in f64 by the caller's closure (STYLE habit 6: the BVH knows boxes, the caller
+//! knows spheres).
+//!
+//! Why the f32 boxes are safe. Before anything is rounded to f32, coordinates are taken
+//! relative to the centre `O` of the scene's f64 bounding box, whose half-diagonal is `R`, and a
+//! ray is first clipped in f64 to that (padded) box, so its f32 origin lies within about `R` of
+//! `O` and its f32 parameter range is at most about `2R`. Every rounding the traversal makes
+//! (the f32 origin and direction, the node's quantised child boxes, obvhs's slab arithmetic and
+//! its clamping of `1/d` to `1/f32::EPSILON` for near-axis-parallel rays) moves a box face by
+//! at most a few `2^-24 R`. Each primitive box is padded by [`PAD_ULPS`] `* 2^-24 * R`, far
+//! beyond that, so a box the exact ray meets is never culled. Padding only costs extra exact
+//! tests, never a wrong answer; the f64 closure decides every hit.
+//!
+//! Why chunks. obvhs's build needs about 250 bytes per primitive while it runs (binary nodes,
+//! then the CWBVH conversion tables), more than the whole finished structure. The spheres are
+//! therefore sorted in Morton order and cut into at most [`MAX_CHUNKS`] spatially compact
+//! chunks, each with its own CWBVH, so that the build's peak is paid for one chunk at a time.
+//! A ray visits the chunks its f64 box test reaches, nearest first, and stops at the first
+//! chunk that starts beyond its closest hit.
+
+use std::time::{Duration, Instant};
+
+use glam::{DAffine3, DVec3, Vec3A};
+use obvhs::aabb::Aabb;
+use obvhs::cwbvh::builder::build_cwbvh;
+use obvhs::cwbvh::CwBvh;
+use obvhs::ray::{Ray as Ray32, RayHit};
+use obvhs::{Boundable, BvhBuildParams};
+
+use crate::geom::{ellipsoid_roots, sphere_roots};
+
+/// At most this many chunks; each holds at least [`MIN_CHUNK`] spheres.
+pub const MAX_CHUNKS: usize = 16;
+const MIN_CHUNK: usize = 1 << 17;
+
+/// Box padding in units of `2^-24 R` (see the module comment).
+const PAD_ULPS: f64 = 64.0;
+
+/// One sphere (or ellipsoid) as the renderer sees it, stored in BVH leaf order.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Prim {
+    pub center: DVec3,
+    /// Radius; for an ellipsoid, a bounding radius (the exact shape is in `to_object`).
+    pub radius: f64,
+    /// Index into `Scene::materials`.
+    pub material: u32,
+    /// Index of the sphere in `Scene::spheres` (light scopes and the `id` channel use it).
+    pub sphere: u32,
+    /// Index into [`SphereBvh::to_object`], or [`crate::scene::NO_ELLIPSOID`].
+    pub ellipsoid: u32,
+    /// Bit 0: gas (not an opaque surface).
+    pub flags: u32,
+}
+
+pub const GAS: u32 = 1;
+
+impl Prim {
+    pub fn is_gas(&self) -> bool {
+        self.flags & GAS != 0
+    }
+}
+
+/// A closest hit: ray parameter and the primitive's index in [`SphereBvh::prims`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    pub t: f64,
+    pub prim: u32,
+}
+
+/// A primitive's f32 box, as obvhs builds from.
+struct PaddedBox(Aabb);
+
+impl Boundable for PaddedBox {
+    fn aabb(&self) -> Aabb {
+        self.0
+    }
+}
+
+/// One chunk: a CWBVH over `prims[base..base + len]`, and its padded f64 box.
+struct Chunk {
+    bvh: CwBvh,
+    base: u32,
+    lo: DVec3,
+    hi: DVec3,
+}
+
+pub struct SphereBvh {
+    chunks: Vec<Chunk>,
+    /// Primitives, chunk after chunk, each chunk in its BVH's leaf order: traversal index `i`
+    /// of chunk `c` is `prims[c.base + i]`.
+    pub prims: Vec<Prim>,
+    /// World-to-object maps of the ellipsoids (object space: the unit sphere).
+    pub to_object: Vec<DAffine3>,
+    /// Centre of the f32 frame.
+    origin: DVec3,
+    /// The f64 scene box, padded like the primitive boxes, for clipping rays.
+    lo: DVec3,
+    hi: DVec3,
+    /// Wall time of the build (Morton sort, obvhs builds, reordering).
+    pub build_time: Duration,
+}
+
+/// The parameter interval where `o + t d` is inside the box `lo..hi`, clipped to
+/// `[tmin, tmax]` (f64 slab test).
+#[inline]
+fn slab(lo: DVec3, hi: DVec3, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Option<(f64, f64)> {
+    let (mut t0, mut t1) = (tmin, tmax);
+    for k in 0..3 {
+        let inv = 1.0 / d[k];
+        let (mut a, mut b) = ((lo[k] - o[k]) * inv, (hi[k] - o[k]) * inv);
+        if a > b {
+            std::mem::swap(&mut a, &mut b);
+        }
+        // d[k] == 0 gives +-inf (or NaN when o is on a face; then the axis does not clip).
+        if a > t0 {
+            t0 = a;
+        }
+        if b < t1 {
+            t1 = b;
+        }
+    }
+    (t0 <= t1).then_some((t0, t1))
+}
+
+/// Reorders `v` so that `v_new[i] = v_old[order[i]]`, following the permutation's cycles
+/// with one bit of bookkeeping per element.
+fn permute_in_place<T: Copy>(v: &mut [T], order: &[u32]) {
+    debug_assert_eq!(v.len(), order.len());
+    let mut done = vec![0u64; v.len().div_ceil(64)];
+    for start in 0..v.len() {
+        if done[start / 64] >> (start % 64) & 1 != 0 {
+            continue;
+        }
+        // Walk the cycle start -> order[start] -> ..., pulling each element into place.
+        let first = v[start];
+        let mut i = start;
+        loop {
+            done[i / 64] |= 1 << (i % 64);
+            let src = order[i] as usize;
+            if src == start {
+                v[i] = first;
+                break;
+            }
+            v[i] = v[src];
+            i = src;
+        }
+    }
+}
+
+/// Sorts `prims` by the Morton code (21 bits per axis) of their centres in the box `lo..hi`.
+fn morton_sort(prims: &mut [Prim], lo: DVec3, hi: DVec3) {
+    fn spread(mut x: u64) -> u64 {
+        x &= 0x1f_ffff;
+        x = (x | x << 32) & 0x1f_0000_0000_ffff;
+        x = (x | x << 16) & 0x1f_0000_ff00_00ff;
+        x = (x | x << 8) & 0x100f_00f0_0f00_f00f;
+        x = (x | x << 4) & 0x10c3_0c30_c30c_30c3;
+        (x | x << 2) & 0x1249_2492_4924_9249
+    }
+    let scale = DVec3::splat(2_097_151.0) / (hi - lo).max(DVec3::splat(f64::MIN_POSITIVE));
+    let mut keys: Vec<(u64, u32)> = prims
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let q = ((p.center - lo) * scale).clamp(DVec3::ZERO, DVec3::splat(2_097_151.0));
+            let code = spread(q.x as u64) | spread(q.y as u64) << 1 | spread(q.z as u64) << 2;
+            (code, i as u32)
+        })
+        .collect();
+    keys.sort_unstable();
+    let order: Vec<u32> = keys.iter().map(|k| k.1).collect();
+    drop(keys);
+    permute_in_place(prims, &order);
+}
+
+/// World-space f64 box of a primitive.
+fn prim_box(p: &Prim, to_world: Option<&DAffine3>) -> (DVec3, DVec3) {
+    match to_world {
+        None => (p.center - p.radius, p.center + p.radius),
+        Some(m) => {
+            // The unit sphere under x -> A x + t spans t +- (|row_i(A)|)_i: exact half extents.
+            let a = m.matrix3;
+            let h = DVec3::new(a.row(0).length(), a.row(1).length(), a.row(2).length());
+            (m.translation - h, m.translation + h)
+        }
+    }
+}
+
+impl SphereBvh {
+    /// Builds the BVH. `ellipsoids` are the unit-sphere-to-world maps of `Scene::ellipsoids`.
+    pub fn build(prims: Vec<Prim>, ellipsoids: &[DAffine3]) -> SphereBvh {
+        let per_chunk = MIN_CHUNK.max(prims.len().div_ceil(MAX_CHUNKS));
+        Self::build_chunked(prims, ellipsoids, per_chunk)
+    }
+
+    /// [`SphereBvh::build`] with a chosen chunk size (at least `len / MAX_CHUNKS`); tests use
+    /// it to exercise many chunks on small scenes.
+    pub fn build_chunked(prims: Vec<Prim>, ellipsoids: &[DAffine3], per_chunk: usize) -> SphereBvh {
+        let per_chunk = per_chunk.max(prims.len().div_ceil(MAX_CHUNKS)).max(1);
+        let to_world = |p: &Prim| {
+            (p.ellipsoid != crate::scene::NO_ELLIPSOID).then(|| &ellipsoids[p.ellipsoid as usize])
+        };
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for p in &prims {
+            let (a, b) = prim_box(p, to_world(p));
+            lo = lo.min(a);
+            hi = hi.max(b);
+        }
+        if prims.is_empty() {
+            (lo, hi) = (DVec3::ZERO, DVec3::ZERO);
+        }
+        let origin = (lo + hi) * 0.5;
+        let half = ((hi - lo) * 0.5).length().max(f64::MIN_POSITIVE);
+        let pad = PAD_ULPS * half * f64::from(f32::EPSILON) * 0.5;
+        let pad32 = pad as f32;
+        let start = Instant::now();
+        let mut prims = prims;
+        morton_sort(&mut prims, lo, hi);
+        let n = prims.len();
+        let mut chunks = Vec::new();
+        for base in (0..n).step_by(per_chunk) {
+            let part = &mut prims[base..(base + per_chunk).min(n)];
+            let (mut clo, mut chi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+            let boxes: Vec<PaddedBox> = part
+                .iter()
+                .map(|p| {
+                    let (a, b) = prim_box(p, to_world(p));
+                    clo = clo.min(a);
+                    chi = chi.max(b);
+                    let a = (a - origin).as_vec3a() - Vec3A::splat(pad32);
+                    let b = (b - origin).as_vec3a() + Vec3A::splat(pad32);
+                    PaddedBox(Aabb::new(a, b))
+                })
+                .collect();
+            let mut core = Duration::ZERO;
+            let mut bvh = build_cwbvh(&boxes, BvhBuildParams::fast_build(), &mut core);
+            drop(boxes);
+            // Leaf order: the traversal reports positions in `primitive_indices`, so the
+            // chunk's spheres are permuted into that order in place and the list is freed.
+            permute_in_place(part, &bvh.primitive_indices);
+            bvh.primitive_indices = Vec::new();
+            chunks.push(Chunk {
+                bvh,
+                base: base as u32,
+                lo: clo - pad * 2.0,
+                hi: chi + pad * 2.0,
+            });
+        }
+        let build_time = start.elapsed();
+        let to_object = ellipsoids.iter().map(|m| m.inverse()).collect();
+        SphereBvh {
+            prims,
+            to_object,
+            chunks,
+            origin,
+            lo: lo - pad * 2.0,
+            hi: hi + pad * 2.0,
+            build_time,
+        }
+    }
+
+    /// Bytes held by the BVH and the primitive arrays.
+    pub fn heap_bytes(&self) -> usize {
+        self.chunks
+            .iter()
+            .map(|c| c.bvh.nodes.capacity() * std::mem::size_of::<obvhs::cwbvh::node::CwBvhNode>())
+            .sum::<usize>()
+            + self.prims.capacity() * std::mem::size_of::<Prim>()
+            + self.to_object.capacity() * std::mem::size_of::<DAffine3>()
+    }
+
+    /// Both roots of the line `o + t d` against primitive `p` (sphere or ellipsoid), in `t`.
+    #[inline]
+    pub fn roots(&self, p: &Prim, o: DVec3, d: DVec3) -> Option<(f64, f64)> {
+        if p.ellipsoid == crate::scene::NO_ELLIPSOID {
+            sphere_roots(o, d, p.center, p.radius)
+        } else {
+            ellipsoid_roots(o, d, &self.to_object[p.ellipsoid as usize])
+        }
+    }
+
+    /// The f32 ray for chunk `c` over `[t0, t1]` (already clipped to the chunk's box): it
+    /// starts at the entry point, so its f32 origin lies inside the scene.
+    #[inline]
+    fn ray32(&self, o: DVec3, d: DVec3, t0: f64, t1: f64) -> Ray32 {
+        let start = o + t0 * d - self.origin;
+        // Widen the f32 range: the f32 exit must not fall short of the f64 one.
+        let len = ((t1 - t0) as f32) * (1.0 + 4.0 * f32::EPSILON) + f32::MIN_POSITIVE;
+        // `+ 0.0` turns -0.0 into +0.0: obvhs picks a node's near planes from the sign test
+        // `d < 0` but divides by the signed zero, so a -0.0 component would invert the slab.
+        let dir = d.as_vec3a() + Vec3A::ZERO;
+        Ray32::new(start.as_vec3a(), dir, 0.0, len)
+    }
+
+    /// The chunks the segment reaches, with their entry and exit parameters, nearest first.
+    #[inline]
+    fn chunks_on(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+    ) -> ([(f64, f64, u32); MAX_CHUNKS], usize) {
+        let mut list = [(0.0, 0.0, 0u32); MAX_CHUNKS];
+        let mut n = 0;
+        if slab(self.lo, self.hi, o, d, tmin, tmax).is_none() {
+            return (list, 0);
+        }
+        for (k, c) in self.chunks.iter().enumerate() {
+            if let Some((t0, t1)) = slab(c.lo, c.hi, o, d, tmin, tmax) {
+                // Insertion by entry parameter.
+                let mut at = n;
+                while at > 0 && list[at - 1].0 > t0 {
+                    list[at] = list[at - 1];
+                    at -= 1;
+                }
+                list[at] = (t0, t1, k as u32);
+                n += 1;
+            }
+        }
+        (list, n)
+    }
+
+    /// The closest primitive whose `test` accepts the ray: `test(prim, roots) -> Some(t)` for a
+    /// hit at `t` in `(tmin, tmax]`. Returns the smallest such `t`.
+    #[inline]
+    pub fn closest(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+        mut test: impl FnMut(&Prim, (f64, f64)) -> Option<f64>,
+    ) -> Option<Hit> {
+        let mut best = Hit {
+            t: tmax,
+            prim: u32::MAX,
+        };
+        let (list, n) = self.chunks_on(o, d, tmin, tmax);
+        for &(t0, t1, k) in &list[..n] {
+            if t0 > best.t {
+                break;
+            }
+            let c = &self.chunks[k as usize];
+            let ray = self.ray32(o, d, t0, t1.min(best.t));
+            let mut hit = RayHit::none();
+            c.bvh.ray_traverse(ray, &mut hit, |_, i| {
+                let i = c.base + i as u32;
+                let p = &self.prims[i as usize];
+                if let Some(roots) = self.roots(p, o, d) {
+                    if let Some(t) = test(p, roots) {
+                        if t > tmin && (t < best.t || (best.prim == u32::MAX && t <= tmax)) {
+                            best = Hit { t, prim: i };
+                            // Round the f32 bound up so that no closer box is culled.
+                            let r = (t - t0) as f32;
+                            return r + r.abs() * 4.0 * f32::EPSILON + f32::MIN_POSITIVE;
+                        }
+                    }
+                }
+                f32::INFINITY
+            });
+        }
+        (best.prim != u32::MAX).then_some(best)
+    }
+
+    /// Whether any primitive `blocks(prim_index, prim, roots)` along the ray in `[tmin, tmax]`;
+    /// stops at the first.
+    #[inline]
+    pub fn any(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+        mut blocks: impl FnMut(u32, &Prim, (f64, f64)) -> bool,
+    ) -> bool {
+        let (list, n) = self.chunks_on(o, d, tmin, tmax);
+        list[..n].iter().any(|&(t0, t1, k)| {
+            let c = &self.chunks[k as usize];
+            !c.bvh.ray_traverse_miss(self.ray32(o, d, t0, t1), |_, i| {
+                let i = c.base + i as u32;
+                let p = &self.prims[i as usize];
+                match self.roots(p, o, d) {
+                    Some(roots) if blocks(i, p, roots) => f32::NEG_INFINITY,
+                    _ => f32::INFINITY,
+                }
+            })
+        })
+    }
+
+    /// Calls `visit(prim_index, prim, roots)` for every primitive the line meets whose box the
+    /// ray segment `[tmin, tmax]` reaches (order unspecified).
+    pub fn all(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+        mut visit: impl FnMut(u32, &Prim, (f64, f64)),
+    ) {
+        let (list, n) = self.chunks_on(o, d, tmin, tmax);
+        for &(t0, t1, k) in &list[..n] {
+            let c = &self.chunks[k as usize];
+            c.bvh.ray_traverse_anyhit(self.ray32(o, d, t0, t1), |_, i| {
+                let i = c.base + i as u32;
+                let p = &self.prims[i as usize];
+                if let Some(roots) = self.roots(p, o, d) {
+                    visit(i, p, roots);
+                }
+            });
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::permute_in_place;
+
+    #[test]
+    fn permutation_in_place_matches_a_copy() {
+        let mut state = 12345u64;
+        for n in [0usize, 1, 2, 3, 10, 100, 1000] {
+            // A random permutation by Fisher-Yates.
+            let mut order: Vec<u32> = (0..n as u32).collect();
+            for k in (1..n).rev() {
+                state = state
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                order.swap(k, (state >> 33) as usize % (k + 1));
+            }
+            let v: Vec<u64> = (0..n as u64).map(|x| x * 7 + 1).collect();
+            let want: Vec<u64> = order.iter().map(|&i| v[i as usize]).collect();
+            let mut got = v.clone();
+            permute_in_place(&mut got, &order);
+            assert_eq!(got, want);
+        }
+    }
+}

@@ -1,0 +1,5 @@
+//! Acceleration structures: the sphere BVH (f32 boxes, f64 tests).
+
+pub mod bvh;
+
+pub use bvh::{Hit, Prim, SphereBvh};

@@ -1,0 +1,214 @@
+//! `gtsphere bench trace`: BVH build time, camera and shadow rays per second, and peak memory
+//! on N random opaque spheres (issue 3's benchmark scene).
+//!
+//! Scene (the same as `benches/embree/`, so the two can be run side by side): centres uniform
+//! in `[-1,1]^3` from SplitMix64 seeded with 1 (x, y, z drawn in that order per sphere,
+//! `u = (next >> 11) * 2^-53`, centre `2u - 1`), radius `0.6 N^(-1/3)`; camera at (0,0,4)
+//! looking down -z with fieldOfView 0.785398, one ray through each pixel's centre; a
+//! PointLight at (3,3,3) and a DirectionalLight along (-1,-1,-1), headlight off.
+//!
+//! Camera rays and shadow rays are timed in separate passes on one thread (per-core
+//! figures): pass 1 finds every camera hit, pass 2 traces one shadow ray per hit and light.
+//! A third pass renders the full image (shading included) on `--threads` threads.
+
+use std::process::ExitCode;
+use std::time::Instant;
+
+use glam::{DQuat, DVec3};
+
+use crate::error::Error;
+use crate::render::integrators::surface::{first_hit, surface_point};
+use crate::render::lights::towards;
+use crate::render::visibility::visible;
+use crate::render::{prepare, tiles::render, Counters, RenderOptions, SamplerKind};
+use crate::scene::{
+    DirectionalLight, Light, Material, Origin, PointLight, Scene, Sphere, Viewpoint,
+};
+
+/// The benchmark scene with `n` spheres.
+#[allow(
+    clippy::approx_constant,
+    reason = "fieldOfView 0.785398 is the benchmark's stated value, as the Embree side uses it"
+)]
+pub fn random_spheres(n: usize) -> Scene {
+    let mut state: u64 = 1;
+    let mut next = || {
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        (crate::render::sampler::mix(state) >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    };
+    let radius = 0.6 * (n.max(1) as f64).powf(-1.0 / 3.0);
+    let mut scene = Scene {
+        headlight: false,
+        ..Scene::default()
+    };
+    scene.materials = vec![Material::unlit(), Material::default()];
+    scene.spheres.reserve_exact(n);
+    for _ in 0..n {
+        let (x, y, z) = (next(), next(), next());
+        scene.spheres.push(Sphere {
+            center: DVec3::new(2.0 * x - 1.0, 2.0 * y - 1.0, 2.0 * z - 1.0),
+            radius,
+            material: 1,
+            ellipsoid: crate::scene::NO_ELLIPSOID,
+            origin: Origin::default(),
+        });
+    }
+    scene.lights.push(Light::Point(PointLight {
+        location: DVec3::new(3.0, 3.0, 3.0),
+        color: DVec3::ONE,
+        intensity: 1.0,
+        ambient_intensity: 0.0,
+        attenuation: DVec3::new(1.0, 0.0, 0.0),
+        radius: f64::INFINITY,
+        on: true,
+        origin: Origin::default(),
+    }));
+    scene.lights.push(Light::Directional(DirectionalLight {
+        direction: DVec3::new(-1.0, -1.0, -1.0).normalize(),
+        color: DVec3::ONE,
+        intensity: 1.0,
+        ambient_intensity: 0.0,
+        on: true,
+        scope: (0, u32::MAX),
+        origin: Origin::default(),
+    }));
+    scene.viewpoints.push(Viewpoint {
+        name: None,
+        description: "bench".into(),
+        position: DVec3::new(0.0, 0.0, 4.0),
+        orientation: DQuat::IDENTITY,
+        field_of_view: 0.785398,
+        origin: Origin::default(),
+    });
+    scene
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// One measured run.
+struct Run {
+    build: f64,
+    camera_rps: f64,
+    shadow_rps: f64,
+    combined_rps: f64,
+    render_rps: f64,
+    hits: u64,
+    peak_prepare: u64,
+    lit: [u64; 2],
+}
+
+fn one_run(n: usize, size: u32, threads: usize) -> Result<Run, Error> {
+    let opts = RenderOptions {
+        width: size,
+        height: size,
+        spp: 1,
+        sampler: SamplerKind::Center,
+        ..RenderOptions::default()
+    };
+    let prep = prepare(random_spheres(n), &opts).map_err(Error::Other)?;
+    let peak_prepare = super::peak_rss_bytes().unwrap_or(0);
+    let cam = prep.camera.camera;
+    let w = f64::from(size);
+
+    // Passes 1 and 2, one thread, a band of rows at a time (so the hit list stays small):
+    // camera rays, then one shadow ray per hit and light. N.L <= 0 is traced too, as the
+    // Embree reference does, so that the counts compare.
+    let (mut camera_s, mut shadow_s) = (0.0, 0.0);
+    let mut lit = [0u64; 2];
+    let mut shadow_rays = 0u64;
+    let mut hit_count = 0u64;
+    let mut hits = Vec::new();
+    for band in (0..size).step_by(16) {
+        let t0 = Instant::now();
+        hits.clear();
+        for j in band..(band + 16).min(size) {
+            for i in 0..size {
+                let (o, d) = cam.ray((f64::from(i) + 0.5) / w, (f64::from(j) + 0.5) / w);
+                if let Some(h) = first_hit(&prep, o, d, 0.0) {
+                    hits.push(surface_point(&prep, o, d, h));
+                }
+            }
+        }
+        camera_s += t0.elapsed().as_secs_f64();
+        hit_count += hits.len() as u64;
+        let t1 = Instant::now();
+        for sp in &hits {
+            for (k, l) in prep.lights.iter().enumerate() {
+                if let Some((dir, dist, _)) = towards(l, sp.x) {
+                    shadow_rays += 1;
+                    let v = visible(&prep.bvh, sp.x, dir, dist, sp.prim);
+                    lit[k] += u64::from(v > 0.0 && sp.n.dot(dir) > 0.0);
+                }
+            }
+        }
+        shadow_s += t1.elapsed().as_secs_f64();
+    }
+
+    // Pass 3: the full render (shading, N.L culling of shadow rays) on `threads` threads.
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| Error::Other(format!("cannot start worker threads: {e}")))?;
+    let done = pool.install(|| render(&prep, &opts));
+    let Counters {
+        camera_rays,
+        shadow_rays: shaded,
+    } = done.counters;
+
+    let camera_rays_1 = u64::from(size) * u64::from(size);
+    Ok(Run {
+        build: prep.bvh.build_time.as_secs_f64(),
+        camera_rps: camera_rays_1 as f64 / camera_s,
+        shadow_rps: shadow_rays as f64 / shadow_s,
+        combined_rps: (camera_rays_1 + shadow_rays) as f64 / (camera_s + shadow_s),
+        render_rps: (camera_rays + shaded) as f64 / done.seconds / threads as f64,
+        hits: hit_count,
+        peak_prepare,
+        lit,
+    })
+}
+
+pub fn run(spheres: usize, size: u32, runs: usize, threads: usize) -> Result<ExitCode, Error> {
+    if spheres == 0 || size == 0 || threads == 0 {
+        return Err(Error::Other(
+            "--spheres, --size and --threads must be positive".into(),
+        ));
+    }
+    let mut all = Vec::new();
+    for _ in 0..runs.max(1) {
+        all.push(one_run(spheres, size, threads)?);
+    }
+    let med = |f: fn(&Run) -> f64| median(all.iter().map(f).collect());
+    let peak = super::peak_rss_bytes().unwrap_or(0) as f64;
+    let peak_prepare = all.iter().map(|r| r.peak_prepare).max().unwrap_or(0) as f64;
+    let last = &all[all.len() - 1];
+    println!(
+        "| spheres | image | BVH build s | camera Mrays/s/core | shadow Mrays/s/core | camera+shadow Mrays/s/core | full render Mrays/s/core ({threads} threads) | peak RSS B/sphere: scene + BVH | whole run |"
+    );
+    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    println!(
+        "| {} | {}x{} | {:.3} | {:.2} | {:.2} | {:.2} | {:.2} | {:.0} | {:.0} |",
+        spheres,
+        size,
+        size,
+        med(|r| r.build),
+        med(|r| r.camera_rps) / 1e6,
+        med(|r| r.shadow_rps) / 1e6,
+        med(|r| r.combined_rps) / 1e6,
+        med(|r| r.render_rps) / 1e6,
+        peak_prepare / spheres as f64,
+        peak / spheres as f64
+    );
+    println!(
+        "\ncamera hits {} of {}; unoccluded shadow rays: point light {}, directional light {}; {} runs, medians",
+        last.hits,
+        u64::from(size) * u64::from(size),
+        last.lit[0],
+        last.lit[1],
+        all.len()
+    );
+    Ok(ExitCode::SUCCESS)
+}

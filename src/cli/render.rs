@@ -1,0 +1,251 @@
+//! `gtsphere render SCENE [-o OUT]`: raw arguments, their validation into
+//! [`RenderOptions`], and the run.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Args, ValueEnum};
+
+use crate::error::Error;
+use crate::output::{format_for, write_image, Format};
+use crate::render::{
+    prepare, tiles::render, Aovs, CameraChoice, Projection, RenderOptions, SamplerKind,
+};
+use crate::vrml::{load_path, LoadOptions};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum SamplerArg {
+    /// `--spp` stratified samples over each pixel's square (jittered grid for square counts).
+    Stratified,
+    /// One sample at each pixel's exact centre, for value-by-value comparisons.
+    Center,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum AovArg {
+    /// Ray parameter (distance) of the first opaque hit through the pixel centre; +inf on a miss.
+    Depth,
+    /// World-space unit normal there (channels normal.X/Y/Z); 0 on a miss.
+    Normal,
+    /// Index of the sphere in file order; -1 on a miss (exact up to 2^24 spheres).
+    Id,
+}
+
+/// Arguments of `gtsphere render`.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// Scene file (.wrl, .wrz, .wrl.gz; gzip is detected by content).
+    pub scene: PathBuf,
+    /// Output image: .png (sRGB, 8-bit), .exr (linear float RGBA + AOVs) or .pfm (linear RGB).
+    /// Default: the scene's name with .png, in the current directory.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 800)]
+    pub width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 600)]
+    pub height: u32,
+    /// Samples per pixel (stratified over the pixel's square, box filter).
+    #[arg(long, default_value_t = 16)]
+    pub spp: u32,
+    /// Seed of the sample positions; the same seed gives the same image on any thread count.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// How samples are placed in a pixel.
+    #[arg(long, value_enum, default_value_t = SamplerArg::Stratified)]
+    pub sampler: SamplerArg,
+    /// Orthographic projection (parallel rays along the view direction).
+    #[arg(long)]
+    pub ortho: bool,
+    /// World size of the smaller image side for --ortho (default: fit the scene's bounds).
+    #[arg(long, requires = "ortho")]
+    pub ortho_height: Option<f64>,
+    /// Use the Viewpoint with this DEF name or description.
+    #[arg(long, conflicts_with = "vrml_default_camera")]
+    pub viewpoint: Option<String>,
+    /// Use VRML's fixed default camera at (0,0,10), even when the scene has no Viewpoint.
+    #[arg(long)]
+    pub vrml_default_camera: bool,
+    /// Worker threads (default: one per core).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Extra EXR channels, comma-separated.
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub aov: Vec<AovArg>,
+    /// Turn every warning of the reader into an error.
+    #[arg(long)]
+    pub strict: bool,
+    /// Do not load Inline nodes.
+    #[arg(long)]
+    pub no_inline: bool,
+    /// Print work counters and timings.
+    #[arg(long)]
+    pub stats: bool,
+    /// Print nothing but errors.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+/// The output path: as given, or `<scene stem>.png` in the current directory.
+fn output_path(args: &RenderArgs) -> PathBuf {
+    args.output.clone().unwrap_or_else(|| {
+        let name = args
+            .scene
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "render".into());
+        // scene.wrl, scene.wrz, scene.wrl.gz -> scene.png
+        let stem = name
+            .strip_suffix(".gz")
+            .unwrap_or(&name)
+            .rsplit_once('.')
+            .map(|(s, _)| s.to_string())
+            .unwrap_or_else(|| name.clone());
+        PathBuf::from(format!("{stem}.png"))
+    })
+}
+
+/// Checks the raw arguments and builds the library's options.
+pub fn options(args: &RenderArgs, out: &Path) -> Result<RenderOptions, Error> {
+    let bad = |m: String| Error::Other(m);
+    let format = format_for(out)?;
+    if args.width == 0 || args.height == 0 || args.width > 65_536 || args.height > 65_536 {
+        return Err(bad(format!(
+            "--width and --height must be between 1 and 65536 (got {}x{})",
+            args.width, args.height
+        )));
+    }
+    if args.spp == 0 || args.spp > 1 << 20 {
+        return Err(bad(format!(
+            "--spp must be between 1 and 1048576 (got {})",
+            args.spp
+        )));
+    }
+    if let Some(h) = args.ortho_height {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(bad(format!(
+                "--ortho-height must be a positive number (got {h})"
+            )));
+        }
+    }
+    if args.threads == Some(0) {
+        return Err(bad("--threads must be at least 1".into()));
+    }
+    let aovs = Aovs {
+        depth: args.aov.contains(&AovArg::Depth),
+        normal: args.aov.contains(&AovArg::Normal),
+        id: args.aov.contains(&AovArg::Id),
+    };
+    if aovs.any() && format != Format::Exr {
+        return Err(bad(format!(
+            "--aov needs an .exr output; {} cannot hold extra channels",
+            out.display()
+        )));
+    }
+    Ok(RenderOptions {
+        width: args.width,
+        height: args.height,
+        spp: args.spp,
+        seed: args.seed,
+        sampler: match args.sampler {
+            SamplerArg::Stratified => SamplerKind::Stratified,
+            SamplerArg::Center => SamplerKind::Center,
+        },
+        camera: match (&args.viewpoint, args.vrml_default_camera) {
+            (Some(n), _) => CameraChoice::Named(n.clone()),
+            (None, true) => CameraChoice::VrmlDefault,
+            (None, false) => CameraChoice::Auto,
+        },
+        projection: if args.ortho {
+            Projection::Ortho {
+                height: args.ortho_height,
+            }
+        } else {
+            Projection::Perspective
+        },
+        aovs,
+        progress: !args.quiet,
+    })
+}
+
+pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
+    let out = output_path(args);
+    let opts = options(args, &out)?;
+    let load = LoadOptions {
+        strict: args.strict,
+        inline: !args.no_inline,
+        ..LoadOptions::default()
+    };
+    let (scene, report) = load_path(&args.scene, &load)?;
+    let say = |m: String| {
+        if !args.quiet {
+            eprintln!("{m}");
+        }
+    };
+    for w in &report.warnings {
+        say(format!("{w}"));
+    }
+    let spheres = scene.spheres.len();
+    let headlight = scene.headlight;
+    let prep = prepare(scene, &opts)
+        .map_err(|m| Error::Other(format!("{}: {m}", args.scene.display())))?;
+    say(format!(
+        "{}: {} spheres, {} lights{}; camera: {}",
+        args.scene.display(),
+        spheres,
+        prep.lights.len(),
+        if headlight {
+            " (headlight included)"
+        } else {
+            ""
+        },
+        prep.camera.description
+    ));
+    if prep.gas_spheres > 0 {
+        say(format!(
+            "warning: {} gas spheres (0 < transparency) are not drawn yet: this version renders opaque spheres only",
+            prep.gas_spheres
+        ));
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| Error::Other(format!("cannot start worker threads: {e}")))?;
+    let done = pool.install(|| render(&prep, &opts));
+    write_image(&out, &done.image)?;
+    say(format!(
+        "wrote {} ({}x{}, {} spp) in {:.2} s (load {:.2} s, BVH {:.2} s)",
+        out.display(),
+        opts.width,
+        opts.height,
+        if opts.sampler == SamplerKind::Center {
+            1
+        } else {
+            opts.spp
+        },
+        done.seconds,
+        report.seconds,
+        prep.prepare_time.as_secs_f64()
+    ));
+    if args.stats {
+        let c = done.counters;
+        println!("camera rays        {}", c.camera_rays);
+        println!("shadow rays        {}", c.shadow_rays);
+        println!(
+            "rays per second    {:.0}",
+            (c.camera_rays + c.shadow_rays) as f64 / done.seconds.max(1e-9)
+        );
+        println!("render seconds     {:.3}", done.seconds);
+        println!("prepare seconds    {:.3}", prep.prepare_time.as_secs_f64());
+        println!(
+            "BVH build seconds  {:.3}",
+            prep.bvh.build_time.as_secs_f64()
+        );
+        println!("BVH + prims bytes  {}", prep.bvh.heap_bytes());
+        if let Some(p) = super::peak_rss_bytes() {
+            println!("peak resident      {p}");
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,100 @@
+//! Lights as the integrators use them (MODEL.md section 1): switched-off lights dropped,
+//! colour premultiplied by intensity and by ambient intensity, the headlight added.
+
+use glam::DVec3;
+
+use crate::scene::{Light, Scene};
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightKind {
+    /// Lights points within `radius` of `position`, attenuated by
+    /// `1 / max(a0 + a1 d + a2 d^2, 1)`.
+    Point {
+        position: DVec3,
+        attenuation: DVec3,
+        radius: f64,
+    },
+    /// Unit vector towards the light (opposite to VRML's `direction`); lights the spheres
+    /// `scope.0 .. scope.1` of `Scene::spheres`.
+    Directional { to_light: DVec3, scope: (u32, u32) },
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightSource {
+    pub kind: LightKind,
+    /// `C_i * I_i`.
+    pub direct: DVec3,
+    /// `C_i * Ia_i`.
+    pub ambient: DVec3,
+}
+
+/// What light `l` contributes at world point `x` before visibility: the unit vector towards
+/// the light, the distance to it (infinite for directional lights) and the attenuation factor;
+/// `None` where the light does not reach (outside a point light's radius, or `x` on it).
+#[inline]
+pub fn towards(l: &LightSource, x: DVec3) -> Option<(DVec3, f64, f64)> {
+    match l.kind {
+        LightKind::Directional { to_light, .. } => Some((to_light, f64::INFINITY, 1.0)),
+        LightKind::Point {
+            position,
+            attenuation: a,
+            radius,
+        } => {
+            let v = position - x;
+            let d = v.length();
+            if d > radius || d == 0.0 {
+                return None;
+            }
+            let att = 1.0 / (a.x + a.y * d + a.z * d * d).max(1.0);
+            Some((v / d, d, att))
+        }
+    }
+}
+
+/// Whether light `l` may light sphere `sphere` (VRML scoping of DirectionalLights).
+#[inline]
+pub fn in_scope(l: &LightSource, sphere: u32) -> bool {
+    match l.kind {
+        LightKind::Directional { scope, .. } => scope.0 <= sphere && sphere < scope.1,
+        LightKind::Point { .. } => true,
+    }
+}
+
+/// The scene's lights that are on, plus the headlight (a DirectionalLight along `view`,
+/// intensity 1, ambientIntensity 0, white) when `scene.headlight` is set.
+pub fn collect(scene: &Scene, view: DVec3) -> Vec<LightSource> {
+    let mut out = Vec::new();
+    for l in &scene.lights {
+        match l {
+            Light::Point(p) if p.on => out.push(LightSource {
+                kind: LightKind::Point {
+                    position: p.location,
+                    attenuation: p.attenuation,
+                    radius: p.radius,
+                },
+                direct: p.color * p.intensity,
+                ambient: p.color * p.ambient_intensity,
+            }),
+            Light::Directional(d) if d.on => out.push(LightSource {
+                kind: LightKind::Directional {
+                    to_light: -d.direction,
+                    scope: d.scope,
+                },
+                direct: d.color * d.intensity,
+                ambient: d.color * d.ambient_intensity,
+            }),
+            _ => {}
+        }
+    }
+    if scene.headlight {
+        out.push(LightSource {
+            kind: LightKind::Directional {
+                to_light: -view,
+                scope: (0, u32::MAX),
+            },
+            direct: DVec3::ONE,
+            ambient: DVec3::ZERO,
+        });
+    }
+    out
+}

@@ -1,0 +1,172 @@
+//! The tile loop: rayon over square tiles, each pixel computed entirely inside one task and
+//! its samples summed in a fixed order, so the image is the same bit for bit whatever the
+//! thread count.
+
+use std::time::Instant;
+
+use glam::DVec3;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use rayon::prelude::*;
+
+use super::integrators::surface;
+use super::sampler::offsets;
+use super::{Counters, Prepared, RenderOptions};
+use crate::output::{Image, Layer};
+
+const TILE: u32 = 16;
+
+/// A finished render.
+pub struct Rendered {
+    pub image: Image,
+    pub counters: Counters,
+    /// Wall time of the tile loop.
+    pub seconds: f64,
+}
+
+/// A finished pixel: RGB and alpha, then (only when AOVs are asked for) depth, normal, id.
+#[derive(Clone, Copy, Default)]
+struct PixelOut {
+    rgba: [f32; 4],
+    aov: Option<[f32; 5]>,
+}
+
+fn progress_bar(n: u64, show: bool) -> ProgressBar {
+    if !show {
+        return ProgressBar::hidden();
+    }
+    // indicatif draws only when stderr is a terminal.
+    let pb = ProgressBar::with_draw_target(Some(n), ProgressDrawTarget::stderr());
+    pb.set_style(
+        ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {percent:>3}% tiles, ETA {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    pb
+}
+
+fn render_pixel(
+    prep: &Prepared,
+    opts: &RenderOptions,
+    i: u32,
+    j: u32,
+    samples: &mut Vec<(f64, f64)>,
+    counters: &mut Counters,
+) -> PixelOut {
+    let (w, h) = (f64::from(opts.width), f64::from(opts.height));
+    let pixel = u64::from(j) * u64::from(opts.width) + u64::from(i);
+    offsets(opts.sampler, opts.spp, opts.seed, pixel, samples);
+    let cam = &prep.camera.camera;
+    let mut sum = DVec3::ZERO;
+    let mut covered = 0u32;
+    for &(sx, sy) in samples.iter() {
+        let (o, d) = cam.ray((f64::from(i) + sx) / w, (f64::from(j) + sy) / h);
+        let e = surface::radiance(prep, o, d, counters);
+        sum += e.value;
+        covered += u32::from(e.covered);
+    }
+    let n = samples.len() as f64;
+    let rgb = (sum / n).as_vec3();
+    let mut out = PixelOut {
+        rgba: [rgb.x, rgb.y, rgb.z, (f64::from(covered) / n) as f32],
+        aov: None,
+    };
+    if opts.aovs.any() {
+        let (o, d) = cam.ray((f64::from(i) + 0.5) / w, (f64::from(j) + 0.5) / h);
+        out.aov = Some(match surface::first_hit(prep, o, d, 0.0) {
+            Some(hit) => {
+                let sp = surface::surface_point(prep, o, d, hit);
+                let n = sp.n.as_vec3();
+                [hit.t as f32, n.x, n.y, n.z, sp.sphere as f32]
+            }
+            None => [f32::INFINITY, 0.0, 0.0, 0.0, -1.0],
+        });
+    }
+    out
+}
+
+/// Renders the prepared scene. Run inside a rayon pool to choose the thread count.
+pub fn render(prep: &Prepared, opts: &RenderOptions) -> Rendered {
+    let start = Instant::now();
+    let (w, h) = (opts.width, opts.height);
+    let (tx, ty) = (w.div_ceil(TILE), h.div_ceil(TILE));
+    let pb = progress_bar(u64::from(tx * ty), opts.progress);
+    let tiles: Vec<(Vec<PixelOut>, Counters)> = (0..tx * ty)
+        .into_par_iter()
+        .map(|t| {
+            let (x0, y0) = ((t % tx) * TILE, (t / tx) * TILE);
+            let (x1, y1) = ((x0 + TILE).min(w), (y0 + TILE).min(h));
+            let mut counters = Counters::default();
+            let mut samples = Vec::with_capacity(opts.spp as usize);
+            let mut px = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
+            for j in y0..y1 {
+                for i in x0..x1 {
+                    px.push(render_pixel(prep, opts, i, j, &mut samples, &mut counters));
+                }
+            }
+            pb.inc(1);
+            (px, counters)
+        })
+        .collect();
+    pb.finish_and_clear();
+
+    let n = (w as usize) * (h as usize);
+    let mut image = Image {
+        width: w as usize,
+        height: h as usize,
+        rgb: vec![[0.0; 3]; n],
+        alpha: vec![0.0; n],
+        layers: Vec::new(),
+    };
+    let mut depth = vec![0f32; if opts.aovs.depth { n } else { 0 }];
+    let mut normal = vec![[0f32; 3]; if opts.aovs.normal { n } else { 0 }];
+    let mut id = vec![0f32; if opts.aovs.id { n } else { 0 }];
+    let mut counters = Counters::default();
+    for (t, (px, c)) in tiles.into_iter().enumerate() {
+        counters += c;
+        let t = t as u32;
+        let (x0, y0) = ((t % tx) * TILE, (t / tx) * TILE);
+        let x1 = (x0 + TILE).min(w);
+        for (k, p) in px.into_iter().enumerate() {
+            let (i, j) = (x0 + k as u32 % (x1 - x0), y0 + k as u32 / (x1 - x0));
+            let at = (j as usize) * (w as usize) + i as usize;
+            image.rgb[at] = [p.rgba[0], p.rgba[1], p.rgba[2]];
+            image.alpha[at] = p.rgba[3];
+            if let Some(a) = p.aov {
+                if opts.aovs.depth {
+                    depth[at] = a[0];
+                }
+                if opts.aovs.normal {
+                    normal[at] = [a[1], a[2], a[3]];
+                }
+                if opts.aovs.id {
+                    id[at] = a[4];
+                }
+            }
+        }
+    }
+    if opts.aovs.depth {
+        image.layers.push(Layer {
+            name: "depth".into(),
+            data: depth,
+        });
+    }
+    if opts.aovs.normal {
+        for (k, axis) in ["X", "Y", "Z"].iter().enumerate() {
+            image.layers.push(Layer {
+                name: format!("normal.{axis}"),
+                data: normal.iter().map(|v| v[k]).collect(),
+            });
+        }
+    }
+    if opts.aovs.id {
+        image.layers.push(Layer {
+            name: "id".into(),
+            data: id,
+        });
+    }
+    Rendered {
+        image,
+        counters,
+        seconds: start.elapsed().as_secs_f64(),
+    }
+}

@@ -1,0 +1,190 @@
+//! The BVH (f32 padded boxes) against a brute-force loop over every sphere: the closest hit,
+//! the any-hit query and the all-hits query must find exactly what the loop finds, for tiny
+//! and huge spheres, far-off scenes, rays from far away, axis-parallel and grazing rays.
+
+use std::collections::BTreeSet;
+
+use glam::DVec3;
+use gtsphere::accel::{Prim, SphereBvh};
+use gtsphere::geom::sphere_roots;
+use gtsphere::scene::NO_ELLIPSOID;
+
+struct Rng(u64);
+impl Rng {
+    fn f(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn unit(&mut self) -> DVec3 {
+        loop {
+            let v = DVec3::new(self.f(), self.f(), self.f()) * 2.0 - 1.0;
+            if v.length_squared() > 1e-6 && v.length_squared() <= 1.0 {
+                return v.normalize();
+            }
+        }
+    }
+}
+
+fn prims(rng: &mut Rng, n: usize, offset: DVec3, extent: f64, r_lo: f64, r_hi: f64) -> Vec<Prim> {
+    (0..n)
+        .map(|i| Prim {
+            center: offset + (DVec3::new(rng.f(), rng.f(), rng.f()) * 2.0 - 1.0) * extent,
+            radius: r_lo * (r_hi / r_lo).powf(rng.f()),
+            material: 0,
+            sphere: i as u32,
+            ellipsoid: NO_ELLIPSOID,
+            flags: 0,
+        })
+        .collect()
+}
+
+/// Brute force: the smallest first root > 0 (one-sided, as the renderer's camera rays).
+fn brute_closest(ps: &[Prim], o: DVec3, d: DVec3) -> Option<(f64, u32)> {
+    ps.iter()
+        .filter_map(|p| {
+            let (t0, _) = sphere_roots(o, d, p.center, p.radius)?;
+            (t0 > 0.0).then_some((t0, p.sphere))
+        })
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+}
+
+fn check_scene(seed: u64, n: usize, offset: DVec3, extent: f64, r_lo: f64, r_hi: f64) {
+    let mut rng = Rng(seed);
+    let ps = prims(&mut rng, n, offset, extent, r_lo, r_hi);
+    // One chunk, and as many chunks as allowed (a chunk per n / 16 spheres).
+    let one = SphereBvh::build(ps.clone(), &[]);
+    let many = SphereBvh::build_chunked(ps.clone(), &[], 1);
+    for bvh in [&one, &many] {
+        check_rays(seed, &ps, bvh, offset, extent, &mut rng);
+    }
+}
+
+fn check_rays(seed: u64, ps: &[Prim], bvh: &SphereBvh, offset: DVec3, extent: f64, rng: &mut Rng) {
+    let n = ps.len();
+    let mut hits = 0;
+    for k in 0..400 {
+        // Origins: inside the cloud, just outside, and far away (1e4 extents).
+        let dist = [0.0, 2.0, 1e4][k % 3] * extent;
+        let o = offset + rng.unit() * dist + (DVec3::new(rng.f(), rng.f(), rng.f()) - 0.5) * extent;
+        let mut d = match k % 6 {
+            // Aim at a sphere (some rays graze it: aim at its rim).
+            0 | 1 => {
+                let p = &ps[(rng.f() * n as f64) as usize % n];
+                let rim = p.center + rng.unit() * p.radius * (1.0 - 1e-9 * rng.f());
+                (rim - o).normalize()
+            }
+            2 => DVec3::Z,
+            3 => DVec3::new(1e-9, -1.0, 3e-10).normalize(),
+            // Negative zeros (a DirectionalLight along -x gives to_light (1, 0, -0)).
+            4 => DVec3::new(-0.0, 0.3 * rng.f() - 0.15, -1.0).normalize(),
+            _ => rng.unit(),
+        };
+        if d.length_squared() == 0.0 || !d.is_finite() {
+            d = DVec3::X;
+        }
+        let want = brute_closest(ps, o, d);
+        let got = bvh
+            .closest(o, d, 0.0, f64::INFINITY, |_, (t0, _)| {
+                (t0 > 0.0).then_some(t0)
+            })
+            .map(|h| (h.t, bvh.prims[h.prim as usize].sphere));
+        assert_eq!(got, want, "closest: seed {seed} ray {k} o {o} d {d}");
+        hits += usize::from(want.is_some());
+
+        // Any hit within a segment, and all hits.
+        let tmax = extent * 2.0 * rng.f() + dist;
+        let brute_any = ps.iter().any(|p| {
+            sphere_roots(o, d, p.center, p.radius).is_some_and(|(t0, _)| t0 > 0.0 && t0 < tmax)
+        });
+        let got_any = bvh.any(o, d, 0.0, tmax, |_, _, (t0, _)| t0 > 0.0 && t0 < tmax);
+        assert_eq!(got_any, brute_any, "any: seed {seed} ray {k}");
+
+        let brute_all: BTreeSet<u32> = ps
+            .iter()
+            .filter(|p| {
+                sphere_roots(o, d, p.center, p.radius).is_some_and(|(t0, t1)| t1 > 0.0 && t0 < tmax)
+            })
+            .map(|p| p.sphere)
+            .collect();
+        let mut got_all = BTreeSet::new();
+        bvh.all(o, d, 0.0, tmax, |_, p, (t0, t1)| {
+            if t1 > 0.0 && t0 < tmax {
+                got_all.insert(p.sphere);
+            }
+        });
+        assert_eq!(got_all, brute_all, "all: seed {seed} ray {k}");
+    }
+    assert!(hits > 40, "only {hits} rays hit: the test lost its teeth");
+}
+
+#[test]
+fn bvh_matches_brute_force_unit_scene() {
+    check_scene(1, 2000, DVec3::ZERO, 1.0, 0.005, 0.05);
+}
+
+#[test]
+fn bvh_matches_brute_force_tiny_spheres_far_from_origin() {
+    // Coordinates near 1e6 with radii near 1e-4: f32 boxes without the recentring and
+    // padding would lose these spheres entirely.
+    check_scene(2, 1500, DVec3::new(1e6, -2e6, 5e5), 1.0, 1e-4, 1e-3);
+}
+
+#[test]
+fn bvh_matches_brute_force_mixed_scales() {
+    check_scene(3, 1500, DVec3::new(-30.0, 4.0, 7.0), 100.0, 1e-3, 20.0);
+}
+
+#[test]
+fn bvh_single_sphere_and_empty() {
+    check_scene(4, 1, DVec3::ZERO, 1.0, 0.5, 0.5);
+    let empty = SphereBvh::build(Vec::new(), &[]);
+    assert!(empty
+        .closest(DVec3::ZERO, DVec3::Z, 0.0, f64::INFINITY, |_, r| Some(r.0))
+        .is_none());
+}
+
+/// The grazing case of issue 3 through the BVH: a sphere of radius 1e-3 at distance 1e4,
+/// rays within 1e-9 (relative) of tangency: the BVH agrees with the exact sphere test on
+/// every ray (that test is checked against exact arithmetic in `geom`).
+#[test]
+fn grazing_rays_through_the_bvh() {
+    let c = DVec3::new(3e3, -4e3, 9e3);
+    let r = 1e-3;
+    let mut rng = Rng(9);
+    let others = prims(&mut rng, 50, c, 0.05, 1e-4, 1e-3);
+    let mut ps = vec![Prim {
+        center: c,
+        radius: r,
+        material: 0,
+        sphere: 999,
+        ellipsoid: NO_ELLIPSOID,
+        flags: 0,
+    }];
+    ps.extend(others);
+    let bvh = SphereBvh::build(ps.clone(), &[]);
+    let (mut hit, mut miss) = (0, 0);
+    for k in 0..2000 {
+        let o = DVec3::ZERO;
+        let axis = (c - o).normalize();
+        let side = axis.cross(rng.unit()).normalize();
+        let off = r * (1.0 + (rng.f() * 2.0 - 1.0) * 1e-9);
+        let d = ((c + side * off) - o).normalize();
+        let want = brute_closest(&ps, o, d);
+        let got = bvh
+            .closest(o, d, 0.0, f64::INFINITY, |_, (t0, _)| {
+                (t0 > 0.0).then_some(t0)
+            })
+            .map(|h| (h.t, bvh.prims[h.prim as usize].sphere));
+        assert_eq!(got, want, "ray {k}");
+        if let Some((t, _)) = got {
+            assert!(t.is_finite());
+            hit += 1;
+        } else {
+            miss += 1;
+        }
+    }
+    assert!(hit > 100 && miss > 100, "hit {hit} miss {miss}");
+}

@@ -1,0 +1,628 @@
+//! Opaque rendering against closed forms: every expected value here is computed in the test
+//! from the VRML97 lighting equation (MODEL.md section 2), with its own camera rays, its own
+//! (textbook) ray/sphere intersection and its own shadow test; nothing is compared with a
+//! saved image.
+
+use glam::DVec3;
+use gtsphere::output::Image;
+use gtsphere::render::integrators::surface;
+use gtsphere::render::tiles::render;
+use gtsphere::render::{
+    prepare, CameraChoice, Counters, Prepared, Projection, RenderOptions, SamplerKind,
+};
+
+use crate::support;
+
+// ---------------------------------------------------------------------------------------------
+// The independent reference
+
+/// Material as the test sees it.
+#[derive(Clone, Copy)]
+struct Mat {
+    diffuse: DVec3,
+    emissive: DVec3,
+    specular: DVec3,
+    shininess: f64,
+    ambient: f64,
+}
+
+/// One light's contribution per the VRML equation, given the geometry and the visibility.
+#[allow(clippy::too_many_arguments)]
+fn vrml_term(
+    m: &Mat,
+    n: DVec3,
+    v: DVec3,
+    l: DVec3,
+    color: DVec3,
+    intensity: f64,
+    ambient_intensity: f64,
+    att: f64,
+    vis: f64,
+) -> DVec3 {
+    let ambient = ambient_intensity * m.diffuse * m.ambient;
+    let h = (l + v).normalize();
+    let diff = m.diffuse * n.dot(l).max(0.0);
+    let spec = m.specular * n.dot(h).max(0.0).powf(128.0 * m.shininess);
+    att * color * (ambient + vis * intensity * (diff + spec))
+}
+
+/// Textbook ray/sphere: nearest root in front of the origin (all test geometry is benign).
+fn hit(o: DVec3, d: DVec3, c: DVec3, r: f64) -> Option<f64> {
+    let f = o - c;
+    let b = f.dot(d);
+    let disc = b * b - (f.dot(f) - r * r);
+    if disc < 0.0 {
+        return None;
+    }
+    let t = -b - disc.sqrt();
+    (t > 0.0).then_some(t)
+}
+
+/// Perspective ray through pixel (i, j)'s centre for a camera at `p` looking down -z with
+/// `fov` on the smaller side.
+fn pixel_ray(p: DVec3, fov: f64, w: u32, h: u32, i: u32, j: u32) -> (DVec3, DVec3) {
+    let (u, v) = ((i as f64 + 0.5) / w as f64, (j as f64 + 0.5) / h as f64);
+    let t = (fov / 2.0).tan();
+    let (sx, sy) = if w >= h {
+        (t * w as f64 / h as f64, t)
+    } else {
+        (t, t * h as f64 / w as f64)
+    };
+    let d = DVec3::new((2.0 * u - 1.0) * sx, (1.0 - 2.0 * v) * sy, -1.0).normalize();
+    (p, d)
+}
+
+fn center_opts(w: u32, h: u32) -> RenderOptions {
+    RenderOptions {
+        width: w,
+        height: h,
+        spp: 1,
+        sampler: SamplerKind::Center,
+        ..RenderOptions::default()
+    }
+}
+
+fn prepared(body: &str, opts: &RenderOptions) -> Prepared {
+    let (scene, _) = support::scene(body);
+    prepare(scene, opts).expect("prepare")
+}
+
+fn render_body(body: &str, opts: &RenderOptions) -> Image {
+    render(&prepared(body, opts), opts).image
+}
+
+/// Every pixel equals `expect(i, j)` (None: background `bg`, alpha 0) to `1e-6` relative.
+fn check_image(img: &Image, bg: DVec3, mut expect: impl FnMut(u32, u32) -> Option<DVec3>) -> usize {
+    let mut hits = 0;
+    for j in 0..img.height as u32 {
+        for i in 0..img.width as u32 {
+            let at = j as usize * img.width + i as usize;
+            let got = DVec3::from_array(img.rgb[at].map(f64::from));
+            let (want, alpha) = match expect(i, j) {
+                Some(c) => {
+                    hits += 1;
+                    (c, 1.0)
+                }
+                None => (bg, 0.0),
+            };
+            for k in 0..3 {
+                assert!(
+                    (got[k] - want[k]).abs() <= 1e-6 * (1.0 + want[k].abs()),
+                    "pixel ({i},{j}) channel {k}: got {got} want {want}"
+                );
+            }
+            assert_eq!(img.alpha[at], alpha, "alpha at ({i},{j})");
+        }
+    }
+    hits
+}
+
+const CAM: &str =
+    "Viewpoint { position 0 0 5 fieldOfView 0.6 }\nNavigationInfo { headlight FALSE }\n";
+
+fn sphere_shape(material: &str) -> String {
+    format!("Shape {{ appearance Appearance {{ material Material {{ {material} }} }} geometry Sphere {{ radius 1 }} }}")
+}
+
+/// A single unit sphere at the origin lit by one DirectionalLight; `material` and the
+/// expected material `m` must agree.
+fn directional_case(material: &str, m: Mat) {
+    let (w, h) = (40, 30);
+    let light = "DirectionalLight { direction -0.3 -0.4 -1 color 1 0.8 0.6 intensity 0.9 ambientIntensity 0.5 }";
+    let body = format!("{CAM}{light}\n{}", sphere_shape(material));
+    let img = render_body(&body, &center_opts(w, h));
+    let l = -DVec3::new(-0.3, -0.4, -1.0).normalize();
+    let hits = check_image(&img, DVec3::ZERO, |i, j| {
+        let (o, d) = pixel_ray(DVec3::new(0.0, 0.0, 5.0), 0.6, w, h, i, j);
+        let t = hit(o, d, DVec3::ZERO, 1.0)?;
+        let n = (o + t * d).normalize();
+        // A unit sphere alone: the only shadow is its own (N.L <= 0).
+        let vis = if n.dot(l) > 0.0 { 1.0 } else { 0.0 };
+        Some(m.emissive + vrml_term(&m, n, -d, l, DVec3::new(1.0, 0.8, 0.6), 0.9, 0.5, 1.0, vis))
+    });
+    assert!(hits > 200, "the sphere covers {hits} pixels");
+}
+
+const ZERO_MAT: Mat = Mat {
+    diffuse: DVec3::ZERO,
+    emissive: DVec3::ZERO,
+    specular: DVec3::ZERO,
+    shininess: 0.2,
+    ambient: 0.0,
+};
+
+#[test]
+fn directional_diffuse_alone() {
+    directional_case(
+        "diffuseColor 0.6 0.5 0.4 ambientIntensity 0",
+        Mat {
+            diffuse: DVec3::new(0.6, 0.5, 0.4),
+            ..ZERO_MAT
+        },
+    );
+}
+
+#[test]
+fn directional_specular_alone() {
+    directional_case(
+        "diffuseColor 0 0 0 specularColor 0.7 0.6 0.5 shininess 0.3 ambientIntensity 0",
+        Mat {
+            specular: DVec3::new(0.7, 0.6, 0.5),
+            shininess: 0.3,
+            ..ZERO_MAT
+        },
+    );
+}
+
+#[test]
+fn directional_ambient_alone() {
+    // The light's intensity is 0: only its ambient part is left.
+    let (w, h) = (20, 20);
+    let body = format!(
+        "{CAM}DirectionalLight {{ intensity 0 ambientIntensity 0.7 color 0.5 1 0.25 }}\n{}",
+        sphere_shape("diffuseColor 0.6 0.5 0.4 ambientIntensity 0.8")
+    );
+    let img = render_body(&body, &center_opts(w, h));
+    let want = DVec3::new(0.5, 1.0, 0.25) * 0.7 * DVec3::new(0.6, 0.5, 0.4) * 0.8;
+    let hits = check_image(&img, DVec3::ZERO, |i, j| {
+        let (o, d) = pixel_ray(DVec3::new(0.0, 0.0, 5.0), 0.6, w, h, i, j);
+        hit(o, d, DVec3::ZERO, 1.0).map(|_| want)
+    });
+    assert!(hits > 50);
+}
+
+#[test]
+fn emissive_alone() {
+    let (w, h) = (20, 20);
+    let body = format!(
+        "{CAM}{}",
+        sphere_shape("diffuseColor 0 0 0 emissiveColor 0.2 0.3 0.4")
+    );
+    let img = render_body(&body, &center_opts(w, h));
+    check_image(&img, DVec3::ZERO, |i, j| {
+        let (o, d) = pixel_ray(DVec3::new(0.0, 0.0, 5.0), 0.6, w, h, i, j);
+        hit(o, d, DVec3::ZERO, 1.0).map(|_| DVec3::new(0.2, 0.3, 0.4))
+    });
+}
+
+#[test]
+fn point_light_with_attenuation() {
+    let (w, h) = (36, 36);
+    let lp = DVec3::new(2.0, 1.5, 3.0);
+    let body = format!(
+        "{CAM}PointLight {{ location 2 1.5 3 attenuation 0.5 0.3 0.1 intensity 0.8 ambientIntensity 0.25 color 1 0.9 0.7 radius 100 }}\n{}",
+        sphere_shape("diffuseColor 0.6 0.5 0.4 specularColor 0.3 0.3 0.3 shininess 0.1 ambientIntensity 0.4 emissiveColor 0.01 0.02 0.03")
+    );
+    let m = Mat {
+        diffuse: DVec3::new(0.6, 0.5, 0.4),
+        emissive: DVec3::new(0.01, 0.02, 0.03),
+        specular: DVec3::splat(0.3),
+        shininess: 0.1,
+        ambient: 0.4,
+    };
+    let img = render_body(&body, &center_opts(w, h));
+    let hits = check_image(&img, DVec3::ZERO, |i, j| {
+        let (o, d) = pixel_ray(DVec3::new(0.0, 0.0, 5.0), 0.6, w, h, i, j);
+        let t = hit(o, d, DVec3::ZERO, 1.0)?;
+        let x = o + t * d;
+        let n = x.normalize();
+        let dist = (lp - x).length();
+        let l = (lp - x) / dist;
+        let att = 1.0 / (0.5 + 0.3 * dist + 0.1 * dist * dist).max(1.0);
+        let vis = if n.dot(l) > 0.0 { 1.0 } else { 0.0 };
+        Some(m.emissive + vrml_term(&m, n, -d, l, DVec3::new(1.0, 0.9, 0.7), 0.8, 0.25, att, vis))
+    });
+    assert!(hits > 300);
+}
+
+#[test]
+fn point_light_radius_limits_its_reach() {
+    // The light reaches only points within radius 4.3 of (0,0,5): the sphere's front cap.
+    let (w, h) = (30, 30);
+    let lp = DVec3::new(0.0, 0.0, 5.0);
+    let body = format!(
+        "{CAM}PointLight {{ location 0 0 5 radius 4.3 ambientIntensity 0.5 }}\n{}",
+        sphere_shape("diffuseColor 1 1 1 ambientIntensity 1")
+    );
+    let img = render_body(&body, &center_opts(w, h));
+    let (mut inside, mut outside) = (0, 0);
+    check_image(&img, DVec3::ZERO, |i, j| {
+        let (o, d) = pixel_ray(lp, 0.6, w, h, i, j);
+        let t = hit(o, d, DVec3::ZERO, 1.0)?;
+        let x = o + t * d;
+        let dist = (lp - x).length();
+        if dist > 4.3 {
+            outside += 1;
+            return Some(DVec3::ZERO);
+        }
+        inside += 1;
+        let n = x.normalize();
+        let l = (lp - x) / dist;
+        Some(DVec3::splat(0.5 + n.dot(l).max(0.0)))
+    });
+    assert!(inside > 20 && outside > 20, "{inside} {outside}");
+}
+
+/// A small sphere between the light and a big one: shadowed points get exactly the ambient
+/// term; elsewhere the full equation. The test's own shadow test decides which is which.
+#[test]
+fn shadowed_points_get_exactly_the_ambient_term() {
+    let (w, h) = (64, 48);
+    let blocker = (DVec3::new(1.8, 0.1, 0.3), 0.4);
+    let body = format!(
+        "{CAM}DirectionalLight {{ direction -1 -0.05 0 ambientIntensity 0.3 }}\n{}\nTransform {{ translation 1.8 0.1 0.3 children Shape {{ appearance Appearance {{ material Material {{ diffuseColor 0.2 0.9 0.2 ambientIntensity 0 }} }} geometry Sphere {{ radius 0.4 }} }} }}",
+        sphere_shape("diffuseColor 0.9 0.6 0.3 ambientIntensity 0.5")
+    );
+    let img = render_body(&body, &center_opts(w, h));
+    let l = -DVec3::new(-1.0, -0.05, 0.0).normalize();
+    let m = Mat {
+        diffuse: DVec3::new(0.9, 0.6, 0.3),
+        ambient: 0.5,
+        ..ZERO_MAT
+    };
+    let mb = Mat {
+        diffuse: DVec3::new(0.2, 0.9, 0.2),
+        ..ZERO_MAT
+    };
+    let (mut shadowed, mut lit) = (0, 0);
+    check_image(&img, DVec3::ZERO, |i, j| {
+        let (o, d) = pixel_ray(DVec3::new(0.0, 0.0, 5.0), 0.6, w, h, i, j);
+        let ta = hit(o, d, DVec3::ZERO, 1.0);
+        let tb = hit(o, d, blocker.0, blocker.1);
+        match (ta, tb) {
+            (None, None) => None,
+            (_, Some(tb)) if ta.is_none_or(|ta| tb < ta) => {
+                let x = o + tb * d;
+                let n = (x - blocker.0).normalize();
+                let vis = if n.dot(l) > 0.0 { 1.0 } else { 0.0 };
+                Some(vrml_term(&mb, n, -d, l, DVec3::ONE, 1.0, 0.3, 1.0, vis))
+            }
+            (Some(ta), _) => {
+                let x = o + ta * d;
+                let n = x.normalize();
+                let blocked = hit(x, l, blocker.0, blocker.1).is_some();
+                let vis = if n.dot(l) > 0.0 && !blocked { 1.0 } else { 0.0 };
+                if n.dot(l) > 0.0 {
+                    if blocked {
+                        shadowed += 1;
+                        // Exactly the ambient term.
+                        let amb = 0.3 * m.diffuse * m.ambient;
+                        let full = vrml_term(&m, n, -d, l, DVec3::ONE, 1.0, 0.3, 1.0, vis);
+                        assert_eq!(amb, full);
+                    } else {
+                        lit += 1;
+                    }
+                }
+                Some(vrml_term(&m, n, -d, l, DVec3::ONE, 1.0, 0.3, 1.0, vis))
+            }
+            _ => unreachable!(),
+        }
+    });
+    assert!(shadowed > 20 && lit > 100, "shadowed {shadowed}, lit {lit}");
+}
+
+/// Points on the receiver just inside and just outside the blocker's shadow cylinder (the
+/// light line passes within r_B (1 -+ 1e-9) of the blocker's centre) are dark and lit.
+#[test]
+fn shadow_edge_lies_where_geometry_puts_it() {
+    let opts = center_opts(8, 8);
+    let body = format!(
+        "{CAM}DirectionalLight {{ direction -1 0 0 }}\n{}\nTransform {{ translation 2 0.3 0.2 children Shape {{ appearance Appearance {{ material Material {{ }} }} geometry Sphere {{ radius 0.5 }} }} }}",
+        sphere_shape("diffuseColor 1 1 1 ambientIntensity 0")
+    );
+    let prep = prepared(&body, &opts);
+    let (cb, rb) = (DVec3::new(2.0, 0.3, 0.2), 0.5);
+    let l = DVec3::X;
+    // Distance from the blocker's centre to the light line through x (x's y, z vs the centre's).
+    let gap = |x: DVec3| ((x.y - cb.y).powi(2) + (x.z - cb.z).powi(2)).sqrt() - rb;
+    let mut checked = 0;
+    for k in 0..40 {
+        // Walk along a meridian of the receiver's lit side (x > 0) and bisect for the edge.
+        let phi = 0.3 + 0.05 * k as f64;
+        let on = |theta: f64| {
+            DVec3::new(
+                theta.cos(),
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin() + 0.0,
+            )
+        };
+        let (mut a, mut b) = (0.0f64, 1.4f64);
+        if gap(on(a)).signum() == gap(on(b)).signum() {
+            continue;
+        }
+        for _ in 0..200 {
+            let m = 0.5 * (a + b);
+            if gap(on(m)).signum() == gap(on(a)).signum() {
+                a = m;
+            } else {
+                b = m;
+            }
+        }
+        let edge = 0.5 * (a + b);
+        let o = DVec3::new(0.0, 0.0, 5.0);
+        let xe = on(edge);
+        let de = (xe - o).normalize();
+        // Only edge points the camera sees on the receiver, on its lit side.
+        if hit(o, de, cb, rb).is_some_and(|tb| tb < (xe - o).length()) || xe.dot(l) <= 1e-3 {
+            continue;
+        }
+        let mut sides = [false; 2];
+        for off in [-1e-9, 1e-9] {
+            // 1e-9 rad off the edge: |gap| ~ 1e-9, far above the test's own rounding (~1e-16).
+            let x = on(edge + off);
+            let inside = gap(x) < 0.0;
+            let d = (x - o).normalize();
+            let mut c = Counters::default();
+            let e = surface::radiance(&prep, o, d, &mut c);
+            let want = if inside { 0.0 } else { x.dot(l) };
+            assert!(
+                (e.value.x - want).abs() < 1e-6,
+                "phi {phi}: gap {:e}, got {} want {want}",
+                gap(x),
+                e.value.x
+            );
+            sides[usize::from(inside)] = true;
+            checked += 1;
+        }
+        assert!(sides[0] && sides[1], "both sides of the edge at phi {phi}");
+    }
+    assert!(checked > 20, "checked {checked}");
+}
+
+#[test]
+fn headlight_on_and_off() {
+    let (w, h) = (24, 24);
+    let shape = sphere_shape("diffuseColor 0.5 0.6 0.7 specularColor 0.2 0.2 0.2 shininess 0.25");
+    let m = Mat {
+        diffuse: DVec3::new(0.5, 0.6, 0.7),
+        specular: DVec3::splat(0.2),
+        shininess: 0.25,
+        ambient: 0.2,
+        ..ZERO_MAT
+    };
+    let on = render_body(
+        &format!("Viewpoint {{ position 0 0 5 fieldOfView 0.6 }}\n{shape}"),
+        &center_opts(w, h),
+    );
+    // The headlight shines along the view direction (-z here): L = +z, intensity 1, no ambient.
+    let hits = check_image(&on, DVec3::ZERO, |i, j| {
+        let (o, d) = pixel_ray(DVec3::new(0.0, 0.0, 5.0), 0.6, w, h, i, j);
+        let t = hit(o, d, DVec3::ZERO, 1.0)?;
+        let n = (o + t * d).normalize();
+        Some(vrml_term(
+            &m,
+            n,
+            -d,
+            DVec3::Z,
+            DVec3::ONE,
+            1.0,
+            0.0,
+            1.0,
+            1.0,
+        ))
+    });
+    assert!(hits > 50);
+    let off = render_body(
+        &format!("Viewpoint {{ position 0 0 5 fieldOfView 0.6 }}\nNavigationInfo {{ headlight FALSE }}\n{shape}"),
+        &center_opts(w, h),
+    );
+    check_image(&off, DVec3::ZERO, |i, j| {
+        let (o, d) = pixel_ray(DVec3::new(0.0, 0.0, 5.0), 0.6, w, h, i, j);
+        hit(o, d, DVec3::ZERO, 1.0).map(|_| DVec3::ZERO)
+    });
+}
+
+/// A DirectionalLight lights its siblings and their descendants only.
+#[test]
+fn directional_light_scoping() {
+    let (w, h) = (48, 24);
+    let shape = "Shape { appearance Appearance { material Material { diffuseColor 1 1 1 ambientIntensity 0 } } geometry Sphere { radius 0.8 } }";
+    let body = format!(
+        "Viewpoint {{ position 0 0 6 fieldOfView 0.6 }}\nNavigationInfo {{ headlight FALSE }}\n\
+         Group {{ children [ DirectionalLight {{ direction 0 0 -1 }} Transform {{ translation -1 0 0 children {shape} }} ] }}\n\
+         Transform {{ translation 1 0 0 children {shape} }}"
+    );
+    let img = render_body(&body, &center_opts(w, h));
+    let (mut a, mut b) = (0, 0);
+    check_image(&img, DVec3::ZERO, |i, j| {
+        let (o, d) = pixel_ray(DVec3::new(0.0, 0.0, 6.0), 0.6, w, h, i, j);
+        let ta = hit(o, d, DVec3::new(-1.0, 0.0, 0.0), 0.8);
+        let tb = hit(o, d, DVec3::new(1.0, 0.0, 0.0), 0.8);
+        match (ta, tb) {
+            (Some(t), _) if tb.is_none_or(|tb| t < tb) => {
+                a += 1;
+                let n = (o + t * d - DVec3::new(-1.0, 0.0, 0.0)) / 0.8;
+                Some(DVec3::splat(n.dot(DVec3::Z).max(0.0)))
+            }
+            (_, Some(_)) => {
+                b += 1;
+                Some(DVec3::ZERO)
+            }
+            _ => None,
+        }
+    });
+    assert!(a > 30 && b > 30);
+}
+
+#[test]
+fn unlit_white_and_background() {
+    let (w, h) = (20, 16);
+    let body = "Viewpoint { position 0 0 5 fieldOfView 0.6 }\nBackground { skyColor 0.1 0.2 0.3 }\nDirectionalLight { }\nShape { geometry Sphere { } }";
+    let img = render_body(body, &center_opts(w, h));
+    let hits = check_image(&img, DVec3::new(0.1, 0.2, 0.3), |i, j| {
+        let (o, d) = pixel_ray(DVec3::new(0.0, 0.0, 5.0), 0.6, w, h, i, j);
+        hit(o, d, DVec3::ZERO, 1.0).map(|_| DVec3::ONE)
+    });
+    assert!(hits > 30);
+}
+
+/// Material {}, DirectionalLight {} and VRML's default camera: everything from the spec's
+/// defaults (diffuse 0.8, ambientIntensity 0.2, shininess 0.2, specular 0; light white,
+/// intensity 1, ambientIntensity 0, direction 0 0 -1; camera (0,0,10), fieldOfView pi/4).
+#[test]
+fn vrml_defaults() {
+    let (w, h) = (32, 24);
+    let body = "NavigationInfo { headlight FALSE }\nDirectionalLight { }\nShape { appearance Appearance { material Material { } } geometry Sphere { } }";
+    let opts = RenderOptions {
+        camera: CameraChoice::VrmlDefault,
+        ..center_opts(w, h)
+    };
+    let img = render_body(body, &opts);
+    let m = Mat {
+        diffuse: DVec3::splat(0.8),
+        ambient: 0.2,
+        ..ZERO_MAT
+    };
+    let hits = check_image(&img, DVec3::ZERO, |i, j| {
+        let (o, d) = pixel_ray(
+            DVec3::new(0.0, 0.0, 10.0),
+            std::f64::consts::FRAC_PI_4,
+            w,
+            h,
+            i,
+            j,
+        );
+        let t = hit(o, d, DVec3::ZERO, 1.0)?;
+        let n = (o + t * d).normalize();
+        Some(vrml_term(
+            &m,
+            n,
+            -d,
+            DVec3::Z,
+            DVec3::ONE,
+            1.0,
+            0.0,
+            1.0,
+            1.0,
+        ))
+    });
+    assert!(hits > 20);
+}
+
+/// No Viewpoint: the camera looks down -z and frames the scene; every sphere is in view.
+#[test]
+fn no_viewpoint_frames_the_scene() {
+    let body = "Transform { translation 100 50 -20 children Shape { geometry Sphere { radius 3 } } }\n\
+                Transform { translation 130 40 -25 children Shape { geometry Sphere { radius 2 } } }";
+    let opts = center_opts(64, 48);
+    let prep = prepared(body, &opts);
+    assert!(
+        prep.camera.description.contains("no Viewpoint"),
+        "{}",
+        prep.camera.description
+    );
+    assert_eq!(prep.camera.camera.forward, DVec3::NEG_Z);
+    let img = render(&prep, &opts).image;
+    // Both spheres are drawn (unlit white) and nothing touches the image border.
+    let covered: f32 = img.alpha.iter().sum();
+    assert!(covered > 50.0);
+    for j in 0..48 {
+        for i in [0, 63] {
+            assert_eq!(img.alpha[j * 64 + i], 0.0);
+        }
+    }
+    for i in 0..64 {
+        assert_eq!(img.alpha[i], 0.0);
+        assert_eq!(img.alpha[47 * 64 + i], 0.0);
+    }
+}
+
+#[test]
+fn orthographic_rays_are_parallel() {
+    // An orthographic view of a unit sphere with height 4: the disc's radius in pixels is
+    // exactly H / 4; the centre pixel sees N = +z.
+    let (w, h) = (40, 40);
+    let body = format!(
+        "{CAM}DirectionalLight {{ direction 0 0 -1 }}\n{}",
+        sphere_shape("diffuseColor 1 1 1 ambientIntensity 0")
+    );
+    let opts = RenderOptions {
+        projection: Projection::Ortho { height: Some(4.0) },
+        ..center_opts(w, h)
+    };
+    let img = render_body(&body, &opts);
+    check_image(&img, DVec3::ZERO, |i, j| {
+        let x = ((i as f64 + 0.5) / w as f64 * 2.0 - 1.0) * 2.0;
+        let y = (1.0 - (j as f64 + 0.5) / h as f64 * 2.0) * 2.0;
+        let r2 = x * x + y * y;
+        (r2 < 1.0).then(|| DVec3::splat((1.0 - r2).sqrt()))
+    });
+}
+
+#[test]
+fn unknown_viewpoint_name_is_a_clear_error() {
+    let (scene, _) = support::scene(
+        "DEF Top Viewpoint { description \"top view\" }\nShape { geometry Sphere {} }",
+    );
+    let opts = RenderOptions {
+        camera: CameraChoice::Named("side".into()),
+        ..center_opts(4, 4)
+    };
+    let err = prepare(scene, &opts).err().expect("must fail");
+    assert!(
+        err.contains("no Viewpoint named \"side\"") && err.contains("Top"),
+        "{err}"
+    );
+    // By description too.
+    let (scene, _) = support::scene(
+        "DEF Top Viewpoint { description \"top view\" }\nShape { geometry Sphere {} }",
+    );
+    let opts = RenderOptions {
+        camera: CameraChoice::Named("top view".into()),
+        ..center_opts(4, 4)
+    };
+    assert!(prepare(scene, &opts).is_ok());
+}
+
+/// The same seed gives the same image, bit for bit, on 1 and 2 threads.
+#[test]
+fn image_is_the_same_on_any_thread_count() {
+    let body = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/samples/cluster.wrl"))
+        .expect("sample");
+    let (scene, _) = support::load(&body);
+    let opts = RenderOptions {
+        width: 64,
+        height: 48,
+        spp: 9,
+        seed: 3,
+        ..RenderOptions::default()
+    };
+    let prep = prepare(scene, &opts).expect("prepare");
+    let run = |n| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap()
+            .install(|| render(&prep, &opts).image)
+    };
+    let (a, b) = (run(1), run(2));
+    assert_eq!(a.rgb, b.rgb);
+    assert_eq!(a.alpha, b.alpha);
+    // And the samples do matter: another seed changes some edge pixels.
+    let other = RenderOptions {
+        seed: 4,
+        ..opts.clone()
+    };
+    let c = render(&prep, &other).image;
+    assert_ne!(a.rgb, c.rgb);
+}
