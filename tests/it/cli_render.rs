@@ -127,7 +127,7 @@ fn exr_carries_alpha_and_the_requested_aovs() {
     let mut names: Vec<&str> = img.layers.iter().map(|l| l.name.as_str()).collect();
     names.sort();
     assert_eq!(names, ["depth", "id", "normal.X", "normal.Y", "normal.Z"]);
-    assert!(img.alpha.iter().any(|&a| a == 1.0) && img.alpha.iter().any(|&a| a == 0.0));
+    assert!(img.alpha.contains(&1.0) && img.alpha.contains(&0.0));
     let layer = |n: &str| &img.layers.iter().find(|l| l.name == n).unwrap().data;
     let (depth, id, nz) = (layer("depth"), layer("id"), layer("normal.Z"));
     for k in 0..img.alpha.len() {
