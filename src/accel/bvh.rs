@@ -21,7 +21,7 @@
 
 use std::time::{Duration, Instant};
 
-use glam::{DAffine3, DVec3, Vec3A};
+use glam::{DAffine3, DVec3, UVec2, Vec3A};
 use obvhs::aabb::Aabb;
 use obvhs::cwbvh::builder::build_cwbvh;
 use obvhs::cwbvh::CwBvh;
@@ -51,6 +51,8 @@ pub struct Prim {
     pub ellipsoid: u32,
     /// Bit 0: gas (not an opaque surface).
     pub flags: u32,
+    /// Extinction of a gas primitive (MODEL.md section 1); 0 for opaque ones.
+    pub sigma: f64,
 }
 
 pub const GAS: u32 = 1;
@@ -94,6 +96,8 @@ pub struct SphereBvh {
     pub to_object: Vec<DAffine3>,
     /// Centre of the f32 frame.
     origin: DVec3,
+    /// The padding of every primitive box (world units).
+    pad: f64,
     /// The f64 scene box, padded like the primitive boxes, for clipping rays.
     lo: DVec3,
     hi: DVec3,
@@ -254,10 +258,16 @@ impl SphereBvh {
             to_object,
             chunks,
             origin,
+            pad,
             lo: lo - pad * 2.0,
             hi: hi + pad * 2.0,
             build_time,
         }
+    }
+
+    /// The padded world box of every primitive.
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        (self.lo, self.hi)
     }
 
     /// Bytes held by the BVH and the primitive arrays.
@@ -322,7 +332,7 @@ impl SphereBvh {
         (list, n)
     }
 
-    /// The closest primitive whose `test` accepts the ray: `test(prim, roots) -> Some(t)` for a
+    /// The closest primitive whose `test` accepts the ray: `test(index, prim, roots) -> Some(t)` for a
     /// hit at `t` in `(tmin, tmax]`. Returns the smallest such `t`.
     #[inline]
     pub fn closest(
@@ -331,7 +341,7 @@ impl SphereBvh {
         d: DVec3,
         tmin: f64,
         tmax: f64,
-        mut test: impl FnMut(&Prim, (f64, f64)) -> Option<f64>,
+        mut test: impl FnMut(u32, &Prim, (f64, f64)) -> Option<f64>,
     ) -> Option<Hit> {
         let mut best = Hit {
             t: tmax,
@@ -349,7 +359,7 @@ impl SphereBvh {
                 let i = c.base + i as u32;
                 let p = &self.prims[i as usize];
                 if let Some(roots) = self.roots(p, o, d) {
-                    if let Some(t) = test(p, roots) {
+                    if let Some(t) = test(i, p, roots) {
                         if t > tmin && (t < best.t || (best.prim == u32::MAX && t <= tmax)) {
                             best = Hit { t, prim: i };
                             // Round the f32 bound up so that no closer box is culled.
@@ -387,6 +397,33 @@ impl SphereBvh {
                 }
             })
         })
+    }
+
+    /// Calls `visit(prim_index, prim)` for every primitive whose (padded) box overlaps the
+    /// world box `lo..hi`.
+    pub fn overlapping(&self, lo: DVec3, hi: DVec3, mut visit: impl FnMut(u32, &Prim)) {
+        let pad = Vec3A::splat(self.pad as f32);
+        let q = Aabb::new(
+            (lo - self.origin).as_vec3a() - pad,
+            (hi - self.origin).as_vec3a() + pad,
+        );
+        for c in &self.chunks {
+            if c.lo.cmpgt(hi).any() || c.hi.cmplt(lo).any() || c.bvh.nodes.is_empty() {
+                continue;
+            }
+            let mut state = c.bvh.new_traversal(Vec3A::X);
+            let mut node;
+            obvhs::traverse!(
+                c.bvh,
+                node,
+                state,
+                node.intersect_aabb(&q, state.oct_inv4),
+                {
+                    let i = c.base + state.primitive_id;
+                    visit(i, &self.prims[i as usize]);
+                }
+            );
+        }
     }
 
     /// Calls `visit(prim_index, prim, roots)` for every primitive the line meets whose box the

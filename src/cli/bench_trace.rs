@@ -156,6 +156,7 @@ fn one_run(n: usize, size: u32, threads: usize) -> Result<Run, Error> {
     let Counters {
         camera_rays,
         shadow_rays: shaded,
+        ..
     } = done.counters;
 
     let camera_rays_1 = u64::from(size) * u64::from(size);

@@ -9,7 +9,7 @@ use clap::{Args, ValueEnum};
 use crate::error::Error;
 use crate::output::{format_for, write_image, Format};
 use crate::render::{
-    prepare, tiles::render, Aovs, CameraChoice, Projection, RenderOptions, SamplerKind,
+    prepare, tiles::render, Aovs, CameraChoice, Integrator, Projection, RenderOptions, SamplerKind,
 };
 use crate::vrml::{load_path, LoadOptions};
 
@@ -29,6 +29,20 @@ pub enum AovArg {
     Normal,
     /// Index of the sphere in file order; -1 on a miss (exact up to 2^24 spheres).
     Id,
+    /// The pixel's estimated absolute error (exact: mean quadrature estimate of its samples;
+    /// mc: standard error of its mean; 0 where the answer is exact).
+    Error,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum IntegratorArg {
+    /// Closed-form emission/absorption, single scattering to --tol (adaptive Gauss-Kronrod
+    /// between the shadow-boundary breakpoints).
+    Exact,
+    /// Fixed-step ray marching with midpoint samples (needs --step): an approximation.
+    March,
+    /// Unbiased Monte Carlo, free-path and light sampling, --spp paths per pixel.
+    Mc,
 }
 
 /// Arguments of `gtsphere render`.
@@ -70,6 +84,20 @@ pub struct RenderArgs {
     /// Worker threads (default: one per core).
     #[arg(long)]
     pub threads: Option<usize>,
+    /// How gas is integrated (scenes without gas render the same with all three).
+    #[arg(long, value_enum, default_value_t = IntegratorArg::Exact)]
+    pub integrator: IntegratorArg,
+    /// Step length (world units) of --integrator march.
+    #[arg(long)]
+    pub step: Option<f64>,
+    /// Target error of --integrator exact, relative to the pixel's value (absolute floor
+    /// tol * 1e-3).
+    #[arg(long, default_value_t = 1e-4)]
+    pub tol: f64,
+    /// Make every sphere a ball of gas with this extinction (per world unit); emission is the
+    /// material's emissiveColor, albedo its diffuseColor.
+    #[arg(long)]
+    pub as_gas: Option<f64>,
     /// Extra EXR channels, comma-separated.
     #[arg(long, value_enum, value_delimiter = ',')]
     pub aov: Vec<AovArg>,
@@ -136,8 +164,36 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<RenderOptions, Error> {
         depth: args.aov.contains(&AovArg::Depth),
         normal: args.aov.contains(&AovArg::Normal),
         id: args.aov.contains(&AovArg::Id),
+        error: args.aov.contains(&AovArg::Error),
     };
-    if aovs.any() && format != Format::Exr {
+    let integrator = match (args.integrator, args.step) {
+        (IntegratorArg::March, Some(h)) if h.is_finite() && h > 0.0 => {
+            Integrator::March { step: h }
+        }
+        (IntegratorArg::March, Some(h)) => {
+            return Err(bad(format!("--step must be a positive number (got {h})")));
+        }
+        (IntegratorArg::March, None) => {
+            return Err(bad("--integrator march needs --step H (world units)".into()));
+        }
+        (_, Some(_)) => return Err(bad("--step is only for --integrator march".into())),
+        (IntegratorArg::Exact, None) => Integrator::Exact,
+        (IntegratorArg::Mc, None) => Integrator::Mc,
+    };
+    if !(args.tol.is_finite() && args.tol > 0.0 && args.tol < 1.0) {
+        return Err(bad(format!(
+            "--tol must be between 0 and 1 (got {})",
+            args.tol
+        )));
+    }
+    if let Some(s) = args.as_gas {
+        if !(s.is_finite() && s >= 0.0) {
+            return Err(bad(format!(
+                "--as-gas must be a finite extinction >= 0 (got {s})"
+            )));
+        }
+    }
+    if (aovs.any() || aovs.error) && format != Format::Exr {
         return Err(bad(format!(
             "--aov needs an .exr output; {} cannot hold extra channels",
             out.display()
@@ -165,6 +221,9 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<RenderOptions, Error> {
             Projection::Perspective
         },
         aovs,
+        as_gas: args.as_gas,
+        integrator,
+        tol: args.tol,
         progress: !args.quiet,
     })
 }
@@ -204,8 +263,13 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
     ));
     if prep.gas_spheres > 0 {
         say(format!(
-            "warning: {} gas spheres (0 < transparency) are not drawn yet: this version renders opaque spheres only",
-            prep.gas_spheres
+            "{} gas spheres; integrator {}",
+            prep.gas_spheres,
+            match opts.integrator {
+                Integrator::Exact => format!("exact (tol {:e})", opts.tol),
+                Integrator::March { step } => format!("march (step {step}; an approximation)"),
+                Integrator::Mc => format!("mc ({} paths per pixel)", opts.spp),
+            }
         ));
     }
     let pool = rayon::ThreadPoolBuilder::new()
@@ -232,6 +296,8 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
         let c = done.counters;
         println!("camera rays        {}", c.camera_rays);
         println!("shadow rays        {}", c.shadow_rays);
+        println!("quadrature nodes   {}", c.quadrature_nodes);
+        println!("max pixel error    {:e}", done.max_error);
         println!(
             "rays per second    {:.0}",
             (c.camera_rays + c.shadow_rays) as f64 / done.seconds.max(1e-9)

@@ -2,10 +2,14 @@
 //! parallel by the chosen integrator and averaged into a film.
 
 pub mod camera;
+pub mod gas;
 pub mod integrators;
 pub mod lighting;
 pub mod lights;
+pub mod quadrature;
 pub mod sampler;
+pub mod segments;
+pub mod shadow_volume;
 pub mod tiles;
 pub mod visibility;
 
@@ -28,9 +32,13 @@ pub struct Aovs {
     pub depth: bool,
     pub normal: bool,
     pub id: bool,
+    /// The pixel's estimated absolute error: the mean of its samples' quadrature error
+    /// estimates (exact), or the standard error of its samples' mean (mc); 0 where exact.
+    pub error: bool,
 }
 
 impl Aovs {
+    /// Whether the centre-ray channels are wanted.
     pub fn any(&self) -> bool {
         self.depth || self.normal || self.id
     }
@@ -48,6 +56,13 @@ pub struct RenderOptions {
     pub camera: CameraChoice,
     pub projection: Projection,
     pub aovs: Aovs,
+    /// Every sphere becomes gas of this extinction (`--as-gas`).
+    pub as_gas: Option<f64>,
+    /// How camera rays are integrated.
+    pub integrator: Integrator,
+    /// Target error of the exact integrator, relative to the pixel's value (with an absolute
+    /// floor of `tol * 1e-3`).
+    pub tol: f64,
     /// Show a progress bar (only drawn when stderr is a terminal).
     pub progress: bool,
 }
@@ -63,9 +78,25 @@ impl Default for RenderOptions {
             camera: CameraChoice::Auto,
             projection: Projection::Perspective,
             aovs: Aovs::default(),
+            as_gas: None,
+            integrator: Integrator::Exact,
+            tol: 1e-4,
             progress: false,
         }
     }
+}
+
+/// The camera-ray integrators (MODEL.md sections 3 and 5). Only `Exact` is exact; the others
+/// are named approximations for comparison and are never chosen silently.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Integrator {
+    /// Closed-form emission and absorption, adaptive quadrature of single scattering between
+    /// the points where the integrand has kinks, to `tol`.
+    Exact,
+    /// Fixed-step ray marching with midpoint samples (step in world units).
+    March { step: f64 },
+    /// Unbiased Monte Carlo: free-path sampling plus light sampling, `spp` paths per pixel.
+    Mc,
 }
 
 /// Work counters (STYLE habit 13), summed over tiles.
@@ -73,12 +104,15 @@ impl Default for RenderOptions {
 pub struct Counters {
     pub camera_rays: u64,
     pub shadow_rays: u64,
+    /// Integrand evaluations of the exact integrator's quadrature.
+    pub quadrature_nodes: u64,
 }
 
 impl std::ops::AddAssign for Counters {
     fn add_assign(&mut self, o: Counters) {
         self.camera_rays += o.camera_rays;
         self.shadow_rays += o.shadow_rays;
+        self.quadrature_nodes += o.quadrature_nodes;
     }
 }
 
@@ -89,8 +123,11 @@ pub struct Prepared {
     pub lights: Vec<LightSource>,
     pub camera: CameraSetup,
     pub background: DVec3,
-    /// Gas spheres present (not drawn by the surface integrator).
+    /// Gas spheres present.
     pub gas_spheres: usize,
+    /// The `Integrator` and `tol` of the options.
+    pub integrator: Integrator,
+    pub tol: f64,
     /// Wall time of `prepare` (BVH build included).
     pub prepare_time: Duration,
 }
@@ -120,26 +157,46 @@ pub fn prepare(scene: Scene, opts: &RenderOptions) -> Result<Prepared, String> {
         background,
         ..
     } = scene;
-    let gas_spheres = spheres
-        .iter()
-        .filter(|s| materials[s.material as usize].is_gas())
-        .count();
+    // Gas (MODEL.md section 1): sigma = -ln(transparency) / (2 r), or --as-gas SIGMA for every
+    // sphere. An ellipsoid has no single diameter; it uses its volume-equivalent radius
+    // (the cube root of the product of its semi-axes), so its mean transmittance matches.
+    let radius_of = |s: &crate::scene::Sphere| {
+        if s.ellipsoid == crate::scene::NO_ELLIPSOID {
+            s.radius
+        } else {
+            ellipsoids[s.ellipsoid as usize]
+                .matrix3
+                .determinant()
+                .abs()
+                .cbrt()
+        }
+    };
+    let sigma_of = |s: &crate::scene::Sphere| -> Option<f64> {
+        match opts.as_gas {
+            Some(sigma) => Some(sigma),
+            None => {
+                let m = &materials[s.material as usize];
+                m.is_gas().then(|| m.sigma(radius_of(s)))
+            }
+        }
+    };
+    let gas_spheres = spheres.iter().filter(|s| sigma_of(s).is_some()).count();
     // into_iter().map().collect() reuses the spheres' allocation (a Prim is no larger than a
     // Sphere), so the million-sphere case does not hold both lists at once.
     let prims: Vec<Prim> = spheres
         .into_iter()
         .enumerate()
-        .map(|(i, s)| Prim {
-            center: s.center,
-            radius: s.radius,
-            material: s.material,
-            sphere: i as u32,
-            ellipsoid: s.ellipsoid,
-            flags: if materials[s.material as usize].is_gas() {
-                GAS
-            } else {
-                0
-            },
+        .map(|(i, s)| {
+            let sigma = sigma_of(&s);
+            Prim {
+                center: s.center,
+                radius: s.radius,
+                material: s.material,
+                sphere: i as u32,
+                ellipsoid: s.ellipsoid,
+                flags: if sigma.is_some() { GAS } else { 0 },
+                sigma: sigma.unwrap_or(0.0),
+            }
         })
         .collect();
     let bvh = SphereBvh::build(prims, &ellipsoids);
@@ -150,6 +207,8 @@ pub fn prepare(scene: Scene, opts: &RenderOptions) -> Result<Prepared, String> {
         camera,
         background,
         gas_spheres,
+        integrator: opts.integrator,
+        tol: opts.tol,
         prepare_time: start.elapsed(),
     })
 }

@@ -8,8 +8,9 @@ use glam::DVec3;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 
-use super::integrators::surface;
-use super::sampler::offsets;
+use super::integrators::{self, surface, Scratch};
+use super::sampler::{offsets, Rng};
+use super::Integrator;
 use super::{Counters, Prepared, RenderOptions};
 use crate::output::{Image, Layer};
 
@@ -19,6 +20,8 @@ const TILE: u32 = 16;
 pub struct Rendered {
     pub image: Image,
     pub counters: Counters,
+    /// The largest per-pixel error estimate.
+    pub max_error: f64,
     /// Wall time of the tile loop.
     pub seconds: f64,
 }
@@ -27,6 +30,7 @@ pub struct Rendered {
 #[derive(Clone, Copy, Default)]
 struct PixelOut {
     rgba: [f32; 4],
+    error: f32,
     aov: Option<[f32; 5]>,
 }
 
@@ -50,6 +54,7 @@ fn render_pixel(
     i: u32,
     j: u32,
     samples: &mut Vec<(f64, f64)>,
+    scratch: &mut Scratch,
     counters: &mut Counters,
 ) -> PixelOut {
     let (w, h) = (f64::from(opts.width), f64::from(opts.height));
@@ -57,17 +62,38 @@ fn render_pixel(
     offsets(opts.sampler, opts.spp, opts.seed, pixel, samples);
     let cam = &prep.camera.camera;
     let mut sum = DVec3::ZERO;
+    let mut sum2 = DVec3::ZERO;
+    let mut err = 0.0;
     let mut covered = 0u32;
+    // The Monte Carlo integrator's own random numbers: a stream per pixel, apart from the
+    // sample positions' stream.
+    let mut rng = Rng::new(opts.seed ^ 0x6D63_5F70_6174_6873, pixel);
     for &(sx, sy) in samples.iter() {
         let (o, d) = cam.ray((f64::from(i) + sx) / w, (f64::from(j) + sy) / h);
-        let e = surface::radiance(prep, o, d, counters);
+        let e = integrators::radiance(prep, o, d, &mut rng, scratch, counters);
         sum += e.value;
+        sum2 += e.value * e.value;
+        err += e.error;
         covered += u32::from(e.covered);
     }
     let n = samples.len() as f64;
-    let rgb = (sum / n).as_vec3();
+    let mean = sum / n;
+    let error = if prep.integrator == Integrator::Mc && prep.gas_spheres > 0 {
+        // Standard error of the mean, worst channel.
+        if n > 1.0 {
+            ((sum2 / n - mean * mean).max(DVec3::ZERO) / (n - 1.0))
+                .max_element()
+                .sqrt()
+        } else {
+            f64::INFINITY
+        }
+    } else {
+        err / n
+    };
+    let rgb = mean.as_vec3();
     let mut out = PixelOut {
         rgba: [rgb.x, rgb.y, rgb.z, (f64::from(covered) / n) as f32],
+        error: error as f32,
         aov: None,
     };
     if opts.aovs.any() {
@@ -97,10 +123,19 @@ pub fn render(prep: &Prepared, opts: &RenderOptions) -> Rendered {
             let (x1, y1) = ((x0 + TILE).min(w), (y0 + TILE).min(h));
             let mut counters = Counters::default();
             let mut samples = Vec::with_capacity(opts.spp as usize);
+            let mut scratch = Scratch::default();
             let mut px = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
             for j in y0..y1 {
                 for i in x0..x1 {
-                    px.push(render_pixel(prep, opts, i, j, &mut samples, &mut counters));
+                    px.push(render_pixel(
+                        prep,
+                        opts,
+                        i,
+                        j,
+                        &mut samples,
+                        &mut scratch,
+                        &mut counters,
+                    ));
                 }
             }
             pb.inc(1);
@@ -120,6 +155,8 @@ pub fn render(prep: &Prepared, opts: &RenderOptions) -> Rendered {
     let mut depth = vec![0f32; if opts.aovs.depth { n } else { 0 }];
     let mut normal = vec![[0f32; 3]; if opts.aovs.normal { n } else { 0 }];
     let mut id = vec![0f32; if opts.aovs.id { n } else { 0 }];
+    let mut error = vec![0f32; if opts.aovs.error { n } else { 0 }];
+    let mut max_error = 0f64;
     let mut counters = Counters::default();
     for (t, (px, c)) in tiles.into_iter().enumerate() {
         counters += c;
@@ -131,6 +168,10 @@ pub fn render(prep: &Prepared, opts: &RenderOptions) -> Rendered {
             let at = (j as usize) * (w as usize) + i as usize;
             image.rgb[at] = [p.rgba[0], p.rgba[1], p.rgba[2]];
             image.alpha[at] = p.rgba[3];
+            max_error = max_error.max(f64::from(p.error));
+            if opts.aovs.error {
+                error[at] = p.error;
+            }
             if let Some(a) = p.aov {
                 if opts.aovs.depth {
                     depth[at] = a[0];
@@ -164,9 +205,16 @@ pub fn render(prep: &Prepared, opts: &RenderOptions) -> Rendered {
             data: id,
         });
     }
+    if opts.aovs.error {
+        image.layers.push(Layer {
+            name: "error".into(),
+            data: error,
+        });
+    }
     Rendered {
         image,
         counters,
+        max_error,
         seconds: start.elapsed().as_secs_f64(),
     }
 }

@@ -1,25 +1,37 @@
-//! Light visibility `V_i(x)` (MODEL.md section 2): 0 if an opaque sphere lies between `x` and
-//! the light. (Transmittance through gas joins here with the gas integrators.)
+//! Light visibility `V_i(x)` (MODEL.md sections 2 and 3): 0 if an opaque sphere lies between
+//! `x` and the light, otherwise the transmittance `exp(-sum_j sigma_j chord_j)` of every gas
+//! sphere the light ray crosses.
 
 use glam::DVec3;
 
 use crate::accel::SphereBvh;
 
 /// Visibility from `x` towards a light at unit direction `l`, distance `dist` (infinite for a
-/// directional light). `own` is the primitive `x` lies on: its own shadow is exact from the
-/// sign of `N.L` (a sphere is convex), so the caller decides it and it is skipped here.
+/// directional light). `own` is the opaque primitive `x` lies on (or `u32::MAX`): its own
+/// shadow is exact from the sign of `N.L` (a sphere is convex), so the caller decides it and
+/// it is skipped here.
 ///
-/// Spheres are solid (one-sided, MODEL.md section 2): a sphere blocks when the shadow ray
-/// enters it, at its first root, between `x` and the light; a ray that starts inside a sphere
-/// and leaves it is not blocked by it, as a camera inside a sphere does not see it.
+/// Spheres are solid (one-sided, MODEL.md section 2): an opaque sphere blocks when the light
+/// ray enters it, at its first root, between `x` and the light; a ray that starts inside an
+/// opaque sphere and leaves it is not blocked by it, as a camera inside a sphere does not see
+/// it. A gas sphere attenuates over the part of `[0, dist]` inside it.
 #[inline]
 pub fn visible(bvh: &SphereBvh, x: DVec3, l: DVec3, dist: f64, own: u32) -> f64 {
-    let blocked = bvh.any(x, l, 0.0, dist, |i, p, (t0, _)| {
-        i != own && !p.is_gas() && t0 > 0.0 && t0 < dist
+    let mut tau = 0.0;
+    let blocked = bvh.any(x, l, 0.0, dist, |i, p, (t0, t1)| {
+        if p.is_gas() {
+            let overlap = t1.min(dist) - t0.max(0.0);
+            if overlap > 0.0 {
+                tau += p.sigma * overlap;
+            }
+            false
+        } else {
+            i != own && t0 > 0.0 && t0 < dist
+        }
     });
     if blocked {
         0.0
     } else {
-        1.0
+        (-tau).exp()
     }
 }

@@ -37,6 +37,7 @@ fn prims(rng: &mut Rng, n: usize, offset: DVec3, extent: f64, r_lo: f64, r_hi: f
             sphere: i as u32,
             ellipsoid: NO_ELLIPSOID,
             flags: 0,
+            sigma: 0.0,
         })
         .collect()
 }
@@ -87,7 +88,7 @@ fn check_rays(seed: u64, ps: &[Prim], bvh: &SphereBvh, offset: DVec3, extent: f6
         }
         let want = brute_closest(ps, o, d);
         let got = bvh
-            .closest(o, d, 0.0, f64::INFINITY, |_, (t0, _)| {
+            .closest(o, d, 0.0, f64::INFINITY, |_, _, (t0, _)| {
                 (t0 > 0.0).then_some(t0)
             })
             .map(|h| (h.t, bvh.prims[h.prim as usize].sphere));
@@ -142,7 +143,9 @@ fn bvh_single_sphere_and_empty() {
     check_scene(4, 1, DVec3::ZERO, 1.0, 0.5, 0.5);
     let empty = SphereBvh::build(Vec::new(), &[]);
     assert!(empty
-        .closest(DVec3::ZERO, DVec3::Z, 0.0, f64::INFINITY, |_, r| Some(r.0))
+        .closest(DVec3::ZERO, DVec3::Z, 0.0, f64::INFINITY, |_, _, r| Some(
+            r.0
+        ))
         .is_none());
 }
 
@@ -162,6 +165,7 @@ fn grazing_rays_through_the_bvh() {
         sphere: 999,
         ellipsoid: NO_ELLIPSOID,
         flags: 0,
+        sigma: 0.0,
     }];
     ps.extend(others);
     let bvh = SphereBvh::build(ps.clone(), &[]);
@@ -174,7 +178,7 @@ fn grazing_rays_through_the_bvh() {
         let d = ((c + side * off) - o).normalize();
         let want = brute_closest(&ps, o, d);
         let got = bvh
-            .closest(o, d, 0.0, f64::INFINITY, |_, (t0, _)| {
+            .closest(o, d, 0.0, f64::INFINITY, |_, _, (t0, _)| {
                 (t0 > 0.0).then_some(t0)
             })
             .map(|h| (h.t, bvh.prims[h.prim as usize].sphere));
@@ -187,4 +191,43 @@ fn grazing_rays_through_the_bvh() {
         }
     }
     assert!(hit > 100 && miss > 100, "hit {hit} miss {miss}");
+}
+
+/// The benchmark scene of `gtsphere bench trace` at 20 000 spheres: camera hits and shadow
+/// visibility through the renderer's own functions against a brute-force loop.
+#[test]
+fn benchmark_scene_shadows_match_brute_force() {
+    use gtsphere::cli::bench_trace::random_spheres;
+    use gtsphere::render::integrators::surface::{first_hit, surface_point};
+    use gtsphere::render::lights::towards;
+    use gtsphere::render::visibility::visible;
+    use gtsphere::render::{prepare, RenderOptions};
+    let scene = random_spheres(20_000);
+    let spheres: Vec<(DVec3, f64)> = scene.spheres.iter().map(|s| (s.center, s.radius)).collect();
+    let prep = prepare(scene, &RenderOptions::default()).unwrap();
+    let cam = prep.camera.camera;
+    let (mut lit, mut checked) = (0, 0);
+    for j in 0..64 {
+        for i in 0..64 {
+            let (o, d) = cam.ray((i as f64 + 0.5) / 64.0, (j as f64 + 0.5) / 64.0);
+            let Some(h) = first_hit(&prep, o, d, 0.0) else {
+                continue;
+            };
+            let sp = surface_point(&prep, o, d, h);
+            let own = prep.bvh.prims[h.prim as usize].sphere as usize;
+            for l in &prep.lights {
+                let (dir, dist, _) = towards(l, sp.x).unwrap();
+                let got = visible(&prep.bvh, sp.x, dir, dist, sp.prim) > 0.0;
+                let want = spheres.iter().enumerate().all(|(k, &(c, r))| {
+                    k == own
+                        || !sphere_roots(sp.x, dir, c, r)
+                            .is_some_and(|(t0, _)| t0 > 0.0 && t0 < dist)
+                });
+                assert_eq!(got, want, "pixel ({i},{j})");
+                checked += 1;
+                lit += usize::from(got);
+            }
+        }
+    }
+    assert!(checked > 2000 && lit > 500, "{checked} {lit}");
 }

@@ -9,6 +9,7 @@ mod geom;
 mod lexical;
 mod output;
 mod regression;
+mod render_gas;
 mod render_opaque;
 mod roundtrip;
 mod semantics;

@@ -1,9 +1,24 @@
 //! Integrators, one per file, each answering `radiance(ray) -> Estimate`. The set is closed and
 //! chosen by name (an enum, not trait objects in the hot loop).
+//!
+//! - [`surface`]: opaque spheres only (the whole answer when the scene has no gas).
+//! - [`exact`]: gas emission and absorption in closed form, single scattering by adaptive
+//!   quadrature between breakpoints, to `--tol` (the default).
+//! - [`march`]: fixed-step ray marching with midpoint samples (an approximation, by name only).
+//! - [`mc`]: unbiased Monte Carlo, free-path sampling plus light sampling.
 
+pub mod exact;
+pub mod march;
+pub mod mc;
 pub mod surface;
 
 use glam::DVec3;
+
+use super::lighting::shade;
+use super::sampler::Rng;
+use super::segments::{Interval, Segment};
+use super::{Counters, Integrator, Prepared};
+use crate::accel::Hit;
 
 /// What one camera ray returns.
 #[derive(Clone, Copy, Debug, Default)]
@@ -12,6 +27,102 @@ pub struct Estimate {
     pub value: DVec3,
     /// Estimated absolute error of `value` (0 where the answer is exact up to rounding).
     pub error: f64,
-    /// Whether the ray hit geometry (pixel coverage, alpha).
+    /// Whether the ray hit an opaque sphere or passed through gas (pixel coverage, alpha).
     pub covered: bool,
+}
+
+/// Reusable buffers of one worker (no allocation per ray).
+#[derive(Default)]
+pub struct Scratch {
+    pub intervals: Vec<Interval>,
+    pub events: Vec<(f64, u32)>,
+    pub segments: Vec<Segment>,
+    pub members: Vec<u32>,
+    pub candidates: Vec<u32>,
+    pub breaks: Vec<f64>,
+}
+
+/// The camera ray's radiance with the chosen integrator. Scenes without gas always take the
+/// surface integrator: every integrator reduces to it there.
+pub fn radiance(
+    prep: &Prepared,
+    o: DVec3,
+    d: DVec3,
+    rng: &mut Rng,
+    scratch: &mut Scratch,
+    counters: &mut Counters,
+) -> Estimate {
+    if prep.gas_spheres == 0 {
+        return surface::radiance(prep, o, d, counters);
+    }
+    match prep.integrator {
+        Integrator::Exact => exact::radiance(prep, o, d, scratch, counters),
+        Integrator::March { step } => march::radiance(prep, o, d, step, scratch, counters),
+        Integrator::Mc => mc::radiance(prep, o, d, rng, scratch, counters),
+    }
+}
+
+/// Radiance of the opaque surface `hit` (or the background), as seen along `d`.
+pub fn behind(prep: &Prepared, o: DVec3, d: DVec3, hit: Option<Hit>, c: &mut Counters) -> DVec3 {
+    match hit {
+        None => prep.background,
+        Some(h) => {
+            let sp = surface::surface_point(prep, o, d, h);
+            let m = &prep.materials[prep.bvh.prims[h.prim as usize].material as usize];
+            shade(&prep.bvh, &prep.lights, m, &sp, c)
+        }
+    }
+}
+
+/// `p * sum_i E_i(x)`-style light sum at a point in gas, through the BVH (march and mc):
+/// per light, the scatter weights of the gas present (`scatter(i)`, light scoping applied by
+/// the caller) times the light arriving.
+pub fn lights_at(
+    prep: &Prepared,
+    x: DVec3,
+    mut scatter: impl FnMut(usize) -> DVec3,
+    c: &mut Counters,
+) -> DVec3 {
+    let mut sum = DVec3::ZERO;
+    for (i, l) in prep.lights.iter().enumerate() {
+        if l.direct == DVec3::ZERO {
+            continue;
+        }
+        let Some((dir, dist, att)) = super::lights::towards(l, x) else {
+            continue;
+        };
+        let a = scatter(i);
+        if a == DVec3::ZERO {
+            continue;
+        }
+        c.shadow_rays += 1;
+        let v = super::visibility::visible(&prep.bvh, x, dir, dist, u32::MAX);
+        sum += a * l.direct * (att * v);
+    }
+    sum * PHASE
+}
+
+/// The isotropic phase function, `1 / (4 pi)`.
+pub const PHASE: f64 = 0.25 * std::f64::consts::FRAC_1_PI;
+
+/// Scatter weight `sum sigma_j a_j` of a segment for light `i`, over the members light `i`
+/// may light (VRML scoping of DirectionalLights applies to gas spheres as to surfaces).
+pub fn scatter_for(prep: &Prepared, seg: &Segment, members: &[u32], i: usize) -> DVec3 {
+    let l = &prep.lights[i];
+    match l.kind {
+        super::lights::LightKind::Directional { scope, .. } if scope != (0, u32::MAX) => {
+            let ms = &members[seg.members.0 as usize..(seg.members.0 + seg.members.1) as usize];
+            ms.iter()
+                .map(|&k| {
+                    let p = &prep.bvh.prims[k as usize];
+                    if super::lights::in_scope(l, p.sphere) {
+                        p.sigma * super::gas::emission_albedo(&prep.materials, p).1
+                    } else {
+                        DVec3::ZERO
+                    }
+                })
+                .sum()
+        }
+        _ => seg.scatter,
+    }
 }

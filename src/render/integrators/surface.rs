@@ -14,9 +14,10 @@ use crate::scene::NO_ELLIPSOID;
 /// first root is behind the origin is culled (MODEL.md: spheres are solid).
 #[inline]
 pub fn first_hit(prep: &Prepared, o: DVec3, d: DVec3, tmin: f64) -> Option<Hit> {
-    prep.bvh.closest(o, d, tmin, f64::INFINITY, |p, (t0, _)| {
-        (!p.is_gas() && t0 > tmin).then_some(t0)
-    })
+    prep.bvh
+        .closest(o, d, tmin, f64::INFINITY, |_, p, (t0, _)| {
+            (!p.is_gas() && t0 > tmin).then_some(t0)
+        })
 }
 
 /// The surface point of a hit.

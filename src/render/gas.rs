@@ -1,0 +1,19 @@
+//! What a gas primitive contributes (MODEL.md section 1): emission colour `C = emissiveColor`,
+//! albedo `a = diffuseColor`; a shape without a Material (unlit) glows white and ignores
+//! lights (`C = 1, a = 0`).
+
+use glam::DVec3;
+
+use crate::accel::Prim;
+use crate::scene::Material;
+
+/// `(C, a)` of a gas primitive.
+#[inline]
+pub fn emission_albedo(materials: &[Material], p: &Prim) -> (DVec3, DVec3) {
+    let m = &materials[p.material as usize];
+    if m.unlit {
+        (DVec3::ONE, DVec3::ZERO)
+    } else {
+        (m.emissive, m.diffuse)
+    }
+}

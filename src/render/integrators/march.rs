@@ -1,0 +1,63 @@
+//! Fixed-step ray marching with midpoint samples, as real-time renderers do (a named
+//! approximation, `--integrator march --step H`): along each camera ray, steps of length `H`
+//! (the last one shorter) from the camera to the first opaque hit or the end of the gas; at
+//! each step's midpoint the extinction, emission and light (one shadow ray per light) are
+//! sampled, `L += T * source * dt` and `T *= exp(-sigma * dt)`.
+
+use glam::DVec3;
+
+use super::{behind, lights_at, scatter_for, Estimate, Scratch};
+use crate::render::segments::{gather, sweep};
+use crate::render::{Counters, Prepared};
+
+pub fn radiance(
+    prep: &Prepared,
+    o: DVec3,
+    d: DVec3,
+    step: f64,
+    s: &mut Scratch,
+    counters: &mut Counters,
+) -> Estimate {
+    counters.camera_rays += 1;
+    let hit = gather(prep, o, d, &mut s.intervals);
+    let t_end = hit.map_or(f64::INFINITY, |h| h.t);
+    sweep(
+        prep,
+        &s.intervals,
+        t_end,
+        &mut s.events,
+        &mut s.segments,
+        &mut s.members,
+    );
+    let end = s.segments.last().map_or(0.0, |g| g.tb);
+    let mut l = DVec3::ZERO;
+    let mut transmittance = 1.0;
+    let mut t = 0.0;
+    let mut k = 0; // current segment
+    while t < end {
+        let dt = step.min(end - t);
+        let mid = t + 0.5 * dt;
+        while k < s.segments.len() && s.segments[k].tb <= mid {
+            k += 1;
+        }
+        if k < s.segments.len() && s.segments[k].ta <= mid {
+            let seg = s.segments[k];
+            let x = o + mid * d;
+            let light = lights_at(
+                prep,
+                x,
+                |i| scatter_for(prep, &seg, &s.members, i),
+                counters,
+            );
+            l += transmittance * (seg.emit + light) * dt;
+            transmittance *= (-seg.sigma * dt).exp();
+        }
+        t += dt;
+    }
+    let surface = behind(prep, o, d, hit, counters);
+    Estimate {
+        value: l + transmittance * surface,
+        error: 0.0,
+        covered: hit.is_some() || !s.segments.is_empty(),
+    }
+}
