@@ -46,6 +46,18 @@ pub enum BenchCommand {
         #[arg(long, default_value_t = 1)]
         threads: usize,
     },
+    /// Time against error of the gas integrators (exact, march, mc) on a lit gas scene.
+    Gas {
+        /// Number of gas spheres.
+        #[arg(long, default_value_t = 1000)]
+        spheres: usize,
+        /// Image width and height (one ray, or mc paths, through each pixel centre).
+        #[arg(long, default_value_t = 256)]
+        size: u32,
+        /// Worker threads.
+        #[arg(long, default_value_t = 2)]
+        threads: usize,
+    },
 }
 
 /// How the particles are laid out in the file.
@@ -131,6 +143,11 @@ pub fn run(cmd: BenchCommand) -> Result<ExitCode, Error> {
             runs,
             threads,
         } => return super::bench_trace::run(spheres, size, runs, threads),
+        BenchCommand::Gas {
+            spheres,
+            size,
+            threads,
+        } => return super::bench_gas::run(spheres, size, threads),
     };
     let dir = dir.unwrap_or_else(std::env::temp_dir);
     let exe = std::env::current_exe()

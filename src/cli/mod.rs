@@ -9,6 +9,7 @@ use clap::{Parser, Subcommand};
 use crate::error::Error;
 
 pub mod bench;
+pub mod bench_gas;
 pub mod bench_trace;
 pub mod info;
 pub mod render;

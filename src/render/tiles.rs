@@ -60,6 +60,13 @@ fn render_pixel(
     let (w, h) = (f64::from(opts.width), f64::from(opts.height));
     let pixel = u64::from(j) * u64::from(opts.width) + u64::from(i);
     offsets(opts.sampler, opts.spp, opts.seed, pixel, samples);
+    if opts.sampler == super::SamplerKind::Center
+        && prep.integrator == Integrator::Mc
+        && prep.gas_spheres > 0
+    {
+        // Monte Carlo at the pixel centre: `spp` paths through the same point.
+        samples.resize(opts.spp.max(1) as usize, (0.5, 0.5));
+    }
     let cam = &prep.camera.camera;
     let mut sum = DVec3::ZERO;
     let mut sum2 = DVec3::ZERO;
