@@ -87,7 +87,7 @@ fn gk15(
     for ch in 0..3 {
         let diff = (k[ch] - gauss[ch]).abs();
         let e = if resasc[ch] != 0.0 && diff != 0.0 {
-            resasc[ch] * (200.0 * diff / resasc[ch]).powf(1.5).min(1.0)
+            resasc[ch] * (50.0 * diff / resasc[ch]).powf(1.5).min(1.0)
         } else {
             diff
         };

@@ -5,6 +5,7 @@ mod cli_render;
 mod corpus;
 mod corpus_counts;
 mod errors;
+mod gas_scatter;
 mod geom;
 mod lexical;
 mod output;
