@@ -26,15 +26,23 @@ use glam::DVec3;
 ///   The root nearer 0 is also within ~10 eps of itself, so a ray leaving a surface gets a
 ///   tiny root of the right sign. Inputs whose magnitudes span more than ~2^1000 lose their
 ///   smallest parts (see `scale_down`).
+#[inline]
 pub fn sphere_roots(o: DVec3, d: DVec3, c: DVec3, r: f64) -> Option<(f64, f64)> {
+    // Most calls (BVH leaf candidates) miss by far: decide those first. The test is false
+    // for NaN or infinite input, which the checks below then refuse.
+    if certainly_misses(o, d, c, r) {
+        return None;
+    }
+    careful_roots(o, d, c, r)
+}
+
+/// [`sphere_roots`] once a certain miss is ruled out.
+fn careful_roots(o: DVec3, d: DVec3, c: DVec3, r: f64) -> Option<(f64, f64)> {
     if !(o.is_finite() && d.is_finite() && c.is_finite() && r.is_finite()) || r < 0.0 {
         return None;
     }
     let dmax = d.abs().max_element();
     if dmax == 0.0 {
-        return None;
-    }
-    if certainly_misses(o, d, c, r) {
         return None;
     }
     // The problem is invariant under o, c, r -> 2^-k (o, c, r) and d -> 2^-m d, with
