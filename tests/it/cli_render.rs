@@ -214,3 +214,68 @@ fn says_when_the_camera_is_framed_because_there_is_no_viewpoint() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("no Viewpoint in the scene"), "{err}");
 }
+
+#[test]
+fn as_gas_turns_an_unlit_sphere_into_glowing_gas() {
+    // Unlit shape as gas: C = 1, a = 0; orthographic rays parallel to z through a unit sphere:
+    // value = 1 - exp(-sigma * chord) + background * exp(-sigma * chord).
+    let dir = scratch("as_gas");
+    std::fs::write(
+        dir.join("s.wrl"),
+        "#VRML V2.0 utf8\nBackground { skyColor 0.5 0 0 }\nShape { geometry Sphere { } }\n",
+    )
+    .unwrap();
+    let out = gtsphere(
+        &[
+            "render",
+            "s.wrl",
+            "-o",
+            "s.exr",
+            "--width",
+            "16",
+            "--height",
+            "16",
+            "--ortho",
+            "--ortho-height",
+            "2.5",
+            "--sampler",
+            "center",
+            "--as-gas",
+            "0.7",
+            "--aov",
+            "error",
+            "--quiet",
+        ],
+        &dir,
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let img = read_image(&dir.join("s.exr")).unwrap();
+    let error = &img.layers.iter().find(|l| l.name == "error").unwrap().data;
+    for j in 0..16 {
+        for i in 0..16 {
+            let x = ((i as f64 + 0.5) / 16.0 * 2.0 - 1.0) * 1.25;
+            let y = (1.0 - (j as f64 + 0.5) / 16.0 * 2.0) * 1.25;
+            let rho2 = x * x + y * y;
+            let chord = if rho2 < 1.0 {
+                2.0 * (1.0 - rho2).sqrt()
+            } else {
+                0.0
+            };
+            let t = (-0.7 * chord).exp();
+            let want = [1.0 - t + 0.5 * t, 1.0 - t, 1.0 - t];
+            let got = img.rgb[j * 16 + i];
+            for k in 0..3 {
+                assert!(
+                    (f64::from(got[k]) - want[k]).abs() < 1e-6,
+                    "({i},{j}): {got:?} vs {want:?}"
+                );
+            }
+            // No lights: closed form only, no quadrature error.
+            assert_eq!(error[j * 16 + i], 0.0);
+        }
+    }
+}
