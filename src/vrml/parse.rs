@@ -93,8 +93,14 @@ const KEYWORDS: [&str; 12] = [
 ];
 
 fn is_nan_word(id: &str) -> bool {
-    let l = id.to_ascii_lowercase();
-    matches!(l.as_str(), "nan" | "inf" | "infinity")
+    ["nan", "inf", "infinity"]
+        .iter()
+        .any(|w| id.len() == w.len() && id.eq_ignore_ascii_case(w))
+}
+
+/// Whether `id` is a keyword that cannot name a node type.
+fn is_reserved(id: &str) -> bool {
+    KEYWORDS.contains(&id) || id == "field" || id == "exposedField"
 }
 
 fn ident<'a>(i: &'a str, what: &str) -> PResult<'a, &'a str> {
@@ -113,7 +119,7 @@ fn node_header<'a>(first: &'a str, rest: &'a str) -> PResult<'a, (Option<&'a str
     } else {
         (None, first, rest)
     };
-    if KEYWORDS.contains(&ty) || ty == "field" || ty == "exposedField" {
+    if is_reserved(ty) {
         return fail(rest, format!("expected a node type, found keyword '{ty}'"));
     }
     let r = ws(rest);
