@@ -190,12 +190,53 @@ impl NodeSpec {
 }
 
 /// The standard node type named exactly `name` (case-sensitive).
+#[inline]
 pub fn node_spec(name: &str) -> Option<&'static NodeSpec> {
-    NODES
-        .binary_search_by(|n| n.name.cmp(name))
-        .ok()
-        .map(|i| &NODES[i])
+    node_index(name).map(|i| &NODES[i])
 }
+
+/// The index in [`NODES`] of the standard node type named exactly `name` (case-sensitive).
+#[inline]
+pub fn node_index(name: &str) -> Option<usize> {
+    let mut h = name_slot(name.as_bytes());
+    loop {
+        let k = NODE_SLOTS[h] as usize;
+        if k == 0 {
+            return None;
+        }
+        if NODES[k - 1].name == name {
+            return Some(k - 1);
+        }
+        h = (h + 1) % NODE_SLOTS.len();
+    }
+}
+
+/// Where a node type name starts its probe in [`NODE_SLOTS`]: a hash of its length and its
+/// first, middle and last bytes (every name is looked up, so this must be cheap).
+#[inline]
+const fn name_slot(b: &[u8]) -> usize {
+    let n = b.len();
+    if n == 0 {
+        return 0;
+    }
+    let key = (n as u32) | (b[0] as u32) << 8 | (b[n / 2] as u32) << 16 | (b[n - 1] as u32) << 24;
+    (key.wrapping_mul(0x9E37_79B1) >> 24) as usize
+}
+
+/// An open-addressing table over [`NODES`] (index + 1, 0 for empty), built at compile time.
+static NODE_SLOTS: [u8; 256] = {
+    let mut t = [0u8; 256];
+    let mut i = 0;
+    while i < NODES.len() {
+        let mut h = name_slot(NODES[i].name.as_bytes());
+        while t[h] != 0 {
+            h = (h + 1) % 256;
+        }
+        t[h] = i as u8 + 1;
+        i += 1;
+    }
+    t
+};
 
 const fn spec(name: &'static str, ty: FieldType, access: Access) -> FieldSpec {
     FieldSpec { name, ty, access }
@@ -757,8 +798,28 @@ mod tests {
 
     #[test]
     fn every_node_is_found_by_name() {
-        for n in NODES {
+        for (i, n) in NODES.iter().enumerate() {
             assert!(std::ptr::eq(node_spec(n.name).unwrap(), n));
+            assert_eq!(node_index(n.name), Some(i));
+        }
+        // The lookup table stays short: at most 3 probes for any standard name.
+        for n in NODES {
+            let home = name_slot(n.name.as_bytes());
+            let at = NODE_SLOTS
+                .iter()
+                .position(|&k| k != 0 && NODES[k as usize - 1].name == n.name)
+                .unwrap();
+            assert!((at + 256 - home) % 256 < 3, "{} probes far", n.name);
+        }
+        for name in [
+            "Transfor",
+            "Transforms",
+            "Sphere2",
+            "A",
+            "TransformX",
+            "Tr\u{e4}nsform",
+        ] {
+            assert!(node_spec(name).is_none(), "{name}");
         }
         assert!(node_spec("transform").is_none());
         assert!(node_spec("Separator").is_none());
