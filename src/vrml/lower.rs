@@ -299,9 +299,121 @@ enum Kind {
     Quiet,
 }
 
+/// What a standard node type lowers to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Lowered {
+    Group,
+    Transform,
+    Inline,
+    Switch,
+    Lod,
+    Shape,
+    Appearance,
+    Material,
+    Sphere,
+    PointLight,
+    DirectionalLight,
+    Viewpoint,
+    NavigationInfo,
+    Background,
+    /// Not modelled: counted and skipped.
+    Skipped,
+}
+
+const fn same_str(a: &str, b: &str) -> bool {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
+
+const fn lowered_as(name: &str) -> Lowered {
+    const MODELLED: [(&str, Lowered); 17] = [
+        ("Group", Lowered::Group),
+        ("Anchor", Lowered::Group),
+        ("Billboard", Lowered::Group),
+        ("Collision", Lowered::Group),
+        ("Transform", Lowered::Transform),
+        ("Inline", Lowered::Inline),
+        ("Switch", Lowered::Switch),
+        ("LOD", Lowered::Lod),
+        ("Shape", Lowered::Shape),
+        ("Appearance", Lowered::Appearance),
+        ("Material", Lowered::Material),
+        ("Sphere", Lowered::Sphere),
+        ("PointLight", Lowered::PointLight),
+        ("DirectionalLight", Lowered::DirectionalLight),
+        ("Viewpoint", Lowered::Viewpoint),
+        ("NavigationInfo", Lowered::NavigationInfo),
+        ("Background", Lowered::Background),
+    ];
+    let mut i = 0;
+    while i < MODELLED.len() {
+        if same_str(MODELLED[i].0, name) {
+            return MODELLED[i].1;
+        }
+        i += 1;
+    }
+    Lowered::Skipped
+}
+
+/// [`Lowered`] for each entry of [`schema::NODES`], by index (no string matching per node).
+static LOWERED: [Lowered; schema::NODES.len()] = {
+    let mut t = [Lowered::Skipped; schema::NODES.len()];
+    let mut i = 0;
+    while i < t.len() {
+        t[i] = lowered_as(schema::NODES[i].name);
+        i += 1;
+    }
+    t
+};
+
+/// A node type or field name held while its node is open: the standard tables' own string
+/// when there is one (no allocation per node), a shared copy otherwise.
+#[derive(Clone, Debug)]
+enum Name {
+    Static(&'static str),
+    Shared(Rc<str>),
+}
+
+impl Name {
+    /// `name` as the table's string `known` when they are the same name, else a copy.
+    fn new(name: &str, known: Option<&'static str>) -> Name {
+        match known {
+            Some(k) if k == name => Name::Static(k),
+            _ => Name::Shared(Rc::from(name)),
+        }
+    }
+}
+
+impl std::ops::Deref for Name {
+    type Target = str;
+    #[inline]
+    fn deref(&self) -> &str {
+        match self {
+            Name::Static(s) => s,
+            Name::Shared(s) => s,
+        }
+    }
+}
+
+impl std::fmt::Display for Name {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self)
+    }
+}
+
 #[derive(Debug)]
 struct Frame {
-    ty: Rc<str>,
+    ty: Name,
     spec: Option<&'static schema::NodeSpec>,
     /// The PROTO whose instance this is (interface used for field checks).
     proto: Option<Rc<ProtoDecl>>,
@@ -322,7 +434,7 @@ enum Result_ {
 /// The node-valued field being filled, with the frame index that owns it.
 #[derive(Debug)]
 struct FieldCtx {
-    name: Rc<str>,
+    name: Name,
     frame: usize,
 }
 
@@ -461,6 +573,25 @@ fn quat(r: [f64; 4]) -> DQuat {
 }
 
 fn transform_matrix(t: &TransformFields) -> DAffine3 {
+    let plain = t.rotation[3] == 0.0
+        && t.scale_orientation[3] == 0.0
+        && t.scale == DVec3::ONE
+        && t.center.to_array().map(f64::to_bits) == [0; 3];
+    if plain {
+        // Only a translation (the particle case). The product below is then exactly this: its
+        // other factors are exact identities, and adding their zero translations turns a -0
+        // component into +0, as `+ 0.0` does.
+        let m = DAffine3::from_translation(t.translation + DVec3::ZERO);
+        debug_assert_eq!(
+            m.to_cols_array().map(f64::to_bits),
+            full_transform_matrix(t).to_cols_array().map(f64::to_bits)
+        );
+        return m;
+    }
+    full_transform_matrix(t)
+}
+
+fn full_transform_matrix(t: &TransformFields) -> DAffine3 {
     // M = T * C * R * SR * S * -SR * -C (VRML97 6.52)
     let sr = quat(t.scale_orientation);
     DAffine3::from_translation(t.translation)
@@ -528,14 +659,21 @@ fn check_sphere(center: DVec3, radius: f64) -> Result<(), String> {
     Ok(())
 }
 
+/// A fixed (same on every call and every run) hash of a material's content. Materials are
+/// hashed once per Material node, so this is a multiply-xor mix rather than SipHash; the
+/// final avalanche spreads every input bit over the bits hashbrown uses (top 7 and low).
 fn hash_key(key: &[u64; 13]) -> u64 {
-    use std::hash::BuildHasher;
-    FIXED.hash_one(key)
+    const K: u64 = 0x9E37_79B9_7F4A_7C15;
+    let mut h: u64 = 0;
+    for &k in key {
+        h = (h.rotate_left(23) ^ k).wrapping_mul(K);
+    }
+    h ^= h >> 33;
+    h = h.wrapping_mul(0xFF51_AFD7_ED55_8CCD);
+    h ^= h >> 33;
+    h = h.wrapping_mul(0xC4CE_B9FE_1A85_EC53);
+    h ^ (h >> 33)
 }
-
-/// A fixed hasher state: material hashes must be the same on every call.
-static FIXED: std::hash::BuildHasherDefault<std::collections::hash_map::DefaultHasher> =
-    std::hash::BuildHasherDefault::new();
 
 fn is_local_relative(url: &str) -> bool {
     let lower = url.to_ascii_lowercase();
@@ -675,7 +813,7 @@ impl Lowerer {
         });
         // The file's root groups its top-level nodes (scope of top-level DirectionalLights).
         let root = Frame {
-            ty: Rc::from("<file>"),
+            ty: Name::Static("<file>"),
             spec: None,
             proto: None,
             kind: Kind::Group {
@@ -806,7 +944,15 @@ impl Lowerer {
     }
 
     /// Called after an event has been handled: closes recorders whose node (or PROTO) ended.
+    #[inline]
     fn end_recorders(&mut self, ev: &Event) -> Vec<(RecKind, Range<usize>)> {
+        if self.recorders.is_empty() {
+            return Vec::new();
+        }
+        self.end_recorders_slow(ev)
+    }
+
+    fn end_recorders_slow(&mut self, ev: &Event) -> Vec<(RecKind, Range<usize>)> {
         let mut done = Vec::new();
         let (open, close) = match ev {
             Event::NodeStart { .. } => (true, false),
@@ -991,8 +1137,10 @@ impl Lowerer {
                 }
             }
         }
-        let done = self.end_recorders(&ev);
-        debug_assert!(done.is_empty());
+        if !self.recorders.is_empty() {
+            let done = self.end_recorders_slow(&ev);
+            debug_assert!(done.is_empty());
+        }
         Ok(())
     }
 
@@ -1130,7 +1278,9 @@ impl Lowerer {
                 ),
             ));
         }
-        let ty_rc: Rc<str> = Rc::from(ty);
+        let index = schema::node_index(ty);
+        let spec = index.map(|i| &schema::NODES[i]);
+        let ty_rc = Name::new(ty, spec.map(|s| s.name));
         if self.quiet > 0 {
             // Not lowered; a frame keeps the nesting.
             self.frames.push(Frame {
@@ -1144,23 +1294,21 @@ impl Lowerer {
             return Ok(());
         }
         self.check_child(src, ty, at);
-        // Where does this node stand?
-        let ctx_field = self.fields.last().map(|f| (f.name.clone(), f.frame));
-        let parent_kind = ctx_field.as_ref().map(|(_, i)| &self.frames[*i].kind);
-        let in_choice = matches!(parent_kind, Some(Kind::Switch { .. }))
-            && ctx_field.as_ref().is_some_and(|(n, _)| &**n == "choice");
-        let ignored_level = match (parent_kind, &ctx_field) {
-            (Some(Kind::Lod { levels, .. }), Some((n, _))) => &**n == "level" && *levels > 0,
-            (Some(Kind::Group { .. }), Some((n, _))) => &**n == "proxy",
-            _ => false,
-        };
-        if let (Some(Kind::Lod { .. }), Some((n, i))) = (parent_kind, &ctx_field) {
-            if &**n == "level" {
-                if let Kind::Lod { levels, .. } = &mut self.frames[*i].kind {
+        // Where does this node stand? (A Switch choice, an LOD level after the first, or a
+        // Collision proxy is recorded or ignored, not lowered.)
+        let (in_choice, ignored_level) = match self.fields.last() {
+            None => (false, false),
+            Some(ctx) => match &mut self.frames[ctx.frame].kind {
+                Kind::Switch { .. } => (&*ctx.name == "choice", false),
+                Kind::Lod { levels, .. } if &*ctx.name == "level" => {
+                    let ignored = *levels > 0;
                     *levels += 1;
+                    (false, ignored)
                 }
-            }
-        }
+                Kind::Group { .. } => (false, &*ctx.name == "proxy"),
+                _ => (false, false),
+            },
+        };
         if in_choice || ignored_level {
             if in_choice
                 && self
@@ -1202,7 +1350,6 @@ impl Lowerer {
             self.quiet += 1;
             return Ok(());
         }
-        let spec = schema::node_spec(ty);
         let m = self.marks();
         let group = |transform| Kind::Group {
             transform,
@@ -1210,34 +1357,35 @@ impl Lowerer {
             dirlights: Vec::new(),
             inline_urls: None,
         };
-        let kind = match ty {
-            "Group" | "Anchor" | "Billboard" | "Collision" => group(None),
-            "Transform" => group(Some(Box::default())),
-            "Inline" => Kind::Group {
+        let lowered = index.map_or(Lowered::Skipped, |i| LOWERED[i]);
+        let kind = match lowered {
+            Lowered::Group => group(None),
+            Lowered::Transform => group(Some(Box::default())),
+            Lowered::Inline => Kind::Group {
                 transform: None,
                 marks: m,
                 dirlights: Vec::new(),
                 inline_urls: Some(Vec::new()),
             },
-            "Switch" => Kind::Switch {
+            Lowered::Switch => Kind::Switch {
                 which: -1,
                 choices: Vec::new(),
                 marks: m,
                 dirlights: Vec::new(),
             },
-            "LOD" => Kind::Lod {
+            Lowered::Lod => Kind::Lod {
                 levels: 0,
                 marks: m,
                 dirlights: Vec::new(),
             },
-            "Shape" => Kind::Shape {
+            Lowered::Shape => Kind::Shape {
                 appearance: None,
                 geometry: None,
             },
-            "Appearance" => Kind::Appearance { material: None },
-            "Material" => Kind::Material(Material::default()),
-            "Sphere" => Kind::Sphere { radius: 1.0 },
-            "PointLight" => Kind::PointLight(PointLight {
+            Lowered::Appearance => Kind::Appearance { material: None },
+            Lowered::Material => Kind::Material(Material::default()),
+            Lowered::Sphere => Kind::Sphere { radius: 1.0 },
+            Lowered::PointLight => Kind::PointLight(PointLight {
                 location: DVec3::ZERO,
                 color: DVec3::ONE,
                 intensity: 1.0,
@@ -1247,7 +1395,7 @@ impl Lowerer {
                 on: true,
                 origin: self.origin(at),
             }),
-            "DirectionalLight" => Kind::DirectionalLight(DirectionalLight {
+            Lowered::DirectionalLight => Kind::DirectionalLight(DirectionalLight {
                 direction: DVec3::new(0.0, 0.0, -1.0),
                 color: DVec3::ONE,
                 intensity: 1.0,
@@ -1256,7 +1404,7 @@ impl Lowerer {
                 scope: (0, 0),
                 origin: self.origin(at),
             }),
-            "Viewpoint" => Kind::Viewpoint(Viewpoint {
+            Lowered::Viewpoint => Kind::Viewpoint(Viewpoint {
                 name: def.map(str::to_string),
                 description: String::new(),
                 position: DVec3::new(0.0, 0.0, 10.0),
@@ -1264,9 +1412,9 @@ impl Lowerer {
                 field_of_view: std::f64::consts::FRAC_PI_4,
                 origin: self.origin(at),
             }),
-            "NavigationInfo" => Kind::NavigationInfo { headlight: None },
-            "Background" => Kind::Background { sky: None },
-            _ => {
+            Lowered::NavigationInfo => Kind::NavigationInfo { headlight: None },
+            Lowered::Background => Kind::Background { sky: None },
+            Lowered::Skipped => {
                 // Standard nodes we do not model are counted in the report, not warned about:
                 // they are valid VRML, and `--strict` is about validity.
                 if spec.is_none() {
@@ -1320,7 +1468,7 @@ impl Lowerer {
         });
     }
 
-    fn push_quiet(&mut self, ty: Rc<str>, at: u64) {
+    fn push_quiet(&mut self, ty: Name, at: u64) {
         self.frames.push(Frame {
             ty,
             spec: None,
@@ -1396,7 +1544,7 @@ impl Lowerer {
         src: &SourceWindow,
         name: &str,
         at: u64,
-    ) -> Option<(&'static schema::FieldSpec, Access, Rc<str>)> {
+    ) -> Option<(&'static schema::FieldSpec, Access, Name)> {
         let frame = self.frames.last()?;
         let spec = frame.spec?;
         let ty = frame.ty.clone();
@@ -1552,8 +1700,10 @@ impl Lowerer {
 
     fn nodes_start(&mut self, src: &SourceWindow, name: &str, at: u64) -> Result<(), Error> {
         let idx = self.frames.len().saturating_sub(1);
+        let mut known = None;
         if self.quiet == 0 {
             if let Some((f, access, ty)) = self.field_spec(src, name, at) {
+                known = Some(f.name);
                 if !f.ty.is_node() {
                     return Err(self.error(
                         src,
@@ -1568,7 +1718,7 @@ impl Lowerer {
             }
         }
         self.fields.push(FieldCtx {
-            name: Rc::from(name),
+            name: Name::new(name, known),
             frame: idx,
         });
         Ok(())
@@ -1646,9 +1796,8 @@ impl Lowerer {
         let Some(ctx) = self.fields.last() else {
             return Ok(());
         };
-        let name = ctx.name.clone();
         let frame = &mut self.frames[ctx.frame];
-        match (&mut frame.kind, &*name, result) {
+        match (&mut frame.kind, &*ctx.name, result) {
             (Kind::Shape { appearance, .. }, "appearance", Result_::Appearance(m)) => {
                 *appearance = Some(m)
             }
@@ -1832,11 +1981,12 @@ impl Lowerer {
     fn apply(&mut self, m: &DAffine3, marks: Marks) -> Result<(), String> {
         let lin = m.matrix3;
         let sim = similarity_scale(&lin);
-        let max_scale = lin
-            .x_axis
-            .length()
-            .max(lin.y_axis.length())
-            .max(lin.z_axis.length());
+        let max_scale = || {
+            lin.x_axis
+                .length()
+                .max(lin.y_axis.length())
+                .max(lin.z_axis.length())
+        };
         for i in marks.spheres..self.scene.spheres.len() {
             let s = &mut self.scene.spheres[i];
             if s.ellipsoid == NO_ELLIPSOID {
@@ -1873,7 +2023,7 @@ impl Lowerer {
             match l {
                 Light::Point(p) => {
                     p.location = m.transform_point3(p.location);
-                    p.radius *= sim.unwrap_or(max_scale);
+                    p.radius *= sim.unwrap_or_else(max_scale);
                     if !p.location.is_finite() || !p.radius.is_finite() {
                         return Err(format!(
                             "a PointLight overflow (location {}, radius {})",
@@ -1886,8 +2036,12 @@ impl Lowerer {
                 }
             }
         }
+        let views = &mut self.scene.viewpoints[marks.views..];
+        if views.is_empty() {
+            return Ok(());
+        }
         let rot = rotation_part(&lin);
-        for v in &mut self.scene.viewpoints[marks.views..] {
+        for v in views {
             v.position = m.transform_point3(v.position);
             v.orientation = (rot * v.orientation).normalize();
             if !v.position.is_finite() {
@@ -2390,6 +2544,71 @@ fn value_end(arena: &[Rec], i: usize) -> usize {
 
 impl Sink for Lowerer {
     fn event(&mut self, src: &SourceWindow, ev: Event<'_>) -> Result<(), Error> {
+        // The common events of plain scene text (nothing recorded, no PROTO declaration open)
+        // go straight to their handlers; this is what `handle` does for them.
+        if self.recorders.is_empty() && self.in_proto_decl == 0 {
+            match ev {
+                Event::NodeStart { def: None, ty, at } => {
+                    self.node_start(src, None, ty, at)?;
+                    let done = self.end_recorders(&ev);
+                    debug_assert!(done.is_empty());
+                    return Ok(());
+                }
+                Event::NodeEnd { at } => return self.node_end(src, at, Vec::new()),
+                Event::Field { name, at, value } if !matches!(value, Value::Is(_)) => {
+                    return self.field(src, name, at, value)
+                }
+                Event::NodesStart { name, at } => return self.nodes_start(src, name, at),
+                Event::NodesEnd { .. } => {
+                    self.fields.pop();
+                    return Ok(());
+                }
+                _ => {}
+            }
+        }
         self.handle(src, ev)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_modelled_type_is_a_standard_node() {
+        let modelled: Vec<_> = schema::NODES
+            .iter()
+            .zip(LOWERED)
+            .filter(|(_, l)| *l != Lowered::Skipped)
+            .map(|(n, _)| n.name)
+            .collect();
+        assert_eq!(modelled.len(), 17, "{modelled:?}");
+        assert_eq!(LOWERED[schema::node_index("LOD").unwrap()], Lowered::Lod);
+        assert_eq!(
+            LOWERED[schema::node_index("Box").unwrap()],
+            Lowered::Skipped
+        );
+    }
+
+    #[test]
+    fn translation_only_matrix_is_the_full_product() {
+        // transform_matrix's shortcut must agree bit for bit with the full product.
+        for t in [
+            [0.0, 0.0, 0.0],
+            [-0.0, 0.0, -0.0],
+            [1.5, -2.25, 1e300],
+            [-1e-310, 5e-324, -0.0],
+            [f64::MAX, -f64::MAX, 0.1],
+        ] {
+            let fields = TransformFields {
+                translation: DVec3::from_array(t),
+                ..TransformFields::default()
+            };
+            let fast = transform_matrix(&fields).to_cols_array().map(f64::to_bits);
+            let full = full_transform_matrix(&fields)
+                .to_cols_array()
+                .map(f64::to_bits);
+            assert_eq!(fast, full, "{t:?}");
+        }
     }
 }
