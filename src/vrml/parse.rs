@@ -77,30 +77,31 @@ enum Item<'a> {
     Urls(&'a [String]),
 }
 
-const KEYWORDS: [&str; 12] = [
-    "DEF",
-    "USE",
-    "PROTO",
-    "EXTERNPROTO",
-    "ROUTE",
-    "TO",
-    "IS",
-    "NULL",
-    "TRUE",
-    "FALSE",
-    "eventIn",
-    "eventOut",
-];
-
 fn is_nan_word(id: &str) -> bool {
     ["nan", "inf", "infinity"]
         .iter()
         .any(|w| id.len() == w.len() && id.eq_ignore_ascii_case(w))
 }
 
-/// Whether `id` is a keyword that cannot name a node type.
+/// Whether `id` is a keyword (or `field`/`exposedField`) that cannot name a node type.
 fn is_reserved(id: &str) -> bool {
-    KEYWORDS.contains(&id) || id == "field" || id == "exposedField"
+    matches!(
+        id,
+        "DEF"
+            | "USE"
+            | "PROTO"
+            | "EXTERNPROTO"
+            | "ROUTE"
+            | "TO"
+            | "IS"
+            | "NULL"
+            | "TRUE"
+            | "FALSE"
+            | "eventIn"
+            | "eventOut"
+            | "field"
+            | "exposedField"
+    )
 }
 
 fn ident<'a>(i: &'a str, what: &str) -> PResult<'a, &'a str> {
@@ -472,6 +473,7 @@ impl Parser {
         )))
     }
 
+    #[inline(always)]
     fn skip_ws(&mut self) -> Result<(), Error> {
         loop {
             self.src.ensure().map_err(|e| io_err(&self.src, e))?;
@@ -510,7 +512,11 @@ impl Parser {
     }
 
     /// Reads the whole source.
-    pub fn run(&mut self, sink: &mut dyn Sink) -> Result<(), Error> {
+    ///
+    /// Generic over the sink so that a concrete sink's event handling is compiled into the
+    /// parser (each event's variant is then known where it is handled); `&mut dyn Sink` works
+    /// too.
+    pub fn run<S: Sink + ?Sized>(&mut self, sink: &mut S) -> Result<(), Error> {
         self.header()?;
         self.stack.push(Frame::Top);
         loop {
@@ -568,7 +574,7 @@ impl Parser {
 
     /// Runs one item parser, retrying with more input when it ran into the end of the window,
     /// then turns the item into events.
-    fn step<F>(&mut self, sink: &mut dyn Sink, at: u64, f: F) -> Result<(), Error>
+    fn step<S: Sink + ?Sized, F>(&mut self, sink: &mut S, at: u64, f: F) -> Result<(), Error>
     where
         F: for<'a> Fn(&'a str, &'a mut Scratch) -> PResult<'a, Item<'a>>,
     {
@@ -597,6 +603,7 @@ impl Parser {
         }
     }
 
+    #[inline(always)]
     fn apply(&mut self, p: StackOp) {
         match p {
             StackOp::None => {}
@@ -631,9 +638,9 @@ fn off(src: &SourceWindow, s: &str) -> u64 {
     src.offset_of(s)
 }
 
-fn emit_val(
+fn emit_val<S: Sink + ?Sized>(
     src: &SourceWindow,
-    sink: &mut dyn Sink,
+    sink: &mut S,
     name: &str,
     at: u64,
     v: Val<'_>,
@@ -669,9 +676,9 @@ fn emit_val(
     }
 }
 
-fn emit(
+fn emit<S: Sink + ?Sized>(
     src: &SourceWindow,
-    sink: &mut dyn Sink,
+    sink: &mut S,
     at: u64,
     item: Item<'_>,
     top: Option<Frame>,

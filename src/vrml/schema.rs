@@ -163,7 +163,12 @@ impl NodeSpec {
     /// The interface member declared with exactly this name (no event aliases).
     pub fn field(&self, name: &str) -> Option<&'static FieldSpec> {
         let fields: &'static [FieldSpec] = self.fields;
-        fields.iter().find(|f| f.name == name)
+        // Length and first byte rule out almost every other name before the full comparison.
+        let b = name.as_bytes();
+        fields.iter().find(|f| {
+            let fb = f.name.as_bytes();
+            fb.len() == b.len() && fb.first() == b.first() && fb == b
+        })
     }
 
     /// Resolves exposedField event aliases too: for an exposedField `foo`, `set_foo` is its eventIn and `foo_changed` its eventOut.
