@@ -247,7 +247,7 @@ impl Default for TransformFields {
     }
 }
 
-#[derive(Debug)]
+#[derive(Clone, Copy, Debug)]
 enum Geom {
     Sphere(f64, u64),
     Other,
@@ -382,16 +382,6 @@ static LOWERED: [Lowered; schema::NODES.len()] = {
 enum Name {
     Static(&'static str),
     Shared(Rc<str>),
-}
-
-impl Name {
-    /// `name` as the table's string `known` when they are the same name, else a copy.
-    fn new(name: &str, known: Option<&'static str>) -> Name {
-        match known {
-            Some(k) if k == name => Name::Static(k),
-            _ => Name::Shared(Rc::from(name)),
-        }
-    }
 }
 
 impl std::ops::Deref for Name {
@@ -572,23 +562,27 @@ fn quat(r: [f64; 4]) -> DQuat {
     }
 }
 
-fn transform_matrix(t: &TransformFields) -> DAffine3 {
+/// For a Transform that only translates (the particle case), the translation of its matrix.
+///
+/// The full product is then exactly `from_translation(shift)`: its other factors are exact
+/// identities, and adding their zero translations turns a -0 component into +0, as `+ 0.0`
+/// does.
+fn translation_only(t: &TransformFields) -> Option<DVec3> {
     let plain = t.rotation[3] == 0.0
         && t.scale_orientation[3] == 0.0
         && t.scale == DVec3::ONE
         && t.center.to_array().map(f64::to_bits) == [0; 3];
-    if plain {
-        // Only a translation (the particle case). The product below is then exactly this: its
-        // other factors are exact identities, and adding their zero translations turns a -0
-        // component into +0, as `+ 0.0` does.
-        let m = DAffine3::from_translation(t.translation + DVec3::ZERO);
-        debug_assert_eq!(
-            m.to_cols_array().map(f64::to_bits),
-            full_transform_matrix(t).to_cols_array().map(f64::to_bits)
-        );
-        return m;
+    if !plain {
+        return None;
     }
-    full_transform_matrix(t)
+    let shift = t.translation + DVec3::ZERO;
+    debug_assert_eq!(
+        DAffine3::from_translation(shift)
+            .to_cols_array()
+            .map(f64::to_bits),
+        full_transform_matrix(t).to_cols_array().map(f64::to_bits)
+    );
+    Some(shift)
 }
 
 fn full_transform_matrix(t: &TransformFields) -> DAffine3 {
@@ -1280,7 +1274,11 @@ impl Lowerer {
         }
         let index = schema::node_index(ty);
         let spec = index.map(|i| &schema::NODES[i]);
-        let ty_rc = Name::new(ty, spec.map(|s| s.name));
+        // A standard type was found by this very name.
+        let ty_rc = match spec {
+            Some(s) => Name::Static(s.name),
+            None => Name::Shared(Rc::from(ty)),
+        };
         if self.quiet > 0 {
             // Not lowered; a frame keeps the nesting.
             self.frames.push(Frame {
@@ -1481,6 +1479,7 @@ impl Lowerer {
     }
 
     /// Warns when a node type does not belong in the field it stands in.
+    #[inline]
     fn check_child(&mut self, src: &SourceWindow, ty: &str, at: u64) {
         let Some(ctx) = self.fields.last() else {
             return;
@@ -1717,10 +1716,13 @@ impl Lowerer {
                 self.warn_if_event(src, name, &ty, access, at);
             }
         }
-        self.fields.push(FieldCtx {
-            name: Name::new(name, known),
-            frame: idx,
-        });
+        // The table's entry is this name unless it was found through a set_/_changed alias
+        // (which is longer).
+        let name = match known {
+            Some(k) if k.len() == name.len() => Name::Static(k),
+            _ => Name::Shared(Rc::from(name)),
+        };
+        self.fields.push(FieldCtx { name, frame: idx });
         Ok(())
     }
 
@@ -1730,6 +1732,11 @@ impl Lowerer {
         at: u64,
         done: Vec<(RecKind, Range<usize>)>,
     ) -> Result<(), Error> {
+        if done.is_empty() && self.quiet == 0 {
+            if let Some(result) = self.close_leaf() {
+                return self.deliver(src, result, at);
+            }
+        }
         // Register DEFs first: the node is complete.
         let mut instance = None;
         let mut choice = None;
@@ -1808,6 +1815,51 @@ impl Lowerer {
             _ => {}
         }
         Ok(())
+    }
+
+    /// Closes the innermost node in place if it is a Shape, Appearance, Material or Sphere:
+    /// what `close` does for them, without moving the frame out (these are most nodes).
+    fn close_leaf(&mut self) -> Option<Result_> {
+        enum Leaf {
+            Shape(Option<Option<u32>>, Option<Geom>),
+            Appearance(Option<u32>),
+            Material(Material),
+            Sphere(f64),
+        }
+        let frame = self.frames.last()?;
+        let at = frame.at;
+        let leaf = match frame.kind {
+            Kind::Shape {
+                appearance,
+                geometry,
+            } => Leaf::Shape(appearance, geometry),
+            Kind::Appearance { material } => Leaf::Appearance(material),
+            Kind::Material(m) => Leaf::Material(m),
+            Kind::Sphere { radius } => Leaf::Sphere(radius),
+            _ => return None,
+        };
+        self.frames.truncate(self.frames.len() - 1);
+        Some(match leaf {
+            Leaf::Shape(appearance, geometry) => {
+                if let Some(Geom::Sphere(radius, sat)) = geometry {
+                    let material = match appearance {
+                        Some(Some(m)) => m,
+                        _ => 0, // unlit
+                    };
+                    self.scene.spheres.push(Sphere {
+                        center: DVec3::ZERO,
+                        radius,
+                        material,
+                        ellipsoid: NO_ELLIPSOID,
+                        origin: self.origin(sat),
+                    });
+                }
+                Result_::Nothing
+            }
+            Leaf::Appearance(material) => Result_::Appearance(material),
+            Leaf::Material(m) => Result_::Material(self.material_index(m)),
+            Leaf::Sphere(radius) => Result_::Geometry(Geom::Sphere(radius, at)),
+        })
     }
 
     fn close(&mut self, src: &SourceWindow, frame: Frame) -> Result<Result_, Error> {
@@ -1956,11 +2008,32 @@ impl Lowerer {
         let Some(t) = transform else {
             return Ok(());
         };
-        let m = transform_matrix(&t);
+        let shift = translation_only(&t);
+        if let Some(d) = shift {
+            if d.is_finite() && self.only_plain_spheres_since(marks) {
+                // What `apply` does for this case, without building the matrix: see there.
+                if d == DVec3::ZERO {
+                    return Ok(());
+                }
+                for s in &mut self.scene.spheres[marks.spheres..] {
+                    s.center += d;
+                    if let Err(what) = check_sphere(s.center, s.radius) {
+                        return Err(self.error(src, at, format!("this Transform makes {what}")));
+                    }
+                }
+                return Ok(());
+            }
+        }
+        let m = match shift {
+            Some(s) => DAffine3::from_translation(s),
+            None => full_transform_matrix(&t),
+        };
         if m == DAffine3::IDENTITY {
             return Ok(());
         }
-        if !m.is_finite() || m.matrix3.determinant() == 0.0 {
+        // (An identity linear part, the translation-only case, has determinant 1.)
+        let flat = shift.is_none() && m.matrix3.determinant() == 0.0;
+        if !m.is_finite() || flat {
             // A zero scale (or a degenerate scaleOrientation) flattens the contents: not shown.
             self.warn(
                 src,
@@ -1973,14 +2046,33 @@ impl Lowerer {
             return Ok(());
         }
         // Each matrix is finite, but their product may not be: check what the contents became.
-        self.apply(&m, marks)
+        self.apply(&m, shift.is_some(), marks)
             .map_err(|what| self.error(src, at, format!("this Transform makes {what}")))
     }
 
+    /// Whether everything lowered since `marks` is spheres (no ellipsoids, lights or viewpoints).
+    fn only_plain_spheres_since(&self, marks: Marks) -> bool {
+        self.scene.lights.len() == marks.lights
+            && self.scene.viewpoints.len() == marks.views
+            && self.scene.spheres[marks.spheres..]
+                .iter()
+                .all(|s| s.ellipsoid == NO_ELLIPSOID)
+    }
+
     /// Applies `m` to everything lowered since `marks`; says what went out of range, if anything.
-    fn apply(&mut self, m: &DAffine3, marks: Marks) -> Result<(), String> {
+    ///
+    /// `translation` says the linear part is exactly the identity; a point then moves by
+    /// `p + t`, which is exactly what the affine map computes (`1*x + 0*y + 0*z + t`: the
+    /// zero terms can only change the sign of a zero, and adding `t`, which has no -0,
+    /// gives the same result either way).
+    fn apply(&mut self, m: &DAffine3, translation: bool, marks: Marks) -> Result<(), String> {
         let lin = m.matrix3;
-        let sim = similarity_scale(&lin);
+        // similarity_scale of the identity is exactly 1.
+        let sim = if translation || lin == DMat3::IDENTITY {
+            Some(1.0)
+        } else {
+            similarity_scale(&lin)
+        };
         let max_scale = || {
             lin.x_axis
                 .length()
@@ -1991,7 +2083,11 @@ impl Lowerer {
             let s = &mut self.scene.spheres[i];
             if s.ellipsoid == NO_ELLIPSOID {
                 if let Some(k) = sim {
-                    s.center = m.transform_point3(s.center);
+                    s.center = if translation {
+                        s.center + m.translation
+                    } else {
+                        m.transform_point3(s.center)
+                    };
                     s.radius *= k;
                     check_sphere(s.center, s.radius)?;
                     continue;
@@ -2543,6 +2639,7 @@ fn value_end(arena: &[Rec], i: usize) -> usize {
 }
 
 impl Sink for Lowerer {
+    #[inline(always)]
     fn event(&mut self, src: &SourceWindow, ev: Event<'_>) -> Result<(), Error> {
         // The common events of plain scene text (nothing recorded, no PROTO declaration open)
         // go straight to their handlers; this is what `handle` does for them.
@@ -2592,7 +2689,7 @@ mod tests {
 
     #[test]
     fn translation_only_matrix_is_the_full_product() {
-        // transform_matrix's shortcut must agree bit for bit with the full product.
+        // The translation-only shortcut must agree bit for bit with the full product.
         for t in [
             [0.0, 0.0, 0.0],
             [-0.0, 0.0, -0.0],
@@ -2604,11 +2701,40 @@ mod tests {
                 translation: DVec3::from_array(t),
                 ..TransformFields::default()
             };
-            let fast = transform_matrix(&fields).to_cols_array().map(f64::to_bits);
+            let shift = translation_only(&fields).unwrap();
+            let fast = DAffine3::from_translation(shift)
+                .to_cols_array()
+                .map(f64::to_bits);
             let full = full_transform_matrix(&fields)
                 .to_cols_array()
                 .map(f64::to_bits);
             assert_eq!(fast, full, "{t:?}");
+        }
+        let rotated = TransformFields {
+            rotation: [0.0, 1.0, 0.0, 0.5],
+            ..TransformFields::default()
+        };
+        assert!(translation_only(&rotated).is_none());
+    }
+
+    #[test]
+    fn moving_a_point_by_a_translation_is_the_affine_map() {
+        // Lowerer::apply moves points by `p + t` when the linear part is the identity.
+        let vals = [0.0, -0.0, 1.0, -2.5, 1e-310, -1e300, 0.1];
+        for &x in &vals {
+            for &y in &vals {
+                for &t in &vals {
+                    let shift = DVec3::new(t, -t, t) + DVec3::ZERO;
+                    let m = DAffine3::from_translation(shift);
+                    let p = DVec3::new(x, y, -x);
+                    let want = m.transform_point3(p).to_array().map(f64::to_bits);
+                    assert_eq!(
+                        (p + shift).to_array().map(f64::to_bits),
+                        want,
+                        "{p} {shift}"
+                    );
+                }
+            }
         }
     }
 }
