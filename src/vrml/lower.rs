@@ -1479,7 +1479,7 @@ impl Lowerer {
     }
 
     /// Warns when a node type does not belong in the field it stands in.
-    #[inline]
+    #[inline(always)]
     fn check_child(&mut self, src: &SourceWindow, ty: &str, at: u64) {
         let Some(ctx) = self.fields.last() else {
             return;
@@ -1538,6 +1538,7 @@ impl Lowerer {
     /// The field table entry for `name` in the innermost open standard node, with the access it
     /// was used with and the node's type. Unknown names are warned about; nodes without a table
     /// (PROTO instances, unknown types) give None silently.
+    #[inline(always)]
     fn field_spec(
         &mut self,
         src: &SourceWindow,

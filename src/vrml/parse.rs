@@ -104,6 +104,7 @@ fn is_reserved(id: &str) -> bool {
     )
 }
 
+#[inline(always)]
 fn ident<'a>(i: &'a str, what: &str) -> PResult<'a, &'a str> {
     match identifier(i) {
         Ok((rest, id)) => Ok((rest, id)),
@@ -112,6 +113,7 @@ fn ident<'a>(i: &'a str, what: &str) -> PResult<'a, &'a str> {
 }
 
 /// `[DEF name] Type {` with the first identifier already read.
+#[inline(always)]
 fn node_header<'a>(first: &'a str, rest: &'a str) -> PResult<'a, (Option<&'a str>, &'a str)> {
     let (def, ty, rest) = if first == "DEF" {
         let (r, name) = ident(ws(rest), "a name after DEF")?;
@@ -131,6 +133,7 @@ fn node_header<'a>(first: &'a str, rest: &'a str) -> PResult<'a, (Option<&'a str
     }
 }
 
+#[inline(always)]
 fn num<'a>(i: &'a str) -> PResult<'a, lex::Number> {
     match number(i) {
         Ok((rest, n)) => Ok((rest, n)),
@@ -154,6 +157,7 @@ fn str_lit(i: &str) -> PResult<'_, String> {
 }
 
 /// A field value of any type, read generically.
+#[inline(always)]
 fn value<'a>(i: &'a str, s: &'a mut Scratch) -> PResult<'a, Val<'a>> {
     s.nums.clear();
     s.bools.clear();
@@ -378,6 +382,7 @@ fn is_access(id: &str) -> bool {
 }
 
 /// One element of a node body.
+#[inline(always)]
 fn body_element<'a>(i: &'a str, s: &'a mut Scratch) -> PResult<'a, Item<'a>> {
     if let Some(r) = i.strip_prefix('}') {
         return Ok((r, Item::Close));
@@ -638,6 +643,7 @@ fn off(src: &SourceWindow, s: &str) -> u64 {
     src.offset_of(s)
 }
 
+#[inline(always)]
 fn emit_val<S: Sink + ?Sized>(
     src: &SourceWindow,
     sink: &mut S,
@@ -676,6 +682,7 @@ fn emit_val<S: Sink + ?Sized>(
     }
 }
 
+#[inline(always)]
 fn emit<S: Sink + ?Sized>(
     src: &SourceWindow,
     sink: &mut S,

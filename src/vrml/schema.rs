@@ -167,7 +167,7 @@ impl NodeSpec {
         let b = name.as_bytes();
         fields.iter().find(|f| {
             let fb = f.name.as_bytes();
-            fb.len() == b.len() && fb.first() == b.first() && fb == b
+            fb.len() == b.len() && fb.first() == b.first() && same_bytes(fb, b)
         })
     }
 
@@ -201,7 +201,7 @@ pub fn node_spec(name: &str) -> Option<&'static NodeSpec> {
 }
 
 /// The index in [`NODES`] of the standard node type named exactly `name` (case-sensitive).
-#[inline]
+#[inline(always)]
 pub fn node_index(name: &str) -> Option<usize> {
     let mut h = name_slot(name.as_bytes());
     loop {
@@ -209,10 +209,27 @@ pub fn node_index(name: &str) -> Option<usize> {
         if k == 0 {
             return None;
         }
-        if NODES[k - 1].name == name {
+        if same_bytes(NODES[k - 1].name.as_bytes(), name.as_bytes()) {
             return Some(k - 1);
         }
         h = (h + 1) % NODE_SLOTS.len();
+    }
+}
+
+/// `a == b` for names: those of 4 to 16 bytes (almost all) are compared as two overlapping
+/// words instead of through a `memcmp` call.
+#[inline(always)]
+fn same_bytes(a: &[u8], b: &[u8]) -> bool {
+    let n = a.len();
+    if n != b.len() {
+        return false;
+    }
+    let w8 = |s: &[u8], i: usize| u64::from_le_bytes(s[i..i + 8].try_into().unwrap_or([0; 8]));
+    let w4 = |s: &[u8], i: usize| u32::from_le_bytes(s[i..i + 4].try_into().unwrap_or([0; 4]));
+    match n {
+        8..=16 => w8(a, 0) == w8(b, 0) && w8(a, n - 8) == w8(b, n - 8),
+        4..=7 => w4(a, 0) == w4(b, 0) && w4(a, n - 4) == w4(b, n - 4),
+        _ => a == b,
     }
 }
 
