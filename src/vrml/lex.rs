@@ -36,7 +36,7 @@ pub fn ws(i: &str) -> &str {
 /// ends on an ASCII byte (a character boundary).
 const ID_FIRST: u8 = 1;
 const ID_REST: u8 = 2;
-static ID_CLASS: [u8; 256] = {
+const ID_CLASS: [u8; 256] = {
     let mut t = [0u8; 256];
     let mut c = 0;
     while c < 256 {

@@ -481,6 +481,7 @@ fn type_name(v: &Value) -> String {
 }
 
 /// Checks a generic value against a field type; the error says what was expected.
+#[inline(always)]
 fn check_value(ty: FieldType, v: &Value) -> Result<(), String> {
     let ok = match (ty, v) {
         (_, Value::Is(_)) => true,
@@ -1577,6 +1578,7 @@ impl Lowerer {
         event
     }
 
+    #[inline(always)]
     fn apply_field(
         &mut self,
         src: &SourceWindow,
@@ -2648,11 +2650,21 @@ impl Sink for Lowerer {
             match ev {
                 Event::NodeStart { def: None, ty, at } => {
                     self.node_start(src, None, ty, at)?;
-                    let done = self.end_recorders(&ev);
-                    debug_assert!(done.is_empty());
+                    // (A Switch choice or PROTO instance starts recording at this event.)
+                    if !self.recorders.is_empty() {
+                        let done = self.end_recorders_slow(&ev);
+                        debug_assert!(done.is_empty());
+                    }
                     return Ok(());
                 }
-                Event::NodeEnd { at } => return self.node_end(src, at, Vec::new()),
+                Event::NodeEnd { at } => {
+                    if self.quiet == 0 {
+                        if let Some(result) = self.close_leaf() {
+                            return self.deliver(src, result, at);
+                        }
+                    }
+                    return self.node_end(src, at, Vec::new());
+                }
                 Event::Field { name, at, value } if !matches!(value, Value::Is(_)) => {
                     return self.field(src, name, at, value)
                 }

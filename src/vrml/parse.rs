@@ -565,6 +565,19 @@ impl Parser {
                     continue;
                 }
             }
+            // A `}` or `]` closing a node or a list, when more text follows in the window: what
+            // `step` does with the Close item, without the item parser and its retry check.
+            let next = self.src.rest().as_bytes();
+            if next.len() > 1 && matches!((top, next[0]), (Frame::Body, b'}') | (Frame::List, b']'))
+            {
+                let k = self.stack.len();
+                let under = k.checked_sub(2).map(|j| self.stack[j]);
+                let rest = &self.src.rest()[1..];
+                let pushes = emit(&self.src, sink, at, Item::Close, Some(top), under, rest)?;
+                self.src.pos += 1;
+                self.apply(pushes);
+                continue;
+            }
             match top {
                 Frame::Top | Frame::ProtoBody => self.step(sink, at, |i, _| statement(i))?,
                 Frame::Body => self.step(sink, at, body_element)?,
