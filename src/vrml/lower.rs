@@ -253,25 +253,31 @@ enum Geom {
     Other,
 }
 
+/// The DirectionalLights among a grouping node's children (indices into the scene's lights).
+/// Rare, so boxed: the open-node frames stay small enough to move without a `memcpy` call.
+type DirLights = Option<Box<Vec<usize>>>;
+
+/// What an open node is lowered to. Large, rare payloads are boxed and a Material's fields
+/// live on `Lowerer::open_materials`, so that a [`Frame`] stays within 128 bytes.
 #[derive(Debug)]
 enum Kind {
     /// Group, Transform, Anchor, Billboard, Collision, Inline, and each file's root.
     Group {
         transform: Option<Box<TransformFields>>,
         marks: Marks,
-        dirlights: Vec<usize>,
-        inline_urls: Option<Vec<String>>,
+        dirlights: DirLights,
+        inline_urls: Option<Box<[String]>>,
     },
     Switch {
         which: i64,
         choices: Vec<Range<usize>>,
         marks: Marks,
-        dirlights: Vec<usize>,
+        dirlights: DirLights,
     },
     Lod {
         levels: u32,
         marks: Marks,
-        dirlights: Vec<usize>,
+        dirlights: DirLights,
     },
     Shape {
         appearance: Option<Option<u32>>,
@@ -280,13 +286,14 @@ enum Kind {
     Appearance {
         material: Option<u32>,
     },
-    Material(Material),
+    /// Its fields are the top of `Lowerer::open_materials`.
+    Material,
     Sphere {
         radius: f64,
     },
-    PointLight(PointLight),
-    DirectionalLight(DirectionalLight),
-    Viewpoint(Viewpoint),
+    PointLight(Box<PointLight>),
+    DirectionalLight(Box<DirectionalLight>),
+    Viewpoint(Box<Viewpoint>),
     NavigationInfo {
         headlight: Option<bool>,
     },
@@ -446,6 +453,8 @@ struct Lowerer {
     substs: Vec<Rc<Subst>>,
     warnings: Vec<Diagnostic>,
     warn_index: HashMap<(Arc<str>, String), usize>,
+    /// The fields of the open Material nodes, innermost last (see [`Kind::Material`]).
+    open_materials: Vec<Material>,
     skipped: BTreeMap<String, u64>,
     /// Indices into `scene.materials`, hashed by content (no copy of the key is kept).
     materials: hashbrown::HashTable<u32>,
@@ -697,6 +706,7 @@ impl Lowerer {
             substs: Vec::new(),
             warnings: Vec::new(),
             warn_index: HashMap::new(),
+            open_materials: Vec::new(),
             skipped: BTreeMap::new(),
             materials: hashbrown::HashTable::new(),
             nodes: 0,
@@ -741,19 +751,21 @@ impl Lowerer {
     fn material_index(&mut self, m: Material) -> u32 {
         let key = material_key(&m);
         let hash = hash_key(&key);
-        let mats = &self.scene.materials;
-        if let Some(&i) = self
-            .materials
-            .find(hash, |&i| material_key(&mats[i as usize]) == key)
-        {
-            return i;
+        let mats = &mut self.scene.materials;
+        // One probe finds the material or the slot for it.
+        match self.materials.entry(
+            hash,
+            |&i| material_key(&mats[i as usize]) == key,
+            |&j| hash_key(&material_key(&mats[j as usize])),
+        ) {
+            hashbrown::hash_table::Entry::Occupied(e) => *e.get(),
+            hashbrown::hash_table::Entry::Vacant(e) => {
+                let i = mats.len() as u32;
+                e.insert(i);
+                mats.push(m);
+                i
+            }
         }
-        let i = self.scene.materials.len() as u32;
-        self.scene.materials.push(m);
-        let mats = &self.scene.materials;
-        self.materials
-            .insert_unique(hash, i, |&j| hash_key(&material_key(&mats[j as usize])));
-        i
     }
 
     fn marks(&self) -> Marks {
@@ -814,7 +826,7 @@ impl Lowerer {
             kind: Kind::Group {
                 transform: None,
                 marks: self.marks(),
-                dirlights: Vec::new(),
+                dirlights: None,
                 inline_urls: None,
             },
             at: 0,
@@ -1353,7 +1365,7 @@ impl Lowerer {
         let group = |transform| Kind::Group {
             transform,
             marks: m,
-            dirlights: Vec::new(),
+            dirlights: None,
             inline_urls: None,
         };
         let lowered = index.map_or(Lowered::Skipped, |i| LOWERED[i]);
@@ -1363,28 +1375,31 @@ impl Lowerer {
             Lowered::Inline => Kind::Group {
                 transform: None,
                 marks: m,
-                dirlights: Vec::new(),
-                inline_urls: Some(Vec::new()),
+                dirlights: None,
+                inline_urls: Some(Box::default()),
             },
             Lowered::Switch => Kind::Switch {
                 which: -1,
                 choices: Vec::new(),
                 marks: m,
-                dirlights: Vec::new(),
+                dirlights: None,
             },
             Lowered::Lod => Kind::Lod {
                 levels: 0,
                 marks: m,
-                dirlights: Vec::new(),
+                dirlights: None,
             },
             Lowered::Shape => Kind::Shape {
                 appearance: None,
                 geometry: None,
             },
             Lowered::Appearance => Kind::Appearance { material: None },
-            Lowered::Material => Kind::Material(Material::default()),
+            Lowered::Material => {
+                self.open_materials.push(Material::default());
+                Kind::Material
+            }
             Lowered::Sphere => Kind::Sphere { radius: 1.0 },
-            Lowered::PointLight => Kind::PointLight(PointLight {
+            Lowered::PointLight => Kind::PointLight(Box::new(PointLight {
                 location: DVec3::ZERO,
                 color: DVec3::ONE,
                 intensity: 1.0,
@@ -1393,8 +1408,8 @@ impl Lowerer {
                 radius: 100.0,
                 on: true,
                 origin: self.origin(at),
-            }),
-            Lowered::DirectionalLight => Kind::DirectionalLight(DirectionalLight {
+            })),
+            Lowered::DirectionalLight => Kind::DirectionalLight(Box::new(DirectionalLight {
                 direction: DVec3::new(0.0, 0.0, -1.0),
                 color: DVec3::ONE,
                 intensity: 1.0,
@@ -1402,15 +1417,15 @@ impl Lowerer {
                 on: true,
                 scope: (0, 0),
                 origin: self.origin(at),
-            }),
-            Lowered::Viewpoint => Kind::Viewpoint(Viewpoint {
+            })),
+            Lowered::Viewpoint => Kind::Viewpoint(Box::new(Viewpoint {
                 name: def.map(str::to_string),
                 description: String::new(),
                 position: DVec3::new(0.0, 0.0, 10.0),
                 orientation: DQuat::IDENTITY,
                 field_of_view: std::f64::consts::FRAC_PI_4,
                 origin: self.origin(at),
-            }),
+            })),
             Lowered::NavigationInfo => Kind::NavigationInfo { headlight: None },
             Lowered::Background => Kind::Background { sky: None },
             Lowered::Skipped => {
@@ -1604,32 +1619,35 @@ impl Lowerer {
                 ..
             } if name == "url" => {
                 if let Value::Strings { values, .. } = v {
-                    *u = values.to_vec();
+                    *u = Box::from(*values);
                 }
             }
             Kind::Switch { which, .. } if name == "whichChoice" => *which = num1(v) as i64,
-            Kind::Material(m) => match name {
-                "diffuseColor" => m.diffuse = vec3(v),
-                "emissiveColor" => m.emissive = vec3(v),
-                "specularColor" => m.specular = vec3(v),
-                "shininess" => {
-                    let x = num1(v);
-                    if !(0.0..=1.0).contains(&x) {
-                        // VMD writes its raw Phong exponent (40) here; VRML97 says [0, 1].
-                        problem = Some(format!("shininess {x} is outside [0, 1]: clamped"));
+            Kind::Material => {
+                let m = self.open_materials.last_mut().expect("open Material");
+                match name {
+                    "diffuseColor" => m.diffuse = vec3(v),
+                    "emissiveColor" => m.emissive = vec3(v),
+                    "specularColor" => m.specular = vec3(v),
+                    "shininess" => {
+                        let x = num1(v);
+                        if !(0.0..=1.0).contains(&x) {
+                            // VMD writes its raw Phong exponent (40) here; VRML97 says [0, 1].
+                            problem = Some(format!("shininess {x} is outside [0, 1]: clamped"));
+                        }
+                        m.shininess = x.clamp(0.0, 1.0);
                     }
-                    m.shininess = x.clamp(0.0, 1.0);
-                }
-                "ambientIntensity" => m.ambient_intensity = num1(v),
-                "transparency" => {
-                    let t = num1(v);
-                    if !(0.0..=1.0).contains(&t) {
-                        problem = Some(format!("transparency {t} is outside [0, 1]: clamped"));
+                    "ambientIntensity" => m.ambient_intensity = num1(v),
+                    "transparency" => {
+                        let t = num1(v);
+                        if !(0.0..=1.0).contains(&t) {
+                            problem = Some(format!("transparency {t} is outside [0, 1]: clamped"));
+                        }
+                        m.transparency = t.clamp(0.0, 1.0);
                     }
-                    m.transparency = t.clamp(0.0, 1.0);
+                    _ => {}
                 }
-                _ => {}
-            },
+            }
             Kind::Sphere { radius } if name == "radius" => {
                 let r = num1(v);
                 if r <= 0.0 || !r.is_finite() {
@@ -1837,7 +1855,7 @@ impl Lowerer {
                 geometry,
             } => Leaf::Shape(appearance, geometry),
             Kind::Appearance { material } => Leaf::Appearance(material),
-            Kind::Material(m) => Leaf::Material(m),
+            Kind::Material => Leaf::Material(self.open_materials.pop()?),
             Kind::Sphere { radius } => Leaf::Sphere(radius),
             _ => return None,
         };
@@ -1930,10 +1948,13 @@ impl Lowerer {
                 Result_::Nothing
             }
             Kind::Appearance { material } => Result_::Appearance(material),
-            Kind::Material(m) => Result_::Material(self.material_index(m)),
+            Kind::Material => {
+                let m = self.open_materials.pop().expect("open Material");
+                Result_::Material(self.material_index(m))
+            }
             Kind::Sphere { radius } => Result_::Geometry(Geom::Sphere(radius, at)),
             Kind::PointLight(l) => {
-                self.scene.lights.push(Light::Point(l));
+                self.scene.lights.push(Light::Point(*l));
                 Result_::Nothing
             }
             Kind::DirectionalLight(mut l) => {
@@ -1945,7 +1966,7 @@ impl Lowerer {
                     l.direction = d.normalize();
                 }
                 let idx = self.scene.lights.len();
-                self.scene.lights.push(Light::Directional(l));
+                self.scene.lights.push(Light::Directional(*l));
                 // Scope: the siblings in the enclosing grouping node (set when it closes).
                 if let Some(g) = self.frames.iter_mut().rev().find(|f| {
                     matches!(
@@ -1956,14 +1977,16 @@ impl Lowerer {
                     match &mut g.kind {
                         Kind::Group { dirlights, .. }
                         | Kind::Switch { dirlights, .. }
-                        | Kind::Lod { dirlights, .. } => dirlights.push(idx),
+                        | Kind::Lod { dirlights, .. } => {
+                            dirlights.get_or_insert_with(Box::default).push(idx)
+                        }
                         _ => {}
                     }
                 }
                 Result_::Nothing
             }
             Kind::Viewpoint(v) => {
-                self.scene.viewpoints.push(v);
+                self.scene.viewpoints.push(*v);
                 Result_::Nothing
             }
             Kind::NavigationInfo { headlight } => {
@@ -2003,7 +2026,7 @@ impl Lowerer {
             _ => return Ok(()),
         };
         let end = self.scene.spheres.len() as u32;
-        for i in dirlights {
+        for i in dirlights.into_iter().flat_map(|d| *d) {
             if let Light::Directional(l) = &mut self.scene.lights[i] {
                 l.scope = (marks.spheres as u32, end);
             }
@@ -2683,6 +2706,12 @@ impl Sink for Lowerer {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn open_node_frames_stay_small() {
+        // Frames are pushed and popped for every node; up to 128 bytes they are moved inline.
+        assert!(std::mem::size_of::<Frame>() <= 128);
+    }
 
     #[test]
     fn every_modelled_type_is_a_standard_node() {
