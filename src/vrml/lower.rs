@@ -751,6 +751,19 @@ impl Lowerer {
     fn material_index(&mut self, m: Material) -> u32 {
         let key = material_key(&m);
         let hash = hash_key(&key);
+        if self.materials.len() == self.materials.capacity() {
+            // Grow by rebuilding from the materials in order. hashbrown's own resize rehashes
+            // the entries in table order, one random read of a 104-byte material each: with a
+            // million materials that was most of the time spent interning them.
+            let mats = &self.scene.materials;
+            let rehash = |&j: &u32| hash_key(&material_key(&mats[j as usize]));
+            let mut bigger =
+                hashbrown::HashTable::with_capacity((self.materials.capacity() * 2).max(16));
+            for (i, old) in mats.iter().enumerate() {
+                bigger.insert_unique(hash_key(&material_key(old)), i as u32, rehash);
+            }
+            self.materials = bigger;
+        }
         let mats = &mut self.scene.materials;
         // One probe finds the material or the slot for it.
         match self.materials.entry(
