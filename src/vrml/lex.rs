@@ -119,7 +119,7 @@ const POW10: [f64; 23] = [
 /// exactly by one IEEE multiplication or division (Clinger's fast path: both operands are
 /// exact, so the one rounding is the correct one and the result is bit for bit what
 /// `str::parse` gives); everything else goes to `str::parse`.
-#[inline]
+#[inline(always)]
 pub fn number(i: &str) -> Result<(&str, Number), NumberProblem> {
     if let Some((k, n)) = short_decimal(i.as_bytes()) {
         return Ok((&i[k..], n));
