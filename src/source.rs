@@ -48,6 +48,8 @@ pub struct SourceWindow {
     pub pos: usize,
     pub eof: bool,
     pending: Vec<u8>,
+    /// Read buffer, reused for every chunk.
+    chunk: Vec<u8>,
     pub lines: LineIndex,
     /// Absolute offset of the first invalid UTF-8 byte, if any (replaced by `?`).
     pub bad_utf8: Option<u64>,
@@ -64,6 +66,7 @@ impl SourceWindow {
             pos: 0,
             eof: false,
             pending: Vec::new(),
+            chunk: Vec::new(),
             lines: LineIndex::new(),
             bad_utf8: None,
             bytes_read: 0,
@@ -106,10 +109,14 @@ impl SourceWindow {
     pub fn fill(&mut self, want: usize) -> std::io::Result<()> {
         self.compact();
         while !self.eof && self.buf.len() - self.pos < want {
-            let mut chunk = vec![0u8; CHUNK.max(want)];
+            let mut chunk = std::mem::take(&mut self.chunk);
+            let size = CHUNK.max(want);
+            if chunk.len() < size {
+                chunk.resize(size, 0);
+            }
             let mut n = 0;
-            while n < chunk.len() {
-                match self.reader.read(&mut chunk[n..]) {
+            while n < size {
+                match self.reader.read(&mut chunk[n..size]) {
                     Ok(0) => {
                         self.eof = true;
                         break;
@@ -119,8 +126,11 @@ impl SourceWindow {
                     Err(e) => return Err(e),
                 }
             }
-            chunk.truncate(n);
-            self.append_bytes(chunk);
+            self.append_bytes(&chunk[..n]);
+            // Keep the buffer for the next chunk, unless an oversized item needed a big one.
+            if chunk.len() <= CHUNK {
+                self.chunk = chunk;
+            }
         }
         Ok(())
     }
@@ -152,13 +162,18 @@ impl SourceWindow {
         self.pos -= keep;
     }
 
-    fn append_bytes(&mut self, mut bytes: Vec<u8>) {
+    fn append_bytes(&mut self, bytes: &[u8]) {
         self.bytes_read += bytes.len() as u64;
-        if !self.pending.is_empty() {
+        let joined;
+        let bytes = if self.pending.is_empty() {
+            bytes
+        } else {
+            // A character split by the previous chunk's end.
             let mut p = std::mem::take(&mut self.pending);
-            p.extend_from_slice(&bytes);
-            bytes = p;
-        }
+            p.extend_from_slice(bytes);
+            joined = p;
+            &joined[..]
+        };
         let start_abs = self.base + self.buf.len() as u64;
         let mut i = 0;
         loop {

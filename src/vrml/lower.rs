@@ -247,31 +247,37 @@ impl Default for TransformFields {
     }
 }
 
-#[derive(Debug)]
+#[derive(Clone, Copy, Debug)]
 enum Geom {
     Sphere(f64, u64),
     Other,
 }
 
+/// The DirectionalLights among a grouping node's children (indices into the scene's lights).
+/// Rare, so boxed: the open-node frames stay small enough to move without a `memcpy` call.
+type DirLights = Option<Box<Vec<usize>>>;
+
+/// What an open node is lowered to. Large, rare payloads are boxed and a Material's fields
+/// live on `Lowerer::open_materials`, so that a [`Frame`] stays within 128 bytes.
 #[derive(Debug)]
 enum Kind {
     /// Group, Transform, Anchor, Billboard, Collision, Inline, and each file's root.
     Group {
         transform: Option<Box<TransformFields>>,
         marks: Marks,
-        dirlights: Vec<usize>,
-        inline_urls: Option<Vec<String>>,
+        dirlights: DirLights,
+        inline_urls: Option<Box<[String]>>,
     },
     Switch {
         which: i64,
         choices: Vec<Range<usize>>,
         marks: Marks,
-        dirlights: Vec<usize>,
+        dirlights: DirLights,
     },
     Lod {
         levels: u32,
         marks: Marks,
-        dirlights: Vec<usize>,
+        dirlights: DirLights,
     },
     Shape {
         appearance: Option<Option<u32>>,
@@ -280,13 +286,14 @@ enum Kind {
     Appearance {
         material: Option<u32>,
     },
-    Material(Material),
+    /// Its fields are the top of `Lowerer::open_materials`.
+    Material,
     Sphere {
         radius: f64,
     },
-    PointLight(PointLight),
-    DirectionalLight(DirectionalLight),
-    Viewpoint(Viewpoint),
+    PointLight(Box<PointLight>),
+    DirectionalLight(Box<DirectionalLight>),
+    Viewpoint(Box<Viewpoint>),
     NavigationInfo {
         headlight: Option<bool>,
     },
@@ -299,9 +306,111 @@ enum Kind {
     Quiet,
 }
 
+/// What a standard node type lowers to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Lowered {
+    Group,
+    Transform,
+    Inline,
+    Switch,
+    Lod,
+    Shape,
+    Appearance,
+    Material,
+    Sphere,
+    PointLight,
+    DirectionalLight,
+    Viewpoint,
+    NavigationInfo,
+    Background,
+    /// Not modelled: counted and skipped.
+    Skipped,
+}
+
+const fn same_str(a: &str, b: &str) -> bool {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
+
+const fn lowered_as(name: &str) -> Lowered {
+    const MODELLED: [(&str, Lowered); 17] = [
+        ("Group", Lowered::Group),
+        ("Anchor", Lowered::Group),
+        ("Billboard", Lowered::Group),
+        ("Collision", Lowered::Group),
+        ("Transform", Lowered::Transform),
+        ("Inline", Lowered::Inline),
+        ("Switch", Lowered::Switch),
+        ("LOD", Lowered::Lod),
+        ("Shape", Lowered::Shape),
+        ("Appearance", Lowered::Appearance),
+        ("Material", Lowered::Material),
+        ("Sphere", Lowered::Sphere),
+        ("PointLight", Lowered::PointLight),
+        ("DirectionalLight", Lowered::DirectionalLight),
+        ("Viewpoint", Lowered::Viewpoint),
+        ("NavigationInfo", Lowered::NavigationInfo),
+        ("Background", Lowered::Background),
+    ];
+    let mut i = 0;
+    while i < MODELLED.len() {
+        if same_str(MODELLED[i].0, name) {
+            return MODELLED[i].1;
+        }
+        i += 1;
+    }
+    Lowered::Skipped
+}
+
+/// [`Lowered`] for each entry of [`schema::NODES`], by index (no string matching per node).
+static LOWERED: [Lowered; schema::NODES.len()] = {
+    let mut t = [Lowered::Skipped; schema::NODES.len()];
+    let mut i = 0;
+    while i < t.len() {
+        t[i] = lowered_as(schema::NODES[i].name);
+        i += 1;
+    }
+    t
+};
+
+/// A node type or field name held while its node is open: the standard tables' own string
+/// when there is one (no allocation per node), a shared copy otherwise.
+#[derive(Clone, Debug)]
+enum Name {
+    Static(&'static str),
+    Shared(Rc<str>),
+}
+
+impl std::ops::Deref for Name {
+    type Target = str;
+    #[inline]
+    fn deref(&self) -> &str {
+        match self {
+            Name::Static(s) => s,
+            Name::Shared(s) => s,
+        }
+    }
+}
+
+impl std::fmt::Display for Name {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self)
+    }
+}
+
 #[derive(Debug)]
 struct Frame {
-    ty: Rc<str>,
+    ty: Name,
     spec: Option<&'static schema::NodeSpec>,
     /// The PROTO whose instance this is (interface used for field checks).
     proto: Option<Rc<ProtoDecl>>,
@@ -322,7 +431,7 @@ enum Result_ {
 /// The node-valued field being filled, with the frame index that owns it.
 #[derive(Debug)]
 struct FieldCtx {
-    name: Rc<str>,
+    name: Name,
     frame: usize,
 }
 
@@ -344,6 +453,8 @@ struct Lowerer {
     substs: Vec<Rc<Subst>>,
     warnings: Vec<Diagnostic>,
     warn_index: HashMap<(Arc<str>, String), usize>,
+    /// The fields of the open Material nodes, innermost last (see [`Kind::Material`]).
+    open_materials: Vec<Material>,
     skipped: BTreeMap<String, u64>,
     /// Indices into `scene.materials`, hashed by content (no copy of the key is kept).
     materials: hashbrown::HashTable<u32>,
@@ -379,6 +490,7 @@ fn type_name(v: &Value) -> String {
 }
 
 /// Checks a generic value against a field type; the error says what was expected.
+#[inline(always)]
 fn check_value(ty: FieldType, v: &Value) -> Result<(), String> {
     let ok = match (ty, v) {
         (_, Value::Is(_)) => true,
@@ -460,7 +572,30 @@ fn quat(r: [f64; 4]) -> DQuat {
     }
 }
 
-fn transform_matrix(t: &TransformFields) -> DAffine3 {
+/// For a Transform that only translates (the particle case), the translation of its matrix.
+///
+/// The full product is then exactly `from_translation(shift)`: its other factors are exact
+/// identities, and adding their zero translations turns a -0 component into +0, as `+ 0.0`
+/// does.
+fn translation_only(t: &TransformFields) -> Option<DVec3> {
+    let plain = t.rotation[3] == 0.0
+        && t.scale_orientation[3] == 0.0
+        && t.scale == DVec3::ONE
+        && t.center.to_array().map(f64::to_bits) == [0; 3];
+    if !plain {
+        return None;
+    }
+    let shift = t.translation + DVec3::ZERO;
+    debug_assert_eq!(
+        DAffine3::from_translation(shift)
+            .to_cols_array()
+            .map(f64::to_bits),
+        full_transform_matrix(t).to_cols_array().map(f64::to_bits)
+    );
+    Some(shift)
+}
+
+fn full_transform_matrix(t: &TransformFields) -> DAffine3 {
     // M = T * C * R * SR * S * -SR * -C (VRML97 6.52)
     let sr = quat(t.scale_orientation);
     DAffine3::from_translation(t.translation)
@@ -528,14 +663,21 @@ fn check_sphere(center: DVec3, radius: f64) -> Result<(), String> {
     Ok(())
 }
 
+/// A fixed (same on every call and every run) hash of a material's content. Materials are
+/// hashed once per Material node, so this is a multiply-xor mix rather than SipHash; the
+/// final avalanche spreads every input bit over the bits hashbrown uses (top 7 and low).
 fn hash_key(key: &[u64; 13]) -> u64 {
-    use std::hash::BuildHasher;
-    FIXED.hash_one(key)
+    const K: u64 = 0x9E37_79B9_7F4A_7C15;
+    let mut h: u64 = 0;
+    for &k in key {
+        h = (h.rotate_left(23) ^ k).wrapping_mul(K);
+    }
+    h ^= h >> 33;
+    h = h.wrapping_mul(0xFF51_AFD7_ED55_8CCD);
+    h ^= h >> 33;
+    h = h.wrapping_mul(0xC4CE_B9FE_1A85_EC53);
+    h ^ (h >> 33)
 }
-
-/// A fixed hasher state: material hashes must be the same on every call.
-static FIXED: std::hash::BuildHasherDefault<std::collections::hash_map::DefaultHasher> =
-    std::hash::BuildHasherDefault::new();
 
 fn is_local_relative(url: &str) -> bool {
     let lower = url.to_ascii_lowercase();
@@ -564,6 +706,7 @@ impl Lowerer {
             substs: Vec::new(),
             warnings: Vec::new(),
             warn_index: HashMap::new(),
+            open_materials: Vec::new(),
             skipped: BTreeMap::new(),
             materials: hashbrown::HashTable::new(),
             nodes: 0,
@@ -608,19 +751,34 @@ impl Lowerer {
     fn material_index(&mut self, m: Material) -> u32 {
         let key = material_key(&m);
         let hash = hash_key(&key);
-        let mats = &self.scene.materials;
-        if let Some(&i) = self
-            .materials
-            .find(hash, |&i| material_key(&mats[i as usize]) == key)
-        {
-            return i;
+        if self.materials.len() == self.materials.capacity() {
+            // Grow by rebuilding from the materials in order. hashbrown's own resize rehashes
+            // the entries in table order, one random read of a 104-byte material each: with a
+            // million materials that was most of the time spent interning them.
+            let mats = &self.scene.materials;
+            let rehash = |&j: &u32| hash_key(&material_key(&mats[j as usize]));
+            let mut bigger =
+                hashbrown::HashTable::with_capacity((self.materials.capacity() * 2).max(16));
+            for (i, old) in mats.iter().enumerate() {
+                bigger.insert_unique(hash_key(&material_key(old)), i as u32, rehash);
+            }
+            self.materials = bigger;
         }
-        let i = self.scene.materials.len() as u32;
-        self.scene.materials.push(m);
-        let mats = &self.scene.materials;
-        self.materials
-            .insert_unique(hash, i, |&j| hash_key(&material_key(&mats[j as usize])));
-        i
+        let mats = &mut self.scene.materials;
+        // One probe finds the material or the slot for it.
+        match self.materials.entry(
+            hash,
+            |&i| material_key(&mats[i as usize]) == key,
+            |&j| hash_key(&material_key(&mats[j as usize])),
+        ) {
+            hashbrown::hash_table::Entry::Occupied(e) => *e.get(),
+            hashbrown::hash_table::Entry::Vacant(e) => {
+                let i = mats.len() as u32;
+                e.insert(i);
+                mats.push(m);
+                i
+            }
+        }
     }
 
     fn marks(&self) -> Marks {
@@ -675,13 +833,13 @@ impl Lowerer {
         });
         // The file's root groups its top-level nodes (scope of top-level DirectionalLights).
         let root = Frame {
-            ty: Rc::from("<file>"),
+            ty: Name::Static("<file>"),
             spec: None,
             proto: None,
             kind: Kind::Group {
                 transform: None,
                 marks: self.marks(),
-                dirlights: Vec::new(),
+                dirlights: None,
                 inline_urls: None,
             },
             at: 0,
@@ -806,7 +964,15 @@ impl Lowerer {
     }
 
     /// Called after an event has been handled: closes recorders whose node (or PROTO) ended.
+    #[inline]
     fn end_recorders(&mut self, ev: &Event) -> Vec<(RecKind, Range<usize>)> {
+        if self.recorders.is_empty() {
+            return Vec::new();
+        }
+        self.end_recorders_slow(ev)
+    }
+
+    fn end_recorders_slow(&mut self, ev: &Event) -> Vec<(RecKind, Range<usize>)> {
         let mut done = Vec::new();
         let (open, close) = match ev {
             Event::NodeStart { .. } => (true, false),
@@ -991,8 +1157,10 @@ impl Lowerer {
                 }
             }
         }
-        let done = self.end_recorders(&ev);
-        debug_assert!(done.is_empty());
+        if !self.recorders.is_empty() {
+            let done = self.end_recorders_slow(&ev);
+            debug_assert!(done.is_empty());
+        }
         Ok(())
     }
 
@@ -1130,7 +1298,13 @@ impl Lowerer {
                 ),
             ));
         }
-        let ty_rc: Rc<str> = Rc::from(ty);
+        let index = schema::node_index(ty);
+        let spec = index.map(|i| &schema::NODES[i]);
+        // A standard type was found by this very name.
+        let ty_rc = match spec {
+            Some(s) => Name::Static(s.name),
+            None => Name::Shared(Rc::from(ty)),
+        };
         if self.quiet > 0 {
             // Not lowered; a frame keeps the nesting.
             self.frames.push(Frame {
@@ -1144,23 +1318,21 @@ impl Lowerer {
             return Ok(());
         }
         self.check_child(src, ty, at);
-        // Where does this node stand?
-        let ctx_field = self.fields.last().map(|f| (f.name.clone(), f.frame));
-        let parent_kind = ctx_field.as_ref().map(|(_, i)| &self.frames[*i].kind);
-        let in_choice = matches!(parent_kind, Some(Kind::Switch { .. }))
-            && ctx_field.as_ref().is_some_and(|(n, _)| &**n == "choice");
-        let ignored_level = match (parent_kind, &ctx_field) {
-            (Some(Kind::Lod { levels, .. }), Some((n, _))) => &**n == "level" && *levels > 0,
-            (Some(Kind::Group { .. }), Some((n, _))) => &**n == "proxy",
-            _ => false,
-        };
-        if let (Some(Kind::Lod { .. }), Some((n, i))) = (parent_kind, &ctx_field) {
-            if &**n == "level" {
-                if let Kind::Lod { levels, .. } = &mut self.frames[*i].kind {
+        // Where does this node stand? (A Switch choice, an LOD level after the first, or a
+        // Collision proxy is recorded or ignored, not lowered.)
+        let (in_choice, ignored_level) = match self.fields.last() {
+            None => (false, false),
+            Some(ctx) => match &mut self.frames[ctx.frame].kind {
+                Kind::Switch { .. } => (&*ctx.name == "choice", false),
+                Kind::Lod { levels, .. } if &*ctx.name == "level" => {
+                    let ignored = *levels > 0;
                     *levels += 1;
+                    (false, ignored)
                 }
-            }
-        }
+                Kind::Group { .. } => (false, &*ctx.name == "proxy"),
+                _ => (false, false),
+            },
+        };
         if in_choice || ignored_level {
             if in_choice
                 && self
@@ -1202,42 +1374,45 @@ impl Lowerer {
             self.quiet += 1;
             return Ok(());
         }
-        let spec = schema::node_spec(ty);
         let m = self.marks();
         let group = |transform| Kind::Group {
             transform,
             marks: m,
-            dirlights: Vec::new(),
+            dirlights: None,
             inline_urls: None,
         };
-        let kind = match ty {
-            "Group" | "Anchor" | "Billboard" | "Collision" => group(None),
-            "Transform" => group(Some(Box::default())),
-            "Inline" => Kind::Group {
+        let lowered = index.map_or(Lowered::Skipped, |i| LOWERED[i]);
+        let kind = match lowered {
+            Lowered::Group => group(None),
+            Lowered::Transform => group(Some(Box::default())),
+            Lowered::Inline => Kind::Group {
                 transform: None,
                 marks: m,
-                dirlights: Vec::new(),
-                inline_urls: Some(Vec::new()),
+                dirlights: None,
+                inline_urls: Some(Box::default()),
             },
-            "Switch" => Kind::Switch {
+            Lowered::Switch => Kind::Switch {
                 which: -1,
                 choices: Vec::new(),
                 marks: m,
-                dirlights: Vec::new(),
+                dirlights: None,
             },
-            "LOD" => Kind::Lod {
+            Lowered::Lod => Kind::Lod {
                 levels: 0,
                 marks: m,
-                dirlights: Vec::new(),
+                dirlights: None,
             },
-            "Shape" => Kind::Shape {
+            Lowered::Shape => Kind::Shape {
                 appearance: None,
                 geometry: None,
             },
-            "Appearance" => Kind::Appearance { material: None },
-            "Material" => Kind::Material(Material::default()),
-            "Sphere" => Kind::Sphere { radius: 1.0 },
-            "PointLight" => Kind::PointLight(PointLight {
+            Lowered::Appearance => Kind::Appearance { material: None },
+            Lowered::Material => {
+                self.open_materials.push(Material::default());
+                Kind::Material
+            }
+            Lowered::Sphere => Kind::Sphere { radius: 1.0 },
+            Lowered::PointLight => Kind::PointLight(Box::new(PointLight {
                 location: DVec3::ZERO,
                 color: DVec3::ONE,
                 intensity: 1.0,
@@ -1246,8 +1421,8 @@ impl Lowerer {
                 radius: 100.0,
                 on: true,
                 origin: self.origin(at),
-            }),
-            "DirectionalLight" => Kind::DirectionalLight(DirectionalLight {
+            })),
+            Lowered::DirectionalLight => Kind::DirectionalLight(Box::new(DirectionalLight {
                 direction: DVec3::new(0.0, 0.0, -1.0),
                 color: DVec3::ONE,
                 intensity: 1.0,
@@ -1255,18 +1430,18 @@ impl Lowerer {
                 on: true,
                 scope: (0, 0),
                 origin: self.origin(at),
-            }),
-            "Viewpoint" => Kind::Viewpoint(Viewpoint {
+            })),
+            Lowered::Viewpoint => Kind::Viewpoint(Box::new(Viewpoint {
                 name: def.map(str::to_string),
                 description: String::new(),
                 position: DVec3::new(0.0, 0.0, 10.0),
                 orientation: DQuat::IDENTITY,
                 field_of_view: std::f64::consts::FRAC_PI_4,
                 origin: self.origin(at),
-            }),
-            "NavigationInfo" => Kind::NavigationInfo { headlight: None },
-            "Background" => Kind::Background { sky: None },
-            _ => {
+            })),
+            Lowered::NavigationInfo => Kind::NavigationInfo { headlight: None },
+            Lowered::Background => Kind::Background { sky: None },
+            Lowered::Skipped => {
                 // Standard nodes we do not model are counted in the report, not warned about:
                 // they are valid VRML, and `--strict` is about validity.
                 if spec.is_none() {
@@ -1320,7 +1495,7 @@ impl Lowerer {
         });
     }
 
-    fn push_quiet(&mut self, ty: Rc<str>, at: u64) {
+    fn push_quiet(&mut self, ty: Name, at: u64) {
         self.frames.push(Frame {
             ty,
             spec: None,
@@ -1333,6 +1508,7 @@ impl Lowerer {
     }
 
     /// Warns when a node type does not belong in the field it stands in.
+    #[inline(always)]
     fn check_child(&mut self, src: &SourceWindow, ty: &str, at: u64) {
         let Some(ctx) = self.fields.last() else {
             return;
@@ -1391,12 +1567,13 @@ impl Lowerer {
     /// The field table entry for `name` in the innermost open standard node, with the access it
     /// was used with and the node's type. Unknown names are warned about; nodes without a table
     /// (PROTO instances, unknown types) give None silently.
+    #[inline(always)]
     fn field_spec(
         &mut self,
         src: &SourceWindow,
         name: &str,
         at: u64,
-    ) -> Option<(&'static schema::FieldSpec, Access, Rc<str>)> {
+    ) -> Option<(&'static schema::FieldSpec, Access, Name)> {
         let frame = self.frames.last()?;
         let spec = frame.spec?;
         let ty = frame.ty.clone();
@@ -1429,6 +1606,7 @@ impl Lowerer {
         event
     }
 
+    #[inline(always)]
     fn apply_field(
         &mut self,
         src: &SourceWindow,
@@ -1454,32 +1632,35 @@ impl Lowerer {
                 ..
             } if name == "url" => {
                 if let Value::Strings { values, .. } = v {
-                    *u = values.to_vec();
+                    *u = Box::from(*values);
                 }
             }
             Kind::Switch { which, .. } if name == "whichChoice" => *which = num1(v) as i64,
-            Kind::Material(m) => match name {
-                "diffuseColor" => m.diffuse = vec3(v),
-                "emissiveColor" => m.emissive = vec3(v),
-                "specularColor" => m.specular = vec3(v),
-                "shininess" => {
-                    let x = num1(v);
-                    if !(0.0..=1.0).contains(&x) {
-                        // VMD writes its raw Phong exponent (40) here; VRML97 says [0, 1].
-                        problem = Some(format!("shininess {x} is outside [0, 1]: clamped"));
+            Kind::Material => {
+                let m = self.open_materials.last_mut().expect("open Material");
+                match name {
+                    "diffuseColor" => m.diffuse = vec3(v),
+                    "emissiveColor" => m.emissive = vec3(v),
+                    "specularColor" => m.specular = vec3(v),
+                    "shininess" => {
+                        let x = num1(v);
+                        if !(0.0..=1.0).contains(&x) {
+                            // VMD writes its raw Phong exponent (40) here; VRML97 says [0, 1].
+                            problem = Some(format!("shininess {x} is outside [0, 1]: clamped"));
+                        }
+                        m.shininess = x.clamp(0.0, 1.0);
                     }
-                    m.shininess = x.clamp(0.0, 1.0);
-                }
-                "ambientIntensity" => m.ambient_intensity = num1(v),
-                "transparency" => {
-                    let t = num1(v);
-                    if !(0.0..=1.0).contains(&t) {
-                        problem = Some(format!("transparency {t} is outside [0, 1]: clamped"));
+                    "ambientIntensity" => m.ambient_intensity = num1(v),
+                    "transparency" => {
+                        let t = num1(v);
+                        if !(0.0..=1.0).contains(&t) {
+                            problem = Some(format!("transparency {t} is outside [0, 1]: clamped"));
+                        }
+                        m.transparency = t.clamp(0.0, 1.0);
                     }
-                    m.transparency = t.clamp(0.0, 1.0);
+                    _ => {}
                 }
-                _ => {}
-            },
+            }
             Kind::Sphere { radius } if name == "radius" => {
                 let r = num1(v);
                 if r <= 0.0 || !r.is_finite() {
@@ -1552,8 +1733,10 @@ impl Lowerer {
 
     fn nodes_start(&mut self, src: &SourceWindow, name: &str, at: u64) -> Result<(), Error> {
         let idx = self.frames.len().saturating_sub(1);
+        let mut known = None;
         if self.quiet == 0 {
             if let Some((f, access, ty)) = self.field_spec(src, name, at) {
+                known = Some(f.name);
                 if !f.ty.is_node() {
                     return Err(self.error(
                         src,
@@ -1567,10 +1750,13 @@ impl Lowerer {
                 self.warn_if_event(src, name, &ty, access, at);
             }
         }
-        self.fields.push(FieldCtx {
-            name: Rc::from(name),
-            frame: idx,
-        });
+        // The table's entry is this name unless it was found through a set_/_changed alias
+        // (which is longer).
+        let name = match known {
+            Some(k) if k.len() == name.len() => Name::Static(k),
+            _ => Name::Shared(Rc::from(name)),
+        };
+        self.fields.push(FieldCtx { name, frame: idx });
         Ok(())
     }
 
@@ -1580,6 +1766,11 @@ impl Lowerer {
         at: u64,
         done: Vec<(RecKind, Range<usize>)>,
     ) -> Result<(), Error> {
+        if done.is_empty() && self.quiet == 0 {
+            if let Some(result) = self.close_leaf() {
+                return self.deliver(src, result, at);
+            }
+        }
         // Register DEFs first: the node is complete.
         let mut instance = None;
         let mut choice = None;
@@ -1646,9 +1837,8 @@ impl Lowerer {
         let Some(ctx) = self.fields.last() else {
             return Ok(());
         };
-        let name = ctx.name.clone();
         let frame = &mut self.frames[ctx.frame];
-        match (&mut frame.kind, &*name, result) {
+        match (&mut frame.kind, &*ctx.name, result) {
             (Kind::Shape { appearance, .. }, "appearance", Result_::Appearance(m)) => {
                 *appearance = Some(m)
             }
@@ -1659,6 +1849,51 @@ impl Lowerer {
             _ => {}
         }
         Ok(())
+    }
+
+    /// Closes the innermost node in place if it is a Shape, Appearance, Material or Sphere:
+    /// what `close` does for them, without moving the frame out (these are most nodes).
+    fn close_leaf(&mut self) -> Option<Result_> {
+        enum Leaf {
+            Shape(Option<Option<u32>>, Option<Geom>),
+            Appearance(Option<u32>),
+            Material(Material),
+            Sphere(f64),
+        }
+        let frame = self.frames.last()?;
+        let at = frame.at;
+        let leaf = match frame.kind {
+            Kind::Shape {
+                appearance,
+                geometry,
+            } => Leaf::Shape(appearance, geometry),
+            Kind::Appearance { material } => Leaf::Appearance(material),
+            Kind::Material => Leaf::Material(self.open_materials.pop()?),
+            Kind::Sphere { radius } => Leaf::Sphere(radius),
+            _ => return None,
+        };
+        self.frames.truncate(self.frames.len() - 1);
+        Some(match leaf {
+            Leaf::Shape(appearance, geometry) => {
+                if let Some(Geom::Sphere(radius, sat)) = geometry {
+                    let material = match appearance {
+                        Some(Some(m)) => m,
+                        _ => 0, // unlit
+                    };
+                    self.scene.spheres.push(Sphere {
+                        center: DVec3::ZERO,
+                        radius,
+                        material,
+                        ellipsoid: NO_ELLIPSOID,
+                        origin: self.origin(sat),
+                    });
+                }
+                Result_::Nothing
+            }
+            Leaf::Appearance(material) => Result_::Appearance(material),
+            Leaf::Material(m) => Result_::Material(self.material_index(m)),
+            Leaf::Sphere(radius) => Result_::Geometry(Geom::Sphere(radius, at)),
+        })
     }
 
     fn close(&mut self, src: &SourceWindow, frame: Frame) -> Result<Result_, Error> {
@@ -1726,10 +1961,13 @@ impl Lowerer {
                 Result_::Nothing
             }
             Kind::Appearance { material } => Result_::Appearance(material),
-            Kind::Material(m) => Result_::Material(self.material_index(m)),
+            Kind::Material => {
+                let m = self.open_materials.pop().expect("open Material");
+                Result_::Material(self.material_index(m))
+            }
             Kind::Sphere { radius } => Result_::Geometry(Geom::Sphere(radius, at)),
             Kind::PointLight(l) => {
-                self.scene.lights.push(Light::Point(l));
+                self.scene.lights.push(Light::Point(*l));
                 Result_::Nothing
             }
             Kind::DirectionalLight(mut l) => {
@@ -1741,7 +1979,7 @@ impl Lowerer {
                     l.direction = d.normalize();
                 }
                 let idx = self.scene.lights.len();
-                self.scene.lights.push(Light::Directional(l));
+                self.scene.lights.push(Light::Directional(*l));
                 // Scope: the siblings in the enclosing grouping node (set when it closes).
                 if let Some(g) = self.frames.iter_mut().rev().find(|f| {
                     matches!(
@@ -1752,14 +1990,16 @@ impl Lowerer {
                     match &mut g.kind {
                         Kind::Group { dirlights, .. }
                         | Kind::Switch { dirlights, .. }
-                        | Kind::Lod { dirlights, .. } => dirlights.push(idx),
+                        | Kind::Lod { dirlights, .. } => {
+                            dirlights.get_or_insert_with(Box::default).push(idx)
+                        }
                         _ => {}
                     }
                 }
                 Result_::Nothing
             }
             Kind::Viewpoint(v) => {
-                self.scene.viewpoints.push(v);
+                self.scene.viewpoints.push(*v);
                 Result_::Nothing
             }
             Kind::NavigationInfo { headlight } => {
@@ -1799,7 +2039,7 @@ impl Lowerer {
             _ => return Ok(()),
         };
         let end = self.scene.spheres.len() as u32;
-        for i in dirlights {
+        for i in dirlights.into_iter().flat_map(|d| *d) {
             if let Light::Directional(l) = &mut self.scene.lights[i] {
                 l.scope = (marks.spheres as u32, end);
             }
@@ -1807,11 +2047,32 @@ impl Lowerer {
         let Some(t) = transform else {
             return Ok(());
         };
-        let m = transform_matrix(&t);
+        let shift = translation_only(&t);
+        if let Some(d) = shift {
+            if d.is_finite() && self.only_plain_spheres_since(marks) {
+                // What `apply` does for this case, without building the matrix: see there.
+                if d == DVec3::ZERO {
+                    return Ok(());
+                }
+                for s in &mut self.scene.spheres[marks.spheres..] {
+                    s.center += d;
+                    if let Err(what) = check_sphere(s.center, s.radius) {
+                        return Err(self.error(src, at, format!("this Transform makes {what}")));
+                    }
+                }
+                return Ok(());
+            }
+        }
+        let m = match shift {
+            Some(s) => DAffine3::from_translation(s),
+            None => full_transform_matrix(&t),
+        };
         if m == DAffine3::IDENTITY {
             return Ok(());
         }
-        if !m.is_finite() || m.matrix3.determinant() == 0.0 {
+        // (An identity linear part, the translation-only case, has determinant 1.)
+        let flat = shift.is_none() && m.matrix3.determinant() == 0.0;
+        if !m.is_finite() || flat {
             // A zero scale (or a degenerate scaleOrientation) flattens the contents: not shown.
             self.warn(
                 src,
@@ -1824,24 +2085,48 @@ impl Lowerer {
             return Ok(());
         }
         // Each matrix is finite, but their product may not be: check what the contents became.
-        self.apply(&m, marks)
+        self.apply(&m, shift.is_some(), marks)
             .map_err(|what| self.error(src, at, format!("this Transform makes {what}")))
     }
 
+    /// Whether everything lowered since `marks` is spheres (no ellipsoids, lights or viewpoints).
+    fn only_plain_spheres_since(&self, marks: Marks) -> bool {
+        self.scene.lights.len() == marks.lights
+            && self.scene.viewpoints.len() == marks.views
+            && self.scene.spheres[marks.spheres..]
+                .iter()
+                .all(|s| s.ellipsoid == NO_ELLIPSOID)
+    }
+
     /// Applies `m` to everything lowered since `marks`; says what went out of range, if anything.
-    fn apply(&mut self, m: &DAffine3, marks: Marks) -> Result<(), String> {
+    ///
+    /// `translation` says the linear part is exactly the identity; a point then moves by
+    /// `p + t`, which is exactly what the affine map computes (`1*x + 0*y + 0*z + t`: the
+    /// zero terms can only change the sign of a zero, and adding `t`, which has no -0,
+    /// gives the same result either way).
+    fn apply(&mut self, m: &DAffine3, translation: bool, marks: Marks) -> Result<(), String> {
         let lin = m.matrix3;
-        let sim = similarity_scale(&lin);
-        let max_scale = lin
-            .x_axis
-            .length()
-            .max(lin.y_axis.length())
-            .max(lin.z_axis.length());
+        // similarity_scale of the identity is exactly 1.
+        let sim = if translation || lin == DMat3::IDENTITY {
+            Some(1.0)
+        } else {
+            similarity_scale(&lin)
+        };
+        let max_scale = || {
+            lin.x_axis
+                .length()
+                .max(lin.y_axis.length())
+                .max(lin.z_axis.length())
+        };
         for i in marks.spheres..self.scene.spheres.len() {
             let s = &mut self.scene.spheres[i];
             if s.ellipsoid == NO_ELLIPSOID {
                 if let Some(k) = sim {
-                    s.center = m.transform_point3(s.center);
+                    s.center = if translation {
+                        s.center + m.translation
+                    } else {
+                        m.transform_point3(s.center)
+                    };
                     s.radius *= k;
                     check_sphere(s.center, s.radius)?;
                     continue;
@@ -1873,7 +2158,7 @@ impl Lowerer {
             match l {
                 Light::Point(p) => {
                     p.location = m.transform_point3(p.location);
-                    p.radius *= sim.unwrap_or(max_scale);
+                    p.radius *= sim.unwrap_or_else(max_scale);
                     if !p.location.is_finite() || !p.radius.is_finite() {
                         return Err(format!(
                             "a PointLight overflow (location {}, radius {})",
@@ -1886,8 +2171,12 @@ impl Lowerer {
                 }
             }
         }
+        let views = &mut self.scene.viewpoints[marks.views..];
+        if views.is_empty() {
+            return Ok(());
+        }
         let rot = rotation_part(&lin);
-        for v in &mut self.scene.viewpoints[marks.views..] {
+        for v in views {
             v.position = m.transform_point3(v.position);
             v.orientation = (rot * v.orientation).normalize();
             if !v.position.is_finite() {
@@ -2389,7 +2678,118 @@ fn value_end(arena: &[Rec], i: usize) -> usize {
 }
 
 impl Sink for Lowerer {
+    #[inline(always)]
     fn event(&mut self, src: &SourceWindow, ev: Event<'_>) -> Result<(), Error> {
+        // The common events of plain scene text (nothing recorded, no PROTO declaration open)
+        // go straight to their handlers; this is what `handle` does for them.
+        if self.recorders.is_empty() && self.in_proto_decl == 0 {
+            match ev {
+                Event::NodeStart { def: None, ty, at } => {
+                    self.node_start(src, None, ty, at)?;
+                    // (A Switch choice or PROTO instance starts recording at this event.)
+                    if !self.recorders.is_empty() {
+                        let done = self.end_recorders_slow(&ev);
+                        debug_assert!(done.is_empty());
+                    }
+                    return Ok(());
+                }
+                Event::NodeEnd { at } => {
+                    if self.quiet == 0 {
+                        if let Some(result) = self.close_leaf() {
+                            return self.deliver(src, result, at);
+                        }
+                    }
+                    return self.node_end(src, at, Vec::new());
+                }
+                Event::Field { name, at, value } if !matches!(value, Value::Is(_)) => {
+                    return self.field(src, name, at, value)
+                }
+                Event::NodesStart { name, at } => return self.nodes_start(src, name, at),
+                Event::NodesEnd { .. } => {
+                    self.fields.pop();
+                    return Ok(());
+                }
+                _ => {}
+            }
+        }
         self.handle(src, ev)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn open_node_frames_stay_small() {
+        // Frames are pushed and popped for every node; up to 128 bytes they are moved inline.
+        assert!(std::mem::size_of::<Frame>() <= 128);
+    }
+
+    #[test]
+    fn every_modelled_type_is_a_standard_node() {
+        let modelled: Vec<_> = schema::NODES
+            .iter()
+            .zip(LOWERED)
+            .filter(|(_, l)| *l != Lowered::Skipped)
+            .map(|(n, _)| n.name)
+            .collect();
+        assert_eq!(modelled.len(), 17, "{modelled:?}");
+        assert_eq!(LOWERED[schema::node_index("LOD").unwrap()], Lowered::Lod);
+        assert_eq!(
+            LOWERED[schema::node_index("Box").unwrap()],
+            Lowered::Skipped
+        );
+    }
+
+    #[test]
+    fn translation_only_matrix_is_the_full_product() {
+        // The translation-only shortcut must agree bit for bit with the full product.
+        for t in [
+            [0.0, 0.0, 0.0],
+            [-0.0, 0.0, -0.0],
+            [1.5, -2.25, 1e300],
+            [-1e-310, 5e-324, -0.0],
+            [f64::MAX, -f64::MAX, 0.1],
+        ] {
+            let fields = TransformFields {
+                translation: DVec3::from_array(t),
+                ..TransformFields::default()
+            };
+            let shift = translation_only(&fields).unwrap();
+            let fast = DAffine3::from_translation(shift)
+                .to_cols_array()
+                .map(f64::to_bits);
+            let full = full_transform_matrix(&fields)
+                .to_cols_array()
+                .map(f64::to_bits);
+            assert_eq!(fast, full, "{t:?}");
+        }
+        let rotated = TransformFields {
+            rotation: [0.0, 1.0, 0.0, 0.5],
+            ..TransformFields::default()
+        };
+        assert!(translation_only(&rotated).is_none());
+    }
+
+    #[test]
+    fn moving_a_point_by_a_translation_is_the_affine_map() {
+        // Lowerer::apply moves points by `p + t` when the linear part is the identity.
+        let vals = [0.0, -0.0, 1.0, -2.5, 1e-310, -1e300, 0.1];
+        for &x in &vals {
+            for &y in &vals {
+                for &t in &vals {
+                    let shift = DVec3::new(t, -t, t) + DVec3::ZERO;
+                    let m = DAffine3::from_translation(shift);
+                    let p = DVec3::new(x, y, -x);
+                    let want = m.transform_point3(p).to_array().map(f64::to_bits);
+                    assert_eq!(
+                        (p + shift).to_array().map(f64::to_bits),
+                        want,
+                        "{p} {shift}"
+                    );
+                }
+            }
+        }
     }
 }

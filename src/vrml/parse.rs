@@ -77,26 +77,34 @@ enum Item<'a> {
     Urls(&'a [String]),
 }
 
-const KEYWORDS: [&str; 12] = [
-    "DEF",
-    "USE",
-    "PROTO",
-    "EXTERNPROTO",
-    "ROUTE",
-    "TO",
-    "IS",
-    "NULL",
-    "TRUE",
-    "FALSE",
-    "eventIn",
-    "eventOut",
-];
-
 fn is_nan_word(id: &str) -> bool {
-    let l = id.to_ascii_lowercase();
-    matches!(l.as_str(), "nan" | "inf" | "infinity")
+    ["nan", "inf", "infinity"]
+        .iter()
+        .any(|w| id.len() == w.len() && id.eq_ignore_ascii_case(w))
 }
 
+/// Whether `id` is a keyword (or `field`/`exposedField`) that cannot name a node type.
+fn is_reserved(id: &str) -> bool {
+    matches!(
+        id,
+        "DEF"
+            | "USE"
+            | "PROTO"
+            | "EXTERNPROTO"
+            | "ROUTE"
+            | "TO"
+            | "IS"
+            | "NULL"
+            | "TRUE"
+            | "FALSE"
+            | "eventIn"
+            | "eventOut"
+            | "field"
+            | "exposedField"
+    )
+}
+
+#[inline(always)]
 fn ident<'a>(i: &'a str, what: &str) -> PResult<'a, &'a str> {
     match identifier(i) {
         Ok((rest, id)) => Ok((rest, id)),
@@ -105,6 +113,7 @@ fn ident<'a>(i: &'a str, what: &str) -> PResult<'a, &'a str> {
 }
 
 /// `[DEF name] Type {` with the first identifier already read.
+#[inline(always)]
 fn node_header<'a>(first: &'a str, rest: &'a str) -> PResult<'a, (Option<&'a str>, &'a str)> {
     let (def, ty, rest) = if first == "DEF" {
         let (r, name) = ident(ws(rest), "a name after DEF")?;
@@ -113,7 +122,7 @@ fn node_header<'a>(first: &'a str, rest: &'a str) -> PResult<'a, (Option<&'a str
     } else {
         (None, first, rest)
     };
-    if KEYWORDS.contains(&ty) || ty == "field" || ty == "exposedField" {
+    if is_reserved(ty) {
         return fail(rest, format!("expected a node type, found keyword '{ty}'"));
     }
     let r = ws(rest);
@@ -124,6 +133,7 @@ fn node_header<'a>(first: &'a str, rest: &'a str) -> PResult<'a, (Option<&'a str
     }
 }
 
+#[inline(always)]
 fn num<'a>(i: &'a str) -> PResult<'a, lex::Number> {
     match number(i) {
         Ok((rest, n)) => Ok((rest, n)),
@@ -147,6 +157,7 @@ fn str_lit(i: &str) -> PResult<'_, String> {
 }
 
 /// A field value of any type, read generically.
+#[inline(always)]
 fn value<'a>(i: &'a str, s: &'a mut Scratch) -> PResult<'a, Val<'a>> {
     s.nums.clear();
     s.bools.clear();
@@ -371,6 +382,7 @@ fn is_access(id: &str) -> bool {
 }
 
 /// One element of a node body.
+#[inline(always)]
 fn body_element<'a>(i: &'a str, s: &'a mut Scratch) -> PResult<'a, Item<'a>> {
     if let Some(r) = i.strip_prefix('}') {
         return Ok((r, Item::Close));
@@ -466,6 +478,7 @@ impl Parser {
         )))
     }
 
+    #[inline(always)]
     fn skip_ws(&mut self) -> Result<(), Error> {
         loop {
             self.src.ensure().map_err(|e| io_err(&self.src, e))?;
@@ -504,7 +517,11 @@ impl Parser {
     }
 
     /// Reads the whole source.
-    pub fn run(&mut self, sink: &mut dyn Sink) -> Result<(), Error> {
+    ///
+    /// Generic over the sink so that a concrete sink's event handling is compiled into the
+    /// parser (each event's variant is then known where it is handled); `&mut dyn Sink` works
+    /// too.
+    pub fn run<S: Sink + ?Sized>(&mut self, sink: &mut S) -> Result<(), Error> {
         self.header()?;
         self.stack.push(Frame::Top);
         loop {
@@ -548,6 +565,19 @@ impl Parser {
                     continue;
                 }
             }
+            // A `}` or `]` closing a node or a list, when more text follows in the window: what
+            // `step` does with the Close item, without the item parser and its retry check.
+            let next = self.src.rest().as_bytes();
+            if next.len() > 1 && matches!((top, next[0]), (Frame::Body, b'}') | (Frame::List, b']'))
+            {
+                let k = self.stack.len();
+                let under = k.checked_sub(2).map(|j| self.stack[j]);
+                let rest = &self.src.rest()[1..];
+                let pushes = emit(&self.src, sink, at, Item::Close, Some(top), under, rest)?;
+                self.src.pos += 1;
+                self.apply(pushes);
+                continue;
+            }
             match top {
                 Frame::Top | Frame::ProtoBody => self.step(sink, at, |i, _| statement(i))?,
                 Frame::Body => self.step(sink, at, body_element)?,
@@ -562,7 +592,7 @@ impl Parser {
 
     /// Runs one item parser, retrying with more input when it ran into the end of the window,
     /// then turns the item into events.
-    fn step<F>(&mut self, sink: &mut dyn Sink, at: u64, f: F) -> Result<(), Error>
+    fn step<S: Sink + ?Sized, F>(&mut self, sink: &mut S, at: u64, f: F) -> Result<(), Error>
     where
         F: for<'a> Fn(&'a str, &'a mut Scratch) -> PResult<'a, Item<'a>>,
     {
@@ -591,6 +621,7 @@ impl Parser {
         }
     }
 
+    #[inline(always)]
     fn apply(&mut self, p: StackOp) {
         match p {
             StackOp::None => {}
@@ -625,9 +656,10 @@ fn off(src: &SourceWindow, s: &str) -> u64 {
     src.offset_of(s)
 }
 
-fn emit_val(
+#[inline(always)]
+fn emit_val<S: Sink + ?Sized>(
     src: &SourceWindow,
-    sink: &mut dyn Sink,
+    sink: &mut S,
     name: &str,
     at: u64,
     v: Val<'_>,
@@ -663,9 +695,10 @@ fn emit_val(
     }
 }
 
-fn emit(
+#[inline(always)]
+fn emit<S: Sink + ?Sized>(
     src: &SourceWindow,
-    sink: &mut dyn Sink,
+    sink: &mut S,
     at: u64,
     item: Item<'_>,
     top: Option<Frame>,

@@ -163,7 +163,12 @@ impl NodeSpec {
     /// The interface member declared with exactly this name (no event aliases).
     pub fn field(&self, name: &str) -> Option<&'static FieldSpec> {
         let fields: &'static [FieldSpec] = self.fields;
-        fields.iter().find(|f| f.name == name)
+        // Length and first byte rule out almost every other name before the full comparison.
+        let b = name.as_bytes();
+        fields.iter().find(|f| {
+            let fb = f.name.as_bytes();
+            fb.len() == b.len() && fb.first() == b.first() && same_bytes(fb, b)
+        })
     }
 
     /// Resolves exposedField event aliases too: for an exposedField `foo`, `set_foo` is its eventIn and `foo_changed` its eventOut.
@@ -190,12 +195,70 @@ impl NodeSpec {
 }
 
 /// The standard node type named exactly `name` (case-sensitive).
+#[inline]
 pub fn node_spec(name: &str) -> Option<&'static NodeSpec> {
-    NODES
-        .binary_search_by(|n| n.name.cmp(name))
-        .ok()
-        .map(|i| &NODES[i])
+    node_index(name).map(|i| &NODES[i])
 }
+
+/// The index in [`NODES`] of the standard node type named exactly `name` (case-sensitive).
+#[inline(always)]
+pub fn node_index(name: &str) -> Option<usize> {
+    let mut h = name_slot(name.as_bytes());
+    loop {
+        let k = NODE_SLOTS[h] as usize;
+        if k == 0 {
+            return None;
+        }
+        if same_bytes(NODES[k - 1].name.as_bytes(), name.as_bytes()) {
+            return Some(k - 1);
+        }
+        h = (h + 1) % NODE_SLOTS.len();
+    }
+}
+
+/// `a == b` for names: those of 4 to 16 bytes (almost all) are compared as two overlapping
+/// words instead of through a `memcmp` call.
+#[inline(always)]
+fn same_bytes(a: &[u8], b: &[u8]) -> bool {
+    let n = a.len();
+    if n != b.len() {
+        return false;
+    }
+    let w8 = |s: &[u8], i: usize| u64::from_le_bytes(s[i..i + 8].try_into().unwrap_or([0; 8]));
+    let w4 = |s: &[u8], i: usize| u32::from_le_bytes(s[i..i + 4].try_into().unwrap_or([0; 4]));
+    match n {
+        8..=16 => w8(a, 0) == w8(b, 0) && w8(a, n - 8) == w8(b, n - 8),
+        4..=7 => w4(a, 0) == w4(b, 0) && w4(a, n - 4) == w4(b, n - 4),
+        _ => a == b,
+    }
+}
+
+/// Where a node type name starts its probe in [`NODE_SLOTS`]: a hash of its length and its
+/// first, middle and last bytes (every name is looked up, so this must be cheap).
+#[inline]
+const fn name_slot(b: &[u8]) -> usize {
+    let n = b.len();
+    if n == 0 {
+        return 0;
+    }
+    let key = (n as u32) | (b[0] as u32) << 8 | (b[n / 2] as u32) << 16 | (b[n - 1] as u32) << 24;
+    (key.wrapping_mul(0x9E37_79B1) >> 24) as usize
+}
+
+/// An open-addressing table over [`NODES`] (index + 1, 0 for empty), built at compile time.
+static NODE_SLOTS: [u8; 256] = {
+    let mut t = [0u8; 256];
+    let mut i = 0;
+    while i < NODES.len() {
+        let mut h = name_slot(NODES[i].name.as_bytes());
+        while t[h] != 0 {
+            h = (h + 1) % 256;
+        }
+        t[h] = i as u8 + 1;
+        i += 1;
+    }
+    t
+};
 
 const fn spec(name: &'static str, ty: FieldType, access: Access) -> FieldSpec {
     FieldSpec { name, ty, access }
@@ -757,8 +820,28 @@ mod tests {
 
     #[test]
     fn every_node_is_found_by_name() {
-        for n in NODES {
+        for (i, n) in NODES.iter().enumerate() {
             assert!(std::ptr::eq(node_spec(n.name).unwrap(), n));
+            assert_eq!(node_index(n.name), Some(i));
+        }
+        // The lookup table stays short: at most 3 probes for any standard name.
+        for n in NODES {
+            let home = name_slot(n.name.as_bytes());
+            let at = NODE_SLOTS
+                .iter()
+                .position(|&k| k != 0 && NODES[k as usize - 1].name == n.name)
+                .unwrap();
+            assert!((at + 256 - home) % 256 < 3, "{} probes far", n.name);
+        }
+        for name in [
+            "Transfor",
+            "Transforms",
+            "Sphere2",
+            "A",
+            "TransformX",
+            "Tr\u{e4}nsform",
+        ] {
+            assert!(node_spec(name).is_none(), "{name}");
         }
         assert!(node_spec("transform").is_none());
         assert!(node_spec("Separator").is_none());
