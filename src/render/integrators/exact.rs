@@ -4,10 +4,10 @@
 
 use glam::DVec3;
 
-use super::{behind, scatter_for, Estimate, Scratch, PHASE};
+use super::{behind, gas_along, scatter_for, Estimate, Scratch, PHASE};
 use crate::render::lights::{towards, LightKind};
 use crate::render::quadrature::integrate;
-use crate::render::segments::{emission_absorption, gather, sweep};
+use crate::render::segments::emission_absorption;
 use crate::render::shadow_volume::{breakpoints, candidates};
 use crate::render::{Counters, Prepared};
 
@@ -33,17 +33,7 @@ pub fn radiance(
     s: &mut Scratch,
     counters: &mut Counters,
 ) -> Estimate {
-    counters.camera_rays += 1;
-    let hit = gather(prep, o, d, &mut s.intervals);
-    let t_end = hit.map_or(f64::INFINITY, |h| h.t);
-    sweep(
-        prep,
-        &s.intervals,
-        t_end,
-        &mut s.events,
-        &mut s.segments,
-        &mut s.members,
-    );
+    let hit = gas_along(prep, o, d, s, counters);
     let (emitted, transmittance) = emission_absorption(&s.segments);
     let surface = behind(prep, o, d, hit, counters);
     let known = emitted + transmittance * surface;

@@ -6,8 +6,8 @@
 
 use glam::DVec3;
 
-use super::{behind, lights_at, scatter_for, Estimate, Scratch};
-use crate::render::segments::{gather, sweep};
+use super::{behind, gas_along, lights_at, scatter_for, Estimate, Scratch};
+
 use crate::render::{Counters, Prepared};
 
 pub fn radiance(
@@ -18,17 +18,7 @@ pub fn radiance(
     s: &mut Scratch,
     counters: &mut Counters,
 ) -> Estimate {
-    counters.camera_rays += 1;
-    let hit = gather(prep, o, d, &mut s.intervals);
-    let t_end = hit.map_or(f64::INFINITY, |h| h.t);
-    sweep(
-        prep,
-        &s.intervals,
-        t_end,
-        &mut s.events,
-        &mut s.segments,
-        &mut s.members,
-    );
+    let hit = gas_along(prep, o, d, s, counters);
     let end = s.segments.last().map_or(0.0, |g| g.tb);
     let mut l = DVec3::ZERO;
     let mut transmittance = 1.0;

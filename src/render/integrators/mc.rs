@@ -7,9 +7,9 @@
 
 use glam::DVec3;
 
-use super::{behind, lights_at, scatter_for, Estimate, Scratch};
+use super::{behind, gas_along, lights_at, scatter_for, Estimate, Scratch};
 use crate::render::sampler::Rng;
-use crate::render::segments::{gather, sweep};
+
 use crate::render::{Counters, Prepared};
 
 pub fn radiance(
@@ -20,17 +20,7 @@ pub fn radiance(
     s: &mut Scratch,
     counters: &mut Counters,
 ) -> Estimate {
-    counters.camera_rays += 1;
-    let hit = gather(prep, o, d, &mut s.intervals);
-    let t_end = hit.map_or(f64::INFINITY, |h| h.t);
-    sweep(
-        prep,
-        &s.intervals,
-        t_end,
-        &mut s.events,
-        &mut s.segments,
-        &mut s.members,
-    );
+    let hit = gas_along(prep, o, d, s, counters);
     let covered = hit.is_some() || !s.segments.is_empty();
     // 1 - xi is in (0, 1]: -ln of it is finite.
     let mut left = -(1.0 - rng.next_f64()).ln();

@@ -62,6 +62,29 @@ pub fn radiance(
     }
 }
 
+/// Counts the camera ray, finds its first opaque hit and cuts the gas in front of it into
+/// `s.segments` (one traversal, then the sweep).
+pub fn gas_along(
+    prep: &Prepared,
+    o: DVec3,
+    d: DVec3,
+    s: &mut Scratch,
+    counters: &mut Counters,
+) -> Option<Hit> {
+    counters.camera_rays += 1;
+    let hit = super::segments::gather(prep, o, d, &mut s.intervals);
+    let t_end = hit.map_or(f64::INFINITY, |h| h.t);
+    super::segments::sweep(
+        prep,
+        &s.intervals,
+        t_end,
+        &mut s.events,
+        &mut s.segments,
+        &mut s.members,
+    );
+    hit
+}
+
 /// Radiance of the opaque surface `hit` (or the background), as seen along `d`.
 pub fn behind(prep: &Prepared, o: DVec3, d: DVec3, hit: Option<Hit>, c: &mut Counters) -> DVec3 {
     match hit {
