@@ -162,7 +162,7 @@ pub fn run(n: usize, size: u32, threads: usize) -> Result<ExitCode, Error> {
             rows.push(("exact".into(), s, e));
         }
         let mut step = 0.2;
-        for _ in 0..6 {
+        for _ in 0..7 {
             let (img, s) = run_one(n, size, Integrator::March { step }, 0.0, 1)?;
             let e = relative_rms(&img, &reference);
             println!("| march | step {step} | {s:.2} | {e:.2e} |");

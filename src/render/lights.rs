@@ -78,7 +78,13 @@ pub fn collect(scene: &Scene, view: DVec3) -> Vec<LightSource> {
             Light::Directional(d) if d.on => out.push(LightSource {
                 kind: LightKind::Directional {
                     to_light: -d.direction,
-                    scope: d.scope,
+                    // A scope holding every sphere is written as (0, MAX), which integrators
+                    // recognise as "no scoping to apply".
+                    scope: if d.scope.0 == 0 && d.scope.1 as usize >= scene.spheres.len() {
+                        (0, u32::MAX)
+                    } else {
+                        d.scope
+                    },
                 },
                 direct: d.color * d.intensity,
                 ambient: d.color * d.ambient_intensity,
