@@ -238,3 +238,80 @@ fn surface_shadowed_by_gas_gets_the_transmittance() {
         close(ray(&prep, o, w), want, 1e-12);
     }
 }
+
+/// Random small scenes with the camera and point lights inside, on and outside gas and opaque
+/// spheres, lights on the camera ray, coincident spheres: every integrator gives finite,
+/// non-negative pixels and a finite error estimate.
+#[test]
+fn awkward_scenes_give_finite_pixels() {
+    use gtsphere::render::tiles::render;
+    use gtsphere::render::SamplerKind;
+    let mut state = 77u64;
+    let mut rnd = move || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for case in 0..12 {
+        let mut body = String::from("NavigationInfo { headlight FALSE }\n");
+        // The camera sits at the first sphere's centre in half the cases.
+        let cam = if case % 2 == 0 {
+            DVec3::ZERO
+        } else {
+            DVec3::new(0.0, 0.0, 4.0)
+        };
+        body.push_str(&format!(
+            "Viewpoint {{ position {} {} {} fieldOfView 1.2 }}\n",
+            cam.x, cam.y, cam.z
+        ));
+        // Lights: at a sphere centre, on a sphere surface, on the camera's axis.
+        body.push_str("PointLight { location 0 0 0 attenuation 0 1 0 }\n");
+        body.push_str("PointLight { location 1 0 0 radius 3 }\n");
+        body.push_str("PointLight { location 0 0 2 }\n");
+        body.push_str("DirectionalLight { direction 0 0 -1 }\n");
+        for k in 0..6 {
+            let c = if k < 2 {
+                DVec3::ZERO // coincident pair at the origin
+            } else {
+                DVec3::new(rnd() * 2.0 - 1.0, rnd() * 2.0 - 1.0, rnd() * 2.0 - 1.0)
+            };
+            let tr = if (k + case) % 3 == 0 {
+                0.0
+            } else {
+                [1e-300, 0.5, 1.0 - 1e-12, 1.0][k % 4]
+            };
+            body.push_str(&gas(
+                c,
+                if k < 2 { 1.0 } else { 0.2 + rnd() },
+                "0.3 0.2 0.1",
+                tr,
+            ));
+        }
+        for integrator in [
+            Integrator::Exact,
+            Integrator::March { step: 0.05 },
+            Integrator::Mc,
+        ] {
+            let (scene, _) = support::scene(&body);
+            let opts = RenderOptions {
+                width: 12,
+                height: 12,
+                spp: 4,
+                sampler: SamplerKind::Stratified,
+                integrator,
+                tol: 1e-4,
+                ..RenderOptions::default()
+            };
+            let prep = prepare(scene, &opts).expect("prepare");
+            let done = render(&prep, &opts);
+            for p in &done.image.rgb {
+                assert!(
+                    p.iter().all(|v| v.is_finite() && *v >= 0.0),
+                    "case {case} {integrator:?}: {p:?}"
+                );
+            }
+            assert!(done.max_error.is_finite(), "case {case}");
+        }
+    }
+}
