@@ -12,6 +12,13 @@
 //! beyond that, so a box the exact ray meets is never culled. Padding only costs extra exact
 //! tests, never a wrong answer; the f64 closure decides every hit.
 //!
+//! Why a scaled frame. obvhs's node test clamps a box's entry to at least `1e-4` (an absolute
+//! epsilon, `cwbvh::node::EPSILON`), so a box the ray leaves within `1e-4` of its origin is
+//! culled: a whole scene smaller than that would vanish, and a shadow ray could miss a thin
+//! sliver of a neighbouring sphere. The f32 frame is therefore scaled by a power of two (exact)
+//! so that `R` becomes about `2^20`, and every f32 ray starts [`BACKUP`] units before its true
+//! start: every box the true segment meets is then left at `t >= BACKUP > 1e-4`.
+//!
 //! Why chunks. obvhs's build needs about 250 bytes per primitive while it runs (binary nodes,
 //! then the CWBVH conversion tables), more than the whole finished structure. The spheres are
 //! therefore sorted in Morton order and cut into at most [`MAX_CHUNKS`] spatially compact
@@ -23,12 +30,17 @@ use std::time::{Duration, Instant};
 
 use glam::{DAffine3, DVec3, UVec2, Vec3A};
 use obvhs::aabb::Aabb;
-use obvhs::cwbvh::builder::build_cwbvh;
+use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
+use obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh;
 use obvhs::cwbvh::CwBvh;
-use obvhs::ray::{Ray as Ray32, RayHit};
+use obvhs::ploc::PlocBuilder;
+use obvhs::ray::Ray as Ray32;
 use obvhs::{Boundable, BvhBuildParams};
 
 use crate::geom::{ellipsoid_roots, sphere_roots};
+
+/// How far (in scaled f32 units) each f32 ray starts before its true start.
+const BACKUP: f32 = 4e-4;
 
 /// At most this many chunks; each holds at least [`MIN_CHUNK`] spheres.
 pub const MAX_CHUNKS: usize = 16;
@@ -82,6 +94,10 @@ impl Boundable for PaddedBox {
 /// One chunk: a CWBVH over `prims[base..base + len]`, and its padded f64 box.
 struct Chunk {
     bvh: CwBvh,
+    /// Deeper than obvhs's fixed 32-entry traversal stack (which silently overwrites its top
+    /// entry when full): traverse with a growable stack instead. Happens only for degenerate
+    /// sets, such as hundreds of concentric or coincident spheres.
+    deep: bool,
     base: u32,
     lo: DVec3,
     hi: DVec3,
@@ -96,6 +112,8 @@ pub struct SphereBvh {
     pub to_object: Vec<DAffine3>,
     /// Centre of the f32 frame.
     origin: DVec3,
+    /// f32 coordinates are `(x - origin) * scale`, a power of two making `R` about `2^20`.
+    scale: f64,
     /// The padding of every primitive box (world units).
     pad: f64,
     /// The f64 scene box, padded like the primitive boxes, for clipping rays.
@@ -125,6 +143,92 @@ fn slab(lo: DVec3, hi: DVec3, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Optio
         }
     }
     (t0 <= t1).then_some((t0, t1))
+}
+
+/// Depth of a CWBVH in nodes (internal children of a node sit contiguously at
+/// `child_base_idx`, one per set bit of `imask`).
+fn cwbvh_depth(bvh: &CwBvh) -> usize {
+    if bvh.nodes.is_empty() {
+        return 0;
+    }
+    let mut deepest = 0;
+    let mut stack = vec![(0u32, 1usize)];
+    while let Some((n, depth)) = stack.pop() {
+        deepest = deepest.max(depth);
+        let node = &bvh.nodes[n as usize];
+        for k in 0..node.imask.count_ones() {
+            stack.push((node.child_base_idx + k, depth + 1));
+        }
+    }
+    deepest
+}
+
+/// What a leaf visit tells the traversal.
+enum Step {
+    Go,
+    /// Go on, with the ray's f32 `tmax` lowered to this.
+    Shrink(f32),
+    Stop,
+}
+
+/// Traversal state for `obvhs::traverse!` with a stack of our choosing.
+struct Walk<S> {
+    stack: S,
+    current_group: UVec2,
+    primitive_group: UVec2,
+    oct_inv4: u32,
+    primitive_id: u32,
+    hitmask: u32,
+}
+
+/// Walks chunk `c` along `ray`, calling `leaf(primitive index in the chunk)` for every
+/// primitive in a leaf the ray reaches.
+#[inline(always)]
+fn walk_with<S: obvhs::faststack::FastStack<UVec2>>(
+    c: &Chunk,
+    stack: S,
+    mut ray: Ray32,
+    mut leaf: impl FnMut(u32) -> Step,
+) {
+    let t = c.bvh.new_traversal(ray.direction);
+    let mut state = Walk {
+        stack,
+        current_group: t.current_group,
+        primitive_group: t.primitive_group,
+        oct_inv4: t.oct_inv4,
+        primitive_id: 0,
+        hitmask: 0,
+    };
+    let mut node;
+    'done: {
+        obvhs::traverse!(
+            c.bvh,
+            node,
+            state,
+            node.intersect_ray(&ray, state.oct_inv4),
+            {
+                match leaf(state.primitive_id) {
+                    Step::Go => {}
+                    Step::Shrink(t) => ray.tmax = ray.tmax.min(t),
+                    Step::Stop => break 'done,
+                }
+            }
+        );
+    }
+}
+
+#[inline(always)]
+fn walk(c: &Chunk, ray: Ray32, leaf: impl FnMut(u32) -> Step) {
+    if c.deep {
+        walk_with(c, Vec::with_capacity(64), ray, leaf);
+    } else {
+        walk_with(
+            c,
+            obvhs::faststack::StackStack::<UVec2, 32>::default(),
+            ray,
+            leaf,
+        );
+    }
 }
 
 /// Reorders `v` so that `v_new[i] = v_old[order[i]]`, following the permutation's cycles
@@ -217,7 +321,8 @@ impl SphereBvh {
         let origin = (lo + hi) * 0.5;
         let half = ((hi - lo) * 0.5).length().max(f64::MIN_POSITIVE);
         let pad = PAD_ULPS * half * f64::from(f32::EPSILON) * 0.5;
-        let pad32 = pad as f32;
+        let scale = 2f64.powi(20 - half.log2().ceil().clamp(-1000.0, 1000.0) as i32);
+        let pad32 = (pad * scale) as f32;
         let start = Instant::now();
         let mut prims = prims;
         morton_sort(&mut prims, lo, hi);
@@ -232,19 +337,33 @@ impl SphereBvh {
                     let (a, b) = prim_box(p, to_world(p));
                     clo = clo.min(a);
                     chi = chi.max(b);
-                    let a = (a - origin).as_vec3a() - Vec3A::splat(pad32);
-                    let b = (b - origin).as_vec3a() + Vec3A::splat(pad32);
+                    let a = ((a - origin) * scale).as_vec3a() - Vec3A::splat(pad32);
+                    let b = ((b - origin) * scale).as_vec3a() + Vec3A::splat(pad32);
                     PaddedBox(Aabb::new(a, b))
                 })
                 .collect();
-            let mut core = Duration::ZERO;
-            let mut bvh = build_cwbvh(&boxes, BvhBuildParams::fast_build(), &mut core);
+            // obvhs's build_cwbvh, step by step: its debug-build validation asserts a depth
+            // below 32, which degenerate sets (concentric spheres) exceed; we handle those
+            // (`Chunk::deep`) instead.
+            let params = BvhBuildParams::fast_build();
+            let mut bvh2 = PlocBuilder::with_capacity(boxes.len()).build(
+                params.ploc_search_distance,
+                &boxes,
+                (0..boxes.len() as u32).collect::<Vec<_>>(),
+                params.sort_precision,
+                params.search_depth_threshold,
+            );
+            ReinsertionOptimizer::default().run(&mut bvh2, params.reinsertion_batch_ratio, None);
+            let mut bvh = bvh2_to_cwbvh(&bvh2, params.max_prims_per_leaf.clamp(1, 3), true, false);
+            drop(bvh2);
             drop(boxes);
             // Leaf order: the traversal reports positions in `primitive_indices`, so the
             // chunk's spheres are permuted into that order in place and the list is freed.
             permute_in_place(part, &bvh.primitive_indices);
             bvh.primitive_indices = Vec::new();
+            let deep = cwbvh_depth(&bvh) >= 30;
             chunks.push(Chunk {
+                deep,
                 bvh,
                 base: base as u32,
                 lo: clo - pad * 2.0,
@@ -258,6 +377,7 @@ impl SphereBvh {
             to_object,
             chunks,
             origin,
+            scale,
             pad,
             lo: lo - pad * 2.0,
             hi: hi + pad * 2.0,
@@ -294,13 +414,22 @@ impl SphereBvh {
     /// starts at the entry point, so its f32 origin lies inside the scene.
     #[inline]
     fn ray32(&self, o: DVec3, d: DVec3, t0: f64, t1: f64) -> Ray32 {
-        let start = o + t0 * d - self.origin;
-        // Widen the f32 range: the f32 exit must not fall short of the f64 one.
-        let len = ((t1 - t0) as f32) * (1.0 + 4.0 * f32::EPSILON) + f32::MIN_POSITIVE;
         // `+ 0.0` turns -0.0 into +0.0: obvhs picks a node's near planes from the sign test
         // `d < 0` but divides by the signed zero, so a -0.0 component would invert the slab.
         let dir = d.as_vec3a() + Vec3A::ZERO;
-        Ray32::new(start.as_vec3a(), dir, 0.0, len)
+        let start = ((o + t0 * d - self.origin) * self.scale).as_vec3a() - BACKUP * dir;
+        // Widen the f32 range: the f32 exit must not fall short of the f64 one.
+        let len = (((t1 - t0) * self.scale) as f32 + BACKUP) * (1.0 + 4.0 * f32::EPSILON)
+            + f32::MIN_POSITIVE;
+        Ray32::new(start, dir, 0.0, len)
+    }
+
+    /// The f32 ray parameter of world parameter `t` on a ray from [`SphereBvh::ray32`] that
+    /// started at `t0`, rounded up so that no closer box is culled.
+    #[inline]
+    fn t32_above(&self, t: f64, t0: f64) -> f32 {
+        let r = ((t - t0) * self.scale) as f32 + BACKUP;
+        r + r.abs() * 4.0 * f32::EPSILON + f32::MIN_POSITIVE
     }
 
     /// The chunks the segment reaches, with their entry and exit parameters, nearest first.
@@ -354,21 +483,18 @@ impl SphereBvh {
             }
             let c = &self.chunks[k as usize];
             let ray = self.ray32(o, d, t0, t1.min(best.t));
-            let mut hit = RayHit::none();
-            c.bvh.ray_traverse(ray, &mut hit, |_, i| {
-                let i = c.base + i as u32;
+            walk(c, ray, |i| {
+                let i = c.base + i;
                 let p = &self.prims[i as usize];
                 if let Some(roots) = self.roots(p, o, d) {
                     if let Some(t) = test(i, p, roots) {
                         if t > tmin && (t < best.t || (best.prim == u32::MAX && t <= tmax)) {
                             best = Hit { t, prim: i };
-                            // Round the f32 bound up so that no closer box is culled.
-                            let r = (t - t0) as f32;
-                            return r + r.abs() * 4.0 * f32::EPSILON + f32::MIN_POSITIVE;
+                            return Step::Shrink(self.t32_above(t, t0));
                         }
                     }
                 }
-                f32::INFINITY
+                Step::Go
             });
         }
         (best.prim != u32::MAX).then_some(best)
@@ -386,32 +512,50 @@ impl SphereBvh {
         mut blocks: impl FnMut(u32, &Prim, (f64, f64)) -> bool,
     ) -> bool {
         let (list, n) = self.chunks_on(o, d, tmin, tmax);
-        list[..n].iter().any(|&(t0, t1, k)| {
+        let mut blocked = false;
+        for &(t0, t1, k) in &list[..n] {
             let c = &self.chunks[k as usize];
-            !c.bvh.ray_traverse_miss(self.ray32(o, d, t0, t1), |_, i| {
-                let i = c.base + i as u32;
+            walk(c, self.ray32(o, d, t0, t1), |i| {
+                let i = c.base + i;
                 let p = &self.prims[i as usize];
                 match self.roots(p, o, d) {
-                    Some(roots) if blocks(i, p, roots) => f32::NEG_INFINITY,
-                    _ => f32::INFINITY,
+                    Some(roots) if blocks(i, p, roots) => {
+                        blocked = true;
+                        Step::Stop
+                    }
+                    _ => Step::Go,
                 }
-            })
-        })
+            });
+            if blocked {
+                return true;
+            }
+        }
+        false
     }
 
     /// Calls `visit(prim_index, prim)` for every primitive whose (padded) box overlaps the
     /// world box `lo..hi`.
     pub fn overlapping(&self, lo: DVec3, hi: DVec3, mut visit: impl FnMut(u32, &Prim)) {
-        let pad = Vec3A::splat(self.pad as f32);
+        let pad = Vec3A::splat((self.pad * self.scale) as f32);
         let q = Aabb::new(
-            (lo - self.origin).as_vec3a() - pad,
-            (hi - self.origin).as_vec3a() + pad,
+            ((lo - self.origin) * self.scale).as_vec3a() - pad,
+            ((hi - self.origin) * self.scale).as_vec3a() + pad,
         );
         for c in &self.chunks {
             if c.lo.cmpgt(hi).any() || c.hi.cmplt(lo).any() || c.bvh.nodes.is_empty() {
                 continue;
             }
-            let mut state = c.bvh.new_traversal(Vec3A::X);
+            // A growable stack: this query runs per gas segment, not per sphere test, and
+            // must not lose nodes in a deep chunk (see `Chunk::deep`).
+            let t = c.bvh.new_traversal(Vec3A::X);
+            let mut state = Walk {
+                stack: Vec::<UVec2>::with_capacity(64),
+                current_group: t.current_group,
+                primitive_group: t.primitive_group,
+                oct_inv4: t.oct_inv4,
+                primitive_id: 0,
+                hitmask: 0,
+            };
             let mut node;
             obvhs::traverse!(
                 c.bvh,
@@ -439,12 +583,13 @@ impl SphereBvh {
         let (list, n) = self.chunks_on(o, d, tmin, tmax);
         for &(t0, t1, k) in &list[..n] {
             let c = &self.chunks[k as usize];
-            c.bvh.ray_traverse_anyhit(self.ray32(o, d, t0, t1), |_, i| {
-                let i = c.base + i as u32;
+            walk(c, self.ray32(o, d, t0, t1), |i| {
+                let i = c.base + i;
                 let p = &self.prims[i as usize];
                 if let Some(roots) = self.roots(p, o, d) {
                     visit(i, p, roots);
                 }
+                Step::Go
             });
         }
     }

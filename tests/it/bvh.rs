@@ -231,3 +231,55 @@ fn benchmark_scene_shadows_match_brute_force() {
     }
     assert!(checked > 2000 && lit > 500, "{checked} {lit}");
 }
+
+/// Degenerate sets make deep trees (obvhs's own traversal stack holds 32 entries and drops
+/// the rest silently): 600 concentric and 300 coincident spheres are all found.
+#[test]
+fn concentric_and_coincident_spheres_are_all_found() {
+    let mut ps: Vec<Prim> = (0..600)
+        .map(|k| Prim {
+            center: DVec3::ZERO,
+            radius: 0.01 * (k + 1) as f64,
+            material: 0,
+            sphere: k,
+            ellipsoid: NO_ELLIPSOID,
+            flags: 0,
+            sigma: 0.0,
+        })
+        .collect();
+    ps.extend((0..300).map(|k| Prim {
+        center: DVec3::new(2.0, 0.0, 0.0),
+        radius: 0.5,
+        material: 0,
+        sphere: 600 + k,
+        ellipsoid: NO_ELLIPSOID,
+        flags: 0,
+        sigma: 0.0,
+    }));
+    let bvh = SphereBvh::build(ps, &[]);
+    let o = DVec3::new(-10.0, 0.0, 0.0);
+    let mut seen = BTreeSet::new();
+    bvh.all(o, DVec3::X, 0.0, f64::INFINITY, |_, p, _| {
+        seen.insert(p.sphere);
+    });
+    assert_eq!(seen.len(), 900);
+    let h = bvh
+        .closest(o, DVec3::X, 0.0, f64::INFINITY, |_, _, (t0, _)| Some(t0))
+        .unwrap();
+    assert_eq!(bvh.prims[h.prim as usize].sphere, 599);
+    // From inside the innermost sphere, every concentric one is left, none entered.
+    assert!(!bvh.any(
+        DVec3::ZERO,
+        DVec3::Y,
+        0.0,
+        f64::INFINITY,
+        |_, _, (t0, _)| t0 > 0.0
+    ));
+    assert!(bvh.any(
+        DVec3::new(2.0, 5.0, 0.0),
+        DVec3::NEG_Y,
+        0.0,
+        10.0,
+        |_, _, (t0, _)| t0 > 0.0
+    ));
+}

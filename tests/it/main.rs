@@ -7,6 +7,7 @@ mod corpus_counts;
 mod errors;
 mod gas_scatter;
 mod geom;
+mod hard_cases;
 mod lexical;
 mod output;
 mod regression;

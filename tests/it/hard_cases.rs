@@ -1,0 +1,225 @@
+//! Numerical hard cases (issue 5, first part), each with its expected value stated here.
+//! (The issue names `tests/hard_cases.rs`; the project keeps one integration binary, so it is
+//! the module `tests/it/hard_cases.rs`.)
+
+use glam::DVec3;
+use gtsphere::output::Image;
+use gtsphere::render::integrators::{self, Scratch};
+use gtsphere::render::sampler::Rng;
+use gtsphere::render::tiles::render;
+use gtsphere::render::{prepare, Counters, Prepared, RenderOptions, SamplerKind};
+
+use crate::support;
+
+fn prep(body: &str) -> Prepared {
+    let (scene, _) = support::scene(&format!("NavigationInfo {{ headlight FALSE }}\n{body}"));
+    prepare(scene, &RenderOptions::default()).expect("prepare")
+}
+
+fn ray(p: &Prepared, o: DVec3, w: DVec3) -> DVec3 {
+    let e = integrators::radiance(
+        p,
+        o,
+        w,
+        &mut Rng::new(0, 0),
+        &mut Scratch::default(),
+        &mut Counters::default(),
+    );
+    assert!(e.value.is_finite());
+    e.value
+}
+
+fn unlit_at(c: DVec3, r: f64) -> String {
+    format!(
+        "Transform {{ translation {} {} {} children Shape {{ geometry Sphere {{ radius {r} }} }} }}\n",
+        c.x, c.y, c.z
+    )
+}
+
+fn gas_at(c: DVec3, r: f64, tr: f64) -> String {
+    format!(
+        "Transform {{ translation {} {} {} children Shape {{ appearance Appearance {{ material Material {{ emissiveColor 1 1 1 diffuseColor 0 0 0 transparency {tr} }} }} geometry Sphere {{ radius {r} }} }} }}\n",
+        c.x, c.y, c.z
+    )
+}
+
+/// Tiny and huge spheres, and a small sphere far away: the ray through the centre sees the
+/// unlit sphere (value exactly 1), rays 1e-9 (relative) outside its rim see the background.
+#[test]
+fn tiny_huge_and_far_spheres() {
+    for (r, dist) in [(1e-6, 1e-5), (1e6, 1e7), (1e-3, 1e5)] {
+        let c = DVec3::new(0.3 * r, -0.2 * r, 0.0);
+        let p = prep(&format!(
+            "Background {{ skyColor 0 0 0.5 }}\n{}",
+            unlit_at(c, r)
+        ));
+        let o = c + DVec3::new(0.0, 0.0, dist);
+        assert_eq!(ray(&p, o, DVec3::NEG_Z), DVec3::ONE, "r {r}");
+        // Rays along -z passing r (1 -+ 1e-9) from the centre: just inside and outside the rim.
+        for (k, want) in [
+            (1.0 - 1e-9, DVec3::ONE),
+            (1.0 + 1e-9, DVec3::new(0.0, 0.0, 0.5)),
+        ] {
+            let o = c + DVec3::new(r * k, 0.0, dist);
+            assert_eq!(ray(&p, o, DVec3::NEG_Z), want, "r {r} k {k}");
+        }
+    }
+}
+
+fn render_center(body: &str, w: u32, h: u32) -> Image {
+    let (scene, _) = support::scene(body);
+    let opts = RenderOptions {
+        width: w,
+        height: h,
+        sampler: SamplerKind::Center,
+        spp: 1,
+        ..RenderOptions::default()
+    };
+    render(&prepare(scene, &opts).unwrap(), &opts).image
+}
+
+/// The cluster sample translated by 1e7 (camera, lights and spheres) gives the same picture
+/// to 1e-6 per pixel: all geometry is relative in f64 and the BVH recentres before f32.
+#[test]
+fn scene_translated_by_1e7_renders_the_same() {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/samples/cluster.wrl"))
+        .unwrap();
+    let body = text.trim_start_matches("#VRML V2.0 utf8");
+    let a = render_center(&format!("#VRML V2.0 utf8\n{body}"), 64, 48);
+    let b = render_center(
+        &format!("#VRML V2.0 utf8\nTransform {{ translation 1e7 -1e7 1e7 children [\n{body}\n] }}"),
+        64,
+        48,
+    );
+    let mut max: f32 = 0.0;
+    for (p, q) in a.rgb.iter().zip(&b.rgb) {
+        for k in 0..3 {
+            max = max.max((p[k] - q[k]).abs());
+        }
+    }
+    assert!(max < 1e-6, "max pixel difference {max:e}");
+    assert!(a.alpha.iter().sum::<f32>() > 500.0);
+}
+
+/// 1000 concentric gas spheres of one colour: the ray through the centre sees
+/// C (1 - exp(-sum sigma_j 2 r_j)).
+#[test]
+fn a_thousand_concentric_gas_spheres() {
+    let mut body = String::new();
+    let mut tau = 0.0;
+    for k in 1..=1000 {
+        let r = k as f64 * 1e-3;
+        let tr = 0.999;
+        body.push_str(&gas_at(DVec3::ZERO, r, tr));
+        tau += -f64::ln(tr); // sigma_j * 2 r_j
+    }
+    let p = prep(&body);
+    let got = ray(&p, DVec3::new(0.0, 0.0, 5.0), DVec3::NEG_Z);
+    let want = 1.0 - (-tau).exp();
+    assert!((got.x - want).abs() < 1e-12, "{got} vs {want}");
+}
+
+/// The camera inside a gas sphere sees C (1 - exp(-sigma t_exit)); inside an opaque sphere it
+/// sees through it (spheres are solid, culled from inside) to what lies beyond.
+#[test]
+fn camera_inside_gas_and_inside_opaque_spheres() {
+    let p = prep(&gas_at(DVec3::ZERO, 1.0, 0.2));
+    let sigma = -f64::ln(0.2) / 2.0;
+    let o = DVec3::new(0.3, 0.0, 0.0);
+    for w in [DVec3::X, DVec3::NEG_X, DVec3::Y] {
+        // Exit distance from o along w.
+        let b = o.dot(w);
+        let t = -b + (b * b - (o.length_squared() - 1.0)).sqrt();
+        let want = 1.0 - (-sigma * t).exp();
+        assert!((ray(&p, o, w).x - want).abs() < 1e-13);
+    }
+    let p = prep(&format!(
+        "Background {{ skyColor 0.1 0.2 0.3 }}\n{}{}",
+        unlit_at(DVec3::ZERO, 1.0),
+        unlit_at(DVec3::new(0.0, 0.0, -3.0), 0.5)
+    ));
+    assert_eq!(ray(&p, DVec3::ZERO, DVec3::Z), DVec3::new(0.1, 0.2, 0.3));
+    assert_eq!(ray(&p, DVec3::ZERO, DVec3::NEG_Z), DVec3::ONE);
+}
+
+/// Optical depth 0 (transparency 1): the gas is invisible, the background comes through
+/// exactly.
+#[test]
+fn optical_depth_zero_is_invisible() {
+    let p = prep(&format!(
+        "Background {{ skyColor 0.25 0.5 1 }}\n{}",
+        gas_at(DVec3::ZERO, 1.0, 1.0)
+    ));
+    assert_eq!(
+        ray(&p, DVec3::new(0.0, 0.0, 5.0), DVec3::NEG_Z),
+        DVec3::new(0.25, 0.5, 1.0)
+    );
+}
+
+/// A point light exactly at a visible surface point: that point gets no direct light (its
+/// direction is undefined; MODEL.md's att and N.L need a distance), its neighbours get the
+/// equation with the light on their tangent plane (N.L -> 0), and nothing is NaN.
+#[test]
+fn point_light_on_the_surface() {
+    let p = prep(
+        "PointLight { location 0 0 1 ambientIntensity 0.5 }\n\
+         Shape { appearance Appearance { material Material { diffuseColor 1 1 1 ambientIntensity 0.4 } } geometry Sphere { } }",
+    );
+    let o = DVec3::new(0.0, 0.0, 5.0);
+    // The point (0,0,1) itself: ambient needs the light's reach, which d = 0 does not define:
+    // no light at all.
+    assert_eq!(ray(&p, o, DVec3::NEG_Z), DVec3::ZERO);
+    // A neighbour at angle a from the pole: L from x to (0,0,1), N.L = sin(a/2).
+    for a in [1e-6f64, 1e-3, 0.1] {
+        let x = DVec3::new(a.sin(), 0.0, a.cos());
+        let w = (x - o).normalize();
+        let l = (DVec3::Z - x).normalize();
+        let want = 0.5 * 0.4 + x.dot(l).max(0.0);
+        let got = ray(&p, o, w).x;
+        assert!((got - want).abs() < 1e-9, "a {a}: {got} vs {want}");
+    }
+}
+
+/// Degenerate transforms: scale 0 hides the contents with a warning (no sphere); a rotation
+/// about the zero axis is the identity.
+#[test]
+fn degenerate_transforms() {
+    let (scene, report) =
+        support::scene("Transform { scale 0 0 0 children Shape { geometry Sphere { } } }");
+    assert_eq!(scene.spheres.len(), 0);
+    assert!(report
+        .warnings
+        .iter()
+        .any(|w| w.headline().contains("scale")));
+    let (scene, _) = support::scene(
+        "Transform { rotation 0 0 0 1.5 translation 1 2 3 children Shape { geometry Sphere { radius 2 } } }",
+    );
+    assert_eq!(scene.spheres[0].center, DVec3::new(1.0, 2.0, 3.0));
+    assert_eq!(scene.spheres[0].radius, 2.0);
+}
+
+/// Bad numbers give a clean positioned error, never a picture: zero, negative, NaN and
+/// infinite radii, NaN and infinite coordinates.
+#[test]
+fn bad_radii_and_coordinates_are_positioned_errors() {
+    for (text, col) in [
+        ("Shape { geometry Sphere { radius 0 } }", 27),
+        ("Shape { geometry Sphere { radius -1 } }", 27),
+        ("Shape { geometry Sphere { radius nan } }", 27),
+        ("Shape { geometry Sphere { radius inf } }", 27),
+        (
+            "Transform { translation 1 nan 0 children Shape { geometry Sphere { } } }",
+            13,
+        ),
+        (
+            "Transform { translation 1e999 0 0 children Shape { geometry Sphere { } } }",
+            13,
+        ),
+    ] {
+        let err = support::error_of(&format!("#VRML V2.0 utf8\n{text}"));
+        let head = err.lines().next().unwrap();
+        assert!(head.starts_with("test.wrl:2:"), "{text}: {head}");
+        let c: usize = head.split(':').nth(2).unwrap().parse().unwrap();
+        assert!(c >= col, "{text}: {head}");
+    }
+}
