@@ -445,3 +445,21 @@ fn error_estimate_is_honest() {
         );
     }
 }
+
+#[test]
+fn one_sphere_point_light_at_the_centre() {
+    one_sphere(Lamp::Point {
+        p: DVec3::ZERO,
+        power: DVec3::new(1.0, 0.8, 0.6),
+        att: DVec3::new(1.0, 0.0, 0.0),
+    });
+}
+
+#[test]
+fn one_sphere_point_light_on_the_surface() {
+    one_sphere(Lamp::Point {
+        p: DVec3::new(0.6, 0.0, 0.8),
+        power: DVec3::new(1.0, 0.8, 0.6),
+        att: DVec3::new(0.0, 1.0, 0.0),
+    });
+}
