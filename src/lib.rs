@@ -5,6 +5,7 @@
 
 pub mod accel;
 pub mod cli;
+pub mod compare;
 pub mod diag;
 pub mod error;
 pub mod geom;

@@ -11,6 +11,7 @@ use crate::error::Error;
 pub mod bench;
 pub mod bench_gas;
 pub mod bench_trace;
+pub mod compare;
 pub mod info;
 pub mod render;
 
@@ -44,6 +45,23 @@ pub enum Command {
     },
     /// Render a scene to an image (.png, .exr or .pfm).
     Render(render::RenderArgs),
+    /// Compare an image with a reference (PNG, EXR or PFM): RMSE, relative RMSE, PSNR, the
+    /// largest error and where it is; optionally a false-colour heat map of the error.
+    Compare {
+        /// The image to judge (for example a real-time renderer's output).
+        image: PathBuf,
+        /// The reference (for example `gtsphere render`'s output).
+        reference: PathBuf,
+        /// Write the per-pixel error (largest over R, G, B) in false colour with a legend.
+        #[arg(long)]
+        heatmap: Option<PathBuf>,
+        /// The error at the top of the heat map's colour scale (default: the largest error).
+        #[arg(long, requires = "heatmap")]
+        heatmap_max: Option<f64>,
+        /// Exit with code 1 when the RMSE exceeds this.
+        #[arg(long)]
+        max_rmse: Option<f64>,
+    },
     /// Benchmarks that print a table.
     Bench {
         #[command(subcommand)]
@@ -60,6 +78,13 @@ pub fn run(cli: Cli) -> Result<ExitCode, Error> {
             no_inline,
         } => info::run(&scene, json, strict, no_inline),
         Command::Render(args) => render::run(&args),
+        Command::Compare {
+            image,
+            reference,
+            heatmap,
+            heatmap_max,
+            max_rmse,
+        } => compare::run(&image, &reference, heatmap.as_ref(), heatmap_max, max_rmse),
         Command::Bench { what } => bench::run(what),
     }
 }
