@@ -13,6 +13,7 @@ pub mod bench_gas;
 pub mod bench_trace;
 pub mod compare;
 pub mod info;
+pub mod merge;
 pub mod render;
 
 #[derive(Debug, Parser)]
@@ -62,6 +63,16 @@ pub enum Command {
         #[arg(long)]
         max_rmse: Option<f64>,
     },
+    /// Assemble the parts of a picture rendered with `render --region` or `--tile` (EXR) into
+    /// the whole; every pixel must come from exactly one part.
+    Merge {
+        /// The parts (.exr).
+        #[arg(required = true)]
+        parts: Vec<PathBuf>,
+        /// The whole picture (.png, .exr or .pfm).
+        #[arg(short, long)]
+        output: PathBuf,
+    },
     /// Benchmarks that print a table.
     Bench {
         #[command(subcommand)]
@@ -85,6 +96,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, Error> {
             heatmap_max,
             max_rmse,
         } => compare::run(&image, &reference, heatmap.as_ref(), heatmap_max, max_rmse),
+        Command::Merge { parts, output } => merge::run(&parts, &output),
         Command::Bench { what } => bench::run(what),
     }
 }

@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use clap::{Args, ValueEnum};
 
 use crate::error::Error;
-use crate::output::{format_for, write_image, Format};
+use crate::output::{format_for, write_image, write_part, Format, Placement};
 use crate::render::{
     prepare, tiles::render, Aovs, CameraChoice, Integrator, Projection, RenderOptions, SamplerKind,
 };
@@ -107,6 +107,14 @@ pub struct RenderArgs {
     /// Do not load Inline nodes.
     #[arg(long)]
     pub no_inline: bool,
+    /// Render only the pixels x0..x1, y0..y1 (columns x0 to x1-1, rows y0 to y1-1, row 0 at
+    /// the top), exactly as the whole render would; the output must be .exr and records where
+    /// the part goes (`gtsphere merge` assembles parts).
+    #[arg(long, value_delimiter = ',', value_name = "X0,Y0,X1,Y1", conflicts_with = "tile")]
+    pub region: Option<Vec<u32>>,
+    /// Render band K of N (K from 1 to N) of the image's rows, for job arrays; as --region.
+    #[arg(long)]
+    pub tile: Option<String>,
     /// Print work counters and timings.
     #[arg(long)]
     pub stats: bool,
@@ -199,7 +207,47 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<RenderOptions, Error> {
             out.display()
         )));
     }
+    let region = match (&args.region, &args.tile) {
+        (Some(r), _) => {
+            let &[x0, y0, x1, y1] = r.as_slice() else {
+                return Err(bad(format!(
+                    "--region takes four numbers x0,y0,x1,y1 (got {})",
+                    r.len()
+                )));
+            };
+            if !(x0 < x1 && y0 < y1 && x1 <= args.width && y1 <= args.height) {
+                return Err(bad(format!(
+                    "--region {x0},{y0},{x1},{y1} is empty or outside the {}x{} image",
+                    args.width, args.height
+                )));
+            }
+            Some((x0, y0, x1, y1))
+        }
+        (None, Some(t)) => {
+            let parsed = t.split_once('/').and_then(|(k, n)| {
+                Some((k.trim().parse::<u32>().ok()?, n.trim().parse::<u32>().ok()?))
+            });
+            let Some((k, n)) = parsed.filter(|&(k, n)| k >= 1 && k <= n && n <= args.height) else {
+                return Err(bad(format!(
+                    "--tile must be K/N with 1 <= K <= N <= the image height (got {t})"
+                )));
+            };
+            // Band k of n: rows floor((k-1) H / n) .. floor(k H / n).
+            let h = u64::from(args.height);
+            let y0 = ((u64::from(k) - 1) * h / u64::from(n)) as u32;
+            let y1 = (u64::from(k) * h / u64::from(n)) as u32;
+            Some((0, y0, args.width, y1))
+        }
+        (None, None) => None,
+    };
+    if region.is_some() && format != Format::Exr {
+        return Err(bad(format!(
+            "--region and --tile write a part of the picture, which needs an .exr output (got {})",
+            out.display()
+        )));
+    }
     Ok(RenderOptions {
+        region,
         width: args.width,
         height: args.height,
         spp: args.spp,
@@ -277,7 +325,19 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
         .build()
         .map_err(|e| Error::Other(format!("cannot start worker threads: {e}")))?;
     let done = pool.install(|| render(&prep, &opts));
-    write_image(&out, &done.image)?;
+    match opts.region {
+        Some((x0, y0, _, _)) => write_part(
+            &out,
+            &done.image,
+            Placement {
+                x: x0 as usize,
+                y: y0 as usize,
+                full_width: opts.width as usize,
+                full_height: opts.height as usize,
+            },
+        )?,
+        None => write_image(&out, &done.image)?,
+    }
     say(format!(
         "wrote {} ({}x{}, {} spp) in {:.2} s (load {:.2} s, BVH {:.2} s)",
         out.display(),

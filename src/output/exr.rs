@@ -11,9 +11,13 @@ use exr::prelude::{
     LayerAttributes, ReadChannels, ReadLayers, Text, WritableImage,
 };
 
-use super::{Fault, Image, Layer};
+use super::{Fault, Image, Layer, Placement};
 
-pub(super) fn write(out: &mut (impl Write + Seek), img: &Image) -> Result<(), Fault> {
+pub(super) fn write(
+    out: &mut (impl Write + Seek),
+    img: &Image,
+    at: Option<Placement>,
+) -> Result<(), Fault> {
     let plane = |i: usize| FlatSamples::F32(img.rgb.iter().map(|p| p[i]).collect());
     let mut list = vec![
         AnyChannel::new("R", plane(0)),
@@ -33,19 +37,30 @@ pub(super) fn write(out: &mut (impl Write + Seek), img: &Image) -> Result<(), Fa
             })?;
         list.push(AnyChannel::new(name, FlatSamples::F32(layer.data.clone())));
     }
+    let mut attributes = LayerAttributes::default();
+    if let Some(at) = at {
+        attributes.layer_position = exr::math::Vec2(at.x as i32, at.y as i32);
+    }
     let layer = ExrLayer::new(
         (img.width, img.height),
-        LayerAttributes::default(),
+        attributes,
         Encoding::SMALL_LOSSLESS,
         AnyChannels::sort(list.into()),
     );
-    ExrImage::from_layer(layer)
-        .write()
-        .to_buffered(out)
-        .map_err(exr_fault)
+    let mut image = ExrImage::from_layer(layer);
+    if let Some(at) = at {
+        image.attributes.display_window =
+            exr::meta::attribute::IntegerBounds::new((0, 0), (at.full_width, at.full_height));
+    }
+    image.write().to_buffered(out).map_err(exr_fault)
 }
 
 pub(super) fn read(path: &Path) -> Result<Image, Fault> {
+    read_placed(path).map(|(img, _)| img)
+}
+
+/// The image and where it sits: its data window's position and the display window's size.
+pub(super) fn read_placed(path: &Path) -> Result<(Image, Placement), Fault> {
     let file = exr::prelude::read()
         .no_deep_data()
         .largest_resolution_level()
@@ -54,8 +69,23 @@ pub(super) fn read(path: &Path) -> Result<Image, Fault> {
         .all_attributes()
         .from_file(path)
         .map_err(exr_fault)?;
+    let display = file.attributes.display_window;
     let layer = file.layer_data;
     let (width, height) = (layer.size.x(), layer.size.y());
+    let pos = layer.attributes.layer_position;
+    let at = if pos.x() < 0 || pos.y() < 0 || display.position.x() != 0 || display.position.y() != 0
+    {
+        return Err(Fault::Bad(
+            "EXR data or display window starts at a negative position".into(),
+        ));
+    } else {
+        Placement {
+            x: pos.x() as usize,
+            y: pos.y() as usize,
+            full_width: display.size.x().max(pos.x() as usize + width),
+            full_height: display.size.y().max(pos.y() as usize + height),
+        }
+    };
     let n = width * height;
 
     let mut colour: [Option<Vec<f32>>; 4] = [None, None, None, None];
@@ -94,13 +124,16 @@ pub(super) fn read(path: &Path) -> Result<Image, Fault> {
         .zip(b)
         .map(|((r, g), b)| [r, g, b])
         .collect();
-    Ok(Image {
-        width,
-        height,
-        rgb,
-        alpha: a.unwrap_or_else(|| vec![1.0; n]),
-        layers,
-    })
+    Ok((
+        Image {
+            width,
+            height,
+            rgb,
+            alpha: a.unwrap_or_else(|| vec![1.0; n]),
+            layers,
+        },
+        at,
+    ))
 }
 
 fn exr_fault(e: exr::error::Error) -> Fault {

@@ -78,6 +78,47 @@ pub fn format_for(path: &Path) -> Result<Format, Error> {
 /// created. Replacing `path` replaces the directory entry: an existing file's permissions are
 /// not carried over, and a symlink at `path` is replaced rather than followed.
 pub fn write_image(path: &Path, img: &Image) -> Result<(), Error> {
+    write_placed(path, img, None)
+}
+
+/// Where a part of a picture goes in the whole: its top-left pixel and the whole's size.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Placement {
+    pub x: usize,
+    pub y: usize,
+    pub full_width: usize,
+    pub full_height: usize,
+}
+
+/// Writes `img` as one part of a larger picture (EXR only): the part's position is its EXR
+/// data window and the whole picture is the display window, as the format intends.
+pub fn write_part(path: &Path, img: &Image, at: Placement) -> Result<(), Error> {
+    if format_for(path)? != Format::Exr {
+        return Err(image_error(
+            path,
+            "a part of a picture must be written as .exr (it records where the part goes)".into(),
+        ));
+    }
+    if at.x + img.width > at.full_width || at.y + img.height > at.full_height {
+        return Err(image_error(
+            path,
+            "the part does not fit in the whole picture".into(),
+        ));
+    }
+    write_placed(path, img, Some(at))
+}
+
+/// Reads an EXR with where it goes in the whole picture (a plain EXR is a whole picture at 0,0).
+pub fn read_part(path: &Path) -> Result<(Image, Placement), Error> {
+    if format_for(path)? != Format::Exr {
+        return Err(image_error(path, "parts are .exr files".into()));
+    }
+    let (img, at) = exr::read_placed(path).map_err(|f| f.at(path))?;
+    img.check().map_err(|m| image_error(path, m))?;
+    Ok((img, at))
+}
+
+fn write_placed(path: &Path, img: &Image, at: Option<Placement>) -> Result<(), Error> {
     let format = format_for(path)?;
     img.check().map_err(|m| image_error(path, m))?;
     let (mut temp, file) = TempFile::create(path)?;
@@ -85,7 +126,7 @@ pub fn write_image(path: &Path, img: &Image) -> Result<(), Error> {
         let mut out = BufWriter::new(file);
         match format {
             Format::Png => png::write(&mut out, img)?,
-            Format::Exr => exr::write(&mut out, img)?,
+            Format::Exr => exr::write(&mut out, img, at)?,
             Format::Pfm => pfm::write(&mut out, img)?,
         }
         out.flush()?;

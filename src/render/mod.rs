@@ -63,6 +63,9 @@ pub struct RenderOptions {
     /// Target error of the exact integrator, relative to the pixel's value (with an absolute
     /// floor of `tol * 1e-3`).
     pub tol: f64,
+    /// Render only the pixels `x0..x1, y0..y1` of the `width x height` image (`--region`,
+    /// `--tile`); the result is the same as those pixels of the whole render, bit for bit.
+    pub region: Option<(u32, u32, u32, u32)>,
     /// Show a progress bar (only drawn when stderr is a terminal).
     pub progress: bool,
 }
@@ -81,6 +84,7 @@ impl Default for RenderOptions {
             as_gas: None,
             integrator: Integrator::Exact,
             tol: 1e-4,
+            region: None,
             progress: false,
         }
     }
@@ -141,6 +145,14 @@ pub fn prepare(scene: Scene, opts: &RenderOptions) -> Result<Prepared, String> {
             "the image size {}x{} is empty",
             opts.width, opts.height
         ));
+    }
+    if let Some((x0, y0, x1, y1)) = opts.region {
+        if !(x0 < x1 && y0 < y1 && x1 <= opts.width && y1 <= opts.height) {
+            return Err(format!(
+                "the region {x0},{y0},{x1},{y1} is empty or outside the {}x{} image",
+                opts.width, opts.height
+            ));
+        }
     }
     let camera = camera::setup(
         &scene,

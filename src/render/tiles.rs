@@ -120,7 +120,10 @@ fn render_pixel(
 /// Renders the prepared scene. Run inside a rayon pool to choose the thread count.
 pub fn render(prep: &Prepared, opts: &RenderOptions) -> Rendered {
     let start = Instant::now();
-    let (w, h) = (opts.width, opts.height);
+    // The pixels to render: the region asked for, or the whole image. Each pixel depends
+    // only on its own position, so a region equals the same pixels of a whole render.
+    let (rx0, ry0, rx1, ry1) = opts.region.unwrap_or((0, 0, opts.width, opts.height));
+    let (w, h) = (rx1 - rx0, ry1 - ry0);
     let (tx, ty) = (w.div_ceil(TILE), h.div_ceil(TILE));
     let pb = progress_bar(u64::from(tx * ty), opts.progress);
     let tiles: Vec<(Vec<PixelOut>, Counters)> = (0..tx * ty)
@@ -128,6 +131,7 @@ pub fn render(prep: &Prepared, opts: &RenderOptions) -> Rendered {
         .map(|t| {
             let (x0, y0) = ((t % tx) * TILE, (t / tx) * TILE);
             let (x1, y1) = ((x0 + TILE).min(w), (y0 + TILE).min(h));
+            let (x0, y0, x1, y1) = (x0 + rx0, y0 + ry0, x1 + rx0, y1 + ry0);
             let mut counters = Counters::default();
             let mut samples = Vec::with_capacity(opts.spp as usize);
             let mut scratch = Scratch::default();
