@@ -110,7 +110,12 @@ pub struct RenderArgs {
     /// Render only the pixels x0..x1, y0..y1 (columns x0 to x1-1, rows y0 to y1-1, row 0 at
     /// the top), exactly as the whole render would; the output must be .exr and records where
     /// the part goes (`gtsphere merge` assembles parts).
-    #[arg(long, value_delimiter = ',', value_name = "X0,Y0,X1,Y1", conflicts_with = "tile")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "X0,Y0,X1,Y1",
+        conflicts_with = "tile"
+    )]
     pub region: Option<Vec<u32>>,
     /// Render band K of N (K from 1 to N) of the image's rows, for job arrays; as --region.
     #[arg(long)]

@@ -81,6 +81,34 @@ pub fn write_image(path: &Path, img: &Image) -> Result<(), Error> {
     write_placed(path, img, None)
 }
 
+/// Writes any file the way images are written: into a hidden temporary sibling, synced, then
+/// renamed over `path`; on failure the temporary file is removed and `path` is untouched.
+pub fn write_file_atomically(
+    path: &Path,
+    write: impl FnOnce(&mut BufWriter<File>) -> io::Result<()>,
+) -> Result<(), Error> {
+    let (mut temp, file) = TempFile::create(path)?;
+    let written = (|| -> io::Result<()> {
+        let mut out = BufWriter::with_capacity(1 << 20, file);
+        write(&mut out)?;
+        out.flush()?;
+        let file = out.into_inner().map_err(io::IntoInnerError::into_error)?;
+        file.sync_all()?;
+        drop(file);
+        fs::rename(&temp.path, path)
+    })();
+    match written {
+        Ok(()) => {
+            temp.renamed = true;
+            Ok(())
+        }
+        Err(e) => Err(Error::Io {
+            path: path.display().to_string(),
+            source: e,
+        }),
+    }
+}
+
 /// Where a part of a picture goes in the whole: its top-left pixel and the whole's size.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Placement {

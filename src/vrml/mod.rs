@@ -5,5 +5,6 @@ pub mod lower;
 pub mod parse;
 pub mod schema;
 pub mod syntax;
+pub mod write;
 
 pub use lower::{load_bytes, load_path, load_str, LoadOptions, LoadReport};

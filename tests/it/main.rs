@@ -17,3 +17,4 @@ mod roundtrip;
 mod semantics;
 mod support;
 mod vmd;
+mod writer;

@@ -1,0 +1,289 @@
+//! The VRML writer against the reader: parse(write(ir)) equals ir, on the samples, the tool
+//! exports of the corpus and generated scenes with nested light scopes and ellipsoids; and
+//! the written file renders to the same image.
+
+use glam::{DAffine3, DQuat, DVec3};
+use gtsphere::render::tiles::render;
+use gtsphere::render::{prepare, RenderOptions, SamplerKind};
+use gtsphere::scene::{
+    DirectionalLight, Light, Material, Origin, PointLight, Scene, Sphere, NO_ELLIPSOID,
+};
+use gtsphere::vrml::write::write_scene;
+use gtsphere::vrml::{load_path, load_str, LoadOptions};
+
+fn written(scene: &Scene) -> String {
+    let mut out = Vec::new();
+    write_scene(scene, &mut out).unwrap();
+    String::from_utf8(out).unwrap()
+}
+
+fn reread(scene: &Scene) -> Scene {
+    let text = written(scene);
+    match load_str("written.wrl", &text, &LoadOptions::default()) {
+        Ok((s, r)) => {
+            assert!(
+                r.warnings.is_empty(),
+                "{:?}",
+                r.warnings.iter().map(|w| w.headline()).collect::<Vec<_>>()
+            );
+            s
+        }
+        Err(e) => panic!("re-reading failed: {e}\n{text}"),
+    }
+}
+
+fn close(a: f64, b: f64, tol: f64) -> bool {
+    (a - b).abs() <= tol * (1.0 + a.abs().max(b.abs()))
+}
+
+fn close3(a: DVec3, b: DVec3, tol: f64) -> bool {
+    (0..3).all(|k| close(a[k], b[k], tol))
+}
+
+/// The same scene up to the writer's rounding (rotations via axis-angle: 1e-12).
+fn assert_same(a: &Scene, b: &Scene) {
+    assert_eq!(a.spheres.len(), b.spheres.len());
+    for (k, (s, t)) in a.spheres.iter().zip(&b.spheres).enumerate() {
+        assert_eq!(
+            a.materials[s.material as usize], b.materials[t.material as usize],
+            "material of sphere {k}"
+        );
+        assert_eq!(
+            s.ellipsoid == NO_ELLIPSOID,
+            t.ellipsoid == NO_ELLIPSOID,
+            "sphere {k}"
+        );
+        if s.ellipsoid == NO_ELLIPSOID {
+            assert_eq!((s.center, s.radius), (t.center, t.radius), "sphere {k}");
+        } else {
+            let (m, n) = (
+                a.ellipsoids[s.ellipsoid as usize],
+                b.ellipsoids[t.ellipsoid as usize],
+            );
+            // The same ellipsoid: M M^T (the quadric) and the centre agree.
+            let (q, r) = (
+                m.matrix3 * m.matrix3.transpose(),
+                n.matrix3 * n.matrix3.transpose(),
+            );
+            let scale = q.to_cols_array().iter().fold(0.0f64, |x, y| x.max(y.abs()));
+            for (x, y) in q.to_cols_array().iter().zip(r.to_cols_array()) {
+                assert!((x - y).abs() <= 1e-12 * scale, "ellipsoid {k}: {q} vs {r}");
+            }
+            assert!(close3(m.translation, n.translation, 1e-15));
+        }
+    }
+    // Scoped DirectionalLights are written inside the Group of their spheres, so the order of
+    // lights may change: compare them sorted.
+    let key = |l: &&Light| match l {
+        Light::Point(p) => (0, 0, 0, p.intensity.to_bits(), p.location.x.to_bits()),
+        Light::Directional(d) => (
+            1,
+            d.scope.0,
+            d.scope.1,
+            d.intensity.to_bits(),
+            d.color.x.to_bits(),
+        ),
+    };
+    let (mut la, mut lb): (Vec<&Light>, Vec<&Light>) =
+        (a.lights.iter().collect(), b.lights.iter().collect());
+    la.sort_by_key(key);
+    lb.sort_by_key(key);
+    assert_eq!(la.len(), lb.len());
+    for (l, m) in la.into_iter().zip(lb) {
+        match (l, m) {
+            (Light::Point(p), Light::Point(q)) => assert_eq!(
+                (
+                    p.location,
+                    p.color,
+                    p.intensity,
+                    p.ambient_intensity,
+                    p.attenuation,
+                    p.radius,
+                    p.on
+                ),
+                (
+                    q.location,
+                    q.color,
+                    q.intensity,
+                    q.ambient_intensity,
+                    q.attenuation,
+                    q.radius,
+                    q.on
+                )
+            ),
+            (Light::Directional(p), Light::Directional(q)) => {
+                assert!(close3(p.direction, q.direction, 1e-15));
+                assert_eq!(
+                    (p.color, p.intensity, p.ambient_intensity, p.on, p.scope),
+                    (q.color, q.intensity, q.ambient_intensity, q.on, q.scope)
+                );
+            }
+            _ => panic!("light kinds differ"),
+        }
+    }
+    assert_eq!(a.viewpoints.len(), b.viewpoints.len());
+    for (v, w) in a.viewpoints.iter().zip(&b.viewpoints) {
+        assert_eq!(
+            (v.position, v.field_of_view, &v.description),
+            (w.position, w.field_of_view, &w.description)
+        );
+        // (angle_between's acos cannot resolve below ~1e-8; compare rotated axes instead.)
+        for axis in [DVec3::X, DVec3::Y, DVec3::Z] {
+            assert!(close3(v.orientation * axis, w.orientation * axis, 1e-12));
+        }
+    }
+    assert_eq!((a.headlight, a.background), (b.headlight, b.background));
+}
+
+fn files() -> Vec<String> {
+    let mut v: Vec<String> = ["cluster", "cloud", "lattice", "ellipsoids", "gas"]
+        .iter()
+        .map(|s| format!("{}/samples/{s}.wrl", env!("CARGO_MANIFEST_DIR")))
+        .collect();
+    for tool in ["pymol", "jmol", "vtk", "meshlab"] {
+        let dir = format!(
+            "{}/../shared/corpus/tools/{tool}",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        for e in std::fs::read_dir(&dir).unwrap() {
+            v.push(e.unwrap().path().display().to_string());
+        }
+    }
+    v.push(format!(
+        "{}/tests/data/vmd_style.wrl",
+        env!("CARGO_MANIFEST_DIR")
+    ));
+    v
+}
+
+#[test]
+fn samples_and_tool_exports_round_trip() {
+    for f in files() {
+        let (a, _) = load_path(std::path::Path::new(&f), &LoadOptions::default()).unwrap();
+        let b = reread(&a);
+        assert_same(&a, &b);
+    }
+}
+
+#[test]
+fn written_file_renders_the_same_picture() {
+    for s in ["cluster", "ellipsoids", "gas", "lattice"] {
+        let f = format!("{}/samples/{s}.wrl", env!("CARGO_MANIFEST_DIR"));
+        let (a, _) = load_path(std::path::Path::new(&f), &LoadOptions::default()).unwrap();
+        let b = reread(&a);
+        let opts = RenderOptions {
+            width: 48,
+            height: 36,
+            spp: 4,
+            sampler: SamplerKind::Stratified,
+            ..RenderOptions::default()
+        };
+        let (x, y) = (
+            render(&prepare(a, &opts).unwrap(), &opts).image,
+            render(&prepare(b, &opts).unwrap(), &opts).image,
+        );
+        let max = x
+            .rgb
+            .iter()
+            .zip(&y.rgb)
+            .flat_map(|(p, q)| (0..3).map(move |k| (p[k] - q[k]).abs()))
+            .fold(0.0f32, f32::max);
+        assert!(max < 1e-5, "{s}: max pixel difference {max:e}");
+    }
+}
+
+/// Generated scenes: nested and disjoint DirectionalLight scopes, ellipsoids with rotations,
+/// shears and reflections, shared and unlit materials.
+#[test]
+fn generated_scenes_round_trip() {
+    let mut state = 3u64;
+    let mut rnd = move || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for case in 0..30 {
+        let mut s = Scene {
+            headlight: case % 2 == 0,
+            background: DVec3::new(rnd(), rnd(), rnd()),
+            ..Scene::default()
+        };
+        s.materials.push(Material::unlit());
+        for _ in 0..4 {
+            s.materials.push(Material {
+                diffuse: DVec3::new(rnd(), rnd(), rnd()),
+                emissive: DVec3::new(rnd(), rnd(), rnd()),
+                specular: DVec3::new(rnd(), rnd(), rnd()),
+                shininess: rnd(),
+                ambient_intensity: rnd(),
+                transparency: if rnd() < 0.5 { 0.0 } else { rnd() },
+                unlit: false,
+            });
+        }
+        let n = 20;
+        for k in 0..n {
+            let center = DVec3::new(rnd(), rnd(), rnd()) * 10.0 - 5.0;
+            let material = (rnd() * 5.0) as u32;
+            if k % 4 == 3 {
+                let lin = glam::DMat3::from_cols(
+                    DVec3::new(rnd(), rnd(), rnd()) - 0.5,
+                    DVec3::new(rnd(), rnd(), rnd()) - 0.5,
+                    DVec3::new(rnd(), rnd(), rnd()) - 0.5,
+                ) + glam::DMat3::IDENTITY;
+                s.ellipsoids
+                    .push(DAffine3::from_mat3_translation(lin, center));
+                let l = lin;
+                let radius =
+                    DVec3::new(l.row(0).length(), l.row(1).length(), l.row(2).length()).length();
+                s.spheres.push(Sphere {
+                    center,
+                    radius,
+                    material,
+                    ellipsoid: s.ellipsoids.len() as u32 - 1,
+                    origin: Origin::default(),
+                });
+            } else {
+                s.spheres.push(Sphere {
+                    center,
+                    radius: 0.1 + rnd(),
+                    material,
+                    ellipsoid: NO_ELLIPSOID,
+                    origin: Origin::default(),
+                });
+            }
+        }
+        // Scopes: everything, a nested pair, a disjoint one, an empty one.
+        for scope in [(0, n), (2, 12), (4, 8), (14, 18), (9, 9)] {
+            s.lights.push(Light::Directional(DirectionalLight {
+                direction: DVec3::new(rnd() - 0.5, rnd() - 0.5, -1.0).normalize(),
+                color: DVec3::new(rnd(), rnd(), rnd()),
+                intensity: rnd(),
+                ambient_intensity: rnd(),
+                on: rnd() < 0.8,
+                scope,
+                origin: Origin::default(),
+            }));
+        }
+        s.lights.push(Light::Point(PointLight {
+            location: DVec3::new(rnd(), rnd(), rnd()),
+            color: DVec3::ONE,
+            intensity: rnd(),
+            ambient_intensity: rnd(),
+            attenuation: DVec3::new(1.0, rnd(), rnd()),
+            radius: 10.0 + rnd(),
+            on: true,
+            origin: Origin::default(),
+        }));
+        s.viewpoints.push(gtsphere::scene::Viewpoint {
+            name: Some("Front".into()),
+            description: "a \"quoted\" \\ view".into(),
+            position: DVec3::new(rnd(), rnd(), 10.0),
+            orientation: DQuat::from_axis_angle(DVec3::new(rnd(), rnd(), rnd()).normalize(), rnd()),
+            field_of_view: 0.3 + rnd(),
+            origin: Origin::default(),
+        });
+        let b = reread(&s);
+        assert_same(&s, &b);
+    }
+}
