@@ -110,15 +110,16 @@ fn symmetric_eigen(s: DMat3) -> (DMat3, DVec3) {
             let t = if theta == 0.0 { 1.0 } else { t };
             let c = 1.0 / (t * t + 1.0).sqrt();
             let sn = t * c;
-            for k in 0..3 {
-                let (akp, akq) = (a[k][p], a[k][q]);
-                a[k][p] = c * akp - sn * akq;
-                a[k][q] = sn * akp + c * akq;
+            // A <- J^T A J: columns p and q, then rows p and q.
+            for row in a.iter_mut() {
+                let (akp, akq) = (row[p], row[q]);
+                row[p] = c * akp - sn * akq;
+                row[q] = sn * akp + c * akq;
             }
+            let (rp, rq) = (a[p], a[q]);
             for k in 0..3 {
-                let (apk, aqk) = (a[p][k], a[q][k]);
-                a[p][k] = c * apk - sn * aqk;
-                a[q][k] = sn * apk + c * aqk;
+                a[p][k] = c * rp[k] - sn * rq[k];
+                a[q][k] = sn * rp[k] + c * rq[k];
             }
             for row in v.iter_mut() {
                 let (vp, vq) = (row[p], row[q]);
