@@ -140,13 +140,13 @@ fn ellipsoid_transform(m: &DAffine3) -> String {
     let mut a = m.matrix3;
     // The unit sphere is symmetric: a reflection changes nothing, so make det(A) > 0.
     if a.determinant() < 0.0 {
-        a = a * DMat3::from_diagonal(DVec3::new(-1.0, 1.0, 1.0));
+        a *= DMat3::from_diagonal(DVec3::new(-1.0, 1.0, 1.0));
     }
     let (v, l) = symmetric_eigen(a.transpose() * a);
     let s = l.max(DVec3::ZERO).to_array().map(f64::sqrt);
     let mut v = v;
     if v.determinant() < 0.0 {
-        v = v * DMat3::from_diagonal(DVec3::new(-1.0, 1.0, 1.0));
+        v *= DMat3::from_diagonal(DVec3::new(-1.0, 1.0, 1.0));
     }
     let p = v * DMat3::from_diagonal(DVec3::from(s)) * v.transpose();
     let q = a * p.inverse();
