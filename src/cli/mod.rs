@@ -12,6 +12,7 @@ pub mod bench;
 pub mod bench_gas;
 pub mod bench_trace;
 pub mod compare;
+pub mod convert_vrml;
 pub mod info;
 pub mod merge;
 pub mod render;
@@ -63,6 +64,22 @@ pub enum Command {
         #[arg(long)]
         max_rmse: Option<f64>,
     },
+    /// Write a VRML97 scene back out as the renderer sees it: flattened to world coordinates,
+    /// materials DEF'd once, DirectionalLight scopes kept (reading the output gives the same
+    /// scene).
+    Convert {
+        /// Input scene (.wrl, .wrz, .wrl.gz).
+        input: PathBuf,
+        /// Output .wrl file (written to a temporary name, then renamed).
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Turn every warning of the reader into an error.
+        #[arg(long)]
+        strict: bool,
+        /// Print nothing but errors.
+        #[arg(short, long)]
+        quiet: bool,
+    },
     /// Assemble the parts of a picture rendered with `render --region` or `--tile` (EXR) into
     /// the whole; every pixel must come from exactly one part.
     Merge {
@@ -97,6 +114,26 @@ pub fn run(cli: Cli) -> Result<ExitCode, Error> {
             max_rmse,
         } => compare::run(&image, &reference, heatmap.as_ref(), heatmap_max, max_rmse),
         Command::Merge { parts, output } => merge::run(&parts, &output),
+        Command::Convert {
+            input,
+            output,
+            strict,
+            quiet,
+        } => {
+            let is_vrml = input
+                .file_name()
+                .map(|n| n.to_string_lossy().to_ascii_lowercase())
+                .is_some_and(|n| {
+                    n.ends_with(".wrl") || n.ends_with(".wrz") || n.ends_with(".wrl.gz")
+                });
+            if !is_vrml {
+                return Err(Error::Other(format!(
+                    "{}: only VRML input (.wrl, .wrz, .wrl.gz) can be converted so far; particle CSV input is not implemented yet",
+                    input.display()
+                )));
+            }
+            convert_vrml::run(&input, &output, strict, quiet)
+        }
         Command::Bench { what } => bench::run(what),
     }
 }

@@ -406,3 +406,39 @@ fn merged_parts_equal_the_whole_render() {
 fn sample_gas() -> String {
     sample("gas.wrl")
 }
+
+#[test]
+fn convert_writes_vrml_that_reads_back_to_the_same_scene() {
+    let dir = scratch("convert");
+    let out = gtsphere(
+        &[
+            "convert",
+            &sample("lattice.wrl"),
+            "-o",
+            "flat.wrl",
+            "--quiet",
+        ],
+        &dir,
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let opts = gtsphere::vrml::LoadOptions::default();
+    let (a, _) = gtsphere::vrml::load_path(Path::new(&sample("lattice.wrl")), &opts).unwrap();
+    let (b, _) = gtsphere::vrml::load_path(&dir.join("flat.wrl"), &opts).unwrap();
+    assert_eq!(a.spheres.len(), 125);
+    for (s, t) in a.spheres.iter().zip(&b.spheres) {
+        assert_eq!((s.center, s.radius), (t.center, t.radius));
+        assert_eq!(
+            a.materials[s.material as usize],
+            b.materials[t.material as usize]
+        );
+    }
+    // Not VRML: a clear error and no output.
+    let out = gtsphere(&["convert", "p.csv", "-o", "p.wrl"], &dir);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("only VRML input"));
+    assert!(!dir.join("p.wrl").exists());
+}
