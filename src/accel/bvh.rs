@@ -181,6 +181,21 @@ struct Walk<S> {
     hitmask: u32,
 }
 
+impl<S> Walk<S> {
+    /// The state at chunk `c`'s root, children ordered for `direction`.
+    fn start(c: &Chunk, direction: Vec3A, stack: S) -> Walk<S> {
+        let t = c.bvh.new_traversal(direction);
+        Walk {
+            stack,
+            current_group: t.current_group,
+            primitive_group: t.primitive_group,
+            oct_inv4: t.oct_inv4,
+            primitive_id: 0,
+            hitmask: 0,
+        }
+    }
+}
+
 /// Walks chunk `c` along `ray`, calling `leaf(primitive index in the chunk)` for every
 /// primitive in a leaf the ray reaches.
 #[inline(always)]
@@ -190,15 +205,7 @@ fn walk_with<S: obvhs::faststack::FastStack<UVec2>>(
     mut ray: Ray32,
     mut leaf: impl FnMut(u32) -> Step,
 ) {
-    let t = c.bvh.new_traversal(ray.direction);
-    let mut state = Walk {
-        stack,
-        current_group: t.current_group,
-        primitive_group: t.primitive_group,
-        oct_inv4: t.oct_inv4,
-        primitive_id: 0,
-        hitmask: 0,
-    };
+    let mut state = Walk::start(c, ray.direction, stack);
     let mut node;
     'done: {
         obvhs::traverse!(
@@ -547,15 +554,7 @@ impl SphereBvh {
             }
             // A growable stack: this query runs per gas segment, not per sphere test, and
             // must not lose nodes in a deep chunk (see `Chunk::deep`).
-            let t = c.bvh.new_traversal(Vec3A::X);
-            let mut state = Walk {
-                stack: Vec::<UVec2>::with_capacity(64),
-                current_group: t.current_group,
-                primitive_group: t.primitive_group,
-                oct_inv4: t.oct_inv4,
-                primitive_id: 0,
-                hitmask: 0,
-            };
+            let mut state = Walk::start(c, Vec3A::X, Vec::<UVec2>::with_capacity(64));
             let mut node;
             obvhs::traverse!(
                 c.bvh,
