@@ -223,3 +223,38 @@ fn bad_radii_and_coordinates_are_positioned_errors() {
         assert!(c >= col, "{text}: {head}");
     }
 }
+
+/// Across tangency the picture is continuous: for rays 1e-3 .. 1e-12 (relative) inside the
+/// silhouette of a lit opaque sphere, and of a gas sphere, the value follows the closed form
+/// as it tends to its limit (no bright or dark rim, no NaN); just outside is the background.
+#[test]
+fn values_are_continuous_across_tangency() {
+    let opaque = prep(
+        "DirectionalLight { direction -1 0 -0.2 }\n\
+         Shape { appearance Appearance { material Material { diffuseColor 1 1 1 ambientIntensity 0 } } geometry Sphere { } }",
+    );
+    let gas = prep(&gas_at(DVec3::ZERO, 1.0, 0.3));
+    let sigma = -f64::ln(0.3) / 2.0;
+    let l = -DVec3::new(-1.0, 0.0, -0.2).normalize();
+    for k in [1e-3, 1e-6, 1e-9, 1e-12] {
+        // Rays along -z at distance (1 - k) from the centre, on the +x side (lit).
+        let x = 1.0 - k;
+        let o = DVec3::new(x, 0.0, 5.0);
+        // Half chord without cancellation: 1 - x is exact (Sterbenz).
+        let z = ((1.0 - x) * (1.0 + x)).sqrt();
+        let n = DVec3::new(x, 0.0, z);
+        let want = n.dot(l).max(0.0);
+        let got = ray(&opaque, o, DVec3::NEG_Z).x;
+        assert!((got - want).abs() < 1e-9, "k {k}: {got} vs {want}");
+        let want_gas = 1.0 - (-sigma * 2.0 * z).exp();
+        let got_gas = ray(&gas, o, DVec3::NEG_Z).x;
+        assert!(
+            (got_gas - want_gas).abs() <= 1e-12 * want_gas.max(1e-300) + 1e-15,
+            "k {k}: {got_gas} vs {want_gas}"
+        );
+        // Just outside: nothing.
+        let o = DVec3::new(1.0 + k, 0.0, 5.0);
+        assert_eq!(ray(&opaque, o, DVec3::NEG_Z), DVec3::ZERO);
+        assert_eq!(ray(&gas, o, DVec3::NEG_Z), DVec3::ZERO);
+    }
+}
