@@ -87,6 +87,14 @@ pub fn write_file_atomically(
     path: &Path,
     write: impl FnOnce(&mut BufWriter<File>) -> io::Result<()>,
 ) -> Result<(), Error> {
+    let io_error = |e| Error::Io {
+        path: path.display().to_string(),
+        source: e,
+    };
+    if let Some(file) = special_target(path).map_err(io_error)? {
+        let mut out = BufWriter::with_capacity(1 << 20, file);
+        return write(&mut out).and_then(|()| out.flush()).map_err(io_error);
+    }
     let (mut temp, file) = TempFile::create(path)?;
     let written = (|| -> io::Result<()> {
         let mut out = BufWriter::with_capacity(1 << 20, file);
@@ -102,10 +110,17 @@ pub fn write_file_atomically(
             temp.renamed = true;
             Ok(())
         }
-        Err(e) => Err(Error::Io {
-            path: path.display().to_string(),
-            source: e,
-        }),
+        Err(e) => Err(io_error(e)),
+    }
+}
+
+/// `path` opened for writing when it names something other than a regular file or nothing
+/// (`/dev/stdout`, a named pipe, a terminal): those are written in place, since renaming a
+/// temporary file over them would replace the device or pipe with a plain file.
+fn special_target(path: &Path) -> io::Result<Option<File>> {
+    match fs::metadata(path) {
+        Ok(m) if !m.is_file() && !m.is_dir() => OpenOptions::new().write(true).open(path).map(Some),
+        _ => Ok(None),
     }
 }
 
@@ -149,15 +164,22 @@ pub fn read_part(path: &Path) -> Result<(Image, Placement), Error> {
 fn write_placed(path: &Path, img: &Image, at: Option<Placement>) -> Result<(), Error> {
     let format = format_for(path)?;
     img.check().map_err(|m| image_error(path, m))?;
+    let encode = |out: &mut BufWriter<File>| -> Result<(), Fault> {
+        match format {
+            Format::Png => png::write(out, img)?,
+            Format::Exr => exr::write(out, img, at)?,
+            Format::Pfm => pfm::write(out, img)?,
+        }
+        out.flush()?;
+        Ok(())
+    };
+    if let Some(file) = special_target(path).map_err(|e| Fault::from(e).at(path))? {
+        return encode(&mut BufWriter::new(file)).map_err(|f| f.at(path));
+    }
     let (mut temp, file) = TempFile::create(path)?;
     let written = (|| -> Result<(), Fault> {
         let mut out = BufWriter::new(file);
-        match format {
-            Format::Png => png::write(&mut out, img)?,
-            Format::Exr => exr::write(&mut out, img, at)?,
-            Format::Pfm => pfm::write(&mut out, img)?,
-        }
-        out.flush()?;
+        encode(&mut out)?;
         let file = out.into_inner().map_err(io::IntoInnerError::into_error)?;
         // Sync before the rename, so a crash cannot leave the new name on empty contents.
         file.sync_all()?;
