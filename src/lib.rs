@@ -11,6 +11,7 @@ pub mod error;
 pub mod geom;
 pub mod input;
 pub mod output;
+pub mod particles;
 pub mod render;
 pub mod scene;
 pub mod source;

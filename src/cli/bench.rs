@@ -46,6 +46,19 @@ pub enum BenchCommand {
         #[arg(long, default_value_t = 1)]
         threads: usize,
     },
+    /// `gtsphere convert` speed (rows/s, MB/s, one core) and peak memory on a generated
+    /// particle CSV of N rows (x, y, z, radius, red, green, blue as 0-255).
+    Convert {
+        /// Number of rows.
+        #[arg(long, default_value_t = 10_000_000)]
+        rows: usize,
+        /// Runs (the median is reported).
+        #[arg(long, default_value_t = 3)]
+        runs: usize,
+        /// Where the generated table goes (kept for reuse). Default: the system temp folder.
+        #[arg(long)]
+        dir: Option<PathBuf>,
+    },
     /// Time against error of the gas integrators (exact, march, mc) on a lit gas scene.
     Gas {
         /// Number of gas spheres.
@@ -124,7 +137,7 @@ fn generate(dir: &Path, n: usize, layout: Layout) -> Result<PathBuf, Error> {
     Ok(path)
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
+pub(crate) fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
 }
@@ -148,6 +161,9 @@ pub fn run(cmd: BenchCommand) -> Result<ExitCode, Error> {
             size,
             threads,
         } => return super::bench_gas::run(spheres, size, threads),
+        BenchCommand::Convert { rows, runs, dir } => {
+            return super::bench_convert::run(rows, runs, dir)
+        }
     };
     let dir = dir.unwrap_or_else(std::env::temp_dir);
     let exe = std::env::current_exe()

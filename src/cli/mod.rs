@@ -9,9 +9,11 @@ use clap::{Parser, Subcommand};
 use crate::error::Error;
 
 pub mod bench;
+pub mod bench_convert;
 pub mod bench_gas;
 pub mod bench_trace;
 pub mod compare;
+pub mod convert_csv;
 pub mod convert_vrml;
 pub mod info;
 pub mod merge;
@@ -64,22 +66,15 @@ pub enum Command {
         #[arg(long)]
         max_rmse: Option<f64>,
     },
-    /// Write a VRML97 scene back out as the renderer sees it: flattened to world coordinates,
-    /// materials DEF'd once, DirectionalLight scopes kept (reading the output gives the same
-    /// scene).
-    Convert {
-        /// Input scene (.wrl, .wrz, .wrl.gz).
-        input: PathBuf,
-        /// Output .wrl file (written to a temporary name, then renamed).
-        #[arg(short, long)]
-        output: PathBuf,
-        /// Turn every warning of the reader into an error.
-        #[arg(long)]
-        strict: bool,
-        /// Print nothing but errors.
-        #[arg(short, long)]
-        quiet: bool,
-    },
+    /// Convert a particle table (CSV, TSV, white-space columns, XYZ; gzip is detected) to
+    /// VRML97, or write a VRML97 scene back out as the renderer sees it (flattened to world
+    /// coordinates, materials DEF'd once, DirectionalLight scopes kept).
+    ///
+    /// Particle columns are found by header name: x, y, z; radius or r (or diameter);
+    /// red, green, blue or r, g, b (0-1 floats or 0-255 integers); optional density (or
+    /// sigma), opacity or transparency; emission or emission_red/green/blue. Bad rows stop the
+    /// conversion with `file:LINE:FIELD: message` and no output file.
+    Convert(convert_csv::ConvertArgs),
     /// Assemble the parts of a picture rendered with `render --region` or `--tile` (EXR) into
     /// the whole; every pixel must come from exactly one part.
     Merge {
@@ -114,26 +109,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, Error> {
             max_rmse,
         } => compare::run(&image, &reference, heatmap.as_ref(), heatmap_max, max_rmse),
         Command::Merge { parts, output } => merge::run(&parts, &output),
-        Command::Convert {
-            input,
-            output,
-            strict,
-            quiet,
-        } => {
-            let is_vrml = input
-                .file_name()
-                .map(|n| n.to_string_lossy().to_ascii_lowercase())
-                .is_some_and(|n| {
-                    n.ends_with(".wrl") || n.ends_with(".wrz") || n.ends_with(".wrl.gz")
-                });
-            if !is_vrml {
-                return Err(Error::Other(format!(
-                    "{}: only VRML input (.wrl, .wrz, .wrl.gz) can be converted so far; particle CSV input is not implemented yet",
-                    input.display()
-                )));
-            }
-            convert_vrml::run(&input, &output, strict, quiet)
-        }
+        Command::Convert(args) => convert_csv::run(&args),
         Command::Bench { what } => bench::run(what),
     }
 }

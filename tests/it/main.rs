@@ -2,6 +2,7 @@
 
 mod bvh;
 mod cli_render;
+mod convert_csv;
 mod corpus;
 mod corpus_counts;
 mod errors;

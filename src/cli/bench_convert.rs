@@ -1,0 +1,112 @@
+//! `gtsphere bench convert`: particle CSV to VRML, rows and megabytes per second on one core,
+//! and peak memory, on a generated table.
+//!
+//! The conversion runs in this process, after the table is generated (which streams and
+//! holds little), so the process's peak resident memory (VmHWM) is the conversion's, give or
+//! take the few megabytes of the program itself.
+
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use super::bench::median;
+use super::peak_rss_bytes;
+use crate::error::Error;
+use crate::output::write_file_atomically;
+use crate::particles::{self, Extras, TableOptions, WriteOptions};
+
+/// Writes `n` rows `x,y,z,radius,red,green,blue`: positions in [-1,1]^3 with 6 decimals, radii
+/// near `0.6 n^(-1/3)`, colours as 0-255 integers (deterministic pseudo-random values).
+pub fn write_table(out: &mut impl Write, n: usize) -> std::io::Result<()> {
+    writeln!(out, "x,y,z,radius,red,green,blue")?;
+    let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
+    let mut next = || {
+        state ^= state >> 12;
+        state ^= state << 25;
+        state ^= state >> 27;
+        (state.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let radius = 0.6 * (n.max(1) as f64).powf(-1.0 / 3.0);
+    for _ in 0..n {
+        let (x, y, z) = (2.0 * next() - 1.0, 2.0 * next() - 1.0, 2.0 * next() - 1.0);
+        let rad = radius * (0.5 + next());
+        let (r, g, b) = (
+            (next() * 256.0) as u8,
+            (next() * 256.0) as u8,
+            (next() * 256.0) as u8,
+        );
+        writeln!(out, "{x:.6},{y:.6},{z:.6},{rad:.5},{r},{g},{b}")?;
+    }
+    Ok(())
+}
+
+fn generate(dir: &Path, n: usize) -> Result<PathBuf, Error> {
+    let path = dir.join(format!("gtsphere-bench-particles-{n}.csv"));
+    if path.is_file() {
+        return Ok(path);
+    }
+    write_file_atomically(&path, |w| write_table(w, n))?;
+    Ok(path)
+}
+
+pub fn run(rows: usize, runs: usize, dir: Option<PathBuf>) -> Result<ExitCode, Error> {
+    let dir = dir.unwrap_or_else(std::env::temp_dir);
+    let table = generate(&dir, rows)?;
+    let out_path = dir.join(format!("gtsphere-bench-particles-{rows}.wrl"));
+    let in_bytes = std::fs::metadata(&table).map(|m| m.len()).unwrap_or(0) as f64;
+    let mut secs = Vec::new();
+    let mut out_bytes = 0.0;
+    for _ in 0..runs.max(1) {
+        let file = std::fs::File::open(&table).map_err(|e| Error::Io {
+            path: table.display().to_string(),
+            source: e,
+        })?;
+        let name = table.display().to_string();
+        let mut failure = None;
+        let t0 = Instant::now();
+        let written = write_file_atomically(&out_path, |w| {
+            let opts = WriteOptions {
+                plain: false,
+                extras: Extras {
+                    viewpoint: true,
+                    lights: true,
+                },
+            };
+            let input = Box::new(std::io::BufReader::with_capacity(1 << 16, file));
+            match particles::convert(
+                &name,
+                input,
+                BufWriter::new(w),
+                TableOptions::default(),
+                opts,
+            ) {
+                Ok((mut w, _)) => w.flush(),
+                Err(e) => {
+                    failure = Some(e);
+                    Err(std::io::Error::other("conversion failed"))
+                }
+            }
+        });
+        secs.push(t0.elapsed().as_secs_f64());
+        if let Some(e) = failure {
+            return Err(e);
+        }
+        written?;
+        out_bytes = std::fs::metadata(&out_path).map(|m| m.len()).unwrap_or(0) as f64;
+    }
+    let _ = std::fs::remove_file(&out_path);
+    let s = median(secs);
+    let peak = peak_rss_bytes().unwrap_or(0) as f64;
+    println!("| rows | CSV MB | VRML MB | median s | rows/s | CSV MB/s | peak RSS MB |");
+    println!("|---:|---:|---:|---:|---:|---:|---:|");
+    println!(
+        "| {rows} | {:.1} | {:.1} | {s:.3} | {:.3e} | {:.1} | {:.1} |",
+        in_bytes / 1e6,
+        out_bytes / 1e6,
+        rows as f64 / s,
+        in_bytes / 1e6 / s,
+        peak / 1e6
+    );
+    Ok(ExitCode::SUCCESS)
+}

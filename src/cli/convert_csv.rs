@@ -1,0 +1,224 @@
+//! `gtsphere convert`: particle tables to VRML97 ([`crate::particles`]), or VRML97 back out
+//! ([`super::convert_vrml`]). The input kind is decided by content: a file whose text starts
+//! with `#VRML` (after gunzip) is a scene, anything else a particle table.
+
+use std::fs::File;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::Args;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use crate::error::Error;
+use crate::input::sniff;
+use crate::output::write_file_atomically;
+use crate::particles::columns::ColumnSpec;
+use crate::particles::{self, ColorScale, Delimiter, Extras, TableOptions, WriteOptions};
+
+#[derive(Debug, Args)]
+pub struct ConvertArgs {
+    /// Input: a particle table (.csv, .tsv, .txt, .xyz, ...; may be gzipped) or a VRML97
+    /// scene (.wrl, .wrz, .wrl.gz).
+    pub input: PathBuf,
+    /// Output .wrl file (written to a temporary name, then renamed).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Column roles: `ROLE=NAME` or `ROLE=NUMBER` (1-based) to map other names, e.g.
+    /// `--columns x=posx,radius=size`; or the names of all columns in order for files without
+    /// a header, e.g. `--columns element,x,y,z` (`skip` for unused columns). Roles: x, y, z,
+    /// radius, diameter, red, green, blue, density, opacity, transparency, emission,
+    /// emission_red, emission_green, emission_blue, element (van der Waals radius and CPK
+    /// colour when the table gives none).
+    #[arg(long, value_name = "SPEC")]
+    pub columns: Vec<String>,
+    /// Radius of every particle (when the table has no radius column; overrides one).
+    #[arg(long, value_name = "R", allow_negative_numbers = true)]
+    pub radius: Option<f64>,
+    /// Field separator (default: guessed from the first line).
+    #[arg(long, value_enum)]
+    pub delimiter: Option<Delimiter>,
+    /// Colour values are 0-1 floats (`1`) or 0-255 integers (`255`) (default: guessed from
+    /// the first 1000 rows).
+    #[arg(long, value_enum, value_name = "1|255")]
+    pub color_scale: Option<ColorScale>,
+    /// Skip bad rows (and say how many) instead of stopping at the first.
+    #[arg(long)]
+    pub skip_bad: bool,
+    /// Write Transform/Shape/Sphere nodes instead of `PROTO Particle` instances.
+    #[arg(long)]
+    pub plain: bool,
+    /// Do not add a Viewpoint that frames the particles.
+    #[arg(long)]
+    pub no_viewpoint: bool,
+    /// Do not add lights (a key and a fill DirectionalLight, headlight off).
+    #[arg(long)]
+    pub no_lights: bool,
+    /// Turn every warning of the VRML reader into an error (VRML input).
+    #[arg(long)]
+    pub strict: bool,
+    /// Print nothing but errors.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+impl ConvertArgs {
+    /// The options that only mean something for particle tables, by flag name, if given.
+    fn table_flags(&self) -> Vec<&'static str> {
+        let mut v = Vec::new();
+        let flags = [
+            (!self.columns.is_empty(), "--columns"),
+            (self.radius.is_some(), "--radius"),
+            (self.delimiter.is_some(), "--delimiter"),
+            (self.color_scale.is_some(), "--color-scale"),
+            (self.skip_bad, "--skip-bad"),
+            (self.plain, "--plain"),
+            (self.no_viewpoint, "--no-viewpoint"),
+            (self.no_lights, "--no-lights"),
+        ];
+        for (given, name) in flags {
+            if given {
+                v.push(name);
+            }
+        }
+        v
+    }
+}
+
+fn open(path: &Path) -> Result<Box<dyn Read>, Error> {
+    let io = |e| Error::Io {
+        path: path.display().to_string(),
+        source: e,
+    };
+    let file = File::open(path).map_err(io)?;
+    sniff(file).map_err(io)
+}
+
+/// Whether the (decompressed) input starts with the VRML header.
+fn is_vrml(path: &Path) -> Result<bool, Error> {
+    let mut head = [0u8; 5];
+    let mut r = open(path)?;
+    let mut n = 0;
+    while n < head.len() {
+        match r.read(&mut head[n..]) {
+            Ok(0) => break,
+            Ok(k) => n += k,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+            Err(e) => {
+                return Err(Error::Io {
+                    path: path.display().to_string(),
+                    source: e,
+                })
+            }
+        }
+    }
+    Ok(&head[..n] == b"#VRML")
+}
+
+pub fn run(args: &ConvertArgs) -> Result<ExitCode, Error> {
+    if is_vrml(&args.input)? {
+        let flags = args.table_flags();
+        if !flags.is_empty() {
+            return Err(Error::Other(format!(
+                "{}: is a VRML scene; {} only apply to particle tables",
+                args.input.display(),
+                flags.join(", ")
+            )));
+        }
+        return super::convert_vrml::run(&args.input, &args.output, args.strict, args.quiet);
+    }
+    if let Some(r) = args.radius.filter(|r| !(r.is_finite() && *r > 0.0)) {
+        return Err(Error::Other(format!(
+            "--radius {r}: a radius must be a positive finite number"
+        )));
+    }
+    let columns = ColumnSpec::parse(&args.columns).map_err(Error::Other)?;
+    let table = TableOptions {
+        columns,
+        radius: args.radius,
+        delimiter: args.delimiter,
+        color_scale: args.color_scale,
+        skip_bad: args.skip_bad,
+    };
+    let opts = WriteOptions {
+        plain: args.plain,
+        extras: Extras {
+            viewpoint: !args.no_viewpoint,
+            lights: !args.no_lights,
+        },
+    };
+    // Progress over the bytes of the (possibly compressed) file; drawn only on a terminal.
+    let size = std::fs::metadata(&args.input).map(|m| m.len()).ok();
+    let bar = if args.quiet {
+        ProgressBar::hidden()
+    } else {
+        let bar = ProgressBar::with_draw_target(size, ProgressDrawTarget::stderr());
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{elapsed_precise} [{bar:40}] {binary_bytes}/{binary_total_bytes} ETA {eta}",
+            )
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+        );
+        bar
+    };
+    let file = File::open(&args.input).map_err(|e| Error::Io {
+        path: args.input.display().to_string(),
+        source: e,
+    })?;
+    let input = sniff(bar.wrap_read(file)).map_err(|e| Error::Io {
+        path: args.input.display().to_string(),
+        source: e,
+    })?;
+    let name = args.input.display().to_string();
+    // Conversion errors are kept aside: the atomic writer only knows I/O errors, and a bad
+    // row must leave no output file.
+    let mut failure = None;
+    let mut summary = None;
+    let written = write_file_atomically(&args.output, |w| {
+        match particles::convert(&name, input, w, table, opts) {
+            Ok((_, s)) => {
+                summary = Some(s);
+                Ok(())
+            }
+            Err(e) => {
+                failure = Some(e);
+                Err(std::io::Error::other("conversion failed"))
+            }
+        }
+    });
+    bar.finish_and_clear();
+    if let Some(e) = failure {
+        return Err(e);
+    }
+    written?;
+    let Some(s) = summary else {
+        return Err(Error::Other("conversion produced no summary".to_string()));
+    };
+    if !args.quiet {
+        for n in &s.notes {
+            eprintln!("{name}: {n}");
+        }
+        if s.skipped > 0 {
+            if let Some(first) = &s.first_skip {
+                eprintln!(
+                    "skipped {} bad row{}; the first: {}",
+                    s.skipped,
+                    if s.skipped == 1 { "" } else { "s" },
+                    first.headline()
+                );
+            }
+        }
+        let bounds = s
+            .bounds
+            .map(|(lo, hi)| format!(", bounds {lo} .. {hi}"))
+            .unwrap_or_default();
+        eprintln!(
+            "wrote {} ({} particle{}{bounds})",
+            args.output.display(),
+            s.particles,
+            if s.particles == 1 { "" } else { "s" }
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,84 @@
+//! Particle tables (CSV, TSV, white-space columns, XYZ) to VRML97, streamed: a row is read,
+//! checked and written before the next is read, so memory does not grow with the row count.
+//!
+//! [`read`] finds the dialect, the header and what each column means ([`columns`]);
+//! [`write`] writes a `PROTO Particle` instance (or plain nodes) per row and the framing.
+
+pub mod columns;
+pub mod elements;
+pub mod read;
+pub mod write;
+
+use std::io::{Read, Write};
+
+use crate::diag::Diagnostic;
+use crate::error::Error;
+pub use read::{ColorScale, Delimiter, ParticleReader, TableOptions};
+pub use write::{Extras, ParticleWriter};
+
+/// What a conversion did.
+#[derive(Debug)]
+pub struct Summary {
+    pub particles: u64,
+    /// Rows skipped under `--skip-bad`, and the first one's reason.
+    pub skipped: u64,
+    pub first_skip: Option<Diagnostic>,
+    /// What was decided about the input (dialect, columns, colour scale).
+    pub notes: Vec<String>,
+    pub bounds: Option<(glam::DVec3, glam::DVec3)>,
+}
+
+/// Output settings.
+#[derive(Clone, Copy, Debug)]
+pub struct WriteOptions {
+    /// Transform/Shape/Sphere nodes instead of PROTO instances.
+    pub plain: bool,
+    pub extras: Extras,
+}
+
+fn diag(d: Diagnostic) -> Error {
+    Error::Diag(Box::new(d))
+}
+
+/// Converts the table read from `input` (named `name` in messages) into VRML on `out`.
+/// A bad row (without `skip_bad`) or a table without particles is an error; `out` then holds
+/// a partial file, which the caller discards.
+pub fn convert<W: Write>(
+    name: &str,
+    input: Box<dyn Read>,
+    out: W,
+    table: TableOptions,
+    opts: WriteOptions,
+) -> Result<(W, Summary), Error> {
+    let io = |e: std::io::Error| Error::Other(format!("writing the VRML output: {e}"));
+    let radius = table.radius;
+    let mut reader = ParticleReader::new(name, input, table).map_err(diag)?;
+    let mut writer = ParticleWriter::new(out, name, opts.plain, radius).map_err(io)?;
+    while let Some(p) = reader.next_particle().map_err(diag)? {
+        writer.particle(&p).map_err(io)?;
+    }
+    if writer.count() == 0 {
+        let why = match &reader.first_skip {
+            Some(d) => format!(" (every row was bad; the first: {})", d.headline()),
+            None => String::new(),
+        };
+        return Err(Error::Other(format!(
+            "{name}: no particles in the table{why}"
+        )));
+    }
+    let bounds = writer.bounds();
+    let particles = writer.count();
+    let out = writer.finish(opts.extras).map_err(io)?;
+    let mut notes = vec![format!("delimiter: {:?}", reader.delimiter()).to_lowercase()];
+    notes.append(&mut reader.notes);
+    Ok((
+        out,
+        Summary {
+            particles,
+            skipped: reader.skipped,
+            first_skip: reader.first_skip.take(),
+            notes,
+            bounds,
+        },
+    ))
+}

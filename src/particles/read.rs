@@ -1,0 +1,670 @@
+//! Reading particle tables as a stream: dialect, header, column roles, and one particle per
+//! row, in memory independent of the number of rows.
+//!
+//! - Delimiter: `;` if the first line has one, else tab, else `,`, else runs of white space
+//!   (`--delimiter` overrides). Comma, semicolon and tab files are read by the `csv` crate
+//!   (quoting, trimming); white-space files by splitting lines, since `csv` knows only single
+//!   delimiters. Lines starting with `#` are comments. In semicolon files a decimal comma
+//!   (`1,5`) is read as a decimal point.
+//! - Header: the first row is a header when one of its fields is not a number. Without one,
+//!   `--columns` names the columns in order; 3 columns default to `x y z`, 4 to
+//!   `x y z radius`.
+//! - XYZ files (white space, a first line holding only the atom count, then a comment line,
+//!   then `element x y z` rows) are recognised; the first frame is read.
+//! - Colours are 0-1 or 0-255: decided from the first [`SNIFF_ROWS`] rows (a fractional value
+//!   means 0-1; only integers with one above 1 means 0-255), or `--color-scale`.
+//! - Errors are `file:LINE:FIELD: message`, LINE the file's line (1-based) and FIELD the
+//!   1-based field number of the offending value.
+
+use std::io::{BufRead, BufReader, Read};
+use std::sync::Arc;
+
+use csv::ByteRecord;
+
+use super::columns::{ColumnMap, ColumnSpec, Role};
+use crate::diag::{Diagnostic, Severity};
+
+/// How many data rows decide the colour scale.
+pub const SNIFF_ROWS: usize = 1000;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Delimiter {
+    Comma,
+    Semicolon,
+    Tab,
+    /// One or more spaces or tabs.
+    Whitespace,
+}
+
+/// The range colour values are written in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ColorScale {
+    /// Floats from 0 to 1.
+    #[value(name = "1")]
+    Unit,
+    /// Integers from 0 to 255.
+    #[value(name = "255")]
+    Byte,
+}
+
+/// How to read a particle table.
+#[derive(Clone, Debug, Default)]
+pub struct TableOptions {
+    pub columns: ColumnSpec,
+    /// `--radius`: the radius of every particle (overrides a radius column).
+    pub radius: Option<f64>,
+    pub delimiter: Option<Delimiter>,
+    pub color_scale: Option<ColorScale>,
+    /// Skip bad rows (counted) instead of stopping at the first.
+    pub skip_bad: bool,
+}
+
+/// A number and, when it was read as is, its text (written back verbatim, digits kept).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Num<'a> {
+    pub value: f64,
+    pub text: Option<&'a [u8]>,
+}
+
+/// One particle. Colours are linear 0-1.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Particle<'a> {
+    pub position: [Num<'a>; 3],
+    pub radius: Num<'a>,
+    pub color: Option<[Num<'a>; 3]>,
+    pub emission: Option<[Num<'a>; 3]>,
+    /// VRML transparency: 0 opaque, in (0, 1] a gas sphere.
+    pub transparency: Option<f64>,
+}
+
+enum Rows {
+    Csv(csv::Reader<Box<dyn Read>>),
+    Whitespace {
+        reader: BufReader<Box<dyn Read>>,
+        line: u64,
+        buf: Vec<u8>,
+    },
+}
+
+impl Rows {
+    /// The next row and its line number, or `None` at the end.
+    fn next(&mut self, rec: &mut ByteRecord) -> Result<Option<u64>, String> {
+        match self {
+            Rows::Csv(r) => loop {
+                match r.read_byte_record(rec) {
+                    Ok(false) => return Ok(None),
+                    Ok(true) => {
+                        // Blank lines inside a file come back as one empty field.
+                        if rec.len() == 1 && rec[0].is_empty() {
+                            continue;
+                        }
+                        return Ok(Some(rec.position().map_or(0, |p| p.line())));
+                    }
+                    Err(e) => return Err(e.to_string()),
+                }
+            },
+            Rows::Whitespace { reader, line, buf } => loop {
+                buf.clear();
+                let n = reader.read_until(b'\n', buf).map_err(|e| e.to_string())?;
+                if n == 0 {
+                    return Ok(None);
+                }
+                *line += 1;
+                rec.clear();
+                for field in buf
+                    .split(|b| b.is_ascii_whitespace())
+                    .filter(|f| !f.is_empty())
+                {
+                    rec.push_field(field);
+                }
+                if rec.is_empty() || rec[0].starts_with(b"#") {
+                    continue;
+                }
+                return Ok(Some(*line));
+            },
+        }
+    }
+}
+
+/// A row kept aside while the colour scale is decided.
+struct Held {
+    line: u64,
+    rec: ByteRecord,
+}
+
+/// Reads particles from a table, one row at a time.
+pub struct ParticleReader {
+    file: Arc<str>,
+    rows: Rows,
+    map: ColumnMap,
+    opts: TableOptions,
+    delimiter: Delimiter,
+    scale: ColorScale,
+    held: std::collections::VecDeque<Held>,
+    rec: ByteRecord,
+    /// The current row's values by role (see [`Role::ALL`]).
+    vals: [Option<f64>; 16],
+    /// The current row's element radius and colour, when the table relies on them.
+    element: Option<(f64, [f64; 3])>,
+    line: u64,
+    /// Data rows still to read (XYZ files say how many atoms a frame has).
+    remaining: Option<u64>,
+    /// Rows skipped with `--skip-bad`, and the first reason.
+    pub skipped: u64,
+    pub first_skip: Option<Diagnostic>,
+    /// What was decided about the file, for the user (one line each).
+    pub notes: Vec<String>,
+}
+
+/// A decimal number (Rust's syntax: `1`, `-.5`, `+2.`, `1e-3`; `inf` and `nan` too, which
+/// the caller rejects), with a decimal comma when `decimal_comma`.
+fn number(field: &[u8], decimal_comma: bool) -> Option<f64> {
+    let s = field.trim_ascii();
+    match fast_float2::parse::<f64, _>(s) {
+        Ok(v) => Some(v),
+        Err(_) if decimal_comma && s.contains(&b',') => {
+            let dotted: Vec<u8> = s
+                .iter()
+                .map(|&b| if b == b',' { b'.' } else { b })
+                .collect();
+            fast_float2::parse(dotted).ok()
+        }
+        Err(_) => None,
+    }
+}
+
+fn text(field: &[u8]) -> &str {
+    std::str::from_utf8(field.trim_ascii()).unwrap_or("").trim()
+}
+
+fn guess_delimiter(head: &[u8]) -> Delimiter {
+    let line = head
+        .split(|&b| b == b'\n')
+        .find(|l| {
+            let t = l.trim_ascii();
+            !t.is_empty() && !t.starts_with(b"#")
+        })
+        .unwrap_or(b"");
+    if line.contains(&b';') {
+        Delimiter::Semicolon
+    } else if line.contains(&b'\t') && !line.contains(&b',') {
+        // A tab file; white space if the tabs only pad columns (checked when splitting).
+        Delimiter::Tab
+    } else if line.contains(&b',') {
+        Delimiter::Comma
+    } else {
+        Delimiter::Whitespace
+    }
+}
+
+impl ParticleReader {
+    /// Opens a table from a byte stream named `file` in messages.
+    pub fn new(
+        file: &str,
+        reader: Box<dyn Read>,
+        opts: TableOptions,
+    ) -> Result<ParticleReader, Diagnostic> {
+        let file: Arc<str> = Arc::from(file);
+        let mut reader = BufReader::with_capacity(1 << 16, reader);
+        let head = reader.fill_buf().map_err(|e| Diagnostic {
+            severity: Severity::Error,
+            file: file.clone(),
+            line: 1,
+            col: 1,
+            message: e.to_string(),
+            snippet: None,
+            repeats: 0,
+        })?;
+        let delimiter = opts.delimiter.unwrap_or_else(|| guess_delimiter(head));
+        let rows = match delimiter {
+            Delimiter::Whitespace => Rows::Whitespace {
+                reader: BufReader::with_capacity(1 << 16, Box::new(reader)),
+                line: 0,
+                buf: Vec::new(),
+            },
+            d => Rows::Csv(
+                csv::ReaderBuilder::new()
+                    .delimiter(match d {
+                        Delimiter::Semicolon => b';',
+                        Delimiter::Tab => b'\t',
+                        _ => b',',
+                    })
+                    .has_headers(false)
+                    .flexible(true)
+                    .comment(Some(b'#'))
+                    .buffer_capacity(1 << 16)
+                    .from_reader(Box::new(reader) as Box<dyn Read>),
+            ),
+        };
+        let mut me = ParticleReader {
+            file,
+            rows,
+            map: ColumnMap::default(),
+            opts,
+            delimiter,
+            scale: ColorScale::Unit,
+            held: std::collections::VecDeque::new(),
+            rec: ByteRecord::new(),
+            vals: [None; 16],
+            element: None,
+            line: 0,
+            remaining: None,
+            skipped: 0,
+            first_skip: None,
+            notes: Vec::new(),
+        };
+        me.start()?;
+        Ok(me)
+    }
+
+    /// The column roles in use.
+    pub fn columns(&self) -> &ColumnMap {
+        &self.map
+    }
+
+    pub fn delimiter(&self) -> Delimiter {
+        self.delimiter
+    }
+
+    pub fn color_scale(&self) -> ColorScale {
+        self.scale
+    }
+
+    fn error(&self, line: u64, col: usize, message: String) -> Diagnostic {
+        Diagnostic {
+            severity: Severity::Error,
+            file: self.file.clone(),
+            line,
+            col: col as u64,
+            message,
+            snippet: None,
+            repeats: 0,
+        }
+    }
+
+    fn read_row(&mut self, rec: &mut ByteRecord) -> Result<Option<u64>, Diagnostic> {
+        self.rows
+            .next(rec)
+            .map_err(|m| self.error(self.line + 1, 1, format!("cannot read the table: {m}")))
+    }
+
+    /// Reads the header (or decides there is none), the column roles and the colour scale.
+    fn start(&mut self) -> Result<(), Diagnostic> {
+        let mut first = ByteRecord::new();
+        let Some(mut line) = self.read_row(&mut first)? else {
+            return Err(self.error(1, 1, "the table is empty: no header and no rows".into()));
+        };
+        let comma = self.delimiter == Delimiter::Semicolon;
+        // XYZ: a line with only the atom count, then a comment line.
+        if self.delimiter == Delimiter::Whitespace && first.len() == 1 {
+            if let Ok(count) = text(&first[0]).parse::<u64>() {
+                self.remaining = Some(count);
+                let mut comment = ByteRecord::new();
+                // The comment line may be empty, which the white-space reader skips; read it raw.
+                if let Rows::Whitespace {
+                    reader,
+                    line: l,
+                    buf,
+                } = &mut self.rows
+                {
+                    buf.clear();
+                    reader.read_until(b'\n', buf).map_err(|e| Diagnostic {
+                        severity: Severity::Error,
+                        file: self.file.clone(),
+                        line: *l + 1,
+                        col: 1,
+                        message: e.to_string(),
+                        snippet: None,
+                        repeats: 0,
+                    })?;
+                    *l += 1;
+                }
+                self.notes.push(format!(
+                    "XYZ file: {count} atoms in the first frame (later frames are not read)"
+                ));
+                line = match self.read_row(&mut comment)? {
+                    Some(l) => l,
+                    None if count == 0 => {
+                        return Err(self.error(1, 1, "the XYZ file holds no atoms".into()))
+                    }
+                    None => {
+                        return Err(self.error(
+                            2,
+                            1,
+                            format!("the XYZ header says {count} atoms, but no atom lines follow"),
+                        ))
+                    }
+                };
+                first = comment;
+                if self.opts.columns.positional.is_none() {
+                    self.opts.columns.positional =
+                        Some(["element", "x", "y", "z"].map(String::from).to_vec());
+                }
+            }
+        }
+        let xyz = self.remaining.is_some();
+        let non_number = |f: &[u8]| number(f, comma).is_none();
+        let (names, is_header) = match self.opts.columns.positional.clone() {
+            Some(names) => {
+                // A header is a first row with text where the named columns want numbers.
+                let map = ColumnMap::from_names(&names).map_err(|m| self.error(line, 1, m))?;
+                let is_header = !xyz
+                    && Role::ALL
+                        .iter()
+                        .filter(|r| **r != Role::Element)
+                        .filter_map(|r| map.get(*r))
+                        .any(|c| first.get(c).is_some_and(non_number));
+                (names, is_header)
+            }
+            None if first.iter().any(non_number) => {
+                (first.iter().map(|f| text(f).to_string()).collect(), true)
+            }
+            None => match first.len() {
+                3 => (["x", "y", "z"].map(String::from).to_vec(), false),
+                4 => (["x", "y", "z", "radius"].map(String::from).to_vec(), false),
+                n => {
+                    return Err(self.error(
+                        line,
+                        1,
+                        format!(
+                            "the first row is numbers, not a header, and {n} columns are too many to guess; name them in order with --columns, e.g. --columns x,y,z,radius,red,green,blue"
+                        ),
+                    ))
+                }
+            },
+        };
+        if !is_header && self.opts.columns.positional.is_none() {
+            self.notes
+                .push(format!("no header: columns taken as {}", names.join(", ")));
+        }
+        let mut map = ColumnMap::from_names(&names).map_err(|m| self.error(line, 1, m))?;
+        map.apply_overrides(&self.opts.columns.overrides)
+            .map_err(|m| self.error(line, 1, m))?;
+        map.check(self.opts.radius.is_some())
+            .map_err(|m| self.error(line, 1, m))?;
+        if self.opts.radius.is_some()
+            && (map.get(Role::Radius).is_some() || map.get(Role::Diameter).is_some())
+        {
+            self.notes
+                .push("--radius given: the radius column is not used".to_string());
+        }
+        if map.get(Role::Element).is_some() {
+            let radius = self.opts.radius.is_none()
+                && map.get(Role::Radius).is_none()
+                && map.get(Role::Diameter).is_none();
+            let colour = map.get(Role::Red).is_none();
+            if radius || colour {
+                let what = match (radius, colour) {
+                    (true, true) => "radii (van der Waals, in angstrom) and colours (CPK)",
+                    (true, false) => "radii (van der Waals, in angstrom)",
+                    _ => "colours (CPK)",
+                };
+                self.notes.push(format!("{what} from the element column"));
+            }
+        }
+        if !map.ignored.is_empty() {
+            self.notes
+                .push(format!("columns not used: {}", map.ignored.join(", ")));
+        }
+        self.map = map;
+        if !is_header {
+            self.held.push_back(Held { line, rec: first });
+        }
+        // Hold the first rows back to decide the colour scale.
+        let colour_cols: Vec<usize> = Role::ALL
+            .iter()
+            .filter(|r| r.is_colour())
+            .filter_map(|r| self.map.get(*r))
+            .collect();
+        self.scale = match self.opts.color_scale {
+            Some(s) => s,
+            None if colour_cols.is_empty() => ColorScale::Unit,
+            None => {
+                while self.held.len() < SNIFF_ROWS && self.remaining_after_held() {
+                    let mut rec = ByteRecord::new();
+                    match self.read_row(&mut rec)? {
+                        Some(line) => self.held.push_back(Held { line, rec }),
+                        None => break,
+                    }
+                }
+                let mut fractional = false;
+                let mut above_one = false;
+                for h in &self.held {
+                    for &c in &colour_cols {
+                        if let Some(f) = h.rec.get(c) {
+                            let t = text(f);
+                            if t.contains(['.', 'e', 'E']) || (comma && t.contains(',')) {
+                                fractional = true;
+                            } else if number(f, comma).is_some_and(|v| v > 1.0) {
+                                above_one = true;
+                            }
+                        }
+                    }
+                }
+                let scale = if above_one && !fractional {
+                    ColorScale::Byte
+                } else {
+                    ColorScale::Unit
+                };
+                self.notes.push(format!(
+                    "colours read as {} (from the first {} rows; --color-scale overrides)",
+                    match scale {
+                        ColorScale::Unit => "0-1 floats",
+                        ColorScale::Byte => "0-255 integers",
+                    },
+                    self.held.len()
+                ));
+                scale
+            }
+        };
+        Ok(())
+    }
+
+    /// Whether an XYZ frame has rows beyond those held.
+    fn remaining_after_held(&self) -> bool {
+        self.remaining.is_none_or(|n| (self.held.len() as u64) < n)
+    }
+
+    /// The next particle, `None` at the end of the table (or of an XYZ frame).
+    pub fn next_particle(&mut self) -> Result<Option<Particle<'_>>, Diagnostic> {
+        loop {
+            if self.remaining == Some(0) {
+                return Ok(None);
+            }
+            let line = if let Some(h) = self.held.pop_front() {
+                self.rec = h.rec;
+                h.line
+            } else {
+                let got = self.rows.next(&mut self.rec);
+                let got = got.map_err(|m| {
+                    self.error(self.line + 1, 1, format!("cannot read the table: {m}"))
+                });
+                match got? {
+                    Some(line) => line,
+                    None => {
+                        if let Some(n) = self.remaining {
+                            return Err(self.error(
+                                self.line + 1,
+                                1,
+                                format!(
+                                    "the XYZ header promised {n} more atom lines, but the file ends"
+                                ),
+                            ));
+                        }
+                        return Ok(None);
+                    }
+                }
+            };
+            self.line = line;
+            if let Some(n) = self.remaining.as_mut() {
+                *n -= 1;
+            }
+            match self.check_row(line) {
+                Ok(()) => break,
+                Err(d) if self.opts.skip_bad => {
+                    self.skipped += 1;
+                    if self.first_skip.is_none() {
+                        self.first_skip = Some(d);
+                    }
+                }
+                Err(d) => return Err(d),
+            }
+        }
+        Ok(Some(self.particle()))
+    }
+
+    /// Field `col` of the current row.
+    fn field(&self, line: u64, col: usize) -> Result<&[u8], Diagnostic> {
+        self.rec.get(col).ok_or_else(|| {
+            self.error(
+                line,
+                self.rec.len() + 1,
+                format!(
+                    "the row has {} fields; column {} (\"{}\") is missing",
+                    self.rec.len(),
+                    col + 1,
+                    self.map.name(col)
+                ),
+            )
+        })
+    }
+
+    /// The value of `role` in the current row, checked finite.
+    fn value(&self, line: u64, role: Role) -> Result<Option<f64>, Diagnostic> {
+        let Some(col) = self.map.get(role) else {
+            return Ok(None);
+        };
+        let field = self.field(line, col)?;
+        let bad = |what: String| {
+            self.error(
+                line,
+                col + 1,
+                format!("column \"{}\": {what}", self.map.name(col)),
+            )
+        };
+        let v = number(field, self.delimiter == Delimiter::Semicolon)
+            .ok_or_else(|| bad(format!("\"{}\" is not a number", text(field))))?;
+        if !v.is_finite() {
+            return Err(bad(format!("{} is not a finite number", text(field))));
+        }
+        let range = |lo: f64, hi: f64, what: &str| {
+            if v >= lo && v <= hi {
+                Ok(Some(v))
+            } else {
+                Err(bad(format!("{v} is outside {lo}..{hi} ({what})")))
+            }
+        };
+        match role {
+            Role::Radius | Role::Diameter if v <= 0.0 => {
+                Err(bad(format!("{role} {v} is not positive")))
+            }
+            Role::Density if v < 0.0 => Err(bad(format!("density {v} is negative"))),
+            Role::Opacity | Role::Transparency => range(0.0, 1.0, role.name()),
+            r if r.is_colour() => match self.scale {
+                ColorScale::Unit => range(
+                    0.0,
+                    1.0,
+                    "colours are read as 0-1 floats; --color-scale 255 reads 0-255",
+                ),
+                ColorScale::Byte if v.fract() != 0.0 => Err(bad(format!(
+                    "{v} is not an integer (colours are read as 0-255 integers; --color-scale 1 reads 0-1 floats)"
+                ))),
+                ColorScale::Byte => range(0.0, 255.0, "colours are read as 0-255 integers")
+                    .map(|v| v.map(|v| v / 255.0)),
+            },
+            _ => Ok(Some(v)),
+        }
+    }
+
+    /// Every value of the current row that matters, checked, into `self.vals`.
+    fn check_row(&mut self, line: u64) -> Result<(), Diagnostic> {
+        for (k, role) in Role::ALL.into_iter().enumerate() {
+            self.vals[k] = None;
+            let given = matches!(role, Role::Radius | Role::Diameter) && self.opts.radius.is_some();
+            if role == Role::Element || given {
+                continue;
+            }
+            self.vals[k] = self.value(line, role)?;
+        }
+        self.element = None;
+        if let Some(col) = self.map.get(Role::Element) {
+            let need_radius = self.opts.radius.is_none()
+                && self.map.get(Role::Radius).is_none()
+                && self.map.get(Role::Diameter).is_none();
+            if need_radius || self.map.get(Role::Red).is_none() {
+                let label = text(self.field(line, col)?);
+                let element = super::elements::lookup(label);
+                if element.is_none() && need_radius {
+                    return Err(self.error(
+                        line,
+                        col + 1,
+                        format!(
+                            "column \"{}\": no radius known for element \"{label}\"; give every particle one with --radius R",
+                            self.map.name(col)
+                        ),
+                    ));
+                }
+                self.element = element;
+            }
+        }
+        Ok(())
+    }
+
+    /// The current row as a particle; [`Self::check_row`] has accepted it.
+    fn particle(&self) -> Particle<'_> {
+        let get = |role: Role| self.vals[role.index()];
+        let num = |role: Role| {
+            let col = self.map.get(role).unwrap_or(0);
+            let t = self.rec.get(col).unwrap_or(b"").trim_ascii();
+            Num {
+                value: get(role).unwrap_or(0.0),
+                // A finite number in Rust's syntax is one in VRML's; a decimal comma is not.
+                text: (!t.contains(&b',')).then_some(t),
+            }
+        };
+        let radius = match (self.opts.radius, get(Role::Radius), get(Role::Diameter)) {
+            (Some(r), _, _) => Num {
+                value: r,
+                text: None,
+            },
+            (None, Some(_), _) => num(Role::Radius),
+            (None, None, Some(d)) => Num {
+                value: 0.5 * d,
+                text: None,
+            },
+            (None, None, None) => Num {
+                value: self.element.map_or(1.0, |e| e.0),
+                text: None,
+            },
+        };
+        // 0-1 colours are written as read; 0-255 ones as their quotient.
+        let colour = |role: Role| match self.scale {
+            ColorScale::Unit => num(role),
+            ColorScale::Byte => Num {
+                value: get(role).unwrap_or(0.0),
+                text: None,
+            },
+        };
+        let rgb = |r: Role, g: Role, b: Role| {
+            self.map.get(r)?;
+            Some([colour(r), colour(g), colour(b)])
+        };
+        let computed = |c: [f64; 3]| c.map(|value| Num { value, text: None });
+        let emission = if self.map.get(Role::Emission).is_some() {
+            Some([colour(Role::Emission); 3])
+        } else {
+            rgb(Role::EmissionRed, Role::EmissionGreen, Role::EmissionBlue)
+        };
+        let transparency = get(Role::Transparency)
+            .or_else(|| get(Role::Opacity).map(|o| 1.0 - o))
+            .or_else(|| get(Role::Density).map(|s| (-2.0 * radius.value * s).exp()));
+        Particle {
+            position: [num(Role::X), num(Role::Y), num(Role::Z)],
+            radius,
+            color: rgb(Role::Red, Role::Green, Role::Blue)
+                .or_else(|| self.element.map(|e| computed(e.1))),
+            emission,
+            transparency,
+        }
+    }
+}

@@ -1,0 +1,216 @@
+//! Particles out as VRML97, one row at a time: a `PROTO Particle` declared once and one
+//! compact instance per particle (or, with `plain`, ordinary Transform/Shape/Sphere nodes),
+//! then a framing Viewpoint and lights at the end, where the bounds are known.
+//!
+//! The PROTO is standard VRML97: browsers that know nothing of gtsphere show ordinary
+//! spheres. A gas particle's density sigma becomes the Material's transparency
+//! `exp(-2 r sigma)` (MODEL.md section 1), so reading the file back gives
+//! `sigma = -ln(transparency) / (2 r)`; written with 17 significant digits, that loses
+//! nothing above optical depths `2 r sigma` of about 1e-16 relative to 1 (a diameter of
+//! optical depth `tau` comes back with relative error about `1e-16 / tau`).
+//!
+//! Positions and radii read as numbers are written back as the very text they were read from.
+
+use std::io::{self, Write};
+
+use glam::DVec3;
+
+use super::read::{Num, Particle};
+
+/// The PROTO every instance refers to; `radius` defaults to `--radius` when given.
+fn proto(default_radius: f64) -> String {
+    let mut buf = ryu::Buffer::new();
+    format!(
+        "PROTO Particle [\n  field SFVec3f position 0 0 0\n  field SFFloat radius {}\n  field SFColor color 0.8 0.8 0.8\n  field SFColor emission 0 0 0\n  field SFFloat transparency 0\n] {{\n  Transform {{\n    translation IS position\n    children Shape {{\n      appearance Appearance {{\n        material Material {{ diffuseColor IS color emissiveColor IS emission transparency IS transparency }}\n      }}\n      geometry Sphere {{ radius IS radius }}\n    }}\n  }}\n}}\n",
+        short(&mut buf, default_radius)
+    )
+}
+
+/// `v` in the fewest digits that read back exactly (ryu), without ryu's trailing `.0`; all
+/// VRML97 floats ("1", "0.5", "1e-7").
+fn short(buf: &mut ryu::Buffer, v: f64) -> &str {
+    let s = buf.format(v);
+    s.strip_suffix(".0").unwrap_or(s)
+}
+
+/// What to add after the particles.
+#[derive(Clone, Copy, Debug)]
+pub struct Extras {
+    /// A Viewpoint that frames every particle, looking down -z.
+    pub viewpoint: bool,
+    /// A key and a fill DirectionalLight, and the headlight off.
+    pub lights: bool,
+}
+
+/// Writes particles as they come; [`ParticleWriter::finish`] adds the framing.
+pub struct ParticleWriter<W: Write> {
+    out: W,
+    plain: bool,
+    /// `--radius`: instances leave the radius to the PROTO's default.
+    default_radius: Option<f64>,
+    lo: DVec3,
+    hi: DVec3,
+    count: u64,
+    buf: ryu::Buffer,
+    /// `k / 255` for k in 0..=255, as written: 0-255 colours are common and costly to format.
+    quotients: Vec<String>,
+}
+
+impl<W: Write> ParticleWriter<W> {
+    /// Writes the file header (and the PROTO unless `plain`). `source` names the input.
+    pub fn new(
+        mut out: W,
+        source: &str,
+        plain: bool,
+        default_radius: Option<f64>,
+    ) -> io::Result<Self> {
+        writeln!(out, "#VRML V2.0 utf8")?;
+        let mut one_line = source.replace(['\n', '\r'], " ");
+        one_line.truncate(200);
+        writeln!(
+            out,
+            "# Particles from {one_line}, written by gtsphere {}",
+            env!("CARGO_PKG_VERSION")
+        )?;
+        if !plain {
+            out.write_all(proto(default_radius.unwrap_or(1.0)).as_bytes())?;
+        }
+        Ok(ParticleWriter {
+            out,
+            plain,
+            default_radius,
+            lo: DVec3::INFINITY,
+            hi: DVec3::NEG_INFINITY,
+            count: 0,
+            buf: ryu::Buffer::new(),
+            quotients: (0..=255u32)
+                .map(|k| short(&mut ryu::Buffer::new(), f64::from(k) / 255.0).to_string())
+                .collect(),
+        })
+    }
+
+    fn num(&mut self, n: Num<'_>) -> io::Result<()> {
+        match n.text {
+            Some(t) => self.out.write_all(t),
+            None => self.f64(n.value),
+        }
+    }
+
+    fn f64(&mut self, v: f64) -> io::Result<()> {
+        let k = (v * 255.0).round();
+        if (0.0..=255.0).contains(&k) && k / 255.0 == v {
+            return self.out.write_all(self.quotients[k as usize].as_bytes());
+        }
+        self.out.write_all(short(&mut self.buf, v).as_bytes())
+    }
+
+    fn nums(&mut self, v: [Num<'_>; 3]) -> io::Result<()> {
+        self.num(v[0])?;
+        self.out.write_all(b" ")?;
+        self.num(v[1])?;
+        self.out.write_all(b" ")?;
+        self.num(v[2])
+    }
+
+    fn vec3(&mut self, v: [f64; 3]) -> io::Result<()> {
+        self.f64(v[0])?;
+        self.out.write_all(b" ")?;
+        self.f64(v[1])?;
+        self.out.write_all(b" ")?;
+        self.f64(v[2])
+    }
+
+    /// Writes one particle.
+    pub fn particle(&mut self, p: &Particle<'_>) -> io::Result<()> {
+        let c = DVec3::new(
+            p.position[0].value,
+            p.position[1].value,
+            p.position[2].value,
+        );
+        let r = p.radius.value;
+        self.lo = self.lo.min(c - r);
+        self.hi = self.hi.max(c + r);
+        self.count += 1;
+        if self.plain {
+            return self.plain_particle(p);
+        }
+        self.out.write_all(b"Particle { position ")?;
+        self.nums(p.position)?;
+        if self.default_radius.is_none() {
+            self.out.write_all(b" radius ")?;
+            self.num(p.radius)?;
+        }
+        if let Some(c) = p.color {
+            self.out.write_all(b" color ")?;
+            self.nums(c)?;
+        }
+        if let Some(e) = p.emission.filter(|e| e.iter().any(|n| n.value != 0.0)) {
+            self.out.write_all(b" emission ")?;
+            self.nums(e)?;
+        }
+        if let Some(t) = p.transparency.filter(|t| *t != 0.0) {
+            self.out.write_all(b" transparency ")?;
+            self.f64(t)?;
+        }
+        self.out.write_all(b" }\n")
+    }
+
+    fn plain_particle(&mut self, p: &Particle<'_>) -> io::Result<()> {
+        self.out.write_all(b"Transform { translation ")?;
+        self.nums(p.position)?;
+        self.out
+            .write_all(b" children Shape { appearance Appearance { material Material {")?;
+        if let Some(c) = p.color {
+            self.out.write_all(b" diffuseColor ")?;
+            self.nums(c)?;
+        }
+        if let Some(e) = p.emission.filter(|e| e.iter().any(|n| n.value != 0.0)) {
+            self.out.write_all(b" emissiveColor ")?;
+            self.nums(e)?;
+        }
+        if let Some(t) = p.transparency.filter(|t| *t != 0.0) {
+            self.out.write_all(b" transparency ")?;
+            self.f64(t)?;
+        }
+        self.out.write_all(b" } } geometry Sphere { radius ")?;
+        self.num(p.radius)?;
+        self.out.write_all(b" } } }\n")
+    }
+
+    /// How many particles were written.
+    pub fn count(&self) -> u64 {
+        self.count
+    }
+
+    /// The bounds of every sphere written, if any.
+    pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        (self.count > 0).then_some((self.lo, self.hi))
+    }
+
+    /// Adds the framing Viewpoint and lights, and returns the writer.
+    pub fn finish(mut self, extras: Extras) -> io::Result<W> {
+        writeln!(self.out, "# {} particles", self.count)?;
+        if extras.lights {
+            // A key light from the upper left, on the camera's side, casting shadows down
+            // and to the right, and a weaker fill from the camera so that shadows are not
+            // black. Fixed in the world, so other browsers show the same.
+            self.out.write_all(
+                b"NavigationInfo { headlight FALSE }\n\
+                  DirectionalLight { direction 1 -1 -1 intensity 0.8 ambientIntensity 0.3 }\n\
+                  DirectionalLight { direction 0 0 -1 intensity 0.3 }\n",
+            )?;
+        }
+        if let (true, Some((lo, hi))) = (extras.viewpoint, self.bounds()) {
+            let centre = 0.5 * (lo + hi);
+            let radius = (0.5 * (hi - lo).length()).max(f64::MIN_POSITIVE);
+            let fov = std::f64::consts::FRAC_PI_4;
+            let position = centre + DVec3::new(0.0, 0.0, radius / (0.5 * fov).sin());
+            self.out.write_all(b"Viewpoint { position ")?;
+            self.vec3(position.to_array())?;
+            self.out.write_all(b" fieldOfView ")?;
+            self.f64(fov)?;
+            self.out.write_all(b" description \"all particles\" }\n")?;
+        }
+        Ok(self.out)
+    }
+}
