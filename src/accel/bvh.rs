@@ -495,7 +495,15 @@ impl SphereBvh {
                 let p = &self.prims[i as usize];
                 if let Some(roots) = self.roots(p, o, d) {
                     if let Some(t) = test(i, p, roots) {
-                        if t > tmin && (t < best.t || (best.prim == u32::MAX && t <= tmax)) {
+                        // Ties (coincident spheres) go to the earlier sphere in the
+                        // scene, whatever the traversal order.
+                        let better = if best.prim == u32::MAX {
+                            t <= tmax
+                        } else {
+                            t < best.t
+                                || (t == best.t && p.sphere < self.prims[best.prim as usize].sphere)
+                        };
+                        if t > tmin && better {
                             best = Hit { t, prim: i };
                             return Step::Shrink(self.t32_above(t, t0));
                         }

@@ -99,7 +99,13 @@ fn to_sink(table: &Path) -> Result<f64, Error> {
     let name = table.display().to_string();
     let input = open(table)?;
     let t0 = Instant::now();
-    particles::convert(&name, input, std::io::sink(), TableOptions::default(), options())?;
+    particles::convert(
+        &name,
+        input,
+        std::io::sink(),
+        TableOptions::default(),
+        options(),
+    )?;
     Ok(t0.elapsed().as_secs_f64())
 }
 

@@ -258,3 +258,211 @@ fn values_are_continuous_across_tangency() {
         assert_eq!(ray(&gas, o, DVec3::NEG_Z), DVec3::ZERO);
     }
 }
+
+/// An opaque sphere that only glows: seen with no lights, its value is `e` exactly.
+fn glowing_at(c: DVec3, r: f64, e: DVec3) -> String {
+    format!(
+        "Transform {{ translation {} {} {} children Shape {{ appearance Appearance {{ material Material {{ diffuseColor 0 0 0 emissiveColor {} {} {} }} }} geometry Sphere {{ radius {r} }} }} }}\n",
+        c.x, c.y, c.z, e.x, e.y, e.z
+    )
+}
+
+/// Rays exactly tangent to a sphere, and 1e-12 inside or outside tangency, with the sphere's
+/// silhouette at exactly representable offsets: inside and tangent rays see the sphere (a
+/// tangent ray touches it at one point: the discriminant is exactly 0), outside ones do not.
+#[test]
+fn rays_tangent_and_1e_12_from_tangency() {
+    let p = prep(&format!(
+        "Background {{ skyColor 0 0 0.5 }}\n{}",
+        unlit_at(DVec3::ZERO, 1.0)
+    ));
+    let sky = DVec3::new(0.0, 0.0, 0.5);
+    for (x, want) in [
+        (1.0 - 1e-12, DVec3::ONE),
+        (1.0, DVec3::ONE),
+        (1.0 + 1e-12, sky),
+        (-1.0, DVec3::ONE),
+        (-1.0 - 1e-12, sky),
+    ] {
+        assert_eq!(
+            ray(&p, DVec3::new(x, 0.0, 10.0), DVec3::NEG_Z),
+            want,
+            "x {x}"
+        );
+        assert_eq!(ray(&p, DVec3::new(0.0, x, -10.0), DVec3::Z), want, "y {x}");
+    }
+}
+
+/// Coincident opaque spheres: the one earlier in the file is seen (README, "What is read, and what is
+/// modelled"), on
+/// every pair of a scene big enough for a real BVH. Nested: an opaque sphere inside another is
+/// hidden; inside a gas sphere it is seen through the gas in front of it. Touching gas
+/// spheres: their optical depths add along a ray through both.
+#[test]
+fn coincident_nested_and_touching_spheres() {
+    let (red, green) = (DVec3::new(1.0, 0.0, 0.0), DVec3::new(0.0, 1.0, 0.0));
+    let mut body = String::new();
+    let mut want = Vec::new();
+    for k in 0..300 {
+        let c = DVec3::new((k % 20) as f64 * 3.0, (k / 20) as f64 * 3.0, (k % 7) as f64);
+        let (first, second) = if k % 2 == 0 {
+            (red, green)
+        } else {
+            (green, red)
+        };
+        body.push_str(&glowing_at(c, 1.0, first));
+        body.push_str(&glowing_at(c, 1.0, second));
+        want.push((c, first));
+    }
+    let p = prep(&body);
+    for (c, first) in want {
+        for dx in [0.0, 0.5, -0.9] {
+            let o = c + DVec3::new(dx, 0.0, 20.0);
+            assert_eq!(ray(&p, o, DVec3::NEG_Z), first, "pair at {c}");
+        }
+    }
+
+    // Lit coincident spheres look like one: no shadow of one on the other.
+    let lit = |c: DVec3, rgb: DVec3| {
+        format!(
+            "Transform {{ translation {} {} {} children Shape {{ appearance Appearance {{ material Material {{ diffuseColor {} {} {} ambientIntensity 0 }} }} geometry Sphere {{ }} }} }}\n",
+            c.x, c.y, c.z, rgb.x, rgb.y, rgb.z
+        )
+    };
+    let p = prep(&format!(
+        "DirectionalLight {{ direction 0 0 -1 }}\n{}{}",
+        lit(DVec3::ZERO, red),
+        lit(DVec3::ZERO, green)
+    ));
+    for dx in [0.0, 0.3, 0.6, 0.9] {
+        // Hit at (dx, 0, sqrt(1 - dx^2)): N.L = sqrt(1 - dx^2).
+        let got = ray(&p, DVec3::new(dx, 0.0, 5.0), DVec3::NEG_Z);
+        let want = (1.0 - dx * dx).sqrt() * red;
+        assert!(
+            (got - want).abs().max_element() < 1e-12,
+            "dx {dx}: {got} vs {want}"
+        );
+    }
+
+    // Nested opaque: the outer one hides the inner.
+    let inner = DVec3::new(0.2, 0.4, 0.6);
+    let p = prep(&format!(
+        "{}{}",
+        glowing_at(DVec3::ZERO, 0.5, inner),
+        glowing_at(DVec3::ZERO, 1.0, red)
+    ));
+    assert_eq!(ray(&p, DVec3::new(0.0, 0.0, 5.0), DVec3::NEG_Z), red);
+    // Opaque inside gas (emission 1, transparency 0.3 over the diameter 2): the gas in front
+    // is R - r = 0.5 thick.
+    let p = prep(&format!(
+        "{}{}",
+        glowing_at(DVec3::ZERO, 0.5, inner),
+        gas_at(DVec3::ZERO, 1.0, 0.3)
+    ));
+    let sigma = -f64::ln(0.3) / 2.0;
+    let t = (-sigma * 0.5).exp();
+    let want = DVec3::splat(1.0 - t) + t * inner;
+    let got = ray(&p, DVec3::new(0.0, 0.0, 5.0), DVec3::NEG_Z);
+    assert!((got - want).abs().max_element() < 1e-14, "{got} vs {want}");
+
+    // Touching gas spheres along z (contact at z = -1), red over green.
+    let gas_coloured = |c: DVec3, tr: f64, e: DVec3| {
+        format!(
+            "Transform {{ translation {} {} {} children Shape {{ appearance Appearance {{ material Material {{ emissiveColor {} {} {} diffuseColor 0 0 0 transparency {tr} }} }} geometry Sphere {{ }} }} }}\n",
+            c.x, c.y, c.z, e.x, e.y, e.z
+        )
+    };
+    let p = prep(&format!(
+        "{}{}",
+        gas_coloured(DVec3::ZERO, 0.4, red),
+        gas_coloured(DVec3::new(0.0, 0.0, -2.0), 0.7, green)
+    ));
+    let want = (1.0 - 0.4) * red + 0.4 * (1.0 - 0.7) * green;
+    let got = ray(&p, DVec3::new(0.0, 0.0, 5.0), DVec3::NEG_Z);
+    assert!((got - want).abs().max_element() < 1e-14, "{got} vs {want}");
+}
+
+/// A point light at the centre of, inside, and on the surface of an absorbing gas sphere,
+/// lighting an opaque diffuse sphere outside it: the light arriving is attenuated by
+/// exp(-sigma * chord), the chord from the light to where its ray to the lit point leaves the
+/// gas (0 when the light sits on the surface facing the point).
+#[test]
+fn point_light_inside_at_centre_and_on_a_gas_sphere() {
+    let tr = 0.05;
+    let sigma = -f64::ln(tr) / 2.0;
+    // A point of the receiver (centre (3,0,0), radius 0.5) facing the gas, seen from straight
+    // above (the camera ray misses the gas); 0.3 = sqrt(0.5^2 - 0.4^2) exactly in f64.
+    let x = DVec3::new(2.6, 0.0, 0.3);
+    let n = (x - DVec3::new(3.0, 0.0, 0.0)) / 0.5;
+    for light in [
+        DVec3::ZERO,
+        DVec3::new(0.5, 0.2, -0.1),
+        DVec3::new(-0.3, 0.6, 0.0),
+        DVec3::new(-1.0, 0.0, 0.0),
+        DVec3::new(1.0, 0.0, 0.0),
+        DVec3::new(0.0, 0.0, 1.0),
+    ] {
+        let p = prep(&format!(
+            "PointLight {{ location {} {} {} }}\n\
+             Shape {{ appearance Appearance {{ material Material {{ diffuseColor 0 0 0 transparency {tr} }} }} geometry Sphere {{ }} }}\n\
+             Transform {{ translation 3 0 0 children Shape {{ appearance Appearance {{ material Material {{ diffuseColor 1 1 1 }} }} geometry Sphere {{ radius 0.5 }} }} }}",
+            light.x, light.y, light.z
+        ));
+        let d = (x - light).normalize();
+        // Distance from the light to the unit sphere's exit along d (the light is inside or on it).
+        let b = light.dot(d);
+        let chord = (-b + (b * b - (light.length_squared() - 1.0)).max(0.0).sqrt()).max(0.0);
+        let cos = -d.dot(n);
+        assert!(cos > 0.1, "the light must face the point");
+        let want = (-sigma * chord).exp() * cos;
+        let got = ray(&p, DVec3::new(2.6, 0.0, 5.0), DVec3::NEG_Z);
+        assert!(
+            (got.x - want).abs() < 1e-12,
+            "light at {light}: {} vs {want}",
+            got.x
+        );
+    }
+}
+
+/// Optical depths 1e-12 and 1e4 through an emitting gas sphere: L = 1 - exp(-tau), to full
+/// relative precision at 1e-12 (no cancellation in 1 - exp), exactly 1 at 1e4, and rays whose
+/// chord gives tau = 1 in the dense sphere get 1 - 1/e.
+#[test]
+fn optical_depths_1e_12_and_1e4() {
+    // tau = 1e-12 along the diameter: transparency exp(-1e-12) as written in the file.
+    let tr: f64 = "0.999999999999".parse().unwrap();
+    let tau = -tr.ln();
+    let p = prep(&gas_at(DVec3::ZERO, 1.0, tr));
+    let got = ray(&p, DVec3::new(0.0, 0.0, 5.0), DVec3::NEG_Z).x;
+    let want = -(-tau).exp_m1();
+    assert!(
+        ((got - want) / want).abs() < 1e-9,
+        "{got:e} vs {want:e} (1 - exp would give {:e})",
+        1.0 - (-tau).exp()
+    );
+
+    // tau = 1e4 along the diameter: --as-gas 5000 on a unit sphere.
+    let (scene, _) = support::scene(
+        "NavigationInfo { headlight FALSE }\nBackground { skyColor 0 0 1 }\n\
+         Shape { appearance Appearance { material Material { emissiveColor 1 1 1 diffuseColor 0 0 0 } } geometry Sphere { } }",
+    );
+    let opts = RenderOptions {
+        as_gas: Some(5000.0),
+        ..RenderOptions::default()
+    };
+    let p = prepare(scene, &opts).expect("prepare");
+    assert_eq!(
+        ray(&p, DVec3::new(0.0, 0.0, 5.0), DVec3::NEG_Z),
+        DVec3::new(1.0, 1.0, 1.0)
+    );
+    // Offset b with chord 2 sqrt(1 - b^2) = 1 / 5000: tau = 1 (1 - b^2 is exact in f64).
+    let b = (1.0f64 - 1e-8).sqrt();
+    let chord = 2.0 * (1.0 - b * b).sqrt();
+    let want = -(-5000.0 * chord).exp_m1();
+    let got = ray(&p, DVec3::new(b, 0.0, 5.0), DVec3::NEG_Z);
+    let sky_left = (-5000.0 * chord).exp();
+    assert!(
+        (got.x - want).abs() < 1e-6 && (got.z - (want + sky_left)).abs() < 1e-6,
+        "{got} vs {want}"
+    );
+}
