@@ -34,7 +34,8 @@
 //! per-face colours are not a Material's). The Shape's Material applies as for a Sphere, and
 //! Transforms apply as for a Sphere (a non-uniform scale gives an ellipsoid). Other fields
 //! (normals, texture coordinates, `ccw`, `solid`, ...) are not read or checked, as for
-//! skipped nodes. The result of a DEF'd IndexedFaceSet is kept, so each USE costs a lookup.
+//! skipped nodes. What a DEF'd IndexedFaceSet lowers to is kept at its first USE, so
+//! later USEs cost a lookup, not a replay of its events.
 
 use std::collections::{BTreeMap, HashMap};
 use std::ops::Range;
@@ -282,10 +283,12 @@ struct MeshState {
     nodes_before: u64,
 }
 
+/// A Coordinate's point count and the sphere through its points (index into
+/// `Lowerer::mesh_fits`), if any. Small and `Copy`, so [`Result_`] needs no drop.
 #[derive(Clone, Copy, Debug, Default)]
 struct CoordFit {
     points: usize,
-    sphere: Option<(DVec3, f64)>,
+    sphere: Option<u32>,
 }
 
 /// What a DEF'd IndexedFaceSet lowered to, replayed for each USE without its events.
@@ -520,7 +523,8 @@ struct Lowerer {
     bg_bound: bool,
     /// Replaying a USE or a Switch choice: DEFs inside were registered when first read.
     reusing: u32,
-    /// Spheres found in IndexedFaceSets ([`Geom::Mesh`] indexes this).
+    /// Spheres through the points of Coordinates in IndexedFaceSets ([`CoordFit`] and
+    /// [`Geom::Mesh`] index this).
     mesh_fits: Vec<(DVec3, f64)>,
     /// IndexedFaceSet instances lowered as spheres (USEs included).
     mesh_spheres: u64,
@@ -742,7 +746,7 @@ fn hash_key(key: &[u64; 13]) -> u64 {
 /// Reads the fields of an IndexedFaceSet or its Coordinate that decide whether it is a sphere.
 /// Leniently: a value of another type makes it no sphere rather than an error (the node was
 /// skipped whole before it could be one).
-fn mesh_field(kind: &mut Kind, name: &str, value: &Value) {
+fn mesh_field(kind: &mut Kind, name: &str, value: &Value, fits: &mut Vec<(DVec3, f64)>) {
     match (kind, name, value) {
         (
             Kind::Mesh(m),
@@ -754,9 +758,13 @@ fn mesh_field(kind: &mut Kind, name: &str, value: &Value) {
             },
         ) => m.index = Some(values.to_vec()),
         (Kind::Coord(c), "point", Value::Numbers { values, .. }) => {
+            let sphere = crate::geom::sphere_through(values).map(|f| {
+                fits.push(f);
+                fits.len() as u32 - 1
+            });
             *c = CoordFit {
                 points: values.len() / 3,
-                sphere: crate::geom::sphere_through(values),
+                sphere,
             }
         }
         _ => {}
@@ -1469,23 +1477,8 @@ impl Lowerer {
                     (false, ignored)
                 }
                 Kind::Group { .. } => (false, &*ctx.name == "proxy"),
-                Kind::Mesh(m) => {
-                    // Inside an IndexedFaceSet only the `coord` Coordinate is read; other
-                    // nodes are neither lowered nor counted (as when it was skipped whole).
-                    let coord = &*ctx.name == "coord" && ty == "Coordinate";
-                    m.colored |= &*ctx.name == "color";
-                    if coord {
-                        self.frames.push(Frame {
-                            ty: ty_rc,
-                            spec: None,
-                            proto: None,
-                            kind: Kind::Coord(CoordFit::default()),
-                            at,
-                            quiet: false,
-                        });
-                    } else {
-                        self.push_quiet(ty_rc, at);
-                    }
+                Kind::Mesh(_) => {
+                    self.mesh_child(ty_rc, at);
                     return Ok(());
                 }
                 _ => (false, false),
@@ -1539,14 +1532,7 @@ impl Lowerer {
             dirlights: None,
             inline_urls: None,
         };
-        let lowered = match index.map_or(Lowered::Skipped, |i| LOWERED[i]) {
-            // Read only in an IndexedFaceSet's `coord` (above).
-            Lowered::Coordinate => Lowered::Skipped,
-            l => l,
-        };
-        // An IndexedFaceSet's fields are read leniently (see `field`), with no table: as a
-        // skipped node, none of them is checked or warned about.
-        let spec = spec.filter(|_| lowered != Lowered::IndexedFaceSet);
+        let lowered = index.map_or(Lowered::Skipped, |i| LOWERED[i]);
         let kind = match lowered {
             Lowered::Group => group(None),
             Lowered::Transform => group(Some(Box::default())),
@@ -1577,11 +1563,10 @@ impl Lowerer {
                 Kind::Material
             }
             Lowered::Sphere => Kind::Sphere { radius: 1.0 },
-            Lowered::IndexedFaceSet => Kind::Mesh(Box::new(MeshState {
-                nodes_before: self.nodes - 1,
-                ..MeshState::default()
-            })),
-            Lowered::Coordinate => unreachable!("lowered only inside an IndexedFaceSet"),
+            Lowered::IndexedFaceSet => {
+                self.open_mesh(ty_rc, at);
+                return Ok(());
+            }
             Lowered::PointLight => Kind::PointLight(Box::new(PointLight {
                 location: DVec3::ZERO,
                 color: DVec3::ONE,
@@ -1611,7 +1596,8 @@ impl Lowerer {
             })),
             Lowered::NavigationInfo => Kind::NavigationInfo { headlight: None },
             Lowered::Background => Kind::Background { sky: None },
-            Lowered::Skipped => {
+            // A Coordinate is read only in an IndexedFaceSet's `coord` (see `mesh_child`).
+            Lowered::Skipped | Lowered::Coordinate => {
                 // Standard nodes we do not model are counted in the report, not warned about:
                 // they are valid VRML, and `--strict` is about validity.
                 if spec.is_none() {
@@ -1639,6 +1625,50 @@ impl Lowerer {
             quiet: false,
         });
         Ok(())
+    }
+
+    /// An IndexedFaceSet: its fields are read leniently (see `field`), with no table: as for a
+    /// skipped node, none of them is checked or warned about.
+    #[cold]
+    #[inline(never)]
+    fn open_mesh(&mut self, ty: Name, at: u64) {
+        self.frames.push(Frame {
+            ty,
+            spec: None,
+            proto: None,
+            kind: Kind::Mesh(Box::new(MeshState {
+                nodes_before: self.nodes - 1,
+                ..MeshState::default()
+            })),
+            at,
+            quiet: false,
+        });
+    }
+
+    /// A node inside an IndexedFaceSet: only the `coord` Coordinate is read; other nodes are
+    /// neither lowered nor counted (as when the IndexedFaceSet was skipped whole).
+    #[cold]
+    #[inline(never)]
+    fn mesh_child(&mut self, ty: Name, at: u64) {
+        let Some(ctx) = self.fields.last() else {
+            return;
+        };
+        let coord = &*ctx.name == "coord" && &*ty == "Coordinate";
+        if let Kind::Mesh(m) = &mut self.frames[ctx.frame].kind {
+            m.colored |= &*ctx.name == "color";
+        }
+        if coord {
+            self.frames.push(Frame {
+                ty,
+                spec: None,
+                proto: None,
+                kind: Kind::Coord(CoordFit::default()),
+                at,
+                quiet: false,
+            });
+        } else {
+            self.push_quiet(ty, at);
+        }
     }
 
     /// Starts a recorder whose first event is the NodeStart just handled.
@@ -1708,15 +1738,15 @@ impl Lowerer {
         if self.quiet > 0 {
             return Ok(());
         }
-        if let Some(Frame {
-            kind: k @ (Kind::Mesh(_) | Kind::Coord(_)),
-            ..
-        }) = self.frames.last_mut()
-        {
-            mesh_field(k, name, &value);
-            return Ok(());
-        }
         let Some((f, access, ty)) = self.field_spec(src, name, at) else {
+            // (IndexedFaceSet and Coordinate frames have no table: their fields come here.)
+            if let Some(Frame {
+                kind: k @ (Kind::Mesh(_) | Kind::Coord(_)),
+                ..
+            }) = self.frames.last_mut()
+            {
+                mesh_field(k, name, &value, &mut self.mesh_fits);
+            }
             return Ok(());
         };
         if self.warn_if_event(src, name, &ty, access, at) {
@@ -2024,7 +2054,8 @@ impl Lowerer {
             (Kind::Appearance { material }, "material", Result_::Material(m)) => {
                 *material = Some(m)
             }
-            (Kind::Mesh(m), "coord", Result_::Coord(c)) => m.coord = Some(c),
+            // (Coordinate frames open only in an IndexedFaceSet's `coord`.)
+            (Kind::Mesh(m), _, Result_::Coord(c)) => m.coord = Some(c),
             _ => {}
         }
         Ok(())
@@ -2061,10 +2092,7 @@ impl Lowerer {
             c.sphere.filter(|_| used && !m.colored)
         });
         let geom = match fit {
-            Some(f) => {
-                self.mesh_fits.push(f);
-                Geom::Mesh(self.mesh_fits.len() as u32 - 1, at)
-            }
+            Some(i) => Geom::Mesh(i, at),
             None => Geom::Other,
         };
         self.count_mesh(geom);
