@@ -2087,9 +2087,11 @@ impl Lowerer {
 
     /// What a closed IndexedFaceSet is: a sphere (see "Tessellated spheres") or other geometry.
     fn mesh_geom(&mut self, m: &MeshState, at: u64) -> Geom {
+        // (Only a Shape's geometry is drawn: elsewhere it counts as skipped.)
+        let shape = self.in_shape_geometry();
         let fit = m.coord.and_then(|c| {
             let used = m.index.as_deref().is_some_and(|ix| uses_all(ix, c.points));
-            c.sphere.filter(|_| used && !m.colored)
+            c.sphere.filter(|_| shape && used && !m.colored)
         });
         let geom = match fit {
             Some(i) => Geom::Mesh(i, at),

@@ -152,6 +152,25 @@ fn shared_coordinate_by_def_use() {
 }
 
 #[test]
+fn sphere_mesh_points_from_a_proto_interface() {
+    let pts = icosahedron();
+    let (s, r) = scene(&format!(
+        "PROTO Ball [ field MFVec3f pts [] ] {{
+           Shape {{ geometry IndexedFaceSet {{ coord Coordinate {{ point IS pts }} {} }} }} }}
+         Transform {{ translation 0 0 -3 children Ball {{ {} }} }}
+         Ball {{ pts [ 0 0 0 ] }}",
+        index_all(pts.len()),
+        points(&pts, DVec3::ZERO, 0.5).replacen("point", "pts", 1),
+    ));
+    assert_eq!(
+        (s.spheres.len(), r.mesh_spheres, skipped_ifs(&r)),
+        (1, 1, 1)
+    );
+    assert!((s.spheres[0].center - DVec3::new(0.0, 0.0, -3.0)).length() < 1e-12);
+    assert!(close(s.spheres[0].radius, 0.5, 1e-12));
+}
+
+#[test]
 fn non_uniform_scale_makes_an_ellipsoid() {
     let mesh = ifs(&icosahedron(), DVec3::ZERO, 1.0);
     let (s, r) = scene(&format!(
@@ -222,6 +241,16 @@ fn colored_partial_or_malformed_sphere_meshes_are_not_spheres() {
         assert_eq!(skipped_ifs(&r), 1, "{name}");
         assert!(r.warnings.is_empty(), "{name}: {:?}", r.warnings);
     }
+}
+
+#[test]
+fn sphere_mesh_outside_a_shape_is_not_drawn_nor_counted_as_a_sphere() {
+    let mesh = ifs(&icosahedron(), DVec3::ZERO, 1.0);
+    let (s, r) = scene(&format!("Group {{ children [ {mesh} ] }}"));
+    assert_eq!(
+        (s.spheres.len(), r.mesh_spheres, skipped_ifs(&r)),
+        (0, 0, 1)
+    );
 }
 
 #[test]
