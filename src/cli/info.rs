@@ -66,6 +66,7 @@ pub fn to_json(path: &Path, s: &Scene, r: &LoadReport) -> serde_json::Value {
         "viewpoints": viewpoints,
         "default_camera": s.viewpoints.is_empty(),
         "background": s.background.to_array(),
+        "mesh_spheres": r.mesh_spheres,
         "skipped": r.skipped,
         "warnings": r.warnings.iter().map(|w| w.headline()).collect::<Vec<_>>(),
         "bounds": s.bounds(),
@@ -117,6 +118,13 @@ pub fn to_text(path: &Path, s: &Scene, r: &LoadReport) -> String {
         gas,
         s.ellipsoid_count()
     );
+    if r.mesh_spheres > 0 {
+        let _ = writeln!(
+            o,
+            "            IndexedFaceSet recognised as spheres: {}",
+            r.mesh_spheres
+        );
+    }
     let _ = writeln!(o, "materials:  {} distinct", s.materials.len());
     let _ = writeln!(
         o,

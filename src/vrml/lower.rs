@@ -19,11 +19,23 @@
 //! | Inline | `url`: local relative VRML97 files only, never a network URL; depth limit 16, cycles refused |
 //! | Shape, Appearance, Material | `appearance material geometry`; Material: all six fields |
 //! | Sphere | `radius` (default 1, must be > 0) |
+//! | IndexedFaceSet | a sphere when its `coord` Coordinate's `point`s lie on one and `coordIndex` uses them all (see below); otherwise skipped |
 //! | PointLight | `ambientIntensity attenuation color intensity location on radius` |
 //! | DirectionalLight | `ambientIntensity color direction intensity on` |
 //! | Viewpoint | `position orientation fieldOfView description` |
 //! | NavigationInfo | `headlight` (first one wins) |
 //! | Background | `skyColor[0]` (first one wins) |
+//!
+//! **Tessellated spheres.** Jmol writes every atom as a unit-sphere `IndexedFaceSet` reused
+//! under scaled Transforms. An IndexedFaceSet is lowered as the sphere through its vertices
+//! when [`crate::geom::sphere_through`] finds one (at least 12 points, all at one distance
+//! from their bounding-box centre within 0.2 %, spread over the whole sphere), every point is
+//! used by `coordIndex` (all indices valid) and it has no `color` node (per-vertex or
+//! per-face colours are not a Material's). The Shape's Material applies as for a Sphere, and
+//! Transforms apply as for a Sphere (a non-uniform scale gives an ellipsoid). Other fields
+//! (normals, texture coordinates, `ccw`, `solid`, ...) are not read or checked, as for
+//! skipped nodes. What a DEF'd IndexedFaceSet lowers to is kept at its first USE, so
+//! later USEs cost a lookup, not a replay of its events.
 
 use std::collections::{BTreeMap, HashMap};
 use std::ops::Range;
@@ -84,6 +96,9 @@ pub struct LoadReport {
     pub files: Vec<String>,
     /// Bytes held by the recorded DEF/PROTO events at the end.
     pub recorded_bytes: usize,
+    /// IndexedFaceSet instances (USEs included) lowered as spheres: tessellated spheres such
+    /// as Jmol's atoms. Those not recognised are counted in `skipped`.
+    pub mesh_spheres: u64,
 }
 
 /// Loads a scene file (plain or gzip-compressed).
@@ -250,7 +265,38 @@ impl Default for TransformFields {
 #[derive(Clone, Copy, Debug)]
 enum Geom {
     Sphere(f64, u64),
+    /// An IndexedFaceSet recognised as a sphere: index into `Lowerer::mesh_fits`, node offset.
+    Mesh(u32, u64),
     Other,
+}
+
+/// An open IndexedFaceSet (rare: boxed in [`Kind::Mesh`]).
+#[derive(Debug, Default)]
+struct MeshState {
+    /// From the `coord` Coordinate: point count and the sphere through the points, if any.
+    coord: Option<CoordFit>,
+    /// `coordIndex`, if given as integers.
+    index: Option<Vec<f64>>,
+    /// A `color` node was given.
+    colored: bool,
+    /// `Lowerer::nodes` before this node started (to cache the node count of a DEF).
+    nodes_before: u64,
+}
+
+/// A Coordinate's point count and the sphere through its points (index into
+/// `Lowerer::mesh_fits`), if any. Small and `Copy`, so [`Result_`] needs no drop.
+#[derive(Clone, Copy, Debug, Default)]
+struct CoordFit {
+    points: usize,
+    sphere: Option<u32>,
+}
+
+/// What a DEF'd IndexedFaceSet lowered to, replayed for each USE without its events.
+#[derive(Clone, Copy, Debug)]
+struct MeshCache {
+    geom: Geom,
+    /// Nodes its events lower (the IndexedFaceSet and the nodes inside).
+    nodes: u64,
 }
 
 /// The DirectionalLights among a grouping node's children (indices into the scene's lights).
@@ -291,6 +337,10 @@ enum Kind {
     Sphere {
         radius: f64,
     },
+    /// An IndexedFaceSet (see "Tessellated spheres" above).
+    Mesh(Box<MeshState>),
+    /// A Coordinate in an IndexedFaceSet's `coord` field.
+    Coord(CoordFit),
     PointLight(Box<PointLight>),
     DirectionalLight(Box<DirectionalLight>),
     Viewpoint(Box<Viewpoint>),
@@ -318,6 +368,8 @@ enum Lowered {
     Appearance,
     Material,
     Sphere,
+    IndexedFaceSet,
+    Coordinate,
     PointLight,
     DirectionalLight,
     Viewpoint,
@@ -343,7 +395,7 @@ const fn same_str(a: &str, b: &str) -> bool {
 }
 
 const fn lowered_as(name: &str) -> Lowered {
-    const MODELLED: [(&str, Lowered); 17] = [
+    const MODELLED: [(&str, Lowered); 19] = [
         ("Group", Lowered::Group),
         ("Anchor", Lowered::Group),
         ("Billboard", Lowered::Group),
@@ -356,6 +408,8 @@ const fn lowered_as(name: &str) -> Lowered {
         ("Appearance", Lowered::Appearance),
         ("Material", Lowered::Material),
         ("Sphere", Lowered::Sphere),
+        ("IndexedFaceSet", Lowered::IndexedFaceSet),
+        ("Coordinate", Lowered::Coordinate),
         ("PointLight", Lowered::PointLight),
         ("DirectionalLight", Lowered::DirectionalLight),
         ("Viewpoint", Lowered::Viewpoint),
@@ -426,6 +480,7 @@ enum Result_ {
     Material(u32),
     Appearance(Option<u32>),
     Geometry(Geom),
+    Coord(CoordFit),
 }
 
 /// The node-valued field being filled, with the frame index that owns it.
@@ -468,6 +523,15 @@ struct Lowerer {
     bg_bound: bool,
     /// Replaying a USE or a Switch choice: DEFs inside were registered when first read.
     reusing: u32,
+    /// Spheres through the points of Coordinates in IndexedFaceSets ([`CoordFit`] and
+    /// [`Geom::Mesh`] index this).
+    mesh_fits: Vec<(DVec3, f64)>,
+    /// IndexedFaceSet instances lowered as spheres (USEs included).
+    mesh_spheres: u64,
+    /// What each DEF'd IndexedFaceSet lowered to, by the start of its recording.
+    mesh_cache: HashMap<usize, MeshCache>,
+    /// The last IndexedFaceSet closed (for `mesh_cache`).
+    last_mesh: Option<MeshCache>,
 }
 
 /// The values an instance gives its PROTO's interface fields.
@@ -679,6 +743,50 @@ fn hash_key(key: &[u64; 13]) -> u64 {
     h ^ (h >> 33)
 }
 
+/// Reads the fields of an IndexedFaceSet or its Coordinate that decide whether it is a sphere.
+/// Leniently: a value of another type makes it no sphere rather than an error (the node was
+/// skipped whole before it could be one).
+fn mesh_field(kind: &mut Kind, name: &str, value: &Value, fits: &mut Vec<(DVec3, f64)>) {
+    match (kind, name, value) {
+        (
+            Kind::Mesh(m),
+            "coordIndex",
+            Value::Numbers {
+                values,
+                integer: true,
+                ..
+            },
+        ) => m.index = Some(values.to_vec()),
+        (Kind::Coord(c), "point", Value::Numbers { values, .. }) => {
+            let sphere = crate::geom::sphere_through(values).map(|f| {
+                fits.push(f);
+                fits.len() as u32 - 1
+            });
+            *c = CoordFit {
+                points: values.len() / 3,
+                sphere,
+            }
+        }
+        _ => {}
+    }
+}
+
+/// Whether `coordIndex` refers only to existing points (or is -1, the face separator) and
+/// uses every one of them: a mesh over all its vertices, not a piece of the sphere.
+fn uses_all(index: &[f64], points: usize) -> bool {
+    let mut seen = vec![false; points];
+    for &i in index {
+        if i == -1.0 {
+            continue;
+        }
+        if !(i >= 0.0 && i < points as f64) {
+            return false;
+        }
+        seen[i as usize] = true;
+    }
+    seen.iter().all(|&s| s)
+}
+
 fn is_local_relative(url: &str) -> bool {
     let lower = url.to_ascii_lowercase();
     let has_scheme = lower.find(':').is_some_and(|k| {
@@ -717,6 +825,10 @@ impl Lowerer {
             nav_bound: false,
             bg_bound: false,
             reusing: 0,
+            mesh_fits: Vec::new(),
+            mesh_spheres: 0,
+            mesh_cache: HashMap::new(),
+            last_mesh: None,
         };
         low.material_index(Material::unlit());
         low
@@ -744,6 +856,7 @@ impl Lowerer {
             nodes: self.nodes,
             files: self.scene.files.clone(),
             recorded_bytes: self.arena.capacity() * std::mem::size_of::<Rec>(),
+            mesh_spheres: self.mesh_spheres,
         };
         Ok((self.scene, report))
     }
@@ -1046,14 +1159,41 @@ impl Lowerer {
             });
         }
         if self.quiet == 0 {
+            // A USE'd IndexedFaceSet as a Shape's geometry: lowered once, then looked up.
+            let mesh = self.in_shape_geometry()
+                && matches!(&self.arena[range.start],
+                    Rec::Ev(OwnedEvent::NodeStart { ty, .. }) if &**ty == "IndexedFaceSet");
+            if mesh {
+                if let Some(c) = self.mesh_cache.get(&range.start).copied() {
+                    self.nodes += c.nodes;
+                    if self.nodes > self.opts.max_nodes {
+                        return Err(self.error(
+                            src,
+                            at,
+                            format!(
+                                "the scene expands to more than {} nodes (USE/PROTO blow-up?)",
+                                self.opts.max_nodes
+                            ),
+                        ));
+                    }
+                    self.count_mesh(c.geom);
+                    return self.deliver(src, Result_::Geometry(c.geom), at);
+                }
+                self.last_mesh = None;
+            }
             // Replaying must not record the replayed events again into the same recorders:
             // they already hold the `Used` entry.
             let saved = std::mem::take(&mut self.recorders);
             self.reusing += 1;
-            let r = self.replay(src, range, at);
+            let r = self.replay(src, range.clone(), at);
             self.reusing -= 1;
             self.recorders = saved;
             r?;
+            if mesh {
+                if let Some(c) = self.last_mesh.take() {
+                    self.mesh_cache.insert(range.start, c);
+                }
+            }
         } else if let Some(Frame {
             kind: Kind::Switch { choices, .. },
             ..
@@ -1063,6 +1203,13 @@ impl Lowerer {
             choices.push(range);
         }
         Ok(())
+    }
+
+    /// Whether the node starting now stands in a Shape's `geometry` field.
+    fn in_shape_geometry(&self) -> bool {
+        self.fields.last().is_some_and(|ctx| {
+            &*ctx.name == "geometry" && matches!(self.frames[ctx.frame].kind, Kind::Shape { .. })
+        })
     }
 
     // ----- the event handler
@@ -1330,6 +1477,10 @@ impl Lowerer {
                     (false, ignored)
                 }
                 Kind::Group { .. } => (false, &*ctx.name == "proxy"),
+                Kind::Mesh(_) => {
+                    self.mesh_child(ty_rc, at);
+                    return Ok(());
+                }
                 _ => (false, false),
             },
         };
@@ -1412,6 +1563,10 @@ impl Lowerer {
                 Kind::Material
             }
             Lowered::Sphere => Kind::Sphere { radius: 1.0 },
+            Lowered::IndexedFaceSet => {
+                self.open_mesh(ty_rc, at);
+                return Ok(());
+            }
             Lowered::PointLight => Kind::PointLight(Box::new(PointLight {
                 location: DVec3::ZERO,
                 color: DVec3::ONE,
@@ -1441,7 +1596,8 @@ impl Lowerer {
             })),
             Lowered::NavigationInfo => Kind::NavigationInfo { headlight: None },
             Lowered::Background => Kind::Background { sky: None },
-            Lowered::Skipped => {
+            // A Coordinate is read only in an IndexedFaceSet's `coord` (see `mesh_child`).
+            Lowered::Skipped | Lowered::Coordinate => {
                 // Standard nodes we do not model are counted in the report, not warned about:
                 // they are valid VRML, and `--strict` is about validity.
                 if spec.is_none() {
@@ -1469,6 +1625,50 @@ impl Lowerer {
             quiet: false,
         });
         Ok(())
+    }
+
+    /// An IndexedFaceSet: its fields are read leniently (see `field`), with no table: as for a
+    /// skipped node, none of them is checked or warned about.
+    #[cold]
+    #[inline(never)]
+    fn open_mesh(&mut self, ty: Name, at: u64) {
+        self.frames.push(Frame {
+            ty,
+            spec: None,
+            proto: None,
+            kind: Kind::Mesh(Box::new(MeshState {
+                nodes_before: self.nodes - 1,
+                ..MeshState::default()
+            })),
+            at,
+            quiet: false,
+        });
+    }
+
+    /// A node inside an IndexedFaceSet: only the `coord` Coordinate is read; other nodes are
+    /// neither lowered nor counted (as when the IndexedFaceSet was skipped whole).
+    #[cold]
+    #[inline(never)]
+    fn mesh_child(&mut self, ty: Name, at: u64) {
+        let Some(ctx) = self.fields.last() else {
+            return;
+        };
+        let coord = &*ctx.name == "coord" && &*ty == "Coordinate";
+        if let Kind::Mesh(m) = &mut self.frames[ctx.frame].kind {
+            m.colored |= &*ctx.name == "color";
+        }
+        if coord {
+            self.frames.push(Frame {
+                ty,
+                spec: None,
+                proto: None,
+                kind: Kind::Coord(CoordFit::default()),
+                at,
+                quiet: false,
+            });
+        } else {
+            self.push_quiet(ty, at);
+        }
     }
 
     /// Starts a recorder whose first event is the NodeStart just handled.
@@ -1539,6 +1739,14 @@ impl Lowerer {
             return Ok(());
         }
         let Some((f, access, ty)) = self.field_spec(src, name, at) else {
+            // (IndexedFaceSet and Coordinate frames have no table: their fields come here.)
+            if let Some(Frame {
+                kind: k @ (Kind::Mesh(_) | Kind::Coord(_)),
+                ..
+            }) = self.frames.last_mut()
+            {
+                mesh_field(k, name, &value, &mut self.mesh_fits);
+            }
             return Ok(());
         };
         if self.warn_if_event(src, name, &ty, access, at) {
@@ -1846,9 +2054,59 @@ impl Lowerer {
             (Kind::Appearance { material }, "material", Result_::Material(m)) => {
                 *material = Some(m)
             }
+            // (Coordinate frames open only in an IndexedFaceSet's `coord`.)
+            (Kind::Mesh(m), _, Result_::Coord(c)) => m.coord = Some(c),
             _ => {}
         }
         Ok(())
+    }
+
+    /// A closed Shape: a sphere if its geometry is one, in the object space of its Transforms.
+    #[inline(always)]
+    fn shape_sphere(&mut self, appearance: Option<Option<u32>>, geometry: Option<Geom>) {
+        let (center, radius, sat) = match geometry {
+            Some(Geom::Sphere(radius, sat)) => (DVec3::ZERO, radius, sat),
+            Some(Geom::Mesh(i, sat)) => {
+                let (c, r) = self.mesh_fits[i as usize];
+                (c, r, sat)
+            }
+            _ => return,
+        };
+        let material = match appearance {
+            Some(Some(m)) => m,
+            _ => 0, // unlit
+        };
+        self.scene.spheres.push(Sphere {
+            center,
+            radius,
+            material,
+            ellipsoid: NO_ELLIPSOID,
+            origin: self.origin(sat),
+        });
+    }
+
+    /// What a closed IndexedFaceSet is: a sphere (see "Tessellated spheres") or other geometry.
+    fn mesh_geom(&mut self, m: &MeshState, at: u64) -> Geom {
+        // (Only a Shape's geometry is drawn: elsewhere it counts as skipped.)
+        let shape = self.in_shape_geometry();
+        let fit = m.coord.and_then(|c| {
+            let used = m.index.as_deref().is_some_and(|ix| uses_all(ix, c.points));
+            c.sphere.filter(|_| shape && used && !m.colored)
+        });
+        let geom = match fit {
+            Some(i) => Geom::Mesh(i, at),
+            None => Geom::Other,
+        };
+        self.count_mesh(geom);
+        geom
+    }
+
+    fn count_mesh(&mut self, geom: Geom) {
+        if let Geom::Mesh(..) = geom {
+            self.mesh_spheres += 1;
+        } else {
+            *self.skipped.entry("IndexedFaceSet".into()).or_default() += 1;
+        }
     }
 
     /// Closes the innermost node in place if it is a Shape, Appearance, Material or Sphere:
@@ -1875,19 +2133,7 @@ impl Lowerer {
         self.frames.truncate(self.frames.len() - 1);
         Some(match leaf {
             Leaf::Shape(appearance, geometry) => {
-                if let Some(Geom::Sphere(radius, sat)) = geometry {
-                    let material = match appearance {
-                        Some(Some(m)) => m,
-                        _ => 0, // unlit
-                    };
-                    self.scene.spheres.push(Sphere {
-                        center: DVec3::ZERO,
-                        radius,
-                        material,
-                        ellipsoid: NO_ELLIPSOID,
-                        origin: self.origin(sat),
-                    });
-                }
+                self.shape_sphere(appearance, geometry);
                 Result_::Nothing
             }
             Leaf::Appearance(material) => Result_::Appearance(material),
@@ -1945,19 +2191,7 @@ impl Lowerer {
                 appearance,
                 geometry,
             } => {
-                if let Some(Geom::Sphere(radius, sat)) = geometry {
-                    let material = match appearance {
-                        Some(Some(m)) => m,
-                        _ => 0, // unlit
-                    };
-                    self.scene.spheres.push(Sphere {
-                        center: DVec3::ZERO,
-                        radius,
-                        material,
-                        ellipsoid: NO_ELLIPSOID,
-                        origin: self.origin(sat),
-                    });
-                }
+                self.shape_sphere(appearance, geometry);
                 Result_::Nothing
             }
             Kind::Appearance { material } => Result_::Appearance(material),
@@ -1966,6 +2200,15 @@ impl Lowerer {
                 Result_::Material(self.material_index(m))
             }
             Kind::Sphere { radius } => Result_::Geometry(Geom::Sphere(radius, at)),
+            Kind::Mesh(m) => {
+                let geom = self.mesh_geom(&m, at);
+                self.last_mesh = Some(MeshCache {
+                    geom,
+                    nodes: self.nodes - m.nodes_before,
+                });
+                Result_::Geometry(geom)
+            }
+            Kind::Coord(c) => Result_::Coord(c),
             Kind::PointLight(l) => {
                 self.scene.lights.push(Light::Point(*l));
                 Result_::Nothing
@@ -2734,7 +2977,7 @@ mod tests {
             .filter(|(_, l)| *l != Lowered::Skipped)
             .map(|(n, _)| n.name)
             .collect();
-        assert_eq!(modelled.len(), 17, "{modelled:?}");
+        assert_eq!(modelled.len(), 19, "{modelled:?}");
         assert_eq!(LOWERED[schema::node_index("LOD").unwrap()], Lowered::Lod);
         assert_eq!(
             LOWERED[schema::node_index("Box").unwrap()],

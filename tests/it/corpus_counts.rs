@@ -19,24 +19,32 @@ pub struct Expected {
 
 pub const EXPECTED: &[Expected] = &[
     // ------------------------------------------------------------------ tools/jmol
-    // Jmol writes spheres as a unit-sphere IndexedFaceSet, never as `Sphere`.
+    // Jmol writes spheres as a unit-sphere IndexedFaceSet, never as `Sphere`; gtsphere lowers
+    // an IFS whose vertices lie on a sphere as that sphere (geom::sphere_through).
     // WorldInfo, NavigationInfo, Background, Viewpoint at top level; then
     // Transform{Transform{ 1217 x Transform{Shape{...}} }}.
     // Geometry DEF/USE multiplies: `geometry DEF _0 IndexedFaceSet` once + 643 `geometry USE _0`
     // (atoms) = 644, `DEF _6` once + 485 `USE _6` = 486, `DEF _7` once + 86 `USE _7` = 87
     // (bonds) -> 644 + 486 + 87 = 1217 IFS instances = 1217 `Shape{`.
+    // _0 is the unit sphere (162 points, `grep -c 'USE _0'` = 643, so 644 spheres: 324 atoms,
+    // scales .35/.356/.391/.253/.414 = 29+29+107+157+2, plus 320 bond-end caps at scale
+    // .152, counted with `grep -o 'scale [0-9.]* [0-9.]* [0-9.]* children\[ Shape{geometry
+    // [A-Z]* _0' | sort | uniq -c`). _6 and _7 are Jmol's bond cylinders (`1 .5 0`, `.985 .5
+    // .174`, ...: two rims at y = +-0.5, equidistant from the centre but not a sphere) and stay
+    // skipped: 486 + 87 = 573.
     // The 5 Appearances (DEF _1.._5, USEd 1212 times) hold only Materials with transparency 0.
     Expected {
         path: "tools/jmol/jmol_peptide20_ballstick.wrl",
-        spheres: 0,
+        spheres: 644,
         gas: 0,
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 1,
-        skipped: &[("IndexedFaceSet", 1217), ("WorldInfo", 1)],
+        skipped: &[("IndexedFaceSet", 573), ("WorldInfo", 1)],
     },
     // 20 `Shape{` each with its own inline `geometry IndexedFaceSet` (no geometry DEF/USE;
     // only the 2 Appearances DEF _0/_1 are reused 18 times). WorldInfo 1, Viewpoint 1.
+    // The IFS are cartoon ribbons, not spheres: all 20 stay skipped.
     Expected {
         path: "tools/jmol/jmol_peptide20_cartoon.wrl",
         spheres: 0,
@@ -46,16 +54,18 @@ pub const EXPECTED: &[Expected] = &[
         viewpoints: 1,
         skipped: &[("IndexedFaceSet", 20), ("WorldInfo", 1)],
     },
-    // 324 atoms: `geometry DEF _0 IndexedFaceSet` once + 323 `geometry USE _0` = 324 IFS
-    // instances (= 324 `Shape{`); all 5 Materials transparency 0. WorldInfo 1, Viewpoint 1.
+    // 324 atoms: `geometry DEF _0 IndexedFaceSet` once + 323 `geometry USE _0` (`grep -c
+    // 'USE _0'` = 323) = 324 IFS instances (= 324 `Shape{`), all of the one unit-sphere mesh
+    // (162 points, every one at distance 1 +- 5.2e-4 from the origin): 324 spheres, no IFS
+    // left skipped. All 5 Materials transparency 0. WorldInfo 1, Viewpoint 1.
     Expected {
         path: "tools/jmol/jmol_peptide20_spacefill.wrl",
-        spheres: 0,
+        spheres: 324,
         gas: 0,
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 1,
-        skipped: &[("IndexedFaceSet", 324), ("WorldInfo", 1)],
+        skipped: &[("WorldInfo", 1)],
     },
     // ------------------------------------------------------------------ tools/meshlab
     // NavigationInfo + Transform{Shape{geometry IndexedFaceSet (empty coordIndex)}}; no
@@ -69,17 +79,20 @@ pub const EXPECTED: &[Expected] = &[
         viewpoints: 0,
         skipped: &[("IndexedFaceSet", 1)],
     },
-    // NavigationInfo + Transform{Shape{geometry IndexedFaceSet}} (sphere mesh, not a Sphere node).
+    // NavigationInfo + Transform{Shape{geometry IndexedFaceSet}}: a sphere mesh (pymeshlab
+    // `create_sphere(radius=1.0, subdiv=2)`, an icosphere: 162 points on the unit sphere, all
+    // used by the 320 faces), lowered as one sphere.
     Expected {
         path: "tools/meshlab/meshlab_sphere_subdiv2.wrl",
-        spheres: 0,
+        spheres: 1,
         gas: 0,
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 0,
-        skipped: &[("IndexedFaceSet", 1)],
+        skipped: &[],
     },
-    // Same as subdiv2 plus a Color node inside the IFS (not walked).
+    // Same as subdiv2 plus a Color node inside the IFS (not walked). Per-vertex colours are
+    // not a Material's, so this mesh is not lowered as a sphere.
     Expected {
         path: "tools/meshlab/meshlab_sphere_vertexcolor.wrl",
         spheres: 0,
@@ -156,20 +169,24 @@ pub const EXPECTED: &[Expected] = &[
     },
     // ------------------------------------------------------------------ tools/vtk
     // VTK tessellates spheres: 5 top-level Transforms each with Shape{IndexedFaceSet}
-    // (one Material has transparency 0.5, but it is not a Sphere so no gas).
+    // (`grep -c 'geometry IndexedFaceSet'` = 5), each a vtkSphereSource (theta 16, phi 12:
+    // a UV sphere, every point on it, no Color node) -> lowered as 5 spheres; the MANIFEST
+    // recipe scales four of them by (1, 1 + 0.2 i, 1), which makes ellipsoids. One Material
+    // has transparency 0.5 (`grep -c 'transparency 0.5'` = 1) -> 1 gas.
     // Header: Background, Viewpoint 1, NavigationInfo, DirectionalLight 1 (ambient),
     // SpotLight 1 (the positional vtkLight) -> skipped. DEF VTKcoordinates/VTKnormals are
-    // inside the IFS (not walked), never USEd.
+    // inside the IFS, never USEd.
     Expected {
         path: "tools/vtk/vtk_5sphere_actors_light.wrl",
-        spheres: 0,
-        gas: 0,
+        spheres: 5,
+        gas: 1,
         point_lights: 0,
         directional_lights: 1,
         viewpoints: 1,
-        skipped: &[("IndexedFaceSet", 5), ("SpotLight", 1)],
+        skipped: &[("SpotLight", 1)],
     },
-    // 300 glyph spheres merged into ONE IndexedFaceSet in one Transform/Shape.
+    // 300 glyph spheres merged into ONE IndexedFaceSet in one Transform/Shape (its points lie
+    // on 300 spheres, not one, and it carries per-vertex colours): stays skipped.
     // Background, Viewpoint 1, NavigationInfo, DirectionalLight 1.
     Expected {
         path: "tools/vtk/vtk_glyph300_spheres.wrl",

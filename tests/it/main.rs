@@ -10,6 +10,7 @@ mod gas_scatter;
 mod geom;
 mod hard_cases;
 mod lexical;
+mod mesh_spheres;
 mod output;
 mod regression;
 mod render_gas;
