@@ -76,6 +76,28 @@ fn text_width(s: &str, scale: i32) -> i32 {
     8 * scale * s.chars().count() as i32
 }
 
+/// How many points along the polylines `curves` fall inside the box `(x0, y0, x1, y1)`.
+fn crossings(curves: &[Vec<(i32, i32)>], (x0, y0, x1, y1): (i32, i32, i32, i32)) -> usize {
+    let inside = |(x, y): (f64, f64)| {
+        (f64::from(x0)..=f64::from(x1)).contains(&x) && (f64::from(y0)..=f64::from(y1)).contains(&y)
+    };
+    let mut n = 0;
+    for c in curves {
+        for (k, p) in c.iter().enumerate() {
+            let q = c.get(k + 1).unwrap_or(p);
+            for i in 0..=32 {
+                let f = f64::from(i) / 32.0;
+                let at = (
+                    f64::from(p.0) + f * f64::from(q.0 - p.0),
+                    f64::from(p.1) + f * f64::from(q.1 - p.1),
+                );
+                n += usize::from(inside(at));
+            }
+        }
+    }
+    n
+}
+
 /// Powers of ten covering `[lo, hi]`, as (value, exponent).
 fn decades(lo: f64, hi: f64) -> Vec<(f64, i32)> {
     let (a, b) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
@@ -90,9 +112,10 @@ fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     if !lo.is_finite() {
         return (1e-3, 1.0);
     }
+    // A margin of 1.5x, so that no point sits on the frame.
     let (lo, hi) = (
-        10f64.powf(lo.log10().floor()),
-        10f64.powf(hi.log10().ceil()),
+        10f64.powf((lo / 1.5).log10().floor()),
+        10f64.powf((hi * 1.5).log10().ceil()),
     );
     (lo, if hi > lo { hi } else { lo * 10.0 })
 }
@@ -164,26 +187,48 @@ pub fn plot(rows: &[Row], scenes: &[BenchScene], path: &Path) -> Result<(), Erro
                 .map_err(err)?;
             let mut names: Vec<&str> = mine.iter().map(|r| r.integrator).collect();
             names.dedup();
-            for (n, name) in names.iter().enumerate() {
+            let curves: Vec<Vec<(f64, f64)>> = names
+                .iter()
+                .map(|name| {
+                    mine.iter()
+                        .filter(|r| r.integrator == *name)
+                        .map(|r| (r.seconds.clamp(x0, x1), r.rel_rms.clamp(y0, y1)))
+                        .collect()
+                })
+                .collect();
+            for (name, pts) in names.iter().zip(&curves) {
                 let c = colour(name);
-                let pts: Vec<(f64, f64)> = mine
-                    .iter()
-                    .filter(|r| r.integrator == *name)
-                    .map(|r| (r.seconds.clamp(x0, x1), r.rel_rms.clamp(y0, y1)))
-                    .collect();
                 chart
                     .draw_series(LineSeries::new(pts.clone(), c.stroke_width(2)))
                     .map_err(err)?;
                 chart
                     .draw_series(pts.iter().map(|&p| Circle::new(p, 3, c.filled())))
                     .map_err(err)?;
-                // Key, top right inside the panel.
-                let (kx, ky) = (
-                    left + PANEL.0 as i32 - MARGIN.2 - 90,
-                    MARGIN.1 + 8 + 14 * n as i32,
-                );
-                root.draw(&Rectangle::new([(kx, ky), (kx + 16, ky + 8)], c.filled()))
-                    .map_err(err)?;
+            }
+            // The key goes in the inner corner that the curves cross least.
+            let pixels: Vec<Vec<(i32, i32)>> = curves
+                .iter()
+                .map(|c| c.iter().map(|p| chart.backend_coord(p)).collect())
+                .collect();
+            let (kw, kh) = (96, 14 * names.len() as i32 + 8);
+            let (ix0, iy0) = (left + MARGIN.0, MARGIN.1);
+            let (ix1, iy1) = (left + PANEL.0 as i32 - MARGIN.2, PANEL.1 as i32 - MARGIN.3);
+            let (kx, ky) = [
+                (ix1 - kw, iy0 + 4),
+                (ix1 - kw, iy1 - kh),
+                (ix0 + 8, iy1 - kh),
+                (ix0 + 8, iy0 + 4),
+            ]
+            .into_iter()
+            .min_by_key(|&(x, y)| crossings(&pixels, (x, y, x + kw, y + kh)))
+            .unwrap_or((ix1 - kw, iy0 + 4));
+            for (n, name) in names.iter().enumerate() {
+                let (kx, ky) = (kx + 4, ky + 4 + 14 * n as i32);
+                root.draw(&Rectangle::new(
+                    [(kx, ky), (kx + 16, ky + 8)],
+                    colour(name).filled(),
+                ))
+                .map_err(err)?;
                 text(&root, (kx + 22, ky), name, 1, &black)?;
             }
             text(&root, (left + MARGIN.0, 10), s.name, 2, &black)?;
