@@ -137,6 +137,7 @@ fn generate(dir: &Path, n: usize, layout: Layout) -> Result<PathBuf, Error> {
     Ok(path)
 }
 
+/// The median (upper median for an even count); `v` must not be empty.
 pub(crate) fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]

@@ -2,6 +2,7 @@
 //! (issue 4): N gas spheres at S x S pixels, one ray (or, for mc, `spp` paths) through each
 //! pixel centre, so that only the integration error is measured, against a reference
 //! rendered by `exact` at a tolerance 1000 times tighter than the tightest one measured.
+//! The measuring is `gtsphere bench`'s (src/cli/bench_report.rs), on this one scene.
 //!
 //! Scene: centres uniform in `[-1,1]^3` (SplitMix64 seeded with 7), radii `0.9 N^(-1/3)` times
 //! a factor in [0.6, 1.4), transparency in [0.3, 0.9), emission a warm colour scaled by 0.3,
@@ -13,15 +14,20 @@ use std::process::ExitCode;
 
 use glam::{DQuat, DVec3};
 
+use super::bench_report::{goals, run_scene, table, BenchScene, Case};
 use crate::error::Error;
-use crate::output::Image;
-use crate::render::{prepare, tiles::render, Integrator, RenderOptions, SamplerKind};
 use crate::scene::{
     DirectionalLight, Light, Material, Origin, PointLight, Scene, Sphere, Viewpoint,
 };
 
 /// The benchmark's lit gas scene with `n` gas spheres.
 pub fn lit_gas(n: usize) -> Scene {
+    gas_cloud(n, true)
+}
+
+/// `n` gas spheres as described above; without `lit`, no lights and no opaque spheres (only
+/// emission and absorption: the `emission` scene of `gtsphere bench`).
+pub fn gas_cloud(n: usize, lit: bool) -> Scene {
     let mut state: u64 = 7;
     let mut next = || {
         state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
@@ -61,6 +67,10 @@ pub fn lit_gas(n: usize) -> Scene {
             origin: Origin::default(),
         });
     }
+    if !lit {
+        scene.viewpoints.push(bench_view());
+        return scene;
+    }
     for (c, r) in [
         (DVec3::new(-0.4, -0.3, 0.1), 0.3),
         (DVec3::new(0.5, 0.2, -0.5), 0.25),
@@ -92,106 +102,53 @@ pub fn lit_gas(n: usize) -> Scene {
         scope: (0, u32::MAX),
         origin: Origin::default(),
     }));
-    scene.viewpoints.push(Viewpoint {
+    scene.viewpoints.push(bench_view());
+    scene
+}
+
+fn bench_view() -> Viewpoint {
+    Viewpoint {
         name: None,
         description: "bench".into(),
         position: DVec3::new(0.0, 0.0, 4.5),
         orientation: DQuat::IDENTITY,
         field_of_view: 0.7,
         origin: Origin::default(),
-    });
-    scene
-}
-
-/// Renders the bench scene; returns the image and the wall time of the tile loop.
-fn run_one(
-    n: usize,
-    size: u32,
-    integrator: Integrator,
-    tol: f64,
-    spp: u32,
-) -> Result<(Image, f64), Error> {
-    let opts = RenderOptions {
-        width: size,
-        height: size,
-        spp,
-        sampler: SamplerKind::Center,
-        integrator,
-        tol,
-        ..RenderOptions::default()
-    };
-    let prep = prepare(lit_gas(n), &opts).map_err(Error::Other)?;
-    let done = render(&prep, &opts);
-    Ok((done.image, done.seconds))
-}
-
-/// Relative RMS error of `img` against `reference`: sqrt(mean |x - ref|^2) / sqrt(mean |ref|^2)
-/// over all channels.
-pub fn relative_rms(img: &Image, reference: &Image) -> f64 {
-    let (mut num, mut den) = (0.0, 0.0);
-    for (a, b) in img.rgb.iter().zip(&reference.rgb) {
-        for k in 0..3 {
-            let (x, y) = (f64::from(a[k]), f64::from(b[k]));
-            num += (x - y) * (x - y);
-            den += y * y;
-        }
     }
-    (num / den.max(f64::MIN_POSITIVE)).sqrt()
 }
 
 pub fn run(n: usize, size: u32, threads: usize) -> Result<ExitCode, Error> {
+    if n == 0 || size == 0 || threads == 0 {
+        return Err(Error::Other(
+            "--spheres, --size and --threads must be positive".into(),
+        ));
+    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .map_err(|e| Error::Other(format!("cannot start worker threads: {e}")))?;
-    pool.install(|| {
-        let tightest = 1e-6;
-        let (reference, ref_s) = run_one(n, size, Integrator::Exact, tightest * 1e-3, 1)?;
-        println!(
-            "reference: exact at tol {:e}, {:.1} s; {n} gas spheres, {size}x{size}, {threads} threads\n",
-            tightest * 1e-3,
-            ref_s
-        );
-        println!("| integrator | parameter | seconds | relative RMS error |");
-        println!("|---|---|---:|---:|");
-        let mut rows: Vec<(String, f64, f64)> = Vec::new();
-        for tol in [1e-2, 1e-3, 1e-4, 1e-5, tightest] {
-            let (img, s) = run_one(n, size, Integrator::Exact, tol, 1)?;
-            let e = relative_rms(&img, &reference);
-            println!("| exact | tol {tol:e} | {s:.2} | {e:.2e} |");
-            rows.push(("exact".into(), s, e));
-        }
-        let mut step = 0.2;
-        for _ in 0..7 {
-            let (img, s) = run_one(n, size, Integrator::March { step }, 0.0, 1)?;
-            let e = relative_rms(&img, &reference);
-            println!("| march | step {step} | {s:.2} | {e:.2e} |");
-            rows.push(("march".into(), s, e));
-            step /= 4.0;
-        }
-        for spp in [4, 16, 64, 256] {
-            let (img, s) = run_one(n, size, Integrator::Mc, 0.0, spp)?;
-            let e = relative_rms(&img, &reference);
-            println!("| mc | {spp} paths/pixel | {s:.2} | {e:.2e} |");
-            rows.push(("mc".into(), s, e));
-        }
-        let first = |name: &str| {
-            rows.iter()
-                .filter(|r| r.0 == name && r.2 <= 1e-4)
-                .map(|r| r.1)
-                .fold(f64::INFINITY, f64::min)
-        };
-        let (ex, ma) = (first("exact"), first("march"));
-        println!(
-            "\ntime to reach 1e-4 relative RMS error: exact {}, march {}{}",
-            if ex.is_finite() { format!("{ex:.2} s") } else { "not reached".into() },
-            if ma.is_finite() { format!("{ma:.2} s") } else { "not reached in the steps tried".into() },
-            if ex.is_finite() && ma.is_finite() {
-                format!(" (march / exact = {:.1}x)", ma / ex)
-            } else {
-                String::new()
-            }
-        );
-        Ok(ExitCode::SUCCESS)
-    })
+    let tightest = 1e-6;
+    let mut cases: Vec<Case> = [1e-2, 1e-3, 1e-4, 1e-5, tightest]
+        .into_iter()
+        .map(Case::exact)
+        .collect();
+    cases.extend((0..7).map(|k| Case::march(0.2 / 4f64.powi(k))));
+    cases.extend([4, 16, 64, 256].into_iter().map(Case::mc));
+    let s = BenchScene {
+        name: "lit gas",
+        description: format!("{n} gas spheres, {size}x{size}, {threads} threads"),
+        scene: lit_gas(n),
+        size,
+        reference: Case::exact(tightest * 1e-3),
+        cases,
+    };
+    let (rows, ref_s) = pool.install(|| run_scene(&s, threads, |_| {}))?;
+    println!(
+        "reference: exact at tol {:e}, {ref_s:.1} s; {}\n",
+        tightest * 1e-3,
+        s.description
+    );
+    println!("{}", table(&rows));
+    print!("{}", goals(&rows));
+    Ok(ExitCode::SUCCESS)
 }

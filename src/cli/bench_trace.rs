@@ -16,6 +16,7 @@ use std::time::Instant;
 
 use glam::{DQuat, DVec3};
 
+use super::bench::median;
 use crate::error::Error;
 use crate::render::integrators::surface::{first_hit, surface_point};
 use crate::render::lights::towards;
@@ -81,11 +82,6 @@ pub fn random_spheres(n: usize) -> Scene {
         origin: Origin::default(),
     });
     scene
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
 }
 
 /// One measured run.

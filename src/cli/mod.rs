@@ -11,6 +11,8 @@ use crate::error::Error;
 pub mod bench;
 pub mod bench_convert;
 pub mod bench_gas;
+pub mod bench_plot;
+pub mod bench_report;
 pub mod bench_trace;
 pub mod compare;
 pub mod convert_csv;
@@ -85,10 +87,14 @@ pub enum Command {
         #[arg(short, long)]
         output: PathBuf,
     },
-    /// Benchmarks that print a table.
+    /// Benchmarks. Without a subcommand: time against error of every integrator on built-in
+    /// scenes, written to `--out` as bench.csv, bench.md (also printed) and bench.png.
+    #[command(args_conflicts_with_subcommands = true)]
     Bench {
         #[command(subcommand)]
-        what: bench::BenchCommand,
+        what: Option<bench::BenchCommand>,
+        #[command(flatten)]
+        report: bench_report::ReportArgs,
     },
 }
 
@@ -110,7 +116,10 @@ pub fn run(cli: Cli) -> Result<ExitCode, Error> {
         } => compare::run(&image, &reference, heatmap.as_ref(), heatmap_max, max_rmse),
         Command::Merge { parts, output } => merge::run(&parts, &output),
         Command::Convert(args) => convert_csv::run(&args),
-        Command::Bench { what } => bench::run(what),
+        Command::Bench {
+            what: Some(what), ..
+        } => bench::run(what),
+        Command::Bench { what: None, report } => bench_report::run(&report),
     }
 }
 

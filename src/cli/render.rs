@@ -278,6 +278,7 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<RenderOptions, Error> {
         integrator,
         tol: args.tol,
         progress: !args.quiet,
+        film_f64: false,
     })
 }
 

@@ -68,6 +68,9 @@ pub struct RenderOptions {
     pub region: Option<(u32, u32, u32, u32)>,
     /// Show a progress bar (only drawn when stderr is a terminal).
     pub progress: bool,
+    /// Also return the pixels in f64 (`Rendered::rgb64`, 24 bytes a pixel more), for
+    /// measuring errors below f32 rounding. Default false.
+    pub film_f64: bool,
 }
 
 impl Default for RenderOptions {
@@ -86,6 +89,7 @@ impl Default for RenderOptions {
             tol: 1e-4,
             region: None,
             progress: false,
+            film_f64: false,
         }
     }
 }

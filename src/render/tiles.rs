@@ -24,12 +24,17 @@ pub struct Rendered {
     pub max_error: f64,
     /// Wall time of the tile loop.
     pub seconds: f64,
+    /// The pixels' RGB in f64 before rounding to the f32 image, row by row; empty unless
+    /// `RenderOptions::film_f64` (error measurements below f32 rounding, `gtsphere bench`).
+    pub rgb64: Vec<[f64; 3]>,
 }
 
 /// A finished pixel: RGB and alpha, then (only when AOVs are asked for) depth, normal, id.
 #[derive(Clone, Copy, Default)]
 struct PixelOut {
-    rgba: [f32; 4],
+    /// The f64 mean (rounded to f32 only when the image is assembled).
+    rgb: [f64; 3],
+    alpha: f32,
     error: f32,
     aov: Option<[f32; 5]>,
 }
@@ -97,9 +102,9 @@ fn render_pixel(
     } else {
         err / n
     };
-    let rgb = mean.as_vec3();
     let mut out = PixelOut {
-        rgba: [rgb.x, rgb.y, rgb.z, (f64::from(covered) / n) as f32],
+        rgb: mean.to_array(),
+        alpha: (f64::from(covered) / n) as f32,
         error: error as f32,
         aov: None,
     };
@@ -167,6 +172,7 @@ pub fn render(prep: &Prepared, opts: &RenderOptions) -> Rendered {
     let mut normal = vec![[0f32; 3]; if opts.aovs.normal { n } else { 0 }];
     let mut id = vec![0f32; if opts.aovs.id { n } else { 0 }];
     let mut error = vec![0f32; if opts.aovs.error { n } else { 0 }];
+    let mut rgb64 = vec![[0f64; 3]; if opts.film_f64 { n } else { 0 }];
     let mut max_error = 0f64;
     let mut counters = Counters::default();
     for (t, (px, c)) in tiles.into_iter().enumerate() {
@@ -177,8 +183,11 @@ pub fn render(prep: &Prepared, opts: &RenderOptions) -> Rendered {
         for (k, p) in px.into_iter().enumerate() {
             let (i, j) = (x0 + k as u32 % (x1 - x0), y0 + k as u32 / (x1 - x0));
             let at = (j as usize) * (w as usize) + i as usize;
-            image.rgb[at] = [p.rgba[0], p.rgba[1], p.rgba[2]];
-            image.alpha[at] = p.rgba[3];
+            image.rgb[at] = p.rgb.map(|v| v as f32);
+            image.alpha[at] = p.alpha;
+            if opts.film_f64 {
+                rgb64[at] = p.rgb;
+            }
             max_error = max_error.max(f64::from(p.error));
             if opts.aovs.error {
                 error[at] = p.error;
@@ -227,5 +236,6 @@ pub fn render(prep: &Prepared, opts: &RenderOptions) -> Rendered {
         counters,
         max_error,
         seconds: start.elapsed().as_secs_f64(),
+        rgb64,
     }
 }

@@ -436,9 +436,9 @@ fn convert_writes_vrml_that_reads_back_to_the_same_scene() {
             b.materials[t.material as usize]
         );
     }
-    // Not VRML: a clear error and no output.
+    // A missing input: an error naming it and no output.
     let out = gtsphere(&["convert", "p.csv", "-o", "p.wrl"], &dir);
     assert_eq!(out.status.code(), Some(1));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("only VRML input"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("p.csv"));
     assert!(!dir.join("p.wrl").exists());
 }

@@ -1,6 +1,7 @@
 //! One integration-test binary of named modules.
 
 mod bvh;
+mod cli_bench;
 mod cli_render;
 mod convert_csv;
 mod corpus;

@@ -1,0 +1,136 @@
+//! `gtsphere bench --quick`: the speed-against-error report as a user runs it.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::process::Command;
+
+/// One CSV row: (integrator, param, rel_rms, rel_max, seconds).
+type Point = (String, f64, f64, f64, f64);
+
+fn read_csv(path: &Path) -> BTreeMap<String, Vec<Point>> {
+    let text = std::fs::read_to_string(path).expect("bench.csv");
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| *h == name)
+            .unwrap_or_else(|| panic!("no column {name} in {header:?}"))
+    };
+    let (sc, ig, pa, rr, rm, se) = (
+        col("scene"),
+        col("integrator"),
+        col("param"),
+        col("rel_rms"),
+        col("rel_max"),
+        col("seconds"),
+    );
+    let mut by_scene: BTreeMap<String, Vec<Point>> = BTreeMap::new();
+    for line in lines {
+        let f: Vec<&str> = line.split(',').collect();
+        assert_eq!(f.len(), header.len(), "{line}");
+        let num = |k: usize| {
+            f[k].parse::<f64>()
+                .unwrap_or_else(|e| panic!("{line}: {e}"))
+        };
+        by_scene.entry(f[sc].to_string()).or_default().push((
+            f[ig].to_string(),
+            num(pa),
+            num(rr),
+            num(rm),
+            num(se),
+        ));
+    }
+    by_scene
+}
+
+fn errors(rows: &[Point], integrator: &str) -> Vec<f64> {
+    rows.iter()
+        .filter(|r| r.0 == integrator)
+        .map(|r| r.2)
+        .collect()
+}
+
+#[test]
+fn bench_quick_writes_csv_table_and_plot() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_bench_quick");
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = Command::new(env!("CARGO_BIN_EXE_gtsphere"))
+        .args(["bench", "--quick", "--out"])
+        .arg(&dir)
+        .output()
+        .expect("run gtsphere");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let md = std::fs::read_to_string(dir.join("bench.md")).expect("bench.md");
+    assert_eq!(stdout, md, "the table printed is bench.md");
+    assert!(md.contains("| lit gas | exact | tol 1e-2 |"), "{md}");
+    assert!(md.contains("## Throughput"), "{md}");
+
+    let csv = read_csv(&dir.join("bench.csv"));
+    let want: [(&str, &[&str]); 3] = [
+        ("opaque", &["surface"]),
+        ("emission", &["exact", "march", "mc"]),
+        ("lit gas", &["exact", "march", "mc"]),
+    ];
+    assert_eq!(csv.len(), want.len(), "{:?}", csv.keys());
+    for (scene, integrators) in want {
+        let rows = &csv[scene];
+        for r in rows {
+            assert!(
+                r.2.is_finite() && r.2 >= 0.0 && r.3.is_finite() && r.3 >= 0.0,
+                "{scene}: {r:?}"
+            );
+            assert!(r.4 > 0.0 && r.4.is_finite(), "{scene}: {r:?}");
+        }
+        for ig in integrators {
+            let e = errors(rows, ig);
+            assert!(e.len() >= 3, "{scene} {ig}: {e:?}");
+            if *ig == "exact" {
+                continue;
+            }
+            // Approximations: a real error that shrinks as the setting tightens.
+            assert!(e[0] > 1e-3, "{scene} {ig}: {e:?}");
+            assert!(e[e.len() - 1] < 0.5 * e[0], "{scene} {ig}: {e:?}");
+        }
+    }
+    // march is first order in the step: each 4x finer step cuts the error by 2x at least.
+    for scene in ["emission", "lit gas"] {
+        let e = errors(&csv[scene], "march");
+        assert!(e.windows(2).all(|w| w[1] < 0.5 * w[0]), "{scene}: {e:?}");
+    }
+    // exact without lights is closed form: equal to the reference up to rounding.
+    let e = errors(&csv["emission"], "exact");
+    assert!(e.iter().all(|&v| v < 1e-12), "{e:?}");
+    // exact with scattering: far below the approximations, and no worse as tol tightens,
+    // ending below both the loosest setting's error and 1e-8.
+    let e = errors(&csv["lit gas"], "exact");
+    assert!(e.iter().all(|&v| v < 1e-6), "{e:?}");
+    assert!(
+        e.windows(2).all(|w| w[1] <= w[0] * 1.5),
+        "exact's error grows as tol tightens: {e:?}"
+    );
+    assert!(e[e.len() - 1] < e[0] && e[e.len() - 1] < 1e-8, "{e:?}");
+
+    let png = std::fs::read(dir.join("bench.png")).expect("bench.png");
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    let img = image::load_from_memory_with_format(&png, image::ImageFormat::Png)
+        .expect("decode bench.png")
+        .to_rgb8();
+    assert!(img.width() >= 3 * img.height() / 2, "one panel per scene");
+    // Every integrator's colour is drawn (exact blue, march orange, mc green, surface
+    // purple), so the curves are there, not only the axes.
+    for rgb in [
+        [31, 119, 180],
+        [255, 127, 14],
+        [44, 160, 44],
+        [148, 103, 189],
+    ] {
+        let n = img.pixels().filter(|p| p.0 == rgb).count();
+        assert!(n > 50, "colour {rgb:?}: {n} pixels");
+    }
+}
