@@ -542,6 +542,15 @@ impl ParticleReader {
                 format!("column \"{}\": {what}", self.map.name(col)),
             )
         };
+        if field.trim_ascii().is_empty() {
+            // An empty cell leaves an optional value at its default.
+            return match role {
+                Role::X | Role::Y | Role::Z | Role::Radius | Role::Diameter => {
+                    Err(bad("the value is missing (an empty field)".to_string()))
+                }
+                _ => Ok(None),
+            };
+        }
         let v = number(field, self.delimiter == Delimiter::Semicolon)
             .ok_or_else(|| bad(format!("\"{}\" is not a number", text(field))))?;
         if !v.is_finite() {
@@ -585,6 +594,26 @@ impl ParticleReader {
                 continue;
             }
             self.vals[k] = self.value(line, role)?;
+        }
+        // A colour is all three channels or none (empty cells).
+        for group in [
+            [Role::Red, Role::Green, Role::Blue],
+            [Role::EmissionRed, Role::EmissionGreen, Role::EmissionBlue],
+        ] {
+            let given = group.map(|r| self.vals[r.index()].is_some());
+            if given.contains(&true) {
+                if let Some(k) = given.iter().position(|g| !g) {
+                    let col = self.map.get(group[k]).unwrap_or(0);
+                    return Err(self.error(
+                        line,
+                        col + 1,
+                        format!(
+                            "column \"{}\": empty, but the row gives other channels of its colour",
+                            self.map.name(col)
+                        ),
+                    ));
+                }
+            }
         }
         self.element = None;
         if let Some(col) = self.map.get(Role::Element) {
@@ -646,11 +675,11 @@ impl ParticleReader {
             },
         };
         let rgb = |r: Role, g: Role, b: Role| {
-            self.map.get(r)?;
+            get(r)?;
             Some([colour(r), colour(g), colour(b)])
         };
         let computed = |c: [f64; 3]| c.map(|value| Num { value, text: None });
-        let emission = if self.map.get(Role::Emission).is_some() {
+        let emission = if get(Role::Emission).is_some() {
             Some([colour(Role::Emission); 3])
         } else {
             rgb(Role::EmissionRed, Role::EmissionGreen, Role::EmissionBlue)

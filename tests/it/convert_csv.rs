@@ -241,6 +241,15 @@ fn density_opacity_transparency_and_emission() {
     let m = s.materials[s.spheres[0].material as usize];
     assert_eq!(m.transparency, 0.25);
     assert_eq!(m.emissive, DVec3::splat(0.5));
+    // Empty optional cells keep their defaults: an opaque, non-glowing, default-coloured row.
+    let s =
+        ir("x,y,z,radius,red,green,blue,density,emission\n0,0,0,1,,,,,\n1,1,1,1,0.5,0.5,0.5,2,\n");
+    let (m0, m1) = (
+        s.materials[s.spheres[0].material as usize],
+        s.materials[s.spheres[1].material as usize],
+    );
+    assert!(!m0.is_gas() && m0.diffuse == DVec3::splat(0.8) && m0.emissive == DVec3::ZERO);
+    assert!(m1.is_gas() && m1.diffuse == DVec3::splat(0.5));
     let s = ir("x,y,z,radius,transparency\n0,0,0,1,0\n");
     let m = s.materials[s.spheres[0].material as usize];
     assert!(!m.is_gas());
@@ -374,6 +383,14 @@ fn bad_rows_are_positioned_errors() {
             "t.csv:1:1: columns 1 (\"x\") and 4 (\"px\") both mean x",
         ),
         ("", "t.csv:1:1: the table is empty"),
+        (
+            "x,y,z,radius\n1,,3,1\n",
+            "t.csv:2:2: column \"y\": the value is missing",
+        ),
+        (
+            "x,y,z,radius,red,green,blue\n1,2,3,1,0.5,,0.5\n",
+            "t.csv:2:6: column \"green\": empty, but",
+        ),
         ("x,y,z,radius\n", "t.csv: no particles in the table"),
         (
             "1 2 3 4 5 6\n",
@@ -618,4 +635,21 @@ fn cli_writes_into_a_named_pipe_in_place() {
     assert!(text.contains("Particle { position 1 2 3 }"), "{text}");
     // Still a pipe: not replaced by a renamed temporary file.
     assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+}
+
+/// The sample table converts as the README says: 240 opaque beads and 12 gas spheres.
+#[test]
+fn sample_table_converts() {
+    let dir = scratch("sample");
+    let csv = format!("{}/samples/particles.csv", env!("CARGO_MANIFEST_DIR"));
+    let out = gtsphere(&["convert", &csv, "-o", "particles.wrl"], &dir);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let s = load_file(&dir.join("particles.wrl"));
+    assert_eq!(s.spheres.len(), 252);
+    assert_eq!(s.gas_count(), 12);
+    assert_eq!(s.viewpoints.len(), 1);
 }
