@@ -82,6 +82,18 @@ pub enum Layout {
     Group,
 }
 
+/// Deterministic pseudo-random numbers in [0, 1) (xorshift64*: fast, good enough for
+/// generated test geometry), the same sequence on every call.
+pub(crate) fn unit_random() -> impl FnMut() -> f64 {
+    let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
+    move || {
+        state ^= state >> 12;
+        state ^= state << 25;
+        state ^= state >> 27;
+        (state.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
 /// Writes `n` particles: `Transform { translation .. children Shape { appearance Appearance {
 /// material Material { diffuseColor .. } } geometry Sphere { radius .. } } }`, with
 /// deterministic pseudo-random positions, colours and radii.
@@ -90,14 +102,7 @@ pub fn write_particles(out: &mut impl Write, n: usize, layout: Layout) -> std::i
     if layout == Layout::Group {
         writeln!(out, "Group {{ children [")?;
     }
-    let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
-    let mut next = || {
-        // xorshift64*: deterministic, fast, good enough for test geometry.
-        state ^= state >> 12;
-        state ^= state << 25;
-        state ^= state >> 27;
-        (state.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut next = unit_random();
     let radius = 0.6 * (n.max(1) as f64).powf(-1.0 / 3.0);
     for _ in 0..n {
         let (x, y, z) = (2.0 * next() - 1.0, 2.0 * next() - 1.0, 2.0 * next() - 1.0);

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
-use super::bench::median;
+use super::bench::{median, unit_random};
 use super::peak_rss_bytes;
 use crate::error::Error;
 use crate::output::write_file_atomically;
@@ -20,13 +20,7 @@ use crate::particles::{self, Extras, TableOptions, WriteOptions};
 /// near `0.6 n^(-1/3)`, colours as 0-255 integers (deterministic pseudo-random values).
 pub fn write_table(out: &mut impl Write, n: usize) -> std::io::Result<()> {
     writeln!(out, "x,y,z,radius,red,green,blue")?;
-    let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
-    let mut next = || {
-        state ^= state >> 12;
-        state ^= state << 25;
-        state ^= state >> 27;
-        (state.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut next = unit_random();
     let radius = 0.6 * (n.max(1) as f64).powf(-1.0 / 3.0);
     for _ in 0..n {
         let (x, y, z) = (2.0 * next() - 1.0, 2.0 * next() - 1.0, 2.0 * next() - 1.0);

@@ -513,6 +513,15 @@ impl ParticleReader {
         Ok(Some(self.particle()))
     }
 
+    /// An error about the value in column `col` (0-based) of the row on `line`.
+    fn column_error(&self, line: u64, col: usize, what: impl std::fmt::Display) -> Diagnostic {
+        self.error(
+            line,
+            col + 1,
+            format!("column \"{}\": {what}", self.map.name(col)),
+        )
+    }
+
     /// Field `col` of the current row.
     fn field(&self, line: u64, col: usize) -> Result<&[u8], Diagnostic> {
         self.rec.get(col).ok_or_else(|| {
@@ -535,13 +544,7 @@ impl ParticleReader {
             return Ok(None);
         };
         let field = self.field(line, col)?;
-        let bad = |what: String| {
-            self.error(
-                line,
-                col + 1,
-                format!("column \"{}\": {what}", self.map.name(col)),
-            )
-        };
+        let bad = |what: String| self.column_error(line, col, what);
         if field.trim_ascii().is_empty() {
             // An empty cell leaves an optional value at its default.
             return match role {
@@ -604,13 +607,10 @@ impl ParticleReader {
             if given.contains(&true) {
                 if let Some(k) = given.iter().position(|g| !g) {
                     let col = self.map.get(group[k]).unwrap_or(0);
-                    return Err(self.error(
+                    return Err(self.column_error(
                         line,
-                        col + 1,
-                        format!(
-                            "column \"{}\": empty, but the row gives other channels of its colour",
-                            self.map.name(col)
-                        ),
+                        col,
+                        "empty, but the row gives other channels of its colour",
                     ));
                 }
             }
@@ -624,13 +624,10 @@ impl ParticleReader {
                 let label = text(self.field(line, col)?);
                 let element = super::elements::lookup(label);
                 if element.is_none() && need_radius {
-                    return Err(self.error(
+                    return Err(self.column_error(
                         line,
-                        col + 1,
-                        format!(
-                            "column \"{}\": no radius known for element \"{label}\"; give every particle one with --radius R",
-                            self.map.name(col)
-                        ),
+                        col,
+                        format!("no radius known for element \"{label}\"; give every particle one with --radius R"),
                     ));
                 }
                 self.element = element;

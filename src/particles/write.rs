@@ -140,19 +140,26 @@ impl<W: Write> ParticleWriter<W> {
             self.out.write_all(b" radius ")?;
             self.num(p.radius)?;
         }
+        self.material(p, [&b" color "[..], b" emission "])?;
+        self.out.write_all(b" }\n")
+    }
+
+    /// The colour, emission and transparency fields that differ from the defaults, named
+    /// `names` (colour, emission).
+    fn material(&mut self, p: &Particle<'_>, names: [&[u8]; 2]) -> io::Result<()> {
         if let Some(c) = p.color {
-            self.out.write_all(b" color ")?;
+            self.out.write_all(names[0])?;
             self.nums(c)?;
         }
         if let Some(e) = p.emission.filter(|e| e.iter().any(|n| n.value != 0.0)) {
-            self.out.write_all(b" emission ")?;
+            self.out.write_all(names[1])?;
             self.nums(e)?;
         }
         if let Some(t) = p.transparency.filter(|t| *t != 0.0) {
             self.out.write_all(b" transparency ")?;
             self.f64(t)?;
         }
-        self.out.write_all(b" }\n")
+        Ok(())
     }
 
     fn plain_particle(&mut self, p: &Particle<'_>) -> io::Result<()> {
@@ -160,18 +167,7 @@ impl<W: Write> ParticleWriter<W> {
         self.nums(p.position)?;
         self.out
             .write_all(b" children Shape { appearance Appearance { material Material {")?;
-        if let Some(c) = p.color {
-            self.out.write_all(b" diffuseColor ")?;
-            self.nums(c)?;
-        }
-        if let Some(e) = p.emission.filter(|e| e.iter().any(|n| n.value != 0.0)) {
-            self.out.write_all(b" emissiveColor ")?;
-            self.nums(e)?;
-        }
-        if let Some(t) = p.transparency.filter(|t| *t != 0.0) {
-            self.out.write_all(b" transparency ")?;
-            self.f64(t)?;
-        }
+        self.material(p, [&b" diffuseColor "[..], b" emissiveColor "])?;
         self.out.write_all(b" } } geometry Sphere { radius ")?;
         self.num(p.radius)?;
         self.out.write_all(b" } } }\n")

@@ -1,24 +1,17 @@
 //! `gtsphere render` as a user runs it: the binary, its files and its errors.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use gtsphere::output::read_image;
 
 fn gtsphere(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gtsphere"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run gtsphere")
+    crate::support::gtsphere(args, dir)
 }
 
 /// A fresh empty directory under the target dir.
 fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("cli_render_{name}"));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    crate::support::scratch("cli_render", name)
 }
 
 fn sample(name: &str) -> String {

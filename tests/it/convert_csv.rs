@@ -437,18 +437,11 @@ fn bad_rows_are_positioned_errors() {
 // ------------------------------------------------------------------ the binary
 
 fn gtsphere(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gtsphere"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run gtsphere")
+    crate::support::gtsphere(args, dir)
 }
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("convert_csv_{name}"));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    crate::support::scratch("convert_csv", name)
 }
 
 fn load_file(path: &Path) -> Scene {

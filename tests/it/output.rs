@@ -13,12 +13,7 @@ use gtsphere::Error;
 
 /// A fresh, empty directory for one test.
 fn scratch(test: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("output")
-        .join(test);
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).unwrap();
-    dir
+    crate::support::scratch("output", test)
 }
 
 /// The names in `dir`, sorted (hidden temporaries included).
