@@ -206,7 +206,7 @@ impl ParticleReader {
     ) -> Result<ParticleReader, Diagnostic> {
         let file: Arc<str> = Arc::from(file);
         let mut reader = BufReader::with_capacity(1 << 16, reader);
-        let head = reader.fill_buf().map_err(|e| Diagnostic {
+        let read_error = |e: std::io::Error| Diagnostic {
             severity: Severity::Error,
             file: file.clone(),
             line: 1,
@@ -214,7 +214,16 @@ impl ParticleReader {
             message: e.to_string(),
             snippet: None,
             repeats: 0,
-        })?;
+        };
+        // A UTF-8 byte order mark (spreadsheet exports) is not part of the first name.
+        if reader
+            .fill_buf()
+            .map_err(read_error)?
+            .starts_with(b"\xEF\xBB\xBF")
+        {
+            reader.consume(3);
+        }
+        let head = reader.fill_buf().map_err(read_error)?;
         let delimiter = opts.delimiter.unwrap_or_else(|| guess_delimiter(head));
         let rows = match delimiter {
             Delimiter::Whitespace => Rows::Whitespace {

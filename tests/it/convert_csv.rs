@@ -131,6 +131,26 @@ fn semicolon_with_decimal_commas_and_units() {
 }
 
 #[test]
+fn byte_order_mark_and_crlf_line_ends() {
+    // As spreadsheets write CSV.
+    let s = ir("\u{feff}x,y,z,radius\r\n1,2,3,0.5\r\n4,5,6,1\r\n");
+    assert_eq!(
+        centres(&s),
+        vec![[1.0, 2.0, 3.0, 0.5], [4.0, 5.0, 6.0, 1.0]]
+    );
+    let s = ir("\u{feff}1 2 3 0.5\r\n4 5 6 1\r\n");
+    assert_eq!(
+        centres(&s),
+        vec![[1.0, 2.0, 3.0, 0.5], [4.0, 5.0, 6.0, 1.0]]
+    );
+    let s = ir("2\r\nwater\r\nO 0 0 0\r\nH 1 0 0\r\n");
+    assert_eq!(
+        centres(&s),
+        vec![[0.0, 0.0, 0.0, 1.52], [1.0, 0.0, 0.0, 1.2]]
+    );
+}
+
+#[test]
 fn tab_separated_with_quoted_header() {
     let s = ir("\"x\"\t\"y\"\t\"z\"\t\"radius\"\n1\t2\t3\t4\n\n5\t6\t7\t8\n");
     assert_eq!(
