@@ -37,7 +37,11 @@
 //! skipped nodes. What a DEF'd IndexedFaceSet lowers to is kept at its first USE, so
 //! later USEs cost a lookup, not a replay of its events.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
+
+// hashbrown's default hasher (foldhash), not SipHash: every lookup here is on names and
+// offsets from the scene text, hashed once per node or field of each PROTO instance.
+use hashbrown::{HashMap, HashSet};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
@@ -168,11 +172,18 @@ struct ProtoDecl {
     fields: Vec<InterfaceField>,
     /// Body events (PROTO only); None for EXTERNPROTO.
     body: Option<Range<usize>>,
+    /// A copy of the body's events, replayed for each instance without cloning each event
+    /// out of the arena (USEs in it still name arena ranges, which stay pinned).
+    body_events: Rc<[Rec]>,
 }
 
 impl ProtoDecl {
     fn field(&self, name: &str) -> Option<&InterfaceField> {
         self.fields.iter().find(|f| &*f.name == name)
+    }
+    /// The index of the first interface field of this name.
+    fn field_index(&self, name: &str) -> Option<usize> {
+        self.fields.iter().position(|f| &*f.name == name)
     }
     /// Resolves `set_x` and `x_changed` of an exposedField `x`, like the standard tables do.
     fn event(&self, name: &str) -> Option<(&InterfaceField, Access)> {
@@ -505,7 +516,14 @@ struct Lowerer {
     /// Open PROTO declarations being recorded (their contents are neither lowered nor checked).
     in_proto_decl: u32,
     /// IS substitutions of the PROTO expansions under way (innermost last).
-    substs: Vec<Rc<Subst>>,
+    substs: Vec<Subst>,
+    /// Node type and field names of recorded events, shared (no allocation per recorded event).
+    names: HashSet<Rc<str>>,
+    /// A PROTO was declared with a standard node type's name: standard types must then be
+    /// looked up among the PROTOs too (otherwise they cannot name one).
+    proto_shadows_standard: bool,
+    /// A buffer for the recordings that end at one event (see `end_recorders_slow`).
+    done_buf: Vec<(RecKind, Range<usize>)>,
     warnings: Vec<Diagnostic>,
     warn_index: HashMap<(Arc<str>, String), usize>,
     /// The fields of the open Material nodes, innermost last (see [`Kind::Material`]).
@@ -538,7 +556,8 @@ struct Lowerer {
 #[derive(Debug)]
 struct Subst {
     proto: Rc<ProtoDecl>,
-    values: HashMap<Rc<str>, Range<usize>>,
+    /// By interface field index (the first field of a name, as [`ProtoDecl::field`] finds).
+    values: Vec<Option<Range<usize>>>,
 }
 
 const MAX_REPLAY_DEPTH: u32 = 200;
@@ -812,6 +831,9 @@ impl Lowerer {
             quiet: 0,
             in_proto_decl: 0,
             substs: Vec::new(),
+            names: HashSet::new(),
+            proto_shadows_standard: false,
+            done_buf: Vec::new(),
             warnings: Vec::new(),
             warn_index: HashMap::new(),
             open_materials: Vec::new(),
@@ -1057,7 +1079,34 @@ impl Lowerer {
         if self.recorders.is_empty() {
             return;
         }
-        self.arena.push(Rec::Ev(ev.to_owned_event()));
+        let owned = match *ev {
+            Event::NodeStart { def: None, ty, at } => OwnedEvent::NodeStart {
+                def: None,
+                ty: self.name_rc(ty),
+                at,
+            },
+            Event::Field { name, at, value } => OwnedEvent::Field {
+                name: self.name_rc(name),
+                at,
+                value: value.to_owned_value(),
+            },
+            Event::NodesStart { name, at } => OwnedEvent::NodesStart {
+                name: self.name_rc(name),
+                at,
+            },
+            _ => ev.to_owned_event(),
+        };
+        self.arena.push(Rec::Ev(owned));
+    }
+
+    /// A shared copy of a node type or field name (DEF names are not kept here).
+    fn name_rc(&mut self, name: &str) -> Rc<str> {
+        if let Some(n) = self.names.get(name) {
+            return n.clone();
+        }
+        let n: Rc<str> = Rc::from(name);
+        self.names.insert(n.clone());
+        n
     }
 
     fn lookup_def(&self, name: &str) -> Option<&DefEntry> {
@@ -1108,6 +1157,10 @@ impl Lowerer {
         while let Some(r) = self.recorders.last() {
             if r.depth == 0 {
                 let r = self.recorders.pop().expect("recorder");
+                if done.capacity() == 0 {
+                    // (One per PROTO instance: `node_end` hands the buffer back.)
+                    done = std::mem::take(&mut self.done_buf);
+                }
                 done.push((r.kind, r.start..self.arena.len()));
             } else {
                 break;
@@ -1348,39 +1401,39 @@ impl Lowerer {
         target: &str,
         at: u64,
     ) -> Result<(), Error> {
-        let Some(sub) = self.substs.last().cloned() else {
+        // The instance's substitutions are set aside while its value is emitted: the value is
+        // resolved in the instance's scope, with the IS substitutions of the next one out.
+        let Some(sub) = self.substs.pop() else {
             return Err(self.error(
                 src,
                 at,
                 format!("'{name} IS {target}' outside a PROTO body"),
             ));
         };
-        let Some(f) = sub.proto.field(target) else {
-            return Err(self.error(
+        let Some(fi) = sub.proto.field_index(target) else {
+            let e = self.error(
                 src,
                 at,
                 format!(
                     "'IS {target}': PROTO {} has no interface field '{target}'",
                     sub.proto.name
                 ),
-            ));
+            );
+            self.substs.push(sub);
+            return Err(e);
         };
-        let range = sub
-            .values
-            .get(target)
-            .cloned()
-            .or_else(|| f.default.clone());
+        let range = sub.values[fi]
+            .clone()
+            .or_else(|| sub.proto.fields[fi].default.clone());
         let Some(range) = range else {
             // An event (eventIn/eventOut) has no value to substitute.
+            self.substs.push(sub);
             return Ok(());
         };
-        // Emit the value under this field's own name, resolving the instance's scope by
-        // replaying it with the instance's IS substitutions (the next one out).
-        let saved = self.substs.pop();
-        let first = self.arena[range.start].clone();
-        let r = match first {
+        // Emit the value under this field's own name.
+        let r = match &self.arena[range.start] {
             Rec::Ev(OwnedEvent::Field { value, at: vat, .. }) => {
-                let v = value.clone();
+                let (v, vat) = (value.clone(), *vat);
                 self.handle(
                     src,
                     Event::Field {
@@ -1390,15 +1443,15 @@ impl Lowerer {
                     },
                 )
             }
-            Rec::Ev(OwnedEvent::NodesStart { at: vat, .. }) => self
-                .handle(src, Event::NodesStart { name, at: vat })
-                .and_then(|_| self.replay(src, range.start + 1..range.end - 1, at))
-                .and_then(|_| self.handle(src, Event::NodesEnd { at: vat })),
+            Rec::Ev(OwnedEvent::NodesStart { at: vat, .. }) => {
+                let vat = *vat;
+                self.handle(src, Event::NodesStart { name, at: vat })
+                    .and_then(|_| self.replay(src, range.start + 1..range.end - 1, at))
+                    .and_then(|_| self.handle(src, Event::NodesEnd { at: vat }))
+            }
             _ => Ok(()),
         };
-        if let Some(s) = saved {
-            self.substs.push(s);
-        }
+        self.substs.push(sub);
         r
     }
 
@@ -1450,7 +1503,7 @@ impl Lowerer {
         // A standard type was found by this very name.
         let ty_rc = match spec {
             Some(s) => Name::Static(s.name),
-            None => Name::Shared(Rc::from(ty)),
+            None => Name::Shared(self.name_rc(ty)),
         };
         if self.quiet > 0 {
             // Not lowered; a frame keeps the nesting.
@@ -1499,7 +1552,12 @@ impl Lowerer {
             self.push_quiet(ty_rc, at);
             return Ok(());
         }
-        if let Some(proto) = self.lookup_proto(ty) {
+        let proto = if index.is_none() || self.proto_shadows_standard {
+            self.lookup_proto(ty)
+        } else {
+            None
+        };
+        if let Some(proto) = proto {
             if proto.body.is_some() {
                 // Record the instance, expand it when it closes.
                 self.start_recorder_here(ty, def, at);
@@ -1674,9 +1732,10 @@ impl Lowerer {
     /// Starts a recorder whose first event is the NodeStart just handled.
     fn start_recorder_here(&mut self, ty: &str, def: Option<&str>, at: u64) {
         let start = if self.recorders.is_empty() {
+            let ty = self.name_rc(ty);
             self.arena.push(Rec::Ev(OwnedEvent::NodeStart {
                 def: def.map(Rc::from),
-                ty: ty.into(),
+                ty,
                 at,
             }));
             self.arena.len() - 1
@@ -1982,7 +2041,8 @@ impl Lowerer {
         // Register DEFs first: the node is complete.
         let mut instance = None;
         let mut choice = None;
-        for (kind, range) in done {
+        let mut done = done;
+        for (kind, range) in done.drain(..) {
             match kind {
                 RecKind::Def(name) if self.in_proto_decl == 0 => {
                     let ty = match &self.arena[range.start] {
@@ -2005,6 +2065,9 @@ impl Lowerer {
                 RecKind::Choice => choice = Some(range),
                 _ => {}
             }
+        }
+        if done.capacity() > 0 {
+            self.done_buf = done;
         }
         let frame = self.frames.pop().expect("NodeEnd without an open node");
         if frame.quiet {
@@ -2527,15 +2590,19 @@ impl Lowerer {
                 }
             }
         }
-        let decl = Rc::new(ProtoDecl {
+        let mut decl = ProtoDecl {
             name: name.clone(),
             fields,
             body,
-        });
+            body_events: Rc::from([]),
+        };
         if let Some(b) = decl.body.clone() {
-            self.check_body(src, &decl, b)?;
+            self.check_body(src, &decl, b.clone())?;
+            decl.body_events = self.arena[b].into();
         }
+        let decl = Rc::new(decl);
         self.pinned = self.pinned.max(range.end);
+        self.proto_shadows_standard |= schema::node_index(&name).is_some();
         if let Some(s) = self.scopes.last_mut() {
             s.protos.insert(name, decl);
         }
@@ -2691,9 +2758,8 @@ impl Lowerer {
         inst: Range<usize>,
         at: u64,
     ) -> Result<(), Error> {
-        let body = proto.body.clone().expect("PROTO with a body");
         // The instance's fields (skip its NodeStart and NodeEnd).
-        let mut values = HashMap::new();
+        let mut values = vec![None; proto.fields.len()];
         let mut i = inst.start + 1;
         while i + 1 < inst.end {
             let end = value_end(&self.arena, i);
@@ -2705,13 +2771,14 @@ impl Lowerer {
                     continue;
                 }
             };
-            match proto.field(&fname) {
+            match proto.field_index(&fname) {
                 None => self.warn(
                     src,
                     fat,
                     format!("unknown field '{fname}' of PROTO {}: ignored", proto.name),
                 ),
-                Some(f) => {
+                Some(fi) => {
+                    let f = &proto.fields[fi];
                     if let Rec::Ev(OwnedEvent::Field { value, .. }) = &self.arena[i] {
                         if f.ty.is_node() {
                             if *value != super::syntax::OwnedValue::Empty {
@@ -2754,7 +2821,7 @@ impl Lowerer {
                             ),
                         );
                     } else {
-                        values.insert(fname, i..end);
+                        values[fi] = Some(i..end);
                     }
                 }
             }
@@ -2762,13 +2829,13 @@ impl Lowerer {
         }
         // The body runs in a namespace of its own, with this instance's substitutions.
         self.scopes.push(Scope::default());
-        self.substs.push(Rc::new(Subst {
+        self.substs.push(Subst {
             proto: proto.clone(),
             values,
-        }));
+        });
         let saved = std::mem::take(&mut self.recorders);
         let reusing = std::mem::replace(&mut self.reusing, 0);
-        let r = self.replay_first_node(src, body, at);
+        let r = self.replay_first_node(src, &proto.body_events, at);
         self.reusing = reusing;
         self.recorders = saved;
         self.substs.pop();
@@ -2780,16 +2847,14 @@ impl Lowerer {
     fn replay_first_node(
         &mut self,
         src: &SourceWindow,
-        body: Range<usize>,
+        body: &[Rec],
         at: u64,
     ) -> Result<(), Error> {
-        let mut i = body.start;
         let mut depth = 0i32;
         let mut protos = 0i32;
-        while i < body.end {
-            let rec = self.arena[i].clone();
+        for rec in body {
             let mut first_done = false;
-            match &rec {
+            match rec {
                 Rec::Ev(ev) => {
                     match ev {
                         OwnedEvent::ProtoStart { .. } => protos += 1,
@@ -2809,7 +2874,8 @@ impl Lowerer {
                             format!("PROTO expansions nest deeper than {MAX_REPLAY_DEPTH}"),
                         ));
                     }
-                    let r = self.handle(src, ev.as_event());
+                    // The common events take the same direct route as in scene text.
+                    let r = <Self as Sink>::event(self, src, ev.as_event());
                     self.replay_depth -= 1;
                     r?;
                 }
@@ -2825,7 +2891,6 @@ impl Lowerer {
             if first_done {
                 break;
             }
-            i += 1;
         }
         Ok(())
     }
