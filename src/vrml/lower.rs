@@ -52,7 +52,7 @@ use glam::{DAffine3, DMat3, DQuat, DVec3};
 
 use super::parse::Parser;
 use super::schema::{self, Access, FieldType};
-use super::syntax::{Event, OwnedEvent, Sink, Value};
+use super::syntax::{Event, OwnedEvent, OwnedValue, Sink, Value};
 use crate::diag::{Diagnostic, Severity};
 use crate::error::Error;
 use crate::scene::{
@@ -175,6 +175,9 @@ struct ProtoDecl {
     /// A copy of the body's events, replayed for each instance without cloning each event
     /// out of the arena (USEs in it still name arena ranges, which stay pinned).
     body_events: Rc<[Rec]>,
+    /// For each body event `field IS target`, the index of `target` among `fields`
+    /// (`u32::MAX` for other events), so that instances do not look IS targets up by name.
+    body_is: Box<[u32]>,
 }
 
 impl ProtoDecl {
@@ -524,6 +527,8 @@ struct Lowerer {
     proto_shadows_standard: bool,
     /// A buffer for the recordings that end at one event (see `end_recorders_slow`).
     done_buf: Vec<(RecKind, Range<usize>)>,
+    /// Emptied `Subst::values` of finished expansions, reused (one per nesting level).
+    spare_values: Vec<Vec<Option<Range<usize>>>>,
     warnings: Vec<Diagnostic>,
     warn_index: HashMap<(Arc<str>, String), usize>,
     /// The fields of the open Material nodes, innermost last (see [`Kind::Material`]).
@@ -834,6 +839,7 @@ impl Lowerer {
             names: HashSet::new(),
             proto_shadows_standard: false,
             done_buf: Vec::new(),
+            spare_values: Vec::new(),
             warnings: Vec::new(),
             warn_index: HashMap::new(),
             open_materials: Vec::new(),
@@ -1401,9 +1407,7 @@ impl Lowerer {
         target: &str,
         at: u64,
     ) -> Result<(), Error> {
-        // The instance's substitutions are set aside while its value is emitted: the value is
-        // resolved in the instance's scope, with the IS substitutions of the next one out.
-        let Some(sub) = self.substs.pop() else {
+        let Some(sub) = self.substs.last() else {
             return Err(self.error(
                 src,
                 at,
@@ -1411,30 +1415,53 @@ impl Lowerer {
             ));
         };
         let Some(fi) = sub.proto.field_index(target) else {
-            let e = self.error(
-                src,
-                at,
-                format!(
-                    "'IS {target}': PROTO {} has no interface field '{target}'",
-                    sub.proto.name
-                ),
+            let msg = format!(
+                "'IS {target}': PROTO {} has no interface field '{target}'",
+                sub.proto.name
             );
-            self.substs.push(sub);
-            return Err(e);
+            return Err(self.error(src, at, msg));
+        };
+        self.substitute_field(src, name, fi, at)
+    }
+
+    /// [`Self::substitute`] for interface field `fi` of the innermost expansion's PROTO.
+    fn substitute_field(
+        &mut self,
+        src: &SourceWindow,
+        name: &str,
+        fi: usize,
+        at: u64,
+    ) -> Result<(), Error> {
+        let Some(sub) = self.substs.last() else {
+            return Err(Error::Other(
+                "internal: IS outside a PROTO expansion".into(),
+            ));
         };
         let range = sub.values[fi]
             .clone()
             .or_else(|| sub.proto.fields[fi].default.clone());
         let Some(range) = range else {
             // An event (eventIn/eventOut) has no value to substitute.
-            self.substs.push(sub);
+            return Ok(());
+        };
+        // A plain value with nothing recording: lowered at once, as written in scene text.
+        if let Rec::Ev(OwnedEvent::Field { value, at: vat, .. }) = &self.arena[range.start] {
+            if !matches!(value, OwnedValue::Is(_)) && self.recorders.is_empty() {
+                let (v, vat) = (value.clone(), *vat);
+                return self.field(src, name, vat, v.as_value());
+            }
+        }
+        // The instance's substitutions are set aside while its value is emitted: the value is
+        // resolved in the instance's scope, with the IS substitutions of the next one out.
+        let Some(sub) = self.substs.pop() else {
             return Ok(());
         };
         // Emit the value under this field's own name.
         let r = match &self.arena[range.start] {
             Rec::Ev(OwnedEvent::Field { value, at: vat, .. }) => {
                 let (v, vat) = (value.clone(), *vat);
-                self.handle(
+                <Self as Sink>::event(
+                    self,
                     src,
                     Event::Field {
                         name,
@@ -2595,10 +2622,25 @@ impl Lowerer {
             fields,
             body,
             body_events: Rc::from([]),
+            body_is: Box::default(),
         };
         if let Some(b) = decl.body.clone() {
             self.check_body(src, &decl, b.clone())?;
             decl.body_events = self.arena[b].into();
+            decl.body_is = decl
+                .body_events
+                .iter()
+                .map(|r| match r {
+                    Rec::Ev(OwnedEvent::Field {
+                        value: OwnedValue::Is(t),
+                        ..
+                    }) => decl
+                        .field_index(t)
+                        .and_then(|i| u32::try_from(i).ok())
+                        .unwrap_or(u32::MAX),
+                    _ => u32::MAX,
+                })
+                .collect();
         }
         let decl = Rc::new(decl);
         self.pinned = self.pinned.max(range.end);
@@ -2759,7 +2801,8 @@ impl Lowerer {
         at: u64,
     ) -> Result<(), Error> {
         // The instance's fields (skip its NodeStart and NodeEnd).
-        let mut values = vec![None; proto.fields.len()];
+        let mut values = self.spare_values.pop().unwrap_or_default();
+        values.resize(proto.fields.len(), None);
         let mut i = inst.start + 1;
         while i + 1 < inst.end {
             let end = value_end(&self.arena, i);
@@ -2835,12 +2878,52 @@ impl Lowerer {
         });
         let saved = std::mem::take(&mut self.recorders);
         let reusing = std::mem::replace(&mut self.reusing, 0);
-        let r = self.replay_first_node(src, &proto.body_events, at);
+        let r = self.replay_first_node(src, &proto.body_events, &proto.body_is, at);
         self.reusing = reusing;
         self.recorders = saved;
-        self.substs.pop();
+        if let Some(mut sub) = self.substs.pop() {
+            sub.values.clear();
+            self.spare_values.push(sub.values);
+        }
         self.scopes.pop();
         r
+    }
+
+    /// One recorded event of a PROTO body: the common events take the same direct route as in
+    /// scene text ([`Sink::event`]), without building an [`Event`] first.
+    #[inline(always)]
+    fn replay_event(&mut self, src: &SourceWindow, ev: &OwnedEvent) -> Result<(), Error> {
+        if self.recorders.is_empty() && self.in_proto_decl == 0 {
+            match ev {
+                OwnedEvent::NodeStart { def: None, ty, at } => {
+                    self.node_start(src, None, ty, *at)?;
+                    // (A Switch choice or PROTO instance starts recording at this event.)
+                    if !self.recorders.is_empty() {
+                        let done = self.end_recorders_slow(&ev.as_event());
+                        debug_assert!(done.is_empty());
+                    }
+                    return Ok(());
+                }
+                OwnedEvent::NodeEnd { at } => {
+                    if self.quiet == 0 {
+                        if let Some(result) = self.close_leaf() {
+                            return self.deliver(src, result, *at);
+                        }
+                    }
+                    return self.node_end(src, *at, Vec::new());
+                }
+                OwnedEvent::Field { name, at, value } if !matches!(value, OwnedValue::Is(_)) => {
+                    return self.field(src, name, *at, value.as_value())
+                }
+                OwnedEvent::NodesStart { name, at } => return self.nodes_start(src, name, *at),
+                OwnedEvent::NodesEnd { .. } => {
+                    self.fields.pop();
+                    return Ok(());
+                }
+                _ => {}
+            }
+        }
+        self.handle(src, ev.as_event())
     }
 
     /// Replays a PROTO body up to the end of its first node (earlier PROTO declarations included).
@@ -2848,11 +2931,12 @@ impl Lowerer {
         &mut self,
         src: &SourceWindow,
         body: &[Rec],
+        body_is: &[u32],
         at: u64,
     ) -> Result<(), Error> {
         let mut depth = 0i32;
         let mut protos = 0i32;
-        for rec in body {
+        for (rec, &is) in body.iter().zip(body_is) {
             let mut first_done = false;
             match rec {
                 Rec::Ev(ev) => {
@@ -2874,8 +2958,15 @@ impl Lowerer {
                             format!("PROTO expansions nest deeper than {MAX_REPLAY_DEPTH}"),
                         ));
                     }
-                    // The common events take the same direct route as in scene text.
-                    let r = <Self as Sink>::event(self, src, ev.as_event());
+                    let r = match ev {
+                        // `field IS target` of this body: the instance's value, found by index.
+                        OwnedEvent::Field { name, at, .. }
+                            if is != u32::MAX && protos == 0 && self.in_proto_decl == 0 =>
+                        {
+                            self.substitute_field(src, name, is as usize, *at)
+                        }
+                        _ => self.replay_event(src, ev),
+                    };
                     self.replay_depth -= 1;
                     r?;
                 }
