@@ -522,6 +522,8 @@ struct Lowerer {
     substs: Vec<Subst>,
     /// Node type and field names of recorded events, shared (no allocation per recorded event).
     names: HashSet<Rc<str>>,
+    /// The last name met in each slot of a small cache in front of `names`.
+    recent_names: [Option<Rc<str>>; RECENT_NAMES],
     /// A PROTO was declared with a standard node type's name: standard types must then be
     /// looked up among the PROTOs too (otherwise they cannot name one).
     proto_shadows_standard: bool,
@@ -566,6 +568,9 @@ struct Subst {
 }
 
 const MAX_REPLAY_DEPTH: u32 = 200;
+
+/// Slots of `Lowerer::recent_names`.
+const RECENT_NAMES: usize = 16;
 
 fn type_name(v: &Value) -> String {
     match v {
@@ -837,6 +842,7 @@ impl Lowerer {
             in_proto_decl: 0,
             substs: Vec::new(),
             names: HashSet::new(),
+            recent_names: Default::default(),
             proto_shadows_standard: false,
             done_buf: Vec::new(),
             spare_values: Vec::new(),
@@ -1107,11 +1113,24 @@ impl Lowerer {
 
     /// A shared copy of a node type or field name (DEF names are not kept here).
     fn name_rc(&mut self, name: &str) -> Rc<str> {
-        if let Some(n) = self.names.get(name) {
-            return n.clone();
+        // The same few names come back in turn (one PROTO instance after another): a small
+        // direct-mapped cache answers most of them without hashing.
+        let b = name.as_bytes();
+        let slot = (b.len() ^ usize::from(b.first().copied().unwrap_or(0)) * 3) % RECENT_NAMES;
+        if let Some(n) = &self.recent_names[slot] {
+            if n.as_bytes() == b {
+                return n.clone();
+            }
         }
-        let n: Rc<str> = Rc::from(name);
-        self.names.insert(n.clone());
+        let n = match self.names.get(name) {
+            Some(n) => n.clone(),
+            None => {
+                let n: Rc<str> = Rc::from(name);
+                self.names.insert(n.clone());
+                n
+            }
+        };
+        self.recent_names[slot] = Some(n.clone());
         n
     }
 
@@ -1571,7 +1590,7 @@ impl Lowerer {
                     .iter()
                     .all(|r| !matches!(r.kind, RecKind::Choice))
             {
-                self.start_recorder_here(ty, def, at);
+                self.start_recorder_here(&ty_rc, def, at);
                 if let Some(r) = self.recorders.last_mut() {
                     r.kind = RecKind::Choice;
                 }
@@ -1587,7 +1606,7 @@ impl Lowerer {
         if let Some(proto) = proto {
             if proto.body.is_some() {
                 // Record the instance, expand it when it closes.
-                self.start_recorder_here(ty, def, at);
+                self.start_recorder_here(&ty_rc, def, at);
                 if let Some(r) = self.recorders.last_mut() {
                     r.kind = RecKind::Instance;
                 }
@@ -1757,9 +1776,12 @@ impl Lowerer {
     }
 
     /// Starts a recorder whose first event is the NodeStart just handled.
-    fn start_recorder_here(&mut self, ty: &str, def: Option<&str>, at: u64) {
+    fn start_recorder_here(&mut self, ty: &Name, def: Option<&str>, at: u64) {
         let start = if self.recorders.is_empty() {
-            let ty = self.name_rc(ty);
+            let ty = match ty {
+                Name::Shared(rc) => rc.clone(),
+                Name::Static(s) => self.name_rc(s),
+            };
             self.arena.push(Rec::Ev(OwnedEvent::NodeStart {
                 def: def.map(Rc::from),
                 ty,
