@@ -175,9 +175,13 @@ struct ProtoDecl {
     /// A copy of the body's events, replayed for each instance without cloning each event
     /// out of the arena (USEs in it still name arena ranges, which stay pinned).
     body_events: Rc<[Rec]>,
-    /// For each body event `field IS target`, the index of `target` among `fields`
-    /// (`u32::MAX` for other events), so that instances do not look IS targets up by name.
+    /// For each body event `field IS target` outside nested PROTO declarations, the index of
+    /// `target` among `fields` (`u32::MAX` for other events), so that instances do not look IS
+    /// targets up by name.
     body_is: Box<[u32]>,
+    /// How many body events an instance replays: up to the end of the body's first node
+    /// (earlier PROTO declarations included).
+    first_end: usize,
 }
 
 impl ProtoDecl {
@@ -2645,24 +2649,45 @@ impl Lowerer {
             body,
             body_events: Rc::from([]),
             body_is: Box::default(),
+            first_end: 0,
         };
         if let Some(b) = decl.body.clone() {
             self.check_body(src, &decl, b.clone())?;
             decl.body_events = self.arena[b].into();
-            decl.body_is = decl
-                .body_events
-                .iter()
-                .map(|r| match r {
+            let mut is = Vec::with_capacity(decl.body_events.len());
+            let (mut depth, mut protos) = (0i32, 0i32);
+            decl.first_end = decl.body_events.len();
+            for (k, r) in decl.body_events.iter().enumerate() {
+                let mut first_done = false;
+                let mut index = u32::MAX;
+                match r {
+                    Rec::Ev(OwnedEvent::ProtoStart { .. }) => protos += 1,
+                    Rec::Ev(OwnedEvent::ProtoEnd { .. }) => protos -= 1,
+                    Rec::Ev(OwnedEvent::NodeStart { .. }) if protos == 0 => depth += 1,
+                    Rec::Ev(OwnedEvent::NodeEnd { .. }) if protos == 0 => {
+                        depth -= 1;
+                        first_done = depth == 0;
+                    }
                     Rec::Ev(OwnedEvent::Field {
                         value: OwnedValue::Is(t),
                         ..
-                    }) => decl
-                        .field_index(t)
-                        .and_then(|i| u32::try_from(i).ok())
-                        .unwrap_or(u32::MAX),
-                    _ => u32::MAX,
-                })
-                .collect();
+                    }) if protos == 0 => {
+                        index = decl
+                            .field_index(t)
+                            .and_then(|i| u32::try_from(i).ok())
+                            .unwrap_or(u32::MAX);
+                    }
+                    // A USE as the body's first node.
+                    Rec::Used { .. } => first_done = protos == 0 && depth == 0,
+                    _ => {}
+                }
+                is.push(index);
+                if first_done {
+                    decl.first_end = k + 1;
+                    break;
+                }
+            }
+            decl.body_is = is.into();
         }
         let decl = Rc::new(decl);
         self.pinned = self.pinned.max(range.end);
@@ -2900,7 +2925,8 @@ impl Lowerer {
         });
         let saved = std::mem::take(&mut self.recorders);
         let reusing = std::mem::replace(&mut self.reusing, 0);
-        let r = self.replay_first_node(src, &proto.body_events, &proto.body_is, at);
+        let n = proto.first_end;
+        let r = self.replay_first_node(src, &proto.body_events[..n], &proto.body_is[..n], at);
         self.reusing = reusing;
         self.recorders = saved;
         if let Some(mut sub) = self.substs.pop() {
@@ -2948,30 +2974,18 @@ impl Lowerer {
         self.handle(src, ev.as_event())
     }
 
-    /// Replays a PROTO body up to the end of its first node (earlier PROTO declarations included).
+    /// Replays a PROTO body up to the end of its first node (earlier PROTO declarations
+    /// included): `events` and `is` are cut at [`ProtoDecl::first_end`].
     fn replay_first_node(
         &mut self,
         src: &SourceWindow,
-        body: &[Rec],
-        body_is: &[u32],
+        events: &[Rec],
+        is: &[u32],
         at: u64,
     ) -> Result<(), Error> {
-        let mut depth = 0i32;
-        let mut protos = 0i32;
-        for (rec, &is) in body.iter().zip(body_is) {
-            let mut first_done = false;
+        for (rec, &is) in events.iter().zip(is) {
             match rec {
                 Rec::Ev(ev) => {
-                    match ev {
-                        OwnedEvent::ProtoStart { .. } => protos += 1,
-                        OwnedEvent::ProtoEnd { .. } => protos -= 1,
-                        OwnedEvent::NodeStart { .. } if protos == 0 => depth += 1,
-                        OwnedEvent::NodeEnd { .. } if protos == 0 => {
-                            depth -= 1;
-                            first_done = depth == 0;
-                        }
-                        _ => {}
-                    }
                     self.replay_depth += 1;
                     if self.replay_depth > MAX_REPLAY_DEPTH {
                         return Err(self.error(
@@ -2983,7 +2997,7 @@ impl Lowerer {
                     let r = match ev {
                         // `field IS target` of this body: the instance's value, found by index.
                         OwnedEvent::Field { name, at, .. }
-                            if is != u32::MAX && protos == 0 && self.in_proto_decl == 0 =>
+                            if is != u32::MAX && self.in_proto_decl == 0 =>
                         {
                             self.substitute_field(src, name, is as usize, *at)
                         }
@@ -2992,17 +3006,7 @@ impl Lowerer {
                     self.replay_depth -= 1;
                     r?;
                 }
-                Rec::Used { range, at } => {
-                    if protos == 0 && depth == 0 {
-                        // A USE as the body's first node.
-                        self.use_range(src, range.clone(), *at)?;
-                        return Ok(());
-                    }
-                    self.use_range(src, range.clone(), *at)?
-                }
-            }
-            if first_done {
-                break;
+                Rec::Used { range, at } => self.use_range(src, range.clone(), *at)?,
             }
         }
         Ok(())
