@@ -1120,7 +1120,7 @@ impl Lowerer {
         // The same few names come back in turn (one PROTO instance after another): a small
         // direct-mapped cache answers most of them without hashing.
         let b = name.as_bytes();
-        let slot = (b.len() ^ usize::from(b.first().copied().unwrap_or(0)) * 3) % RECENT_NAMES;
+        let slot = (b.len() ^ (usize::from(b.first().copied().unwrap_or(0)) * 3)) % RECENT_NAMES;
         if let Some(n) = &self.recent_names[slot] {
             if n.as_bytes() == b {
                 return n.clone();
