@@ -541,7 +541,7 @@ struct Lowerer {
     open_materials: Vec<Material>,
     skipped: BTreeMap<String, u64>,
     /// Indices into `scene.materials`, hashed by content (no copy of the key is kept).
-    materials: hashbrown::HashTable<u32>,
+    materials: MaterialTable,
     nodes: u64,
     replay_depth: u32,
     file: u32,
@@ -763,6 +763,69 @@ fn check_sphere(center: DVec3, radius: f64) -> Result<(), String> {
 /// A fixed (same on every call and every run) hash of a material's content. Materials are
 /// hashed once per Material node, so this is a multiply-xor mix rather than SipHash; the
 /// final avalanche spreads every input bit over the bits hashbrown uses (top 7 and low).
+/// The scene's materials by content: open addressing over one array of `tag << 32 | index + 1`
+/// (0 is empty), with `tag` the high half of [`hash_key`] choosing the slot too.
+///
+/// A million distinct materials make a table far larger than the caches; hashbrown kept
+/// control bytes and indices in two arrays (two cache misses per new material) and rehashed
+/// every material on growth. One array is one miss, and growth moves the entries by their tags
+/// without reading a material. The table is at most half full.
+#[derive(Default)]
+struct MaterialTable {
+    slots: Vec<u64>,
+    len: usize,
+}
+
+impl MaterialTable {
+    /// The index in `mats` of the material with this key (and `tag`), pushing `m` if none.
+    #[inline]
+    fn find_or_push(
+        &mut self,
+        tag: u32,
+        key: &[u64; 13],
+        m: Material,
+        mats: &mut Vec<Material>,
+    ) -> u32 {
+        if 2 * (self.len + 1) > self.slots.len() {
+            self.grow();
+        }
+        let mask = self.slots.len() - 1;
+        let mut i = tag as usize & mask;
+        loop {
+            let e = self.slots[i];
+            if e == 0 {
+                let index = mats.len() as u32;
+                mats.push(m);
+                self.slots[i] = u64::from(tag) << 32 | (u64::from(index) + 1);
+                self.len += 1;
+                return index;
+            }
+            if (e >> 32) as u32 == tag {
+                let index = (e as u32).wrapping_sub(1);
+                if material_key(&mats[index as usize]) == *key {
+                    return index;
+                }
+            }
+            i = (i + 1) & mask;
+        }
+    }
+
+    #[cold]
+    fn grow(&mut self) {
+        let size = (self.slots.len() * 2).max(64);
+        let mask = size - 1;
+        let mut slots = vec![0u64; size];
+        for &e in self.slots.iter().filter(|&&e| e != 0) {
+            let mut i = (e >> 32) as usize & mask;
+            while slots[i] != 0 {
+                i = (i + 1) & mask;
+            }
+            slots[i] = e;
+        }
+        self.slots = slots;
+    }
+}
+
 fn hash_key(key: &[u64; 13]) -> u64 {
     const K: u64 = 0x9E37_79B9_7F4A_7C15;
     let mut h: u64 = 0;
@@ -854,7 +917,7 @@ impl Lowerer {
             warn_index: HashMap::new(),
             open_materials: Vec::new(),
             skipped: BTreeMap::new(),
-            materials: hashbrown::HashTable::new(),
+            materials: MaterialTable::default(),
             nodes: 0,
             replay_depth: 0,
             file: 0,
@@ -901,35 +964,9 @@ impl Lowerer {
 
     fn material_index(&mut self, m: Material) -> u32 {
         let key = material_key(&m);
-        let hash = hash_key(&key);
-        if self.materials.len() == self.materials.capacity() {
-            // Grow by rebuilding from the materials in order. hashbrown's own resize rehashes
-            // the entries in table order, one random read of a 104-byte material each: with a
-            // million materials that was most of the time spent interning them.
-            let mats = &self.scene.materials;
-            let rehash = |&j: &u32| hash_key(&material_key(&mats[j as usize]));
-            let mut bigger =
-                hashbrown::HashTable::with_capacity((self.materials.capacity() * 2).max(16));
-            for (i, old) in mats.iter().enumerate() {
-                bigger.insert_unique(hash_key(&material_key(old)), i as u32, rehash);
-            }
-            self.materials = bigger;
-        }
-        let mats = &mut self.scene.materials;
-        // One probe finds the material or the slot for it.
-        match self.materials.entry(
-            hash,
-            |&i| material_key(&mats[i as usize]) == key,
-            |&j| hash_key(&material_key(&mats[j as usize])),
-        ) {
-            hashbrown::hash_table::Entry::Occupied(e) => *e.get(),
-            hashbrown::hash_table::Entry::Vacant(e) => {
-                let i = mats.len() as u32;
-                e.insert(i);
-                mats.push(m);
-                i
-            }
-        }
+        let tag = (hash_key(&key) >> 32) as u32;
+        self.materials
+            .find_or_push(tag, &key, m, &mut self.scene.materials)
     }
 
     fn marks(&self) -> Marks {
@@ -3144,6 +3181,29 @@ impl Sink for Lowerer {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn material_table_finds_each_material_across_growth() {
+        let mut table = MaterialTable::default();
+        let mut mats = Vec::new();
+        let material = |i: usize| Material {
+            diffuse: DVec3::new(i as f64 / 7.0, 0.5, (i % 3) as f64),
+            ..Material::default()
+        };
+        let mut index = |table: &mut MaterialTable, mats: &mut Vec<Material>, m: Material| {
+            let key = material_key(&m);
+            table.find_or_push((hash_key(&key) >> 32) as u32, &key, m, mats)
+        };
+        for i in 0..5000 {
+            assert_eq!(index(&mut table, &mut mats, material(i)), i as u32);
+        }
+        // Every material again, after the table has grown many times: found, not added.
+        for i in (0..5000).rev() {
+            assert_eq!(index(&mut table, &mut mats, material(i)), i as u32);
+        }
+        assert_eq!(mats.len(), 5000);
+        assert!(2 * table.len <= table.slots.len());
+    }
 
     #[test]
     fn open_node_frames_stay_small() {
