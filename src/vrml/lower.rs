@@ -3190,7 +3190,7 @@ mod tests {
             diffuse: DVec3::new(i as f64 / 7.0, 0.5, (i % 3) as f64),
             ..Material::default()
         };
-        let mut index = |table: &mut MaterialTable, mats: &mut Vec<Material>, m: Material| {
+        let index = |table: &mut MaterialTable, mats: &mut Vec<Material>, m: Material| {
             let key = material_key(&m);
             table.find_or_push((hash_key(&key) >> 32) as u32, &key, m, mats)
         };
