@@ -37,7 +37,11 @@
 //! skipped nodes. What a DEF'd IndexedFaceSet lowers to is kept at its first USE, so
 //! later USEs cost a lookup, not a replay of its events.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
+
+// hashbrown's default hasher (foldhash), not SipHash: every lookup here is on names and
+// offsets from the scene text, hashed once per node or field of each PROTO instance.
+use hashbrown::{HashMap, HashSet};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
@@ -48,7 +52,7 @@ use glam::{DAffine3, DMat3, DQuat, DVec3};
 
 use super::parse::Parser;
 use super::schema::{self, Access, FieldType};
-use super::syntax::{Event, OwnedEvent, Sink, Value};
+use super::syntax::{Event, OwnedEvent, OwnedValue, Sink, Value};
 use crate::diag::{Diagnostic, Severity};
 use crate::error::Error;
 use crate::scene::{
@@ -168,11 +172,25 @@ struct ProtoDecl {
     fields: Vec<InterfaceField>,
     /// Body events (PROTO only); None for EXTERNPROTO.
     body: Option<Range<usize>>,
+    /// A copy of the body's events, replayed for each instance without cloning each event
+    /// out of the arena (USEs in it still name arena ranges, which stay pinned).
+    body_events: Rc<[Rec]>,
+    /// For each body event `field IS target` outside nested PROTO declarations, the index of
+    /// `target` among `fields` (`u32::MAX` for other events), so that instances do not look IS
+    /// targets up by name.
+    body_is: Box<[u32]>,
+    /// How many body events an instance replays: up to the end of the body's first node
+    /// (earlier PROTO declarations included).
+    first_end: usize,
 }
 
 impl ProtoDecl {
     fn field(&self, name: &str) -> Option<&InterfaceField> {
         self.fields.iter().find(|f| &*f.name == name)
+    }
+    /// The index of the first interface field of this name.
+    fn field_index(&self, name: &str) -> Option<usize> {
+        self.fields.iter().position(|f| &*f.name == name)
     }
     /// Resolves `set_x` and `x_changed` of an exposedField `x`, like the standard tables do.
     fn event(&self, name: &str) -> Option<(&InterfaceField, Access)> {
@@ -505,14 +523,25 @@ struct Lowerer {
     /// Open PROTO declarations being recorded (their contents are neither lowered nor checked).
     in_proto_decl: u32,
     /// IS substitutions of the PROTO expansions under way (innermost last).
-    substs: Vec<Rc<Subst>>,
+    substs: Vec<Subst>,
+    /// Node type and field names of recorded events, shared (no allocation per recorded event).
+    names: HashSet<Rc<str>>,
+    /// The last name met in each slot of a small cache in front of `names`.
+    recent_names: [Option<Rc<str>>; RECENT_NAMES],
+    /// A PROTO was declared with a standard node type's name: standard types must then be
+    /// looked up among the PROTOs too (otherwise they cannot name one).
+    proto_shadows_standard: bool,
+    /// A buffer for the recordings that end at one event (see `end_recorders_slow`).
+    done_buf: Vec<(RecKind, Range<usize>)>,
+    /// Emptied `Subst::values` of finished expansions, reused (one per nesting level).
+    spare_values: Vec<Vec<Option<Range<usize>>>>,
     warnings: Vec<Diagnostic>,
     warn_index: HashMap<(Arc<str>, String), usize>,
     /// The fields of the open Material nodes, innermost last (see [`Kind::Material`]).
     open_materials: Vec<Material>,
     skipped: BTreeMap<String, u64>,
     /// Indices into `scene.materials`, hashed by content (no copy of the key is kept).
-    materials: hashbrown::HashTable<u32>,
+    materials: MaterialTable,
     nodes: u64,
     replay_depth: u32,
     file: u32,
@@ -538,10 +567,14 @@ struct Lowerer {
 #[derive(Debug)]
 struct Subst {
     proto: Rc<ProtoDecl>,
-    values: HashMap<Rc<str>, Range<usize>>,
+    /// By interface field index (the first field of a name, as [`ProtoDecl::field`] finds).
+    values: Vec<Option<Range<usize>>>,
 }
 
 const MAX_REPLAY_DEPTH: u32 = 200;
+
+/// Slots of `Lowerer::recent_names`.
+const RECENT_NAMES: usize = 16;
 
 fn type_name(v: &Value) -> String {
     match v {
@@ -730,6 +763,69 @@ fn check_sphere(center: DVec3, radius: f64) -> Result<(), String> {
 /// A fixed (same on every call and every run) hash of a material's content. Materials are
 /// hashed once per Material node, so this is a multiply-xor mix rather than SipHash; the
 /// final avalanche spreads every input bit over the bits hashbrown uses (top 7 and low).
+/// The scene's materials by content: open addressing over one array of `tag << 32 | index + 1`
+/// (0 is empty), with `tag` the high half of [`hash_key`] choosing the slot too.
+///
+/// A million distinct materials make a table far larger than the caches; hashbrown kept
+/// control bytes and indices in two arrays (two cache misses per new material) and rehashed
+/// every material on growth. One array is one miss, and growth moves the entries by their tags
+/// without reading a material. The table is at most half full.
+#[derive(Default)]
+struct MaterialTable {
+    slots: Vec<u64>,
+    len: usize,
+}
+
+impl MaterialTable {
+    /// The index in `mats` of the material with this key (and `tag`), pushing `m` if none.
+    #[inline]
+    fn find_or_push(
+        &mut self,
+        tag: u32,
+        key: &[u64; 13],
+        m: Material,
+        mats: &mut Vec<Material>,
+    ) -> u32 {
+        if 2 * (self.len + 1) > self.slots.len() {
+            self.grow();
+        }
+        let mask = self.slots.len() - 1;
+        let mut i = tag as usize & mask;
+        loop {
+            let e = self.slots[i];
+            if e == 0 {
+                let index = mats.len() as u32;
+                mats.push(m);
+                self.slots[i] = u64::from(tag) << 32 | (u64::from(index) + 1);
+                self.len += 1;
+                return index;
+            }
+            if (e >> 32) as u32 == tag {
+                let index = (e as u32).wrapping_sub(1);
+                if material_key(&mats[index as usize]) == *key {
+                    return index;
+                }
+            }
+            i = (i + 1) & mask;
+        }
+    }
+
+    #[cold]
+    fn grow(&mut self) {
+        let size = (self.slots.len() * 2).max(64);
+        let mask = size - 1;
+        let mut slots = vec![0u64; size];
+        for &e in self.slots.iter().filter(|&&e| e != 0) {
+            let mut i = (e >> 32) as usize & mask;
+            while slots[i] != 0 {
+                i = (i + 1) & mask;
+            }
+            slots[i] = e;
+        }
+        self.slots = slots;
+    }
+}
+
 fn hash_key(key: &[u64; 13]) -> u64 {
     const K: u64 = 0x9E37_79B9_7F4A_7C15;
     let mut h: u64 = 0;
@@ -812,11 +908,16 @@ impl Lowerer {
             quiet: 0,
             in_proto_decl: 0,
             substs: Vec::new(),
+            names: HashSet::new(),
+            recent_names: Default::default(),
+            proto_shadows_standard: false,
+            done_buf: Vec::new(),
+            spare_values: Vec::new(),
             warnings: Vec::new(),
             warn_index: HashMap::new(),
             open_materials: Vec::new(),
             skipped: BTreeMap::new(),
-            materials: hashbrown::HashTable::new(),
+            materials: MaterialTable::default(),
             nodes: 0,
             replay_depth: 0,
             file: 0,
@@ -863,35 +964,9 @@ impl Lowerer {
 
     fn material_index(&mut self, m: Material) -> u32 {
         let key = material_key(&m);
-        let hash = hash_key(&key);
-        if self.materials.len() == self.materials.capacity() {
-            // Grow by rebuilding from the materials in order. hashbrown's own resize rehashes
-            // the entries in table order, one random read of a 104-byte material each: with a
-            // million materials that was most of the time spent interning them.
-            let mats = &self.scene.materials;
-            let rehash = |&j: &u32| hash_key(&material_key(&mats[j as usize]));
-            let mut bigger =
-                hashbrown::HashTable::with_capacity((self.materials.capacity() * 2).max(16));
-            for (i, old) in mats.iter().enumerate() {
-                bigger.insert_unique(hash_key(&material_key(old)), i as u32, rehash);
-            }
-            self.materials = bigger;
-        }
-        let mats = &mut self.scene.materials;
-        // One probe finds the material or the slot for it.
-        match self.materials.entry(
-            hash,
-            |&i| material_key(&mats[i as usize]) == key,
-            |&j| hash_key(&material_key(&mats[j as usize])),
-        ) {
-            hashbrown::hash_table::Entry::Occupied(e) => *e.get(),
-            hashbrown::hash_table::Entry::Vacant(e) => {
-                let i = mats.len() as u32;
-                e.insert(i);
-                mats.push(m);
-                i
-            }
-        }
+        let tag = (hash_key(&key) >> 32) as u32;
+        self.materials
+            .find_or_push(tag, &key, m, &mut self.scene.materials)
     }
 
     fn marks(&self) -> Marks {
@@ -1057,7 +1132,47 @@ impl Lowerer {
         if self.recorders.is_empty() {
             return;
         }
-        self.arena.push(Rec::Ev(ev.to_owned_event()));
+        let owned = match *ev {
+            Event::NodeStart { def: None, ty, at } => OwnedEvent::NodeStart {
+                def: None,
+                ty: self.name_rc(ty),
+                at,
+            },
+            Event::Field { name, at, value } => OwnedEvent::Field {
+                name: self.name_rc(name),
+                at,
+                value: value.to_owned_value(),
+            },
+            Event::NodesStart { name, at } => OwnedEvent::NodesStart {
+                name: self.name_rc(name),
+                at,
+            },
+            _ => ev.to_owned_event(),
+        };
+        self.arena.push(Rec::Ev(owned));
+    }
+
+    /// A shared copy of a node type or field name (DEF names are not kept here).
+    fn name_rc(&mut self, name: &str) -> Rc<str> {
+        // The same few names come back in turn (one PROTO instance after another): a small
+        // direct-mapped cache answers most of them without hashing.
+        let b = name.as_bytes();
+        let slot = (b.len() ^ (usize::from(b.first().copied().unwrap_or(0)) * 3)) % RECENT_NAMES;
+        if let Some(n) = &self.recent_names[slot] {
+            if n.as_bytes() == b {
+                return n.clone();
+            }
+        }
+        let n = match self.names.get(name) {
+            Some(n) => n.clone(),
+            None => {
+                let n: Rc<str> = Rc::from(name);
+                self.names.insert(n.clone());
+                n
+            }
+        };
+        self.recent_names[slot] = Some(n.clone());
+        n
     }
 
     fn lookup_def(&self, name: &str) -> Option<&DefEntry> {
@@ -1108,6 +1223,10 @@ impl Lowerer {
         while let Some(r) = self.recorders.last() {
             if r.depth == 0 {
                 let r = self.recorders.pop().expect("recorder");
+                if done.capacity() == 0 {
+                    // (One per PROTO instance: `node_end` hands the buffer back.)
+                    done = std::mem::take(&mut self.done_buf);
+                }
                 done.push((r.kind, r.start..self.arena.len()));
             } else {
                 break;
@@ -1348,40 +1467,61 @@ impl Lowerer {
         target: &str,
         at: u64,
     ) -> Result<(), Error> {
-        let Some(sub) = self.substs.last().cloned() else {
+        let Some(sub) = self.substs.last() else {
             return Err(self.error(
                 src,
                 at,
                 format!("'{name} IS {target}' outside a PROTO body"),
             ));
         };
-        let Some(f) = sub.proto.field(target) else {
-            return Err(self.error(
-                src,
-                at,
-                format!(
-                    "'IS {target}': PROTO {} has no interface field '{target}'",
-                    sub.proto.name
-                ),
+        let Some(fi) = sub.proto.field_index(target) else {
+            let msg = format!(
+                "'IS {target}': PROTO {} has no interface field '{target}'",
+                sub.proto.name
+            );
+            return Err(self.error(src, at, msg));
+        };
+        self.substitute_field(src, name, fi, at)
+    }
+
+    /// [`Self::substitute`] for interface field `fi` of the innermost expansion's PROTO.
+    fn substitute_field(
+        &mut self,
+        src: &SourceWindow,
+        name: &str,
+        fi: usize,
+        at: u64,
+    ) -> Result<(), Error> {
+        let Some(sub) = self.substs.last() else {
+            return Err(Error::Other(
+                "internal: IS outside a PROTO expansion".into(),
             ));
         };
-        let range = sub
-            .values
-            .get(target)
-            .cloned()
-            .or_else(|| f.default.clone());
+        let range = sub.values[fi]
+            .clone()
+            .or_else(|| sub.proto.fields[fi].default.clone());
         let Some(range) = range else {
             // An event (eventIn/eventOut) has no value to substitute.
             return Ok(());
         };
-        // Emit the value under this field's own name, resolving the instance's scope by
-        // replaying it with the instance's IS substitutions (the next one out).
-        let saved = self.substs.pop();
-        let first = self.arena[range.start].clone();
-        let r = match first {
+        // A plain value with nothing recording: lowered at once, as written in scene text.
+        if let Rec::Ev(OwnedEvent::Field { value, at: vat, .. }) = &self.arena[range.start] {
+            if !matches!(value, OwnedValue::Is(_)) && self.recorders.is_empty() {
+                let (v, vat) = (value.clone(), *vat);
+                return self.field(src, name, vat, v.as_value());
+            }
+        }
+        // The instance's substitutions are set aside while its value is emitted: the value is
+        // resolved in the instance's scope, with the IS substitutions of the next one out.
+        let Some(sub) = self.substs.pop() else {
+            return Ok(());
+        };
+        // Emit the value under this field's own name.
+        let r = match &self.arena[range.start] {
             Rec::Ev(OwnedEvent::Field { value, at: vat, .. }) => {
-                let v = value.clone();
-                self.handle(
+                let (v, vat) = (value.clone(), *vat);
+                <Self as Sink>::event(
+                    self,
                     src,
                     Event::Field {
                         name,
@@ -1390,15 +1530,15 @@ impl Lowerer {
                     },
                 )
             }
-            Rec::Ev(OwnedEvent::NodesStart { at: vat, .. }) => self
-                .handle(src, Event::NodesStart { name, at: vat })
-                .and_then(|_| self.replay(src, range.start + 1..range.end - 1, at))
-                .and_then(|_| self.handle(src, Event::NodesEnd { at: vat })),
+            Rec::Ev(OwnedEvent::NodesStart { at: vat, .. }) => {
+                let vat = *vat;
+                self.handle(src, Event::NodesStart { name, at: vat })
+                    .and_then(|_| self.replay(src, range.start + 1..range.end - 1, at))
+                    .and_then(|_| self.handle(src, Event::NodesEnd { at: vat }))
+            }
             _ => Ok(()),
         };
-        if let Some(s) = saved {
-            self.substs.push(s);
-        }
+        self.substs.push(sub);
         r
     }
 
@@ -1450,7 +1590,7 @@ impl Lowerer {
         // A standard type was found by this very name.
         let ty_rc = match spec {
             Some(s) => Name::Static(s.name),
-            None => Name::Shared(Rc::from(ty)),
+            None => Name::Shared(self.name_rc(ty)),
         };
         if self.quiet > 0 {
             // Not lowered; a frame keeps the nesting.
@@ -1491,7 +1631,7 @@ impl Lowerer {
                     .iter()
                     .all(|r| !matches!(r.kind, RecKind::Choice))
             {
-                self.start_recorder_here(ty, def, at);
+                self.start_recorder_here(&ty_rc, def, at);
                 if let Some(r) = self.recorders.last_mut() {
                     r.kind = RecKind::Choice;
                 }
@@ -1499,10 +1639,15 @@ impl Lowerer {
             self.push_quiet(ty_rc, at);
             return Ok(());
         }
-        if let Some(proto) = self.lookup_proto(ty) {
+        let proto = if index.is_none() || self.proto_shadows_standard {
+            self.lookup_proto(ty)
+        } else {
+            None
+        };
+        if let Some(proto) = proto {
             if proto.body.is_some() {
                 // Record the instance, expand it when it closes.
-                self.start_recorder_here(ty, def, at);
+                self.start_recorder_here(&ty_rc, def, at);
                 if let Some(r) = self.recorders.last_mut() {
                     r.kind = RecKind::Instance;
                 }
@@ -1672,11 +1817,15 @@ impl Lowerer {
     }
 
     /// Starts a recorder whose first event is the NodeStart just handled.
-    fn start_recorder_here(&mut self, ty: &str, def: Option<&str>, at: u64) {
+    fn start_recorder_here(&mut self, ty: &Name, def: Option<&str>, at: u64) {
         let start = if self.recorders.is_empty() {
+            let ty = match ty {
+                Name::Shared(rc) => rc.clone(),
+                Name::Static(s) => self.name_rc(s),
+            };
             self.arena.push(Rec::Ev(OwnedEvent::NodeStart {
                 def: def.map(Rc::from),
-                ty: ty.into(),
+                ty,
                 at,
             }));
             self.arena.len() - 1
@@ -1982,7 +2131,8 @@ impl Lowerer {
         // Register DEFs first: the node is complete.
         let mut instance = None;
         let mut choice = None;
-        for (kind, range) in done {
+        let mut done = done;
+        for (kind, range) in done.drain(..) {
             match kind {
                 RecKind::Def(name) if self.in_proto_decl == 0 => {
                     let ty = match &self.arena[range.start] {
@@ -2005,6 +2155,9 @@ impl Lowerer {
                 RecKind::Choice => choice = Some(range),
                 _ => {}
             }
+        }
+        if done.capacity() > 0 {
+            self.done_buf = done;
         }
         let frame = self.frames.pop().expect("NodeEnd without an open node");
         if frame.quiet {
@@ -2527,15 +2680,55 @@ impl Lowerer {
                 }
             }
         }
-        let decl = Rc::new(ProtoDecl {
+        let mut decl = ProtoDecl {
             name: name.clone(),
             fields,
             body,
-        });
+            body_events: Rc::from([]),
+            body_is: Box::default(),
+            first_end: 0,
+        };
         if let Some(b) = decl.body.clone() {
-            self.check_body(src, &decl, b)?;
+            self.check_body(src, &decl, b.clone())?;
+            decl.body_events = self.arena[b].into();
+            let mut is = Vec::with_capacity(decl.body_events.len());
+            let (mut depth, mut protos) = (0i32, 0i32);
+            decl.first_end = decl.body_events.len();
+            for (k, r) in decl.body_events.iter().enumerate() {
+                let mut first_done = false;
+                let mut index = u32::MAX;
+                match r {
+                    Rec::Ev(OwnedEvent::ProtoStart { .. }) => protos += 1,
+                    Rec::Ev(OwnedEvent::ProtoEnd { .. }) => protos -= 1,
+                    Rec::Ev(OwnedEvent::NodeStart { .. }) if protos == 0 => depth += 1,
+                    Rec::Ev(OwnedEvent::NodeEnd { .. }) if protos == 0 => {
+                        depth -= 1;
+                        first_done = depth == 0;
+                    }
+                    Rec::Ev(OwnedEvent::Field {
+                        value: OwnedValue::Is(t),
+                        ..
+                    }) if protos == 0 => {
+                        index = decl
+                            .field_index(t)
+                            .and_then(|i| u32::try_from(i).ok())
+                            .unwrap_or(u32::MAX);
+                    }
+                    // A USE as the body's first node.
+                    Rec::Used { .. } => first_done = protos == 0 && depth == 0,
+                    _ => {}
+                }
+                is.push(index);
+                if first_done {
+                    decl.first_end = k + 1;
+                    break;
+                }
+            }
+            decl.body_is = is.into();
         }
+        let decl = Rc::new(decl);
         self.pinned = self.pinned.max(range.end);
+        self.proto_shadows_standard |= schema::node_index(&name).is_some();
         if let Some(s) = self.scopes.last_mut() {
             s.protos.insert(name, decl);
         }
@@ -2691,9 +2884,9 @@ impl Lowerer {
         inst: Range<usize>,
         at: u64,
     ) -> Result<(), Error> {
-        let body = proto.body.clone().expect("PROTO with a body");
         // The instance's fields (skip its NodeStart and NodeEnd).
-        let mut values = HashMap::new();
+        let mut values = self.spare_values.pop().unwrap_or_default();
+        values.resize(proto.fields.len(), None);
         let mut i = inst.start + 1;
         while i + 1 < inst.end {
             let end = value_end(&self.arena, i);
@@ -2705,13 +2898,14 @@ impl Lowerer {
                     continue;
                 }
             };
-            match proto.field(&fname) {
+            match proto.field_index(&fname) {
                 None => self.warn(
                     src,
                     fat,
                     format!("unknown field '{fname}' of PROTO {}: ignored", proto.name),
                 ),
-                Some(f) => {
+                Some(fi) => {
+                    let f = &proto.fields[fi];
                     if let Rec::Ev(OwnedEvent::Field { value, .. }) = &self.arena[i] {
                         if f.ty.is_node() {
                             if *value != super::syntax::OwnedValue::Empty {
@@ -2754,7 +2948,7 @@ impl Lowerer {
                             ),
                         );
                     } else {
-                        values.insert(fname, i..end);
+                        values[fi] = Some(i..end);
                     }
                 }
             }
@@ -2762,45 +2956,73 @@ impl Lowerer {
         }
         // The body runs in a namespace of its own, with this instance's substitutions.
         self.scopes.push(Scope::default());
-        self.substs.push(Rc::new(Subst {
+        self.substs.push(Subst {
             proto: proto.clone(),
             values,
-        }));
+        });
         let saved = std::mem::take(&mut self.recorders);
         let reusing = std::mem::replace(&mut self.reusing, 0);
-        let r = self.replay_first_node(src, body, at);
+        let n = proto.first_end;
+        let r = self.replay_first_node(src, &proto.body_events[..n], &proto.body_is[..n], at);
         self.reusing = reusing;
         self.recorders = saved;
-        self.substs.pop();
+        if let Some(mut sub) = self.substs.pop() {
+            sub.values.clear();
+            self.spare_values.push(sub.values);
+        }
         self.scopes.pop();
         r
     }
 
-    /// Replays a PROTO body up to the end of its first node (earlier PROTO declarations included).
+    /// One recorded event of a PROTO body: the common events take the same direct route as in
+    /// scene text ([`Sink::event`]), without building an [`Event`] first.
+    #[inline(always)]
+    fn replay_event(&mut self, src: &SourceWindow, ev: &OwnedEvent) -> Result<(), Error> {
+        if self.recorders.is_empty() && self.in_proto_decl == 0 {
+            match ev {
+                OwnedEvent::NodeStart { def: None, ty, at } => {
+                    self.node_start(src, None, ty, *at)?;
+                    // (A Switch choice or PROTO instance starts recording at this event.)
+                    if !self.recorders.is_empty() {
+                        let done = self.end_recorders_slow(&ev.as_event());
+                        debug_assert!(done.is_empty());
+                    }
+                    return Ok(());
+                }
+                OwnedEvent::NodeEnd { at } => {
+                    if self.quiet == 0 {
+                        if let Some(result) = self.close_leaf() {
+                            return self.deliver(src, result, *at);
+                        }
+                    }
+                    return self.node_end(src, *at, Vec::new());
+                }
+                OwnedEvent::Field { name, at, value } if !matches!(value, OwnedValue::Is(_)) => {
+                    return self.field(src, name, *at, value.as_value())
+                }
+                OwnedEvent::NodesStart { name, at } => return self.nodes_start(src, name, *at),
+                OwnedEvent::NodesEnd { .. } => {
+                    self.fields.pop();
+                    return Ok(());
+                }
+                _ => {}
+            }
+        }
+        self.handle(src, ev.as_event())
+    }
+
+    /// Replays a PROTO body up to the end of its first node (earlier PROTO declarations
+    /// included): `events` and `is` are cut at [`ProtoDecl::first_end`].
     fn replay_first_node(
         &mut self,
         src: &SourceWindow,
-        body: Range<usize>,
+        events: &[Rec],
+        is: &[u32],
         at: u64,
     ) -> Result<(), Error> {
-        let mut i = body.start;
-        let mut depth = 0i32;
-        let mut protos = 0i32;
-        while i < body.end {
-            let rec = self.arena[i].clone();
-            let mut first_done = false;
-            match &rec {
+        for (rec, &is) in events.iter().zip(is) {
+            match rec {
                 Rec::Ev(ev) => {
-                    match ev {
-                        OwnedEvent::ProtoStart { .. } => protos += 1,
-                        OwnedEvent::ProtoEnd { .. } => protos -= 1,
-                        OwnedEvent::NodeStart { .. } if protos == 0 => depth += 1,
-                        OwnedEvent::NodeEnd { .. } if protos == 0 => {
-                            depth -= 1;
-                            first_done = depth == 0;
-                        }
-                        _ => {}
-                    }
                     self.replay_depth += 1;
                     if self.replay_depth > MAX_REPLAY_DEPTH {
                         return Err(self.error(
@@ -2809,23 +3031,20 @@ impl Lowerer {
                             format!("PROTO expansions nest deeper than {MAX_REPLAY_DEPTH}"),
                         ));
                     }
-                    let r = self.handle(src, ev.as_event());
+                    let r = match ev {
+                        // `field IS target` of this body: the instance's value, found by index.
+                        OwnedEvent::Field { name, at, .. }
+                            if is != u32::MAX && self.in_proto_decl == 0 =>
+                        {
+                            self.substitute_field(src, name, is as usize, *at)
+                        }
+                        _ => self.replay_event(src, ev),
+                    };
                     self.replay_depth -= 1;
                     r?;
                 }
-                Rec::Used { range, at } => {
-                    if protos == 0 && depth == 0 {
-                        // A USE as the body's first node.
-                        self.use_range(src, range.clone(), *at)?;
-                        return Ok(());
-                    }
-                    self.use_range(src, range.clone(), *at)?
-                }
+                Rec::Used { range, at } => self.use_range(src, range.clone(), *at)?,
             }
-            if first_done {
-                break;
-            }
-            i += 1;
         }
         Ok(())
     }
@@ -2962,6 +3181,29 @@ impl Sink for Lowerer {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn material_table_finds_each_material_across_growth() {
+        let mut table = MaterialTable::default();
+        let mut mats = Vec::new();
+        let material = |i: usize| Material {
+            diffuse: DVec3::new(i as f64 / 7.0, 0.5, (i % 3) as f64),
+            ..Material::default()
+        };
+        let index = |table: &mut MaterialTable, mats: &mut Vec<Material>, m: Material| {
+            let key = material_key(&m);
+            table.find_or_push((hash_key(&key) >> 32) as u32, &key, m, mats)
+        };
+        for i in 0..5000 {
+            assert_eq!(index(&mut table, &mut mats, material(i)), i as u32);
+        }
+        // Every material again, after the table has grown many times: found, not added.
+        for i in (0..5000).rev() {
+            assert_eq!(index(&mut table, &mut mats, material(i)), i as u32);
+        }
+        assert_eq!(mats.len(), 5000);
+        assert!(2 * table.len <= table.slots.len());
+    }
 
     #[test]
     fn open_node_frames_stay_small() {

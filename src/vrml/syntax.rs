@@ -104,7 +104,7 @@ pub trait Sink {
 #[derive(Clone, Debug, PartialEq)]
 pub enum OwnedValue {
     Numbers {
-        values: Rc<[f64]>,
+        values: Nums,
         integer: bool,
         bracketed: bool,
     },
@@ -118,6 +118,51 @@ pub enum OwnedValue {
     },
     Empty,
     Is(Rc<str>),
+}
+
+/// Recorded numbers: up to [`Nums::INLINE`] held in place (a PROTO instance's vectors and
+/// colours, no allocation per field), longer lists shared.
+#[derive(Clone, Debug)]
+pub enum Nums {
+    Inline {
+        len: u8,
+        values: [f64; Nums::INLINE],
+    },
+    Shared(Rc<[f64]>),
+}
+
+impl Nums {
+    pub const INLINE: usize = 4;
+
+    pub fn new(values: &[f64]) -> Self {
+        if values.len() <= Self::INLINE {
+            let mut v = [0.0; Self::INLINE];
+            v[..values.len()].copy_from_slice(values);
+            Nums::Inline {
+                len: values.len() as u8,
+                values: v,
+            }
+        } else {
+            Nums::Shared(values.into())
+        }
+    }
+}
+
+impl std::ops::Deref for Nums {
+    type Target = [f64];
+    #[inline]
+    fn deref(&self) -> &[f64] {
+        match self {
+            Nums::Inline { len, values } => &values[..usize::from(*len)],
+            Nums::Shared(v) => v,
+        }
+    }
+}
+
+impl PartialEq for Nums {
+    fn eq(&self, other: &Self) -> bool {
+        **self == **other
+    }
 }
 
 /// An owned event; names are reference counted so that replay clones cheaply.
@@ -185,7 +230,7 @@ impl Value<'_> {
                 integer,
                 bracketed,
             } => OwnedValue::Numbers {
-                values: values.into(),
+                values: Nums::new(values),
                 integer,
                 bracketed,
             },

@@ -305,3 +305,48 @@ fn exponential_use_blowup_is_refused() {
         "{e}"
     );
 }
+
+/// A PROTO may take a standard node type's name: from its declaration on, that name means
+/// the PROTO (the reader skips the PROTO lookup for standard names only until one is declared).
+#[test]
+fn a_proto_named_like_a_standard_node_shadows_it_after_its_declaration() {
+    let (s, _) = scene(
+        "Group { children Shape { geometry Sphere { } } }\n\
+         PROTO Group [ field SFVec3f at 0 0 0 ] {\n\
+           Transform { translation IS at children Shape { geometry Sphere { radius 2 } } }\n\
+         }\n\
+         Group { at 5 0 0 }",
+    );
+    assert_eq!(s.spheres.len(), 2);
+    assert_eq!(s.spheres[0].center.to_array(), [0.0, 0.0, 0.0]);
+    assert_eq!(s.spheres[0].radius, 1.0);
+    assert_eq!(s.spheres[1].center.to_array(), [5.0, 0.0, 0.0]);
+    assert_eq!(s.spheres[1].radius, 2.0);
+}
+
+/// One instance after another reuses the recorded names and value tables: each instance
+/// still gets its own values, and a field it leaves out its own default.
+#[test]
+fn consecutive_proto_instances_keep_their_own_values() {
+    let (s, _) = scene(
+        "PROTO P [ field SFVec3f p 0 0 0 field SFFloat r 1 ] {\n\
+           Transform { translation IS p children Shape { geometry Sphere { radius IS r } } }\n\
+         }\n\
+         P { p 1 0 0 r 0.5 }\n\
+         P { r 0.25 }\n\
+         P { p 0 0 3 }",
+    );
+    let got: Vec<([f64; 3], f64)> = s
+        .spheres
+        .iter()
+        .map(|x| (x.center.to_array(), x.radius))
+        .collect();
+    assert_eq!(
+        got,
+        vec![
+            ([1.0, 0.0, 0.0], 0.5),
+            ([0.0, 0.0, 0.0], 0.25),
+            ([0.0, 0.0, 3.0], 1.0)
+        ]
+    );
+}
