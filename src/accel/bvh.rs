@@ -124,16 +124,14 @@ pub struct SphereBvh {
 }
 
 /// The parameter interval where `o + t d` is inside the box `lo..hi`, clipped to
-/// `[tmin, tmax]` (f64 slab test).
-#[inline]
-fn slab(lo: DVec3, hi: DVec3, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Option<(f64, f64)> {
+/// `[tmin, tmax]` (f64 slab test; `inv` is `1 / d` componentwise).
+#[inline(always)]
+fn slab(lo: DVec3, hi: DVec3, o: DVec3, inv: DVec3, tmin: f64, tmax: f64) -> Option<(f64, f64)> {
+    let a = (lo - o) * inv;
+    let b = (hi - o) * inv;
     let (mut t0, mut t1) = (tmin, tmax);
-    for k in 0..3 {
-        let inv = 1.0 / d[k];
-        let (mut a, mut b) = ((lo[k] - o[k]) * inv, (hi[k] - o[k]) * inv);
-        if a > b {
-            std::mem::swap(&mut a, &mut b);
-        }
+    for (a, b) in [(a.x, b.x), (a.y, b.y), (a.z, b.z)] {
+        let (a, b) = if a > b { (b, a) } else { (a, b) };
         // d[k] == 0 gives +-inf (or NaN when o is on a face; then the axis does not clip).
         if a > t0 {
             t0 = a;
@@ -182,14 +180,23 @@ struct Walk<S> {
 }
 
 impl<S> Walk<S> {
-    /// The state at chunk `c`'s root, children ordered for `direction`.
+    /// The state at chunk `c`'s root, children ordered for `direction`. (obvhs's
+    /// `new_traversal` would also build, and zero, a stack of its own that we do not use.)
+    #[inline(always)]
     fn start(c: &Chunk, direction: Vec3A, stack: S) -> Walk<S> {
-        let t = c.bvh.new_traversal(direction);
+        // obvhs's `ray_get_octant_inv4` (private there).
+        let oct_inv4 = (if direction.x < 0.0 { 0 } else { 0x0404_0404 })
+            | (if direction.y < 0.0 { 0 } else { 0x0202_0202 })
+            | (if direction.z < 0.0 { 0 } else { 0x0101_0101 });
         Walk {
             stack,
-            current_group: t.current_group,
-            primitive_group: t.primitive_group,
-            oct_inv4: t.oct_inv4,
+            current_group: if c.bvh.nodes.is_empty() {
+                UVec2::ZERO
+            } else {
+                UVec2::new(0, 0x8000_0000)
+            },
+            primitive_group: UVec2::ZERO,
+            oct_inv4,
             primitive_id: 0,
             hitmask: 0,
         }
@@ -439,22 +446,35 @@ impl SphereBvh {
         r + r.abs() * 4.0 * f32::EPSILON + f32::MIN_POSITIVE
     }
 
-    /// The chunks the segment reaches, with their entry and exit parameters, nearest first.
-    #[inline]
+    /// The chunks the segment reaches, with their entry and exit parameters, nearest first,
+    /// written to the front of `list`; returns how many. (Filled in place, not returned:
+    /// returning the array copied it on every ray.)
+    #[inline(always)]
     fn chunks_on(
         &self,
         o: DVec3,
         d: DVec3,
         tmin: f64,
         tmax: f64,
-    ) -> ([(f64, f64, u32); MAX_CHUNKS], usize) {
-        let mut list = [(0.0, 0.0, 0u32); MAX_CHUNKS];
-        let mut n = 0;
-        if slab(self.lo, self.hi, o, d, tmin, tmax).is_none() {
-            return (list, 0);
+        list: &mut [(f64, f64, u32); MAX_CHUNKS],
+    ) -> usize {
+        let inv = d.recip();
+        let Some(whole) = slab(self.lo, self.hi, o, inv, tmin, tmax) else {
+            return 0;
+        };
+        if let [c] = &self.chunks[..] {
+            // One chunk: its box is the scene's box, up to padding.
+            return match slab(c.lo, c.hi, o, inv, whole.0, whole.1) {
+                Some((t0, t1)) => {
+                    list[0] = (t0, t1, 0);
+                    1
+                }
+                None => 0,
+            };
         }
+        let mut n = 0;
         for (k, c) in self.chunks.iter().enumerate() {
-            if let Some((t0, t1)) = slab(c.lo, c.hi, o, d, tmin, tmax) {
+            if let Some((t0, t1)) = slab(c.lo, c.hi, o, inv, tmin, tmax) {
                 // Insertion by entry parameter.
                 let mut at = n;
                 while at > 0 && list[at - 1].0 > t0 {
@@ -465,7 +485,7 @@ impl SphereBvh {
                 n += 1;
             }
         }
-        (list, n)
+        n
     }
 
     /// The closest primitive whose `test` accepts the ray: `test(index, prim, roots) -> Some(t)` for a
@@ -483,7 +503,8 @@ impl SphereBvh {
             t: tmax,
             prim: u32::MAX,
         };
-        let (list, n) = self.chunks_on(o, d, tmin, tmax);
+        let mut list = [(0.0, 0.0, 0u32); MAX_CHUNKS];
+        let n = self.chunks_on(o, d, tmin, tmax, &mut list);
         for &(t0, t1, k) in &list[..n] {
             if t0 > best.t {
                 break;
@@ -524,14 +545,34 @@ impl SphereBvh {
         d: DVec3,
         tmin: f64,
         tmax: f64,
+        blocks: impl FnMut(u32, &Prim, (f64, f64)) -> bool,
+    ) -> bool {
+        self.any_except(o, d, tmin, tmax, u32::MAX, blocks)
+    }
+
+    /// [`SphereBvh::any`], passing over primitive `skip` without a test: a shadow ray's own
+    /// sphere, which its line always meets (so its roots would always be computed, for
+    /// nothing).
+    #[inline]
+    pub fn any_except(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+        skip: u32,
         mut blocks: impl FnMut(u32, &Prim, (f64, f64)) -> bool,
     ) -> bool {
-        let (list, n) = self.chunks_on(o, d, tmin, tmax);
+        let mut list = [(0.0, 0.0, 0u32); MAX_CHUNKS];
+        let n = self.chunks_on(o, d, tmin, tmax, &mut list);
         let mut blocked = false;
         for &(t0, t1, k) in &list[..n] {
             let c = &self.chunks[k as usize];
             walk(c, self.ray32(o, d, t0, t1), |i| {
                 let i = c.base + i;
+                if i == skip {
+                    return Step::Go;
+                }
                 let p = &self.prims[i as usize];
                 match self.roots(p, o, d) {
                     Some(roots) if blocks(i, p, roots) => {
@@ -587,7 +628,8 @@ impl SphereBvh {
         tmax: f64,
         mut visit: impl FnMut(u32, &Prim, (f64, f64)),
     ) {
-        let (list, n) = self.chunks_on(o, d, tmin, tmax);
+        let mut list = [(0.0, 0.0, 0u32); MAX_CHUNKS];
+        let n = self.chunks_on(o, d, tmin, tmax, &mut list);
         for &(t0, t1, k) in &list[..n] {
             let c = &self.chunks[k as usize];
             walk(c, self.ray32(o, d, t0, t1), |i| {
