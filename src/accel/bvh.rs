@@ -21,11 +21,13 @@
 //!
 //! Why chunks. obvhs's build needs about 250 bytes per primitive while it runs (binary nodes,
 //! then the CWBVH conversion tables), more than the whole finished structure. The spheres are
-//! therefore sorted in Morton order and cut into at most [`MAX_CHUNKS`] spatially compact
-//! chunks, each with its own CWBVH, so that the build's peak is paid for one chunk at a time.
+//! therefore sorted in Morton order and cut, at Morton cell boundaries where possible, into
+//! at most [`MAX_CHUNKS`] spatially compact chunks, each with its own CWBVH, so that the
+//! build's peak is paid for one chunk at a time.
 //! A ray visits the chunks its f64 box test reaches, nearest first, and stops at the first
 //! chunk that starts beyond its closest hit.
 
+use std::ops::Range;
 use std::time::{Duration, Instant};
 
 use glam::{DAffine3, DVec3, UVec2, Vec3A};
@@ -270,8 +272,9 @@ fn permute_in_place<T: Copy>(v: &mut [T], order: &[u32]) {
     }
 }
 
-/// Sorts `prims` by the Morton code (21 bits per axis) of their centres in the box `lo..hi`.
-fn morton_sort(prims: &mut [Prim], lo: DVec3, hi: DVec3) {
+/// Sorts `prims` by the Morton code (21 bits per axis) of their centres in the box `lo..hi`,
+/// and returns the chunks to cut the sorted order into (see [`chunk_ranges`]).
+fn morton_sort(prims: &mut [Prim], lo: DVec3, hi: DVec3, per_chunk: usize) -> Vec<Range<usize>> {
     fn spread(mut x: u64) -> u64 {
         x &= 0x1f_ffff;
         x = (x | x << 32) & 0x1f_0000_0000_ffff;
@@ -291,9 +294,63 @@ fn morton_sort(prims: &mut [Prim], lo: DVec3, hi: DVec3) {
         })
         .collect();
     keys.sort_unstable();
+    let ranges = chunk_ranges(&keys, per_chunk);
     let order: Vec<u32> = keys.iter().map(|k| k.1).collect();
     drop(keys);
     permute_in_place(prims, &order);
+    ranges
+}
+
+/// Cuts Morton-sorted `(code, index)` keys into at most [`MAX_CHUNKS`] ranges of at most `per_chunk`.
+///
+/// Cuts fall on Morton cell boundaries where possible: the order is split at its octree
+/// cells (halving one axis per code bit) until each piece fits, and neighbouring pieces are
+/// then merged while they fit. A chunk is then a cell or a few sibling cells, with a compact
+/// box: cutting at fixed counts instead (1M random spheres in chunks of 2^17 against octants
+/// of ~125,000) gives chunks that straddle two cells, whose boxes overlap their neighbours'
+/// and which a ray therefore has to walk for nothing. Falls back to fixed counts if the
+/// cells give too many chunks (very uneven scenes).
+fn chunk_ranges(codes: &[(u64, u32)], per_chunk: usize) -> Vec<Range<usize>> {
+    fn split(
+        codes: &[(u64, u32)],
+        base: usize,
+        bit: i32,
+        per_chunk: usize,
+        out: &mut Vec<Range<usize>>,
+    ) {
+        if codes.len() <= per_chunk {
+            if !codes.is_empty() {
+                out.push(base..base + codes.len());
+            }
+        } else if bit < 0 {
+            // Equal codes (coincident centres): fixed counts.
+            for at in (0..codes.len()).step_by(per_chunk) {
+                out.push(base + at..base + (at + per_chunk).min(codes.len()));
+            }
+        } else {
+            // Within a cell the higher bits are equal, so `bit` is sorted: zeros first.
+            let m = codes.partition_point(|c| c.0 >> bit & 1 == 0);
+            split(&codes[..m], base, bit - 1, per_chunk, out);
+            split(&codes[m..], base + m, bit - 1, per_chunk, out);
+        }
+    }
+    let mut pieces = Vec::new();
+    split(codes, 0, 62, per_chunk, &mut pieces);
+    let mut merged: Vec<Range<usize>> = Vec::new();
+    for p in pieces {
+        match merged.last_mut() {
+            Some(last) if p.end - last.start <= per_chunk => last.end = p.end,
+            _ => merged.push(p),
+        }
+    }
+    if merged.len() > MAX_CHUNKS {
+        let n = codes.len();
+        merged = (0..n)
+            .step_by(per_chunk)
+            .map(|at| at..(at + per_chunk).min(n))
+            .collect();
+    }
+    merged
 }
 
 /// World-space f64 box of a primitive.
@@ -339,11 +396,11 @@ impl SphereBvh {
         let pad32 = (pad * scale) as f32;
         let start = Instant::now();
         let mut prims = prims;
-        morton_sort(&mut prims, lo, hi);
-        let n = prims.len();
+        let ranges = morton_sort(&mut prims, lo, hi, per_chunk);
         let mut chunks = Vec::new();
-        for base in (0..n).step_by(per_chunk) {
-            let part = &mut prims[base..(base + per_chunk).min(n)];
+        for range in ranges {
+            let base = range.start;
+            let part = &mut prims[range];
             let (mut clo, mut chi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
             let boxes: Vec<PaddedBox> = part
                 .iter()
@@ -646,7 +703,57 @@ impl SphereBvh {
 
 #[cfg(test)]
 mod tests {
-    use super::permute_in_place;
+    use super::{chunk_ranges, permute_in_place, MAX_CHUNKS};
+
+    fn lcg(state: &mut u64) -> u64 {
+        *state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        *state
+    }
+
+    #[test]
+    fn chunks_follow_morton_cells_and_cover_everything() {
+        let mut state = 7u64;
+        // Uniform codes: 8 octants of about n / 8 each, and room for n / 7.5 per chunk.
+        let n = 8000;
+        let mut keys: Vec<(u64, u32)> = (0..n).map(|i| (lcg(&mut state) >> 1, i)).collect();
+        keys.sort_unstable();
+        let ranges = chunk_ranges(&keys, n as usize * 2 / 15);
+        assert_eq!(ranges.len(), 8);
+        for r in &ranges {
+            let top = |k: &(u64, u32)| k.0 >> 60;
+            assert!(keys[r.clone()]
+                .iter()
+                .all(|k| top(k) == top(&keys[r.start])));
+        }
+        // Any sizes: contiguous cover, each within the limit, at most MAX_CHUNKS.
+        for (n, per) in [
+            (0, 1),
+            (1, 1),
+            (100, 7),
+            (1000, 63),
+            (1000, 1000),
+            (5000, 313),
+        ] {
+            let mut keys: Vec<(u64, u32)> = (0..n)
+                .map(|i| (lcg(&mut state) >> (1 + i % 50), i))
+                .collect();
+            keys.sort_unstable();
+            let ranges = chunk_ranges(&keys, per);
+            assert!(ranges.len() <= MAX_CHUNKS.max(n.div_ceil(per as u32) as usize));
+            let mut at = 0;
+            for r in ranges {
+                assert_eq!(r.start, at);
+                assert!(r.end > r.start && r.end - r.start <= per);
+                at = r.end;
+            }
+            assert_eq!(at, n as usize);
+        }
+        // Equal codes: fixed counts.
+        let keys = vec![(5u64, 0u32); 100];
+        assert_eq!(chunk_ranges(&keys, 30).len(), 4);
+    }
 
     #[test]
     fn permutation_in_place_matches_a_copy() {
