@@ -81,17 +81,22 @@ const SAFE_HI: f64 = 1.2676506002282294e30;
 /// `|v|` by at most that times `|d|`), and forming `v` and its length adds `~6 u |f|`
 /// (`|tc d| <= |f|`). A line whose computed distance exceeds `r` by 4x that bound misses for
 /// sure. Magnitudes are limited so that no square overflows or underflows.
+///
+/// No square roots: `|f|` is bounded by its 1-norm (the margin only grows), and `|v| > m` is
+/// tested as `v.v > m^2`, whose roundings move the comparison by ~2 eps `(|f| + r)`, well
+/// inside the 4x margin.
 #[inline]
 fn certainly_misses(o: DVec3, d: DVec3, c: DVec3, r: f64) -> bool {
     let f = o - c;
     let a = d.dot(d);
     let ff = f.dot(f);
-    if !(a > 1e-280 && a < 1e280 && ff > 1e-280 && ff < 1e280) {
+    if !(a > 1e-280 && a < 1e280 && ff > 1e-280 && ff < 1e280 && r < 1e139) {
         return false;
     }
     let tc = -f.dot(d) / a;
     let v = f + tc * d;
-    v.length() - r > 64.0 * (0.5 * f64::EPSILON) * (ff.sqrt() + r)
+    let m = r + 64.0 * (0.5 * f64::EPSILON) * (f.abs().element_sum() + r);
+    v.dot(v) > m * m
 }
 
 /// The overlap, in units of the ray parameter `t`, of the segment `t in [ta, tb]` of the line
