@@ -21,11 +21,13 @@
 //!
 //! Why chunks. obvhs's build needs about 250 bytes per primitive while it runs (binary nodes,
 //! then the CWBVH conversion tables), more than the whole finished structure. The spheres are
-//! therefore sorted in Morton order and cut into at most [`MAX_CHUNKS`] spatially compact
-//! chunks, each with its own CWBVH, so that the build's peak is paid for one chunk at a time.
+//! therefore sorted in Morton order and cut, at Morton cell boundaries where possible, into
+//! at most [`MAX_CHUNKS`] spatially compact chunks, each with its own CWBVH, so that the
+//! build's peak is paid for one chunk at a time.
 //! A ray visits the chunks its f64 box test reaches, nearest first, and stops at the first
 //! chunk that starts beyond its closest hit.
 
+use std::ops::Range;
 use std::time::{Duration, Instant};
 
 use glam::{DAffine3, DVec3, UVec2, Vec3A};
@@ -124,16 +126,14 @@ pub struct SphereBvh {
 }
 
 /// The parameter interval where `o + t d` is inside the box `lo..hi`, clipped to
-/// `[tmin, tmax]` (f64 slab test).
-#[inline]
-fn slab(lo: DVec3, hi: DVec3, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Option<(f64, f64)> {
+/// `[tmin, tmax]` (f64 slab test; `inv` is `1 / d` componentwise).
+#[inline(always)]
+fn slab(lo: DVec3, hi: DVec3, o: DVec3, inv: DVec3, tmin: f64, tmax: f64) -> Option<(f64, f64)> {
+    let a = (lo - o) * inv;
+    let b = (hi - o) * inv;
     let (mut t0, mut t1) = (tmin, tmax);
-    for k in 0..3 {
-        let inv = 1.0 / d[k];
-        let (mut a, mut b) = ((lo[k] - o[k]) * inv, (hi[k] - o[k]) * inv);
-        if a > b {
-            std::mem::swap(&mut a, &mut b);
-        }
+    for (a, b) in [(a.x, b.x), (a.y, b.y), (a.z, b.z)] {
+        let (a, b) = if a > b { (b, a) } else { (a, b) };
         // d[k] == 0 gives +-inf (or NaN when o is on a face; then the axis does not clip).
         if a > t0 {
             t0 = a;
@@ -182,14 +182,23 @@ struct Walk<S> {
 }
 
 impl<S> Walk<S> {
-    /// The state at chunk `c`'s root, children ordered for `direction`.
+    /// The state at chunk `c`'s root, children ordered for `direction`. (obvhs's
+    /// `new_traversal` would also build, and zero, a stack of its own that we do not use.)
+    #[inline(always)]
     fn start(c: &Chunk, direction: Vec3A, stack: S) -> Walk<S> {
-        let t = c.bvh.new_traversal(direction);
+        // obvhs's `ray_get_octant_inv4` (private there).
+        let oct_inv4 = (if direction.x < 0.0 { 0 } else { 0x0404_0404 })
+            | (if direction.y < 0.0 { 0 } else { 0x0202_0202 })
+            | (if direction.z < 0.0 { 0 } else { 0x0101_0101 });
         Walk {
             stack,
-            current_group: t.current_group,
-            primitive_group: t.primitive_group,
-            oct_inv4: t.oct_inv4,
+            current_group: if c.bvh.nodes.is_empty() {
+                UVec2::ZERO
+            } else {
+                UVec2::new(0, 0x8000_0000)
+            },
+            primitive_group: UVec2::ZERO,
+            oct_inv4,
             primitive_id: 0,
             hitmask: 0,
         }
@@ -263,8 +272,9 @@ fn permute_in_place<T: Copy>(v: &mut [T], order: &[u32]) {
     }
 }
 
-/// Sorts `prims` by the Morton code (21 bits per axis) of their centres in the box `lo..hi`.
-fn morton_sort(prims: &mut [Prim], lo: DVec3, hi: DVec3) {
+/// Sorts `prims` by the Morton code (21 bits per axis) of their centres in the box `lo..hi`,
+/// and returns the chunks to cut the sorted order into (see [`chunk_ranges`]).
+fn morton_sort(prims: &mut [Prim], lo: DVec3, hi: DVec3, per_chunk: usize) -> Vec<Range<usize>> {
     fn spread(mut x: u64) -> u64 {
         x &= 0x1f_ffff;
         x = (x | x << 32) & 0x1f_0000_0000_ffff;
@@ -284,9 +294,63 @@ fn morton_sort(prims: &mut [Prim], lo: DVec3, hi: DVec3) {
         })
         .collect();
     keys.sort_unstable();
+    let ranges = chunk_ranges(&keys, per_chunk);
     let order: Vec<u32> = keys.iter().map(|k| k.1).collect();
     drop(keys);
     permute_in_place(prims, &order);
+    ranges
+}
+
+/// Cuts Morton-sorted `(code, index)` keys into at most [`MAX_CHUNKS`] ranges of at most `per_chunk`.
+///
+/// Cuts fall on Morton cell boundaries where possible: the order is split at its octree
+/// cells (halving one axis per code bit) until each piece fits, and neighbouring pieces are
+/// then merged while they fit. A chunk is then a cell or a few sibling cells, with a compact
+/// box: cutting at fixed counts instead (1M random spheres in chunks of 2^17 against octants
+/// of ~125,000) gives chunks that straddle two cells, whose boxes overlap their neighbours'
+/// and which a ray therefore has to walk for nothing. Falls back to fixed counts if the
+/// cells give too many chunks (very uneven scenes).
+fn chunk_ranges(codes: &[(u64, u32)], per_chunk: usize) -> Vec<Range<usize>> {
+    fn split(
+        codes: &[(u64, u32)],
+        base: usize,
+        bit: i32,
+        per_chunk: usize,
+        out: &mut Vec<Range<usize>>,
+    ) {
+        if codes.len() <= per_chunk {
+            if !codes.is_empty() {
+                out.push(base..base + codes.len());
+            }
+        } else if bit < 0 {
+            // Equal codes (coincident centres): fixed counts.
+            for at in (0..codes.len()).step_by(per_chunk) {
+                out.push(base + at..base + (at + per_chunk).min(codes.len()));
+            }
+        } else {
+            // Within a cell the higher bits are equal, so `bit` is sorted: zeros first.
+            let m = codes.partition_point(|c| c.0 >> bit & 1 == 0);
+            split(&codes[..m], base, bit - 1, per_chunk, out);
+            split(&codes[m..], base + m, bit - 1, per_chunk, out);
+        }
+    }
+    let mut pieces = Vec::new();
+    split(codes, 0, 62, per_chunk, &mut pieces);
+    let mut merged: Vec<Range<usize>> = Vec::new();
+    for p in pieces {
+        match merged.last_mut() {
+            Some(last) if p.end - last.start <= per_chunk => last.end = p.end,
+            _ => merged.push(p),
+        }
+    }
+    if merged.len() > MAX_CHUNKS {
+        let n = codes.len();
+        merged = (0..n)
+            .step_by(per_chunk)
+            .map(|at| at..(at + per_chunk).min(n))
+            .collect();
+    }
+    merged
 }
 
 /// World-space f64 box of a primitive.
@@ -332,11 +396,11 @@ impl SphereBvh {
         let pad32 = (pad * scale) as f32;
         let start = Instant::now();
         let mut prims = prims;
-        morton_sort(&mut prims, lo, hi);
-        let n = prims.len();
+        let ranges = morton_sort(&mut prims, lo, hi, per_chunk);
         let mut chunks = Vec::new();
-        for base in (0..n).step_by(per_chunk) {
-            let part = &mut prims[base..(base + per_chunk).min(n)];
+        for range in ranges {
+            let base = range.start;
+            let part = &mut prims[range];
             let (mut clo, mut chi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
             let boxes: Vec<PaddedBox> = part
                 .iter()
@@ -439,22 +503,35 @@ impl SphereBvh {
         r + r.abs() * 4.0 * f32::EPSILON + f32::MIN_POSITIVE
     }
 
-    /// The chunks the segment reaches, with their entry and exit parameters, nearest first.
-    #[inline]
+    /// The chunks the segment reaches, with their entry and exit parameters, nearest first,
+    /// written to the front of `list`; returns how many. (Filled in place, not returned:
+    /// returning the array copied it on every ray.)
+    #[inline(always)]
     fn chunks_on(
         &self,
         o: DVec3,
         d: DVec3,
         tmin: f64,
         tmax: f64,
-    ) -> ([(f64, f64, u32); MAX_CHUNKS], usize) {
-        let mut list = [(0.0, 0.0, 0u32); MAX_CHUNKS];
-        let mut n = 0;
-        if slab(self.lo, self.hi, o, d, tmin, tmax).is_none() {
-            return (list, 0);
+        list: &mut [(f64, f64, u32); MAX_CHUNKS],
+    ) -> usize {
+        let inv = d.recip();
+        let Some(whole) = slab(self.lo, self.hi, o, inv, tmin, tmax) else {
+            return 0;
+        };
+        if let [c] = &self.chunks[..] {
+            // One chunk: its box is the scene's box, up to padding.
+            return match slab(c.lo, c.hi, o, inv, whole.0, whole.1) {
+                Some((t0, t1)) => {
+                    list[0] = (t0, t1, 0);
+                    1
+                }
+                None => 0,
+            };
         }
+        let mut n = 0;
         for (k, c) in self.chunks.iter().enumerate() {
-            if let Some((t0, t1)) = slab(c.lo, c.hi, o, d, tmin, tmax) {
+            if let Some((t0, t1)) = slab(c.lo, c.hi, o, inv, tmin, tmax) {
                 // Insertion by entry parameter.
                 let mut at = n;
                 while at > 0 && list[at - 1].0 > t0 {
@@ -465,7 +542,7 @@ impl SphereBvh {
                 n += 1;
             }
         }
-        (list, n)
+        n
     }
 
     /// The closest primitive whose `test` accepts the ray: `test(index, prim, roots) -> Some(t)` for a
@@ -483,7 +560,8 @@ impl SphereBvh {
             t: tmax,
             prim: u32::MAX,
         };
-        let (list, n) = self.chunks_on(o, d, tmin, tmax);
+        let mut list = [(0.0, 0.0, 0u32); MAX_CHUNKS];
+        let n = self.chunks_on(o, d, tmin, tmax, &mut list);
         for &(t0, t1, k) in &list[..n] {
             if t0 > best.t {
                 break;
@@ -524,14 +602,34 @@ impl SphereBvh {
         d: DVec3,
         tmin: f64,
         tmax: f64,
+        blocks: impl FnMut(u32, &Prim, (f64, f64)) -> bool,
+    ) -> bool {
+        self.any_except(o, d, tmin, tmax, u32::MAX, blocks)
+    }
+
+    /// [`SphereBvh::any`], passing over primitive `skip` without a test: a shadow ray's own
+    /// sphere, which its line always meets (so its roots would always be computed, for
+    /// nothing).
+    #[inline]
+    pub fn any_except(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+        skip: u32,
         mut blocks: impl FnMut(u32, &Prim, (f64, f64)) -> bool,
     ) -> bool {
-        let (list, n) = self.chunks_on(o, d, tmin, tmax);
+        let mut list = [(0.0, 0.0, 0u32); MAX_CHUNKS];
+        let n = self.chunks_on(o, d, tmin, tmax, &mut list);
         let mut blocked = false;
         for &(t0, t1, k) in &list[..n] {
             let c = &self.chunks[k as usize];
             walk(c, self.ray32(o, d, t0, t1), |i| {
                 let i = c.base + i;
+                if i == skip {
+                    return Step::Go;
+                }
                 let p = &self.prims[i as usize];
                 match self.roots(p, o, d) {
                     Some(roots) if blocks(i, p, roots) => {
@@ -587,7 +685,8 @@ impl SphereBvh {
         tmax: f64,
         mut visit: impl FnMut(u32, &Prim, (f64, f64)),
     ) {
-        let (list, n) = self.chunks_on(o, d, tmin, tmax);
+        let mut list = [(0.0, 0.0, 0u32); MAX_CHUNKS];
+        let n = self.chunks_on(o, d, tmin, tmax, &mut list);
         for &(t0, t1, k) in &list[..n] {
             let c = &self.chunks[k as usize];
             walk(c, self.ray32(o, d, t0, t1), |i| {
@@ -604,7 +703,57 @@ impl SphereBvh {
 
 #[cfg(test)]
 mod tests {
-    use super::permute_in_place;
+    use super::{chunk_ranges, permute_in_place, MAX_CHUNKS};
+
+    fn lcg(state: &mut u64) -> u64 {
+        *state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        *state
+    }
+
+    #[test]
+    fn chunks_follow_morton_cells_and_cover_everything() {
+        let mut state = 7u64;
+        // Uniform codes: 8 octants of about n / 8 each, and room for n / 7.5 per chunk.
+        let n = 8000;
+        let mut keys: Vec<(u64, u32)> = (0..n).map(|i| (lcg(&mut state) >> 1, i)).collect();
+        keys.sort_unstable();
+        let ranges = chunk_ranges(&keys, n as usize * 2 / 15);
+        assert_eq!(ranges.len(), 8);
+        for r in &ranges {
+            let top = |k: &(u64, u32)| k.0 >> 60;
+            assert!(keys[r.clone()]
+                .iter()
+                .all(|k| top(k) == top(&keys[r.start])));
+        }
+        // Any sizes: contiguous cover, each within the limit, at most MAX_CHUNKS.
+        for (n, per) in [
+            (0, 1),
+            (1, 1),
+            (100, 7),
+            (1000, 63),
+            (1000, 1000),
+            (5000, 313),
+        ] {
+            let mut keys: Vec<(u64, u32)> = (0..n)
+                .map(|i| (lcg(&mut state) >> (1 + i % 50), i))
+                .collect();
+            keys.sort_unstable();
+            let ranges = chunk_ranges(&keys, per);
+            assert!(ranges.len() <= MAX_CHUNKS.max(n.div_ceil(per as u32) as usize));
+            let mut at = 0;
+            for r in ranges {
+                assert_eq!(r.start, at);
+                assert!(r.end > r.start && r.end - r.start <= per);
+                at = r.end;
+            }
+            assert_eq!(at, n as usize);
+        }
+        // Equal codes: fixed counts.
+        let keys = vec![(5u64, 0u32); 100];
+        assert_eq!(chunk_ranges(&keys, 30).len(), 4);
+    }
 
     #[test]
     fn permutation_in_place_matches_a_copy() {

@@ -4,7 +4,7 @@
 //! Ray/Sphere Intersection" (Ray Tracing Gems, 2019, ch. 7), as pbrt-v4 `Sphere::BasicIntersect`
 //! does: the discriminant is `r^2 - |v|^2` with `v` the offset from the centre to the line's
 //! closest point, and the roots use the stable `q` form. On top of that, `o - c` is kept exactly
-//! (TwoSum), `v` is formed with fused multiply-adds, the closest-point parameter is refined
+//! (TwoSum), `v` is formed with exact products (Dekker), the closest-point parameter is refined
 //! once, and the constant term `|o - c|^2 - r^2` is summed without cancellation error. The
 //! result: hit or miss is decided correctly whenever the exact closest-approach distance differs
 //! from `r` by more than about `1e-15 r`, whatever the distance to the sphere (tests/it/geom.rs).
@@ -45,6 +45,14 @@ fn careful_roots(o: DVec3, d: DVec3, c: DVec3, r: f64) -> Option<(f64, f64)> {
     if dmax == 0.0 {
         return None;
     }
+    let big = o.abs().max_element().max(c.abs().max_element()).max(r);
+    if (SAFE_LO..=SAFE_HI).contains(&big) && (SAFE_LO..=SAFE_HI).contains(&dmax) {
+        // Every intermediate stays far inside the f64 range (|t| < 2^203, |q| < 2^406, the
+        // largest squares above 2^-200, and every split operand below 2^995), so the inputs
+        // need no scaling. Scaling by powers of two is exact, so this computes the same
+        // sums and products as the scaled path, up to the rounding of the two square roots.
+        return unit_scale_roots(o, d, c, r);
+    }
     // The problem is invariant under o, c, r -> 2^-k (o, c, r) and d -> 2^-m d, with
     // t -> 2^(m-k) t. Powers of two scale exactly, so bring every input to about 1 and no
     // product below can overflow or underflow (even for d ~ 1e-300 or r ~ 1e300).
@@ -59,6 +67,11 @@ fn careful_roots(o: DVec3, d: DVec3, c: DVec3, r: f64) -> Option<(f64, f64)> {
     Some((scalbn(t0, k - m), scalbn(t1, k - m)))
 }
 
+/// Bounds of the magnitudes (largest of `|o|, |c|, r`, and largest `|d_i|`) for which
+/// [`careful_roots`] skips the scaling: 2^-100 and 2^100.
+const SAFE_LO: f64 = 7.888609052210118e-31;
+const SAFE_HI: f64 = 1.2676506002282294e30;
+
 /// A cheap, certain rejection of lines that pass well clear of the sphere (most candidate
 /// tests in a BVH leaf), before the careful path below.
 ///
@@ -68,17 +81,22 @@ fn careful_roots(o: DVec3, d: DVec3, c: DVec3, r: f64) -> Option<(f64, f64)> {
 /// `|v|` by at most that times `|d|`), and forming `v` and its length adds `~6 u |f|`
 /// (`|tc d| <= |f|`). A line whose computed distance exceeds `r` by 4x that bound misses for
 /// sure. Magnitudes are limited so that no square overflows or underflows.
+///
+/// No square roots: `|f|` is bounded by its 1-norm (the margin only grows), and `|v| > m` is
+/// tested as `v.v > m^2`, whose roundings move the comparison by ~2 eps `(|f| + r)`, well
+/// inside the 4x margin.
 #[inline]
 fn certainly_misses(o: DVec3, d: DVec3, c: DVec3, r: f64) -> bool {
     let f = o - c;
     let a = d.dot(d);
     let ff = f.dot(f);
-    if !(a > 1e-280 && a < 1e280 && ff > 1e-280 && ff < 1e280) {
+    if !(a > 1e-280 && a < 1e280 && ff > 1e-280 && ff < 1e280 && r < 1e139) {
         return false;
     }
     let tc = -f.dot(d) / a;
     let v = f + tc * d;
-    v.length() - r > 64.0 * (0.5 * f64::EPSILON) * (ff.sqrt() + r)
+    let m = r + 64.0 * (0.5 * f64::EPSILON) * (f.abs().element_sum() + r);
+    v.dot(v) > m * m
 }
 
 /// The overlap, in units of the ray parameter `t`, of the segment `t in [ta, tb]` of the line
@@ -102,7 +120,13 @@ pub fn segment_chord(o: DVec3, d: DVec3, c: DVec3, r: f64, ta: f64, tb: f64) -> 
 }
 
 /// [`sphere_roots`] for scaled inputs: `|o|, |c|, r < 2` (max of them in [1, 2) or all 0) and
-/// `max |d_i|` in [1, 2), so `a = d.d` is in [1, 12) and nothing below overflows.
+/// `max |d_i|` in [1, 2), so `a = d.d` is in [1, 12) and nothing below overflows; or for
+/// unscaled inputs within [`SAFE_LO`]..[`SAFE_HI`], where nothing overflows either.
+///
+/// No fused multiply-add: without an FMA target feature (the build must run on any x86-64),
+/// `f64::mul_add` is a call into a runtime-dispatched routine, and every call spills the
+/// vector registers. Exact products use Dekker's splitting instead ([`two_prod_split`]).
+#[inline(always)]
 fn unit_scale_roots(o: DVec3, d: DVec3, c: DVec3, r: f64) -> Option<(f64, f64)> {
     // f = o - c = fh + fl exactly (TwoSum). Rounding f would move the line sideways by
     // eps |f|, which is 1e-9 r for a sphere of radius 1e-3 at distance 1e4.
@@ -117,11 +141,9 @@ fn unit_scale_roots(o: DVec3, d: DVec3, c: DVec3, r: f64) -> Option<(f64, f64)> 
     let tc = -(fh.dot(d) + fl.dot(d)) / a;
     let v1 = closest_offset(fh, fl, tc, d);
     let tl = -v1.dot(d) / a;
-    let v = DVec3::new(
-        tl.mul_add(d.x, v1.x),
-        tl.mul_add(d.y, v1.y),
-        tl.mul_add(d.z, v1.z),
-    );
+    // tl d is the small correction (~eps |f|), so rounding the product first costs
+    // ~eps^2 |f|, below v's own error.
+    let v = v1 + tl * d;
 
     // Discriminant as r^2 - |v|^2 (Haines et al.) rather than b^2 - ac: both b^2 and ac are
     // ~|f|^2 |d|^2 and their difference drowns in their rounding for small or distant spheres.
@@ -157,24 +179,32 @@ fn unit_scale_roots(o: DVec3, d: DVec3, c: DVec3, r: f64) -> Option<(f64, f64)> 
     })
 }
 
-/// `f + tc d` with `f = fh + fl`: the fused multiply-add rounds once, relative to the small
-/// result, instead of rounding the large `tc d` (~|f|) first and cancelling afterwards.
+/// `f + tc d` with `f = fh + fl`: `tc d` is formed exactly as `p + e` (it is ~|f| and nearly
+/// cancels `fh`), then `p + fh` rounds once relative to the small result (it is exact when
+/// they cancel, by Sterbenz) and the small tails are added. As accurate as a fused
+/// multiply-add `fma(tc, d, fh) + fl`.
+#[inline(always)]
 fn closest_offset(fh: DVec3, fl: DVec3, tc: f64, d: DVec3) -> DVec3 {
+    let one = |dk: f64, fk: f64, lk: f64| {
+        let (p, e) = two_prod_split(tc, dk);
+        (p + fk) + (e + lk)
+    };
     DVec3::new(
-        tc.mul_add(d.x, fh.x) + fl.x,
-        tc.mul_add(d.y, fh.y) + fl.y,
-        tc.mul_add(d.z, fh.z) + fl.z,
+        one(d.x, fh.x, fl.x),
+        one(d.y, fh.y, fl.y),
+        one(d.z, fh.z, fl.z),
     )
 }
 
 /// `|fh + fl|^2 - r^2` (the quadratic's constant term `c`), accurate to ~eps |c| even when it
 /// cancels to nearly 0 (origin on the sphere): every square is split exactly into two f64s
 /// (TwoProduct) and the large parts are summed with TwoSum (Ogita, Rump, Oishi "Sum2").
+#[inline(always)]
 fn dist2_minus_r2(fh: DVec3, fl: DVec3, r: f64) -> f64 {
-    let (px, ex) = two_prod(fh.x, fh.x);
-    let (py, ey) = two_prod(fh.y, fh.y);
-    let (pz, ez) = two_prod(fh.z, fh.z);
-    let (pr, er) = two_prod(r, r);
+    let (px, ex) = two_square(fh.x);
+    let (py, ey) = two_square(fh.y);
+    let (pz, ez) = two_square(fh.z);
+    let (pr, er) = two_square(r);
     let (s, e1) = two_sum(px, py);
     let (s, e2) = two_sum(s, pz);
     let (s, e3) = two_sum(s, -pr);
@@ -184,12 +214,14 @@ fn dist2_minus_r2(fh: DVec3, fl: DVec3, r: f64) -> f64 {
 }
 
 /// `a + b = s + e` exactly, `s = fl(a + b)` (Knuth's TwoSum; no branch on magnitudes).
+#[inline(always)]
 pub(super) fn two_sum(a: f64, b: f64) -> (f64, f64) {
     let s = a + b;
     let bb = s - a;
     (s, (a - (s - bb)) + (b - bb))
 }
 
+#[inline(always)]
 fn two_sum3(a: DVec3, b: DVec3) -> (DVec3, DVec3) {
     let (x, ex) = two_sum(a.x, b.x);
     let (y, ey) = two_sum(a.y, b.y);
@@ -197,11 +229,31 @@ fn two_sum3(a: DVec3, b: DVec3) -> (DVec3, DVec3) {
     (DVec3::new(x, y, z), DVec3::new(ex, ey, ez))
 }
 
-/// `a * b = p + e` exactly, `p = fl(a * b)` (TwoProduct with a fused multiply-add; exact unless
-/// the product underflows).
-pub(super) fn two_prod(a: f64, b: f64) -> (f64, f64) {
+/// Veltkamp's split: `a = hi + lo` exactly, each half with at most 26 significant bits, so
+/// products of halves are exact. Needs `|a| < 2^995` (no overflow of `2^27 a`).
+#[inline(always)]
+fn split(a: f64) -> (f64, f64) {
+    let t = 134_217_729.0 * a; // 2^27 + 1
+    let hi = t - (t - a);
+    (hi, a - hi)
+}
+
+/// `a * b = p + e` exactly, `p = fl(a * b)` (Dekker's TwoProduct, no fused multiply-add),
+/// unless the product underflows; `|a|, |b| < 2^995`.
+#[inline(always)]
+fn two_prod_split(a: f64, b: f64) -> (f64, f64) {
     let p = a * b;
-    (p, a.mul_add(b, -p))
+    let (ah, al) = split(a);
+    let (bh, bl) = split(b);
+    (p, ((ah * bh - p) + ah * bl + al * bh) + al * bl)
+}
+
+/// `a * a = p + e` exactly (Dekker), as [`two_prod_split`]`(a, a)`.
+#[inline(always)]
+fn two_square(a: f64) -> (f64, f64) {
+    let p = a * a;
+    let (h, l) = split(a);
+    (p, ((h * h - p) + 2.0 * (h * l)) + l * l)
 }
 
 /// `floor(log2 |x|)` for finite non-zero `x` (subnormals included); 0 for 0.
@@ -265,7 +317,8 @@ mod tests {
                 .wrapping_mul(6364136223846793005)
                 .wrapping_add(1442695040888963407);
             let b = (x >> 13) as i64 - (1 << 50);
-            let (p, e) = two_prod(a as f64, b as f64);
+            let (p, e) = two_prod_split(a as f64, b as f64);
+            assert_eq!(two_square(a as f64), two_prod_split(a as f64, a as f64));
             assert_eq!(p as i128 + e as i128, a as i128 * b as i128);
             let (s, e) = two_sum(a as f64 * 1024.0, b as f64 / 64.0);
             // Scale by 64 to make both sides integers.

@@ -18,7 +18,7 @@ use crate::accel::SphereBvh;
 #[inline]
 pub fn visible(bvh: &SphereBvh, x: DVec3, l: DVec3, dist: f64, own: u32) -> f64 {
     let mut tau = 0.0;
-    let blocked = bvh.any(x, l, 0.0, dist, |i, p, (t0, t1)| {
+    let blocked = bvh.any_except(x, l, 0.0, dist, own, |_, p, (t0, t1)| {
         if p.is_gas() {
             let overlap = t1.min(dist) - t0.max(0.0);
             if overlap > 0.0 {
@@ -26,7 +26,7 @@ pub fn visible(bvh: &SphereBvh, x: DVec3, l: DVec3, dist: f64, own: u32) -> f64 
             }
             false
         } else {
-            i != own && t0 > 0.0 && t0 < dist
+            t0 > 0.0 && t0 < dist
         }
     });
     if blocked {
