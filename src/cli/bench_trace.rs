@@ -184,7 +184,9 @@ pub fn run(spheres: usize, size: u32, runs: usize, threads: usize) -> Result<Exi
     }
     let med = |f: fn(&Run) -> f64| median(all.iter().map(f).collect());
     let peak = super::peak_rss_bytes().unwrap_or(0) as f64;
-    let peak_prepare = all.iter().map(|r| r.peak_prepare).max().unwrap_or(0) as f64;
+    // The process's high-water mark only grows: after the first run it also holds that run's
+    // render buffers, so only the first run's reading is the scene and BVH alone.
+    let peak_prepare = all[0].peak_prepare as f64;
     let last = &all[all.len() - 1];
     println!(
         "| spheres | image | BVH build s | camera Mrays/s/core | shadow Mrays/s/core | camera+shadow Mrays/s/core | full render Mrays/s/core ({threads} threads) | peak RSS B/sphere: scene + BVH | whole run |"
