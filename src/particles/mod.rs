@@ -67,6 +67,11 @@ pub fn convert<W: Write>(
         )));
     }
     let bounds = writer.bounds();
+    if opts.extras.viewpoint && writer.framing().is_none() {
+        reader.notes.push(
+            "no Viewpoint written: the particles reach too close to the largest f64 for a camera to frame them".to_string(),
+        );
+    }
     let particles = writer.count();
     let out = writer.finish(opts.extras).map_err(io)?;
     let mut notes = vec![format!("delimiter: {:?}", reader.delimiter()).to_lowercase()];

@@ -183,6 +183,25 @@ impl<W: Write> ParticleWriter<W> {
         (self.count > 0).then_some((self.lo, self.hi))
     }
 
+    /// Position and field of view of a camera looking down -z that sees every sphere whole,
+    /// or `None` when there are none or when that camera would stand beyond the range of f64
+    /// (particles near +-1e308: the half-diagonal and the distance are computed without
+    /// overflow where they fit, and refused where they do not).
+    pub fn framing(&self) -> Option<(DVec3, f64)> {
+        let (lo, hi) = self.bounds()?;
+        let centre = 0.5 * lo + 0.5 * hi;
+        let half = 0.5 * hi - 0.5 * lo;
+        let m = half.abs().max_element();
+        let radius = if m > 0.0 {
+            m * (half / m).length()
+        } else {
+            f64::MIN_POSITIVE
+        };
+        let fov = std::f64::consts::FRAC_PI_4;
+        let position = centre + DVec3::new(0.0, 0.0, radius / (0.5 * fov).sin());
+        (position.is_finite() && radius.is_finite()).then_some((position, fov))
+    }
+
     /// Adds the framing Viewpoint and lights, and returns the writer.
     pub fn finish(mut self, extras: Extras) -> io::Result<W> {
         writeln!(self.out, "# {} particles", self.count)?;
@@ -196,11 +215,7 @@ impl<W: Write> ParticleWriter<W> {
                   DirectionalLight { direction 0 0 -1 intensity 0.3 }\n",
             )?;
         }
-        if let (true, Some((lo, hi))) = (extras.viewpoint, self.bounds()) {
-            let centre = 0.5 * (lo + hi);
-            let radius = (0.5 * (hi - lo).length()).max(f64::MIN_POSITIVE);
-            let fov = std::f64::consts::FRAC_PI_4;
-            let position = centre + DVec3::new(0.0, 0.0, radius / (0.5 * fov).sin());
+        if let (true, Some((position, fov))) = (extras.viewpoint, self.framing()) {
             self.out.write_all(b"Viewpoint { position ")?;
             self.vec3(position.to_array())?;
             self.out.write_all(b" fieldOfView ")?;

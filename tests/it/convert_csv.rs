@@ -666,3 +666,33 @@ fn sample_table_converts() {
     assert_eq!(s.gas_count(), 12);
     assert_eq!(s.viewpoints.len(), 1);
 }
+
+/// Found by fuzzing: particles near the largest f64 made the framing Viewpoint infinite, which
+/// the reader rightly refuses. It is computed without overflow where it fits, and left out
+/// (with a note) where it cannot.
+#[test]
+fn framing_huge_coordinates() {
+    let (s, _) = convert_with(
+        "x,y,z,radius\n-1e300,0,0,1e299\n1e300,2e300,-1e300,1\n",
+        TableOptions::default(),
+        FRAMED,
+    )
+    .unwrap();
+    assert!(s.viewpoints[0].position.is_finite());
+    let input: Box<dyn std::io::Read> = Box::new(std::io::Cursor::new(
+        b"x,y,z,radius\n-1.7e308,0,0,1\n1.7e308,0,0,1\n".to_vec(),
+    ));
+    let (out, summary) = convert("t.csv", input, Vec::new(), TableOptions::default(), FRAMED)
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(summary
+        .notes
+        .iter()
+        .any(|n| n.contains("no Viewpoint written")));
+    let (s, _) = load_str(
+        "out.wrl",
+        &String::from_utf8(out).unwrap(),
+        &LoadOptions::default(),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert!(s.viewpoints.is_empty() && s.spheres.len() == 2);
+}
