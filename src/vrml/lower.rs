@@ -539,6 +539,8 @@ struct Lowerer {
     warn_index: HashMap<(Arc<str>, String), usize>,
     /// The fields of the open Material nodes, innermost last (see [`Kind::Material`]).
     open_materials: Vec<Material>,
+    /// The boxes of closed Transforms' fields, reused by the next Transforms.
+    spare_transforms: Vec<Box<TransformFields>>,
     skipped: BTreeMap<String, u64>,
     /// Indices into `scene.materials`, hashed by content (no copy of the key is kept).
     materials: MaterialTable,
@@ -916,6 +918,7 @@ impl Lowerer {
             warnings: Vec::new(),
             warn_index: HashMap::new(),
             open_materials: Vec::new(),
+            spare_transforms: Vec::new(),
             skipped: BTreeMap::new(),
             materials: MaterialTable::default(),
             nodes: 0,
@@ -1680,7 +1683,13 @@ impl Lowerer {
         let lowered = index.map_or(Lowered::Skipped, |i| LOWERED[i]);
         let kind = match lowered {
             Lowered::Group => group(None),
-            Lowered::Transform => group(Some(Box::default())),
+            Lowered::Transform => group(Some(match self.spare_transforms.pop() {
+                Some(mut t) => {
+                    *t = TransformFields::default();
+                    t
+                }
+                None => Box::default(),
+            })),
             Lowered::Inline => Kind::Group {
                 transform: None,
                 marks: m,
@@ -2443,7 +2452,22 @@ impl Lowerer {
         let Some(t) = transform else {
             return Ok(());
         };
-        let shift = translation_only(&t);
+        let result = self.close_transform(src, &t, marks, at);
+        // Kept for the next Transform (one allocation per nesting level, not per Transform).
+        self.spare_transforms.push(t);
+        result
+    }
+
+    /// Applies a closing Transform's fields to what was lowered inside it (since `marks`).
+    #[inline(always)]
+    fn close_transform(
+        &mut self,
+        src: &SourceWindow,
+        t: &TransformFields,
+        marks: Marks,
+        at: u64,
+    ) -> Result<(), Error> {
+        let shift = translation_only(t);
         if let Some(d) = shift {
             if d.is_finite() && self.only_plain_spheres_since(marks) {
                 // What `apply` does for this case, without building the matrix: see there.
@@ -2461,7 +2485,7 @@ impl Lowerer {
         }
         let m = match shift {
             Some(s) => DAffine3::from_translation(s),
-            None => full_transform_matrix(&t),
+            None => full_transform_matrix(t),
         };
         if m == DAffine3::IDENTITY {
             return Ok(());
