@@ -13,7 +13,7 @@ use nom::sequence::preceded;
 use nom::{IResult, Parser};
 
 /// Skips white space: blanks, tabs, CR, LF, commas and `#` comments to the end of the line.
-#[inline]
+#[inline(always)]
 pub fn ws(i: &str) -> &str {
     let b = i.as_bytes();
     // Most white space between tokens is one blank: skip it without the loop.

@@ -590,6 +590,12 @@ fn type_name(v: &Value) -> String {
 
 /// Checks a generic value against a field type; the error says what was expected.
 #[inline(always)]
+/// Whether a member with this access takes no value in a node (an eventIn or eventOut).
+fn is_event(access: Access) -> bool {
+    matches!(access, Access::EventIn | Access::EventOut)
+}
+
+#[inline]
 fn check_value(ty: FieldType, v: &Value) -> Result<(), String> {
     let ok = match (ty, v) {
         (_, Value::Is(_)) => true,
@@ -630,13 +636,20 @@ fn check_value(ty: FieldType, v: &Value) -> Result<(), String> {
     if ok {
         Ok(())
     } else {
-        let want = match ty.arity() {
-            Some(k) if ty.is_integer() => format!("{} ({k} integer(s) per value)", ty.name()),
-            Some(k) => format!("{} ({k} number(s) per value)", ty.name()),
-            None => ty.name().to_string(),
-        };
-        Err(format!("expects {want}, found {}", type_name(v)))
+        Err(value_mismatch(ty, v))
     }
+}
+
+/// The message of [`check_value`] for a value that does not fit its field's type.
+#[cold]
+#[inline(never)]
+fn value_mismatch(ty: FieldType, v: &Value) -> String {
+    let want = match ty.arity() {
+        Some(k) if ty.is_integer() => format!("{} ({k} integer(s) per value)", ty.name()),
+        Some(k) => format!("{} ({k} number(s) per value)", ty.name()),
+        None => ty.name().to_string(),
+    };
+    format!("expects {want}, found {}", type_name(v))
 }
 
 fn nums<'a>(v: &Value<'a>) -> &'a [f64] {
@@ -1896,7 +1909,7 @@ impl Lowerer {
         if self.quiet > 0 {
             return Ok(());
         }
-        let Some((f, access, ty)) = self.field_spec(src, name, at) else {
+        let Some((f, access)) = self.field_spec(src, name, at) else {
             // (IndexedFaceSet and Coordinate frames have no table: their fields come here.)
             if let Some(Frame {
                 kind: k @ (Kind::Mesh(_) | Kind::Coord(_)),
@@ -1907,13 +1920,16 @@ impl Lowerer {
             }
             return Ok(());
         };
-        if self.warn_if_event(src, name, &ty, access, at) {
+        if is_event(access) {
+            let ty = self.open_type();
+            self.warn_if_event(src, name, &ty, access, at);
             return Ok(());
         }
         if f.ty.is_node() {
             if value == Value::Empty {
                 return Ok(());
             }
+            let ty = self.open_type();
             return Err(self.error(
                 src,
                 at,
@@ -1925,31 +1941,36 @@ impl Lowerer {
             ));
         }
         if let Err(e) = check_value(f.ty, &value) {
+            let ty = self.open_type();
             return Err(self.error(src, at, format!("field '{name}' of {ty} {e}")));
         }
         self.apply_field(src, f.name, at, &value)
     }
 
     /// The field table entry for `name` in the innermost open standard node, with the access it
-    /// was used with and the node's type. Unknown names are warned about; nodes without a table
-    /// (PROTO instances, unknown types) give None silently.
+    /// was used with. Unknown names are warned about; nodes without a table (PROTO instances,
+    /// unknown types) give None silently.
     #[inline(always)]
     fn field_spec(
         &mut self,
         src: &SourceWindow,
         name: &str,
         at: u64,
-    ) -> Option<(&'static schema::FieldSpec, Access, Name)> {
+    ) -> Option<(&'static schema::FieldSpec, Access)> {
         let frame = self.frames.last()?;
-        let spec = frame.spec?;
-        let ty = frame.ty.clone();
-        match spec.event(name) {
-            Some((f, access)) => Some((f, access, ty)),
-            None => {
-                self.warn(src, at, format!("unknown field '{name}' of {ty}: ignored"));
-                None
-            }
+        let found = frame.spec?.event(name);
+        if found.is_none() {
+            let ty = self.open_type();
+            self.warn(src, at, format!("unknown field '{name}' of {ty}: ignored"));
         }
+        found
+    }
+
+    /// The type of the innermost open node (for messages).
+    fn open_type(&self) -> Name {
+        self.frames
+            .last()
+            .map_or(Name::Static(""), |f| f.ty.clone())
     }
 
     /// Warns when a value is given to an eventIn or eventOut; says whether it did.
@@ -1961,7 +1982,7 @@ impl Lowerer {
         access: Access,
         at: u64,
     ) -> bool {
-        let event = matches!(access, Access::EventIn | Access::EventOut);
+        let event = is_event(access);
         if event {
             let msg = format!(
                 "'{name}' of {ty} is an {}, not a field: ignored",
@@ -2101,9 +2122,10 @@ impl Lowerer {
         let idx = self.frames.len().saturating_sub(1);
         let mut known = None;
         if self.quiet == 0 {
-            if let Some((f, access, ty)) = self.field_spec(src, name, at) {
+            if let Some((f, access)) = self.field_spec(src, name, at) {
                 known = Some(f.name);
                 if !f.ty.is_node() {
+                    let ty = self.open_type();
                     return Err(self.error(
                         src,
                         at,
@@ -2113,7 +2135,10 @@ impl Lowerer {
                         ),
                     ));
                 }
-                self.warn_if_event(src, name, &ty, access, at);
+                if is_event(access) {
+                    let ty = self.open_type();
+                    self.warn_if_event(src, name, &ty, access, at);
+                }
             }
         }
         // The table's entry is this name unless it was found through a set_/_changed alias

@@ -167,7 +167,7 @@ impl Access {
 
 impl NodeSpec {
     /// The interface member declared with exactly this name (no event aliases).
-    #[inline]
+    #[inline(always)]
     pub fn field(&self, name: &str) -> Option<&'static FieldSpec> {
         let fields: &'static [FieldSpec] = self.fields;
         let b = name.as_bytes();
@@ -190,7 +190,7 @@ impl NodeSpec {
     ///
     /// A declared name always wins over an alias, and a plain declared name answers with its
     /// declared access (so an exposedField named as itself answers `ExposedField`).
-    #[inline]
+    #[inline(always)]
     pub fn event(&self, name: &str) -> Option<(&'static FieldSpec, Access)> {
         match self.field(name) {
             Some(f) => Some((f, f.access)),
