@@ -107,7 +107,7 @@ fn alnum_run(chunk: u64) -> usize {
     let at_least = |v: u64, lo: u8| v + u64::from(0x80 - lo) * ONES;
     let above = |v: u64, hi: u8| v + u64::from(0x7f - hi) * ONES;
     let x = chunk & !HIGH;
-    let lower = x | 0x20 * ONES;
+    let lower = x | (0x20 * ONES);
     let letter = at_least(lower, b'a') & !above(lower, b'z');
     let digit = at_least(x, b'0') & !above(x, b'9');
     let ok = (letter | digit) & !chunk & HIGH;

@@ -540,6 +540,10 @@ struct Lowerer {
     /// The fields of the open Material nodes, innermost last (see [`Kind::Material`]).
     open_materials: Vec<Material>,
     /// The boxes of closed Transforms' fields, reused by the next Transforms.
+    #[allow(
+        clippy::vec_box,
+        reason = "the allocations themselves are what is reused"
+    )]
     spare_transforms: Vec<Box<TransformFields>>,
     skipped: BTreeMap<String, u64>,
     /// Indices into `scene.materials`, hashed by content (no copy of the key is kept).
