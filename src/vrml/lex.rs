@@ -13,9 +13,15 @@ use nom::sequence::preceded;
 use nom::{IResult, Parser};
 
 /// Skips white space: blanks, tabs, CR, LF, commas and `#` comments to the end of the line.
-#[inline]
+#[inline(always)]
 pub fn ws(i: &str) -> &str {
     let b = i.as_bytes();
+    // Most white space between tokens is one blank: skip it without the loop.
+    if let [b' ', c, ..] = *b {
+        if c > b' ' && c != b',' && c != b'#' {
+            return &i[1..];
+        }
+    }
     let mut k = 0;
     while k < b.len() {
         match b[k] {
@@ -72,10 +78,40 @@ pub fn identifier(i: &str) -> IResult<&str, &str> {
         _ => return Err(nom::Err::Error(Error::new(i, ErrorKind::Alpha))),
     }
     let mut end = 1;
+    // Letters and digits 8 at a time, then the table for the rest (`_`, `-`, non-ASCII, ...)
+    // and for the byte that ends the identifier.
+    while let Some(chunk) = b
+        .get(end..end + 8)
+        .and_then(|c| <[u8; 8]>::try_from(c).ok())
+    {
+        let n = alnum_run(u64::from_le_bytes(chunk));
+        end += n;
+        if n < 8 {
+            break;
+        }
+    }
     while end < b.len() && ID_CLASS[b[end] as usize] & ID_REST != 0 {
         end += 1;
     }
     Ok((&i[end..], &i[..end]))
+}
+
+/// How many of the 8 bytes of `chunk` (first byte least significant) are ASCII letters or
+/// digits before the first that is not (SWAR: no carries cross bytes, as every byte is
+/// below 0x80 when added to).
+#[inline(always)]
+fn alnum_run(chunk: u64) -> usize {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    const HIGH: u64 = 0x8080_8080_8080_8080;
+    // High bit of each byte: v >= lo, and v > hi.
+    let at_least = |v: u64, lo: u8| v + u64::from(0x80 - lo) * ONES;
+    let above = |v: u64, hi: u8| v + u64::from(0x7f - hi) * ONES;
+    let x = chunk & !HIGH;
+    let lower = x | (0x20 * ONES);
+    let letter = at_least(lower, b'a') & !above(lower, b'z');
+    let digit = at_least(x, b'0') & !above(x, b'9');
+    let ok = (letter | digit) & !chunk & HIGH;
+    (!ok & HIGH).trailing_zeros() as usize / 8
 }
 
 /// True when the text starts like a number (`+`, `-`, `.`, or a digit).
@@ -582,6 +618,39 @@ mod tests {
                 };
                 assert_eq!(identifier(&t).ok().map(|r| r.1), want, "{t:?}");
             }
+        }
+    }
+
+    #[test]
+    fn long_identifiers_agree_with_the_byte_table() {
+        // The 8-byte letter and digit scan must stop where the byte table does.
+        let alphabet: Vec<char> = "aZz09_-+.{ }\t#\u{e9}AmM".chars().collect();
+        let mut state: u64 = 0x2545_F491_4F6C_DD1D;
+        let mut next = |n: u64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state % n
+        };
+        for _ in 0..100_000 {
+            let mut t = String::from("x");
+            for _ in 0..next(30) {
+                t.push(if next(3) == 0 {
+                    alphabet[next(alphabet.len() as u64) as usize]
+                } else {
+                    char::from(b'a' + next(26) as u8)
+                });
+            }
+            let n = t
+                .char_indices()
+                .find(|&(_, c)| c.is_ascii() && ID_CLASS[c as usize] & ID_REST == 0)
+                .map_or(t.len(), |(k, _)| k);
+            assert_eq!(identifier(&t).unwrap(), (&t[n..], &t[..n]), "{t:?}");
+        }
+        for b in 0..=255u8 {
+            let chunk = u64::from_le_bytes([b'a', b'Z', b'5', b, b'q', b'q', b'q', b'q']);
+            let want = if b.is_ascii_alphanumeric() { 8 } else { 3 };
+            assert_eq!(alnum_run(chunk), want, "{b}");
         }
     }
 

@@ -539,6 +539,12 @@ struct Lowerer {
     warn_index: HashMap<(Arc<str>, String), usize>,
     /// The fields of the open Material nodes, innermost last (see [`Kind::Material`]).
     open_materials: Vec<Material>,
+    /// The boxes of closed Transforms' fields, reused by the next Transforms.
+    #[allow(
+        clippy::vec_box,
+        reason = "the allocations themselves are what is reused"
+    )]
+    spare_transforms: Vec<Box<TransformFields>>,
     skipped: BTreeMap<String, u64>,
     /// Indices into `scene.materials`, hashed by content (no copy of the key is kept).
     materials: MaterialTable,
@@ -588,6 +594,12 @@ fn type_name(v: &Value) -> String {
 
 /// Checks a generic value against a field type; the error says what was expected.
 #[inline(always)]
+/// Whether a member with this access takes no value in a node (an eventIn or eventOut).
+fn is_event(access: Access) -> bool {
+    matches!(access, Access::EventIn | Access::EventOut)
+}
+
+#[inline]
 fn check_value(ty: FieldType, v: &Value) -> Result<(), String> {
     let ok = match (ty, v) {
         (_, Value::Is(_)) => true,
@@ -628,13 +640,20 @@ fn check_value(ty: FieldType, v: &Value) -> Result<(), String> {
     if ok {
         Ok(())
     } else {
-        let want = match ty.arity() {
-            Some(k) if ty.is_integer() => format!("{} ({k} integer(s) per value)", ty.name()),
-            Some(k) => format!("{} ({k} number(s) per value)", ty.name()),
-            None => ty.name().to_string(),
-        };
-        Err(format!("expects {want}, found {}", type_name(v)))
+        Err(value_mismatch(ty, v))
     }
+}
+
+/// The message of [`check_value`] for a value that does not fit its field's type.
+#[cold]
+#[inline(never)]
+fn value_mismatch(ty: FieldType, v: &Value) -> String {
+    let want = match ty.arity() {
+        Some(k) if ty.is_integer() => format!("{} ({k} integer(s) per value)", ty.name()),
+        Some(k) => format!("{} ({k} number(s) per value)", ty.name()),
+        None => ty.name().to_string(),
+    };
+    format!("expects {want}, found {}", type_name(v))
 }
 
 fn nums<'a>(v: &Value<'a>) -> &'a [f64] {
@@ -916,6 +935,7 @@ impl Lowerer {
             warnings: Vec::new(),
             warn_index: HashMap::new(),
             open_materials: Vec::new(),
+            spare_transforms: Vec::new(),
             skipped: BTreeMap::new(),
             materials: MaterialTable::default(),
             nodes: 0,
@@ -1680,7 +1700,13 @@ impl Lowerer {
         let lowered = index.map_or(Lowered::Skipped, |i| LOWERED[i]);
         let kind = match lowered {
             Lowered::Group => group(None),
-            Lowered::Transform => group(Some(Box::default())),
+            Lowered::Transform => group(Some(match self.spare_transforms.pop() {
+                Some(mut t) => {
+                    *t = TransformFields::default();
+                    t
+                }
+                None => Box::default(),
+            })),
             Lowered::Inline => Kind::Group {
                 transform: None,
                 marks: m,
@@ -1887,7 +1913,7 @@ impl Lowerer {
         if self.quiet > 0 {
             return Ok(());
         }
-        let Some((f, access, ty)) = self.field_spec(src, name, at) else {
+        let Some((f, access)) = self.field_spec(src, name, at) else {
             // (IndexedFaceSet and Coordinate frames have no table: their fields come here.)
             if let Some(Frame {
                 kind: k @ (Kind::Mesh(_) | Kind::Coord(_)),
@@ -1898,13 +1924,16 @@ impl Lowerer {
             }
             return Ok(());
         };
-        if self.warn_if_event(src, name, &ty, access, at) {
+        if is_event(access) {
+            let ty = self.open_type();
+            self.warn_if_event(src, name, &ty, access, at);
             return Ok(());
         }
         if f.ty.is_node() {
             if value == Value::Empty {
                 return Ok(());
             }
+            let ty = self.open_type();
             return Err(self.error(
                 src,
                 at,
@@ -1916,31 +1945,36 @@ impl Lowerer {
             ));
         }
         if let Err(e) = check_value(f.ty, &value) {
+            let ty = self.open_type();
             return Err(self.error(src, at, format!("field '{name}' of {ty} {e}")));
         }
         self.apply_field(src, f.name, at, &value)
     }
 
     /// The field table entry for `name` in the innermost open standard node, with the access it
-    /// was used with and the node's type. Unknown names are warned about; nodes without a table
-    /// (PROTO instances, unknown types) give None silently.
+    /// was used with. Unknown names are warned about; nodes without a table (PROTO instances,
+    /// unknown types) give None silently.
     #[inline(always)]
     fn field_spec(
         &mut self,
         src: &SourceWindow,
         name: &str,
         at: u64,
-    ) -> Option<(&'static schema::FieldSpec, Access, Name)> {
+    ) -> Option<(&'static schema::FieldSpec, Access)> {
         let frame = self.frames.last()?;
-        let spec = frame.spec?;
-        let ty = frame.ty.clone();
-        match spec.event(name) {
-            Some((f, access)) => Some((f, access, ty)),
-            None => {
-                self.warn(src, at, format!("unknown field '{name}' of {ty}: ignored"));
-                None
-            }
+        let found = frame.spec?.event(name);
+        if found.is_none() {
+            let ty = self.open_type();
+            self.warn(src, at, format!("unknown field '{name}' of {ty}: ignored"));
         }
+        found
+    }
+
+    /// The type of the innermost open node (for messages).
+    fn open_type(&self) -> Name {
+        self.frames
+            .last()
+            .map_or(Name::Static(""), |f| f.ty.clone())
     }
 
     /// Warns when a value is given to an eventIn or eventOut; says whether it did.
@@ -1952,7 +1986,7 @@ impl Lowerer {
         access: Access,
         at: u64,
     ) -> bool {
-        let event = matches!(access, Access::EventIn | Access::EventOut);
+        let event = is_event(access);
         if event {
             let msg = format!(
                 "'{name}' of {ty} is an {}, not a field: ignored",
@@ -2092,9 +2126,10 @@ impl Lowerer {
         let idx = self.frames.len().saturating_sub(1);
         let mut known = None;
         if self.quiet == 0 {
-            if let Some((f, access, ty)) = self.field_spec(src, name, at) {
+            if let Some((f, access)) = self.field_spec(src, name, at) {
                 known = Some(f.name);
                 if !f.ty.is_node() {
+                    let ty = self.open_type();
                     return Err(self.error(
                         src,
                         at,
@@ -2104,7 +2139,10 @@ impl Lowerer {
                         ),
                     ));
                 }
-                self.warn_if_event(src, name, &ty, access, at);
+                if is_event(access) {
+                    let ty = self.open_type();
+                    self.warn_if_event(src, name, &ty, access, at);
+                }
             }
         }
         // The table's entry is this name unless it was found through a set_/_changed alias
@@ -2443,7 +2481,22 @@ impl Lowerer {
         let Some(t) = transform else {
             return Ok(());
         };
-        let shift = translation_only(&t);
+        let result = self.close_transform(src, &t, marks, at);
+        // Kept for the next Transform (one allocation per nesting level, not per Transform).
+        self.spare_transforms.push(t);
+        result
+    }
+
+    /// Applies a closing Transform's fields to what was lowered inside it (since `marks`).
+    #[inline(always)]
+    fn close_transform(
+        &mut self,
+        src: &SourceWindow,
+        t: &TransformFields,
+        marks: Marks,
+        at: u64,
+    ) -> Result<(), Error> {
+        let shift = translation_only(t);
         if let Some(d) = shift {
             if d.is_finite() && self.only_plain_spheres_since(marks) {
                 // What `apply` does for this case, without building the matrix: see there.
@@ -2461,7 +2514,7 @@ impl Lowerer {
         }
         let m = match shift {
             Some(s) => DAffine3::from_translation(s),
-            None => full_transform_matrix(&t),
+            None => full_transform_matrix(t),
         };
         if m == DAffine3::IDENTITY {
             return Ok(());

@@ -77,6 +77,51 @@ enum Item<'a> {
     Urls(&'a [String]),
 }
 
+/// The words that mean something where a name could stand: keywords, and the spellings of
+/// NaN and infinity (any case) that get their own message.
+const SPECIAL_WORDS: [&str; 19] = [
+    "DEF",
+    "USE",
+    "PROTO",
+    "EXTERNPROTO",
+    "ROUTE",
+    "TO",
+    "IS",
+    "NULL",
+    "TRUE",
+    "FALSE",
+    "eventIn",
+    "eventOut",
+    "field",
+    "exposedField",
+    "nan",
+    "NaN",
+    "inf",
+    "Inf",
+    "INF",
+];
+
+/// Which bytes start a word of [`SPECIAL_WORDS`] (`n`/`N`, `i`/`I` for all cases of the
+/// NaN words).
+const SPECIAL_FIRST: [bool; 256] = {
+    let mut t = [false; 256];
+    let mut i = 0;
+    while i < SPECIAL_WORDS.len() {
+        t[SPECIAL_WORDS[i].as_bytes()[0] as usize] = true;
+        i += 1;
+    }
+    t
+};
+
+/// True when `id` cannot be a keyword or a NaN word: its first byte starts none of them. Most
+/// field names and node types pass this one test and skip the string comparisons.
+#[inline(always)]
+fn plain_word(id: &str) -> bool {
+    id.as_bytes()
+        .first()
+        .is_some_and(|&b| !SPECIAL_FIRST[b as usize])
+}
+
 fn is_nan_word(id: &str) -> bool {
     ["nan", "inf", "infinity"]
         .iter()
@@ -115,14 +160,14 @@ fn ident<'a>(i: &'a str, what: &str) -> PResult<'a, &'a str> {
 /// `[DEF name] Type {` with the first identifier already read.
 #[inline(always)]
 fn node_header<'a>(first: &'a str, rest: &'a str) -> PResult<'a, (Option<&'a str>, &'a str)> {
-    let (def, ty, rest) = if first == "DEF" {
+    let (def, ty, rest) = if !plain_word(first) && first == "DEF" {
         let (r, name) = ident(ws(rest), "a name after DEF")?;
         let (r, ty) = ident(ws(r), "a node type after the DEF name")?;
         (Some(name), ty, r)
     } else {
         (None, first, rest)
     };
-    if is_reserved(ty) {
+    if !plain_word(ty) && is_reserved(ty) {
         return fail(rest, format!("expected a node type, found keyword '{ty}'"));
     }
     let r = ws(rest);
@@ -224,6 +269,10 @@ fn value<'a>(i: &'a str, s: &'a mut Scratch) -> PResult<'a, Val<'a>> {
         }
         Some(_) => {
             let (r, id) = ident(i, "a field value")?;
+            if plain_word(id) {
+                let (r, (def, ty)) = node_header(id, r)?;
+                return Ok((r, Val::Node(def, ty, i)));
+            }
             match id {
                 "TRUE" | "FALSE" => {
                     s.bools.push(id == "TRUE");
@@ -388,6 +437,10 @@ fn body_element<'a>(i: &'a str, s: &'a mut Scratch) -> PResult<'a, Item<'a>> {
         return Ok((r, Item::Close));
     }
     let (r, id) = ident(i, "a field name or '}'")?;
+    if plain_word(id) {
+        let (r, v) = value(ws(r), s)?;
+        return Ok((r, Item::Field(id, v)));
+    }
     match id {
         "PROTO" | "EXTERNPROTO" | "ROUTE" => statement(i),
         _ if is_access(id) => decl(id, r, true, s),
@@ -769,5 +822,49 @@ fn emit<S: Sink + ?Sized>(
                 None => Ok(StackOp::None),
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plain_words_are_no_keywords() {
+        // Every word the item parsers compare names against must fail `plain_word`.
+        let mut words: Vec<String> = SPECIAL_WORDS.iter().map(|w| w.to_string()).collect();
+        for w in ["nan", "inf", "infinity"] {
+            for mask in 0..1u32 << w.len() {
+                let v = w
+                    .chars()
+                    .enumerate()
+                    .map(|(k, c)| {
+                        if mask & 1 << k != 0 {
+                            c.to_ascii_uppercase()
+                        } else {
+                            c
+                        }
+                    })
+                    .collect();
+                words.push(v);
+            }
+        }
+        for w in &words {
+            assert!(!plain_word(w), "{w}");
+        }
+        for w in words.iter().filter(|w| !is_nan_word(w)) {
+            assert!(is_reserved(w), "{w}");
+        }
+        for w in [
+            "Group",
+            "Shape",
+            "translation",
+            "children",
+            "radius",
+            "diffuseColor",
+        ] {
+            assert!(plain_word(w), "{w}");
+        }
+        assert!(!plain_word(""));
     }
 }

@@ -58,7 +58,13 @@ pub struct FieldSpec {
 pub struct NodeSpec {
     pub name: &'static str,
     pub fields: &'static [FieldSpec],
+    /// An open-addressing table over `fields` (index + 1, 0 for empty) by [`name_slot`], so
+    /// that a field name is found without scanning the list.
+    field_slots: [u8; FIELD_SLOTS],
 }
+
+/// Slots of [`NodeSpec::field_slots`]: a power of two, more than twice the longest field list.
+const FIELD_SLOTS: usize = 64;
 
 impl FieldType {
     /// Every field type, in declaration order.
@@ -161,14 +167,22 @@ impl Access {
 
 impl NodeSpec {
     /// The interface member declared with exactly this name (no event aliases).
+    #[inline(always)]
     pub fn field(&self, name: &str) -> Option<&'static FieldSpec> {
         let fields: &'static [FieldSpec] = self.fields;
-        // Length and first byte rule out almost every other name before the full comparison.
         let b = name.as_bytes();
-        fields.iter().find(|f| {
-            let fb = f.name.as_bytes();
-            fb.len() == b.len() && fb.first() == b.first() && same_bytes(fb, b)
-        })
+        let mut h = field_slot(b);
+        loop {
+            let k = self.field_slots[h] as usize;
+            if k == 0 {
+                return None;
+            }
+            let f = &fields[k - 1];
+            if same_bytes(f.name.as_bytes(), b) {
+                return Some(f);
+            }
+            h = (h + 1) % FIELD_SLOTS;
+        }
     }
 
     /// Resolves exposedField event aliases too: for an exposedField `foo`, `set_foo` is its eventIn and `foo_changed` its eventOut.
@@ -176,10 +190,18 @@ impl NodeSpec {
     ///
     /// A declared name always wins over an alias, and a plain declared name answers with its
     /// declared access (so an exposedField named as itself answers `ExposedField`).
+    #[inline(always)]
     pub fn event(&self, name: &str) -> Option<(&'static FieldSpec, Access)> {
-        if let Some(f) = self.field(name) {
-            return Some((f, f.access));
+        match self.field(name) {
+            Some(f) => Some((f, f.access)),
+            None => self.event_alias(name),
         }
+    }
+
+    /// [`NodeSpec::event`] for a name that is not declared: `set_foo` or `foo_changed`.
+    #[cold]
+    #[inline(never)]
+    fn event_alias(&self, name: &str) -> Option<(&'static FieldSpec, Access)> {
         let exposed = |base: &str| {
             self.field(base)
                 .filter(|f| f.access == Access::ExposedField)
@@ -245,6 +267,18 @@ const fn name_slot(b: &[u8]) -> usize {
     (key.wrapping_mul(0x9E37_79B1) >> 24) as usize
 }
 
+/// Where a field name starts its probe in a [`NodeSpec::field_slots`]: a hash of its length
+/// and its first and last bytes (a node's few field names rarely share all three).
+#[inline]
+const fn field_slot(b: &[u8]) -> usize {
+    let n = b.len();
+    if n == 0 {
+        return 0;
+    }
+    let key = (n as u32) | (b[0] as u32) << 8 | (b[n - 1] as u32) << 16;
+    (key.wrapping_mul(0x9E37_79B1) >> 26) as usize
+}
+
 /// An open-addressing table over [`NODES`] (index + 1, 0 for empty), built at compile time.
 static NODE_SLOTS: [u8; 256] = {
     let mut t = [0u8; 256];
@@ -281,7 +315,22 @@ const fn eout(name: &'static str, ty: FieldType) -> FieldSpec {
 }
 
 const fn node(name: &'static str, fields: &'static [FieldSpec]) -> NodeSpec {
-    NodeSpec { name, fields }
+    assert!(2 * fields.len() < FIELD_SLOTS);
+    let mut field_slots = [0u8; FIELD_SLOTS];
+    let mut i = 0;
+    while i < fields.len() {
+        let mut h = field_slot(fields[i].name.as_bytes());
+        while field_slots[h] != 0 {
+            h = (h + 1) % FIELD_SLOTS;
+        }
+        field_slots[h] = i as u8 + 1;
+        i += 1;
+    }
+    NodeSpec {
+        name,
+        fields,
+        field_slots,
+    }
 }
 
 // The tables below follow the node declarations of ISO/IEC 14772-1:1997 clause 6, field for
@@ -799,6 +848,30 @@ pub static NODES: &[NodeSpec] = &[
 mod tests {
     use super::*;
     use std::collections::HashSet;
+
+    #[test]
+    fn field_slots_find_what_a_scan_finds() {
+        for n in NODES {
+            for f in n.fields {
+                let scan = n.fields.iter().find(|g| g.name == f.name).unwrap();
+                assert!(
+                    std::ptr::eq(n.field(f.name).unwrap(), scan),
+                    "{}.{}",
+                    n.name,
+                    f.name
+                );
+                for miss in [
+                    format!("{}x", f.name),
+                    f.name[1..].to_string(),
+                    f.name.to_uppercase(),
+                ] {
+                    let want = n.fields.iter().find(|g| g.name == miss).map(|g| g.name);
+                    assert_eq!(n.field(&miss).map(|g| g.name), want, "{}.{miss}", n.name);
+                }
+            }
+            assert!(n.field("").is_none());
+        }
+    }
 
     fn has(node: &str, name: &str, ty: FieldType, access: Access) {
         let spec = node_spec(node).unwrap_or_else(|| panic!("no node {node}"));
