@@ -430,17 +430,22 @@ mod tests {
         assert!(num("7").integer && !num("7.").integer && !num("7e0").integer);
     }
 
-    #[test]
-    fn generated_numbers_agree_with_std_parse() {
-        // Every shape the scanner distinguishes: signs, digit counts around the fast path's
-        // limits (19 digits, 2^53, exponent ±22), leading and trailing zeros, exponents.
+    /// Deterministic pseudo-random integers below `n`, the same sequence every call.
+    fn xorshift() -> impl FnMut(u64) -> u64 {
         let mut state: u64 = 0x2545_F491_4F6C_DD1D;
-        let mut next = |n: u64| {
+        move |n| {
             state ^= state << 13;
             state ^= state >> 7;
             state ^= state << 17;
             state % n
-        };
+        }
+    }
+
+    #[test]
+    fn generated_numbers_agree_with_std_parse() {
+        // Every shape the scanner distinguishes: signs, digit counts around the fast path's
+        // limits (19 digits, 2^53, exponent ±22), leading and trailing zeros, exponents.
+        let mut next = xorshift();
         let mut checked = 0;
         for _ in 0..200_000 {
             let mut t = String::new();
@@ -625,13 +630,7 @@ mod tests {
     fn long_identifiers_agree_with_the_byte_table() {
         // The 8-byte letter and digit scan must stop where the byte table does.
         let alphabet: Vec<char> = "aZz09_-+.{ }\t#\u{e9}AmM".chars().collect();
-        let mut state: u64 = 0x2545_F491_4F6C_DD1D;
-        let mut next = |n: u64| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state % n
-        };
+        let mut next = xorshift();
         for _ in 0..100_000 {
             let mut t = String::from("x");
             for _ in 0..next(30) {

@@ -1006,6 +1006,23 @@ impl Lowerer {
 
     // ----- diagnostics
 
+    /// Counts `n` more lowered nodes; an error past `max_nodes`.
+    #[inline]
+    fn add_nodes(&mut self, n: u64, src: &SourceWindow, at: u64) -> Result<(), Error> {
+        self.nodes += n;
+        if self.nodes > self.opts.max_nodes {
+            return Err(self.error(
+                src,
+                at,
+                format!(
+                    "the scene expands to more than {} nodes (USE/PROTO blow-up?)",
+                    self.opts.max_nodes
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     fn error(&self, src: &SourceWindow, at: u64, msg: impl Into<String>) -> Error {
         Error::Diag(Box::new(src.diagnostic(Severity::Error, at, msg.into())))
     }
@@ -1304,17 +1321,7 @@ impl Lowerer {
                     Rec::Ev(OwnedEvent::NodeStart { ty, .. }) if &**ty == "IndexedFaceSet");
             if mesh {
                 if let Some(c) = self.mesh_cache.get(&range.start).copied() {
-                    self.nodes += c.nodes;
-                    if self.nodes > self.opts.max_nodes {
-                        return Err(self.error(
-                            src,
-                            at,
-                            format!(
-                                "the scene expands to more than {} nodes (USE/PROTO blow-up?)",
-                                self.opts.max_nodes
-                            ),
-                        ));
-                    }
+                    self.add_nodes(c.nodes, src, at)?;
                     self.count_mesh(c.geom);
                     return self.deliver(src, Result_::Geometry(c.geom), at);
                 }
@@ -1594,17 +1601,7 @@ impl Lowerer {
                 s.open_defs.push(d.clone());
             }
         }
-        self.nodes += 1;
-        if self.nodes > self.opts.max_nodes {
-            return Err(self.error(
-                src,
-                at,
-                format!(
-                    "the scene expands to more than {} nodes (USE/PROTO blow-up?)",
-                    self.opts.max_nodes
-                ),
-            ));
-        }
+        self.add_nodes(1, src, at)?;
         let index = schema::node_index(ty);
         let spec = index.map(|i| &schema::NODES[i]);
         // A standard type was found by this very name.
