@@ -65,8 +65,12 @@ impl<W: Write> ParticleWriter<W> {
         default_radius: Option<f64>,
     ) -> io::Result<Self> {
         writeln!(out, "#VRML V2.0 utf8")?;
-        let mut one_line = source.replace(['\n', '\r'], " ");
-        one_line.truncate(200);
+        // At most 200 characters (truncating bytes could split a character and panic).
+        let one_line: String = source
+            .chars()
+            .map(|c| if c == '\n' || c == '\r' { ' ' } else { c })
+            .take(200)
+            .collect();
         writeln!(
             out,
             "# Particles from {one_line}, written by gtsphere {}",
@@ -113,11 +117,7 @@ impl<W: Write> ParticleWriter<W> {
     }
 
     fn vec3(&mut self, v: [f64; 3]) -> io::Result<()> {
-        self.f64(v[0])?;
-        self.out.write_all(b" ")?;
-        self.f64(v[1])?;
-        self.out.write_all(b" ")?;
-        self.f64(v[2])
+        self.nums(v.map(|value| Num { value, text: None }))
     }
 
     /// Writes one particle.
@@ -223,5 +223,28 @@ impl<W: Write> ParticleWriter<W> {
             self.out.write_all(b" description \"all particles\" }\n")?;
         }
         Ok(self.out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn long_non_ascii_source_names_are_cut_at_a_character() {
+        // Byte 200 falls inside an "\u{e9}" (2 bytes each, after 3 one-byte characters).
+        let name = "ab\n".to_string() + &"\u{e9}".repeat(300);
+        let w = ParticleWriter::new(Vec::new(), &name, true, None).unwrap();
+        let extras = Extras {
+            viewpoint: false,
+            lights: false,
+        };
+        let out = String::from_utf8(w.finish(extras).unwrap()).unwrap();
+        let want = format!(
+            "# Particles from ab {}, written by gtsphere {}",
+            "\u{e9}".repeat(197),
+            env!("CARGO_PKG_VERSION")
+        );
+        assert_eq!(out.lines().nth(1).unwrap(), want);
     }
 }
