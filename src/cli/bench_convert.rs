@@ -67,22 +67,9 @@ fn open(table: &Path) -> Result<Box<dyn std::io::Read>, Error> {
 fn to_file(table: &Path, out_path: &Path) -> Result<(f64, f64), Error> {
     let name = table.display().to_string();
     let input = open(table)?;
-    let mut failure = None;
     let t0 = Instant::now();
-    let written = write_file_atomically(out_path, |w| {
-        match particles::convert(&name, input, w, TableOptions::default(), options()) {
-            Ok(_) => Ok(()),
-            Err(e) => {
-                failure = Some(e);
-                Err(std::io::Error::other("conversion failed"))
-            }
-        }
-    });
+    particles::convert_to_file(&name, input, out_path, TableOptions::default(), options())?;
     let secs = t0.elapsed().as_secs_f64();
-    if let Some(e) = failure {
-        return Err(e);
-    }
-    written?;
     let bytes = std::fs::metadata(out_path).map(|m| m.len()).unwrap_or(0) as f64;
     let _ = std::fs::remove_file(out_path);
     Ok((secs, bytes))

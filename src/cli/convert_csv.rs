@@ -12,7 +12,6 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::error::Error;
 use crate::input::sniff;
-use crate::output::write_file_atomically;
 use crate::particles::columns::ColumnSpec;
 use crate::particles::{self, ColorScale, Delimiter, Extras, TableOptions, WriteOptions};
 
@@ -96,23 +95,15 @@ fn open(path: &Path) -> Result<Box<dyn Read>, Error> {
 
 /// Whether the (decompressed) input starts with the VRML header.
 fn is_vrml(path: &Path) -> Result<bool, Error> {
-    let mut head = [0u8; 5];
-    let mut r = open(path)?;
-    let mut n = 0;
-    while n < head.len() {
-        match r.read(&mut head[n..]) {
-            Ok(0) => break,
-            Ok(k) => n += k,
-            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
-            Err(e) => {
-                return Err(Error::Io {
-                    path: path.display().to_string(),
-                    source: e,
-                })
-            }
-        }
-    }
-    Ok(&head[..n] == b"#VRML")
+    let mut head = Vec::with_capacity(5);
+    open(path)?
+        .take(5)
+        .read_to_end(&mut head)
+        .map_err(|e| Error::Io {
+            path: path.display().to_string(),
+            source: e,
+        })?;
+    Ok(head == b"#VRML")
 }
 
 pub fn run(args: &ConvertArgs) -> Result<ExitCode, Error> {
@@ -171,30 +162,9 @@ pub fn run(args: &ConvertArgs) -> Result<ExitCode, Error> {
         source: e,
     })?;
     let name = args.input.display().to_string();
-    // Conversion errors are kept aside: the atomic writer only knows I/O errors, and a bad
-    // row must leave no output file.
-    let mut failure = None;
-    let mut summary = None;
-    let written = write_file_atomically(&args.output, |w| {
-        match particles::convert(&name, input, w, table, opts) {
-            Ok((_, s)) => {
-                summary = Some(s);
-                Ok(())
-            }
-            Err(e) => {
-                failure = Some(e);
-                Err(std::io::Error::other("conversion failed"))
-            }
-        }
-    });
+    let converted = particles::convert_to_file(&name, input, &args.output, table, opts);
     bar.finish_and_clear();
-    if let Some(e) = failure {
-        return Err(e);
-    }
-    written?;
-    let Some(s) = summary else {
-        return Err(Error::Other("conversion produced no summary".to_string()));
-    };
+    let s = converted?;
     if !args.quiet {
         for n in &s.notes {
             eprintln!("{name}: {n}");

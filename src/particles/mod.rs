@@ -10,9 +10,11 @@ pub mod read;
 pub mod write;
 
 use std::io::{Read, Write};
+use std::path::Path;
 
 use crate::diag::Diagnostic;
 use crate::error::Error;
+use crate::output::write_file_atomically;
 pub use read::{ColorScale, Delimiter, ParticleReader, TableOptions};
 pub use write::{Extras, ParticleWriter};
 
@@ -38,6 +40,35 @@ pub struct WriteOptions {
 
 fn diag(d: Diagnostic) -> Error {
     Error::Diag(Box::new(d))
+}
+
+/// [`convert`] into the file `path`, written to a temporary name and renamed: a bad row or an
+/// empty table leaves no file (and an existing one as it was).
+pub fn convert_to_file(
+    name: &str,
+    input: Box<dyn Read>,
+    path: &Path,
+    table: TableOptions,
+    opts: WriteOptions,
+) -> Result<Summary, Error> {
+    // Conversion errors are kept aside: the atomic writer only knows I/O errors.
+    let mut failure = None;
+    let mut summary = None;
+    let written = write_file_atomically(path, |w| match convert(name, input, w, table, opts) {
+        Ok((_, s)) => {
+            summary = Some(s);
+            Ok(())
+        }
+        Err(e) => {
+            failure = Some(e);
+            Err(std::io::Error::other("conversion failed"))
+        }
+    });
+    if let Some(e) = failure {
+        return Err(e);
+    }
+    written?;
+    summary.ok_or_else(|| Error::Other("conversion produced no summary".to_string()))
 }
 
 /// Converts the table read from `input` (named `name` in messages) into VRML on `out`.

@@ -126,6 +126,18 @@ impl Rows {
     }
 }
 
+impl Rows {
+    /// Skips one raw line of a white-space table, blank or not (an XYZ comment line).
+    fn skip_line(&mut self) -> Result<(), String> {
+        if let Rows::Whitespace { reader, line, buf } = self {
+            buf.clear();
+            reader.read_until(b'\n', buf).map_err(|e| e.to_string())?;
+            *line += 1;
+        }
+        Ok(())
+    }
+}
+
 /// A row kept aside while the colour scale is decided.
 struct Held {
     line: u64,
@@ -146,6 +158,8 @@ pub struct ParticleReader {
     vals: [Option<f64>; 16],
     /// The current row's element radius and colour, when the table relies on them.
     element: Option<(f64, [f64; 3])>,
+    /// Whether the element column gives the radius and the colour (the table does not).
+    element_gives: (bool, bool),
     line: u64,
     /// Data rows still to read (XYZ files say how many atoms a frame has).
     remaining: Option<u64>,
@@ -154,6 +168,19 @@ pub struct ParticleReader {
     pub first_skip: Option<Diagnostic>,
     /// What was decided about the file, for the user (one line each).
     pub notes: Vec<String>,
+}
+
+/// An error at `line`, field `col` (1-based) of `file`.
+fn diagnostic(file: &Arc<str>, line: u64, col: u64, message: String) -> Diagnostic {
+    Diagnostic {
+        severity: Severity::Error,
+        file: file.clone(),
+        line,
+        col,
+        message,
+        snippet: None,
+        repeats: 0,
+    }
 }
 
 /// A decimal number (Rust's syntax: `1`, `-.5`, `+2.`, `1e-3`; `inf` and `nan` too, which
@@ -206,15 +233,7 @@ impl ParticleReader {
     ) -> Result<ParticleReader, Diagnostic> {
         let file: Arc<str> = Arc::from(file);
         let mut reader = BufReader::with_capacity(1 << 16, reader);
-        let read_error = |e: std::io::Error| Diagnostic {
-            severity: Severity::Error,
-            file: file.clone(),
-            line: 1,
-            col: 1,
-            message: e.to_string(),
-            snippet: None,
-            repeats: 0,
-        };
+        let read_error = |e: std::io::Error| diagnostic(&file, 1, 1, e.to_string());
         // A UTF-8 byte order mark (spreadsheet exports) is not part of the first name.
         if reader
             .fill_buf()
@@ -227,7 +246,7 @@ impl ParticleReader {
         let delimiter = opts.delimiter.unwrap_or_else(|| guess_delimiter(head));
         let rows = match delimiter {
             Delimiter::Whitespace => Rows::Whitespace {
-                reader: BufReader::with_capacity(1 << 16, Box::new(reader)),
+                reader,
                 line: 0,
                 buf: Vec::new(),
             },
@@ -256,6 +275,7 @@ impl ParticleReader {
             rec: ByteRecord::new(),
             vals: [None; 16],
             element: None,
+            element_gives: (false, false),
             line: 0,
             remaining: None,
             skipped: 0,
@@ -266,35 +286,22 @@ impl ParticleReader {
         Ok(me)
     }
 
-    /// The column roles in use.
-    pub fn columns(&self) -> &ColumnMap {
-        &self.map
-    }
-
     pub fn delimiter(&self) -> Delimiter {
         self.delimiter
     }
 
-    pub fn color_scale(&self) -> ColorScale {
-        self.scale
+    fn error(&self, line: u64, col: usize, message: String) -> Diagnostic {
+        diagnostic(&self.file, line, col as u64, message)
     }
 
-    fn error(&self, line: u64, col: usize, message: String) -> Diagnostic {
-        Diagnostic {
-            severity: Severity::Error,
-            file: self.file.clone(),
-            line,
-            col: col as u64,
-            message,
-            snippet: None,
-            repeats: 0,
-        }
+    /// An I/O or CSV error while reading the line after the current one.
+    fn read_failed(&self, m: String) -> Diagnostic {
+        self.error(self.line + 1, 1, format!("cannot read the table: {m}"))
     }
 
     fn read_row(&mut self, rec: &mut ByteRecord) -> Result<Option<u64>, Diagnostic> {
-        self.rows
-            .next(rec)
-            .map_err(|m| self.error(self.line + 1, 1, format!("cannot read the table: {m}")))
+        let got = self.rows.next(rec);
+        got.map_err(|m| self.read_failed(m))
     }
 
     /// Reads the header (or decides there is none), the column roles and the colour scale.
@@ -310,24 +317,8 @@ impl ParticleReader {
                 self.remaining = Some(count);
                 let mut comment = ByteRecord::new();
                 // The comment line may be empty, which the white-space reader skips; read it raw.
-                if let Rows::Whitespace {
-                    reader,
-                    line: l,
-                    buf,
-                } = &mut self.rows
-                {
-                    buf.clear();
-                    reader.read_until(b'\n', buf).map_err(|e| Diagnostic {
-                        severity: Severity::Error,
-                        file: self.file.clone(),
-                        line: *l + 1,
-                        col: 1,
-                        message: e.to_string(),
-                        snippet: None,
-                        repeats: 0,
-                    })?;
-                    *l += 1;
-                }
+                let skipped = self.rows.skip_line();
+                skipped.map_err(|m| self.read_failed(m))?;
                 self.notes.push(format!(
                     "XYZ file: {count} atoms in the first frame (later frames are not read)"
                 ));
@@ -402,6 +393,7 @@ impl ParticleReader {
                 && map.get(Role::Radius).is_none()
                 && map.get(Role::Diameter).is_none();
             let colour = map.get(Role::Red).is_none();
+            self.element_gives = (radius, colour);
             if radius || colour {
                 let what = match (radius, colour) {
                     (true, true) => "radii (van der Waals, in angstrom) and colours (CPK)",
@@ -484,11 +476,9 @@ impl ParticleReader {
                 self.rec = h.rec;
                 h.line
             } else {
+                // Into `self.rec` itself (a separate record would allocate per row).
                 let got = self.rows.next(&mut self.rec);
-                let got = got.map_err(|m| {
-                    self.error(self.line + 1, 1, format!("cannot read the table: {m}"))
-                });
-                match got? {
+                match got.map_err(|m| self.read_failed(m))? {
                     Some(line) => line,
                     None => {
                         if let Some(n) = self.remaining {
@@ -626,10 +616,8 @@ impl ParticleReader {
         }
         self.element = None;
         if let Some(col) = self.map.get(Role::Element) {
-            let need_radius = self.opts.radius.is_none()
-                && self.map.get(Role::Radius).is_none()
-                && self.map.get(Role::Diameter).is_none();
-            if need_radius || self.map.get(Role::Red).is_none() {
+            let (need_radius, need_colour) = self.element_gives;
+            if need_radius || need_colour {
                 let label = text(self.field(line, col)?);
                 let element = super::elements::lookup(label);
                 if element.is_none() && need_radius {
