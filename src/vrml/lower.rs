@@ -50,6 +50,7 @@ use std::time::Instant;
 
 use glam::{DAffine3, DMat3, DQuat, DVec3};
 
+use super::materials::RecentMaterials;
 use super::parse::Parser;
 use super::schema::{self, Access, FieldType};
 use super::syntax::{Event, OwnedEvent, OwnedValue, Sink, Value};
@@ -546,8 +547,8 @@ struct Lowerer {
     )]
     spare_transforms: Vec<Box<TransformFields>>,
     skipped: BTreeMap<String, u64>,
-    /// Indices into `scene.materials`, hashed by content (no copy of the key is kept).
-    materials: MaterialTable,
+    /// Recent materials by content (equal ones are shared; see [`super::materials`]).
+    materials: RecentMaterials,
     nodes: u64,
     replay_depth: u32,
     file: u32,
@@ -749,24 +750,6 @@ fn rotation_part(m: &DMat3) -> DQuat {
     DQuat::from_mat3(&DMat3::from_cols(x, y, z)).normalize()
 }
 
-fn material_key(m: &Material) -> [u64; 13] {
-    [
-        m.diffuse.x.to_bits(),
-        m.diffuse.y.to_bits(),
-        m.diffuse.z.to_bits(),
-        m.emissive.x.to_bits(),
-        m.emissive.y.to_bits(),
-        m.emissive.z.to_bits(),
-        m.specular.x.to_bits(),
-        m.specular.y.to_bits(),
-        m.specular.z.to_bits(),
-        m.shininess.to_bits(),
-        m.ambient_intensity.to_bits(),
-        m.transparency.to_bits(),
-        m.unlit as u64,
-    ]
-}
-
 /// A sphere after transforms must still be finite with a positive radius (no overflow to
 /// infinity or NaN, no underflow to zero).
 fn check_sphere(center: DVec3, radius: f64) -> Result<(), String> {
@@ -777,85 +760,6 @@ fn check_sphere(center: DVec3, radius: f64) -> Result<(), String> {
         return Err(format!("a sphere radius overflow or underflow ({radius})"));
     }
     Ok(())
-}
-
-/// A fixed (same on every call and every run) hash of a material's content. Materials are
-/// hashed once per Material node, so this is a multiply-xor mix rather than SipHash; the
-/// final avalanche spreads every input bit over the bits hashbrown uses (top 7 and low).
-/// The scene's materials by content: open addressing over one array of `tag << 32 | index + 1`
-/// (0 is empty), with `tag` the high half of [`hash_key`] choosing the slot too.
-///
-/// A million distinct materials make a table far larger than the caches; hashbrown kept
-/// control bytes and indices in two arrays (two cache misses per new material) and rehashed
-/// every material on growth. One array is one miss, and growth moves the entries by their tags
-/// without reading a material. The table is at most half full.
-#[derive(Default)]
-struct MaterialTable {
-    slots: Vec<u64>,
-    len: usize,
-}
-
-impl MaterialTable {
-    /// The index in `mats` of the material with this key (and `tag`), pushing `m` if none.
-    #[inline]
-    fn find_or_push(
-        &mut self,
-        tag: u32,
-        key: &[u64; 13],
-        m: Material,
-        mats: &mut Vec<Material>,
-    ) -> u32 {
-        if 2 * (self.len + 1) > self.slots.len() {
-            self.grow();
-        }
-        let mask = self.slots.len() - 1;
-        let mut i = tag as usize & mask;
-        loop {
-            let e = self.slots[i];
-            if e == 0 {
-                let index = mats.len() as u32;
-                mats.push(m);
-                self.slots[i] = u64::from(tag) << 32 | (u64::from(index) + 1);
-                self.len += 1;
-                return index;
-            }
-            if (e >> 32) as u32 == tag {
-                let index = (e as u32).wrapping_sub(1);
-                if material_key(&mats[index as usize]) == *key {
-                    return index;
-                }
-            }
-            i = (i + 1) & mask;
-        }
-    }
-
-    #[cold]
-    fn grow(&mut self) {
-        let size = (self.slots.len() * 2).max(64);
-        let mask = size - 1;
-        let mut slots = vec![0u64; size];
-        for &e in self.slots.iter().filter(|&&e| e != 0) {
-            let mut i = (e >> 32) as usize & mask;
-            while slots[i] != 0 {
-                i = (i + 1) & mask;
-            }
-            slots[i] = e;
-        }
-        self.slots = slots;
-    }
-}
-
-fn hash_key(key: &[u64; 13]) -> u64 {
-    const K: u64 = 0x9E37_79B9_7F4A_7C15;
-    let mut h: u64 = 0;
-    for &k in key {
-        h = (h.rotate_left(23) ^ k).wrapping_mul(K);
-    }
-    h ^= h >> 33;
-    h = h.wrapping_mul(0xFF51_AFD7_ED55_8CCD);
-    h ^= h >> 33;
-    h = h.wrapping_mul(0xC4CE_B9FE_1A85_EC53);
-    h ^ (h >> 33)
 }
 
 /// Reads the fields of an IndexedFaceSet or its Coordinate that decide whether it is a sphere.
@@ -937,7 +841,7 @@ impl Lowerer {
             open_materials: Vec::new(),
             spare_transforms: Vec::new(),
             skipped: BTreeMap::new(),
-            materials: MaterialTable::default(),
+            materials: RecentMaterials::default(),
             nodes: 0,
             replay_depth: 0,
             file: 0,
@@ -967,6 +871,7 @@ impl Lowerer {
                 .collect();
             return Err(Error::Diags(errs));
         }
+        std::mem::take(&mut self.materials).finish(&mut self.scene);
         self.scene.spheres.shrink_to_fit();
         self.scene.materials.shrink_to_fit();
         let report = LoadReport {
@@ -983,10 +888,7 @@ impl Lowerer {
     }
 
     fn material_index(&mut self, m: Material) -> u32 {
-        let key = material_key(&m);
-        let tag = (hash_key(&key) >> 32) as u32;
-        self.materials
-            .find_or_push(tag, &key, m, &mut self.scene.materials)
+        self.materials.index(m, &mut self.scene.materials)
     }
 
     fn marks(&self) -> Marks {
@@ -3231,29 +3133,6 @@ impl Sink for Lowerer {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn material_table_finds_each_material_across_growth() {
-        let mut table = MaterialTable::default();
-        let mut mats = Vec::new();
-        let material = |i: usize| Material {
-            diffuse: DVec3::new(i as f64 / 7.0, 0.5, (i % 3) as f64),
-            ..Material::default()
-        };
-        let index = |table: &mut MaterialTable, mats: &mut Vec<Material>, m: Material| {
-            let key = material_key(&m);
-            table.find_or_push((hash_key(&key) >> 32) as u32, &key, m, mats)
-        };
-        for i in 0..5000 {
-            assert_eq!(index(&mut table, &mut mats, material(i)), i as u32);
-        }
-        // Every material again, after the table has grown many times: found, not added.
-        for i in (0..5000).rev() {
-            assert_eq!(index(&mut table, &mut mats, material(i)), i as u32);
-        }
-        assert_eq!(mats.len(), 5000);
-        assert!(2 * table.len <= table.slots.len());
-    }
 
     #[test]
     fn open_node_frames_stay_small() {

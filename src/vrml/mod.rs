@@ -2,6 +2,7 @@
 
 pub mod lex;
 pub mod lower;
+mod materials;
 pub mod parse;
 pub mod schema;
 pub mod syntax;

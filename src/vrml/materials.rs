@@ -1,0 +1,318 @@
+//! Material sharing: spheres with equal materials point at one entry of `Scene::materials`.
+//!
+//! Exporters write a Material per Shape, so a file of a million spheres in a few colours has a
+//! million Material nodes and a few distinct materials. Two steps share them:
+//! - while reading, [`RecentMaterials`] (a small direct-mapped cache that stays in the CPU
+//!   caches) finds a material equal to one seen recently, so files of few colours never store
+//!   more than a few;
+//! - when the file is read, [`share_equal`] merges whatever duplicates the cache let through,
+//!   in one pass over the materials.
+//!
+//! Together they give exactly what one table of all materials would (the first material of
+//! each content keeps its place, in file order), but a file of a million distinct colours no
+//! longer pays a cache miss into a large table for every Material node while it is read; the
+//! final pass has no other work in between, so its misses overlap.
+
+use crate::scene::{Material, Scene};
+
+/// Every field's bits: materials are equal when their keys are (so `-0.0` and `0.0` differ,
+/// as they would be printed differently).
+pub(crate) fn material_key(m: &Material) -> [u64; 13] {
+    [
+        m.diffuse.x.to_bits(),
+        m.diffuse.y.to_bits(),
+        m.diffuse.z.to_bits(),
+        m.emissive.x.to_bits(),
+        m.emissive.y.to_bits(),
+        m.emissive.z.to_bits(),
+        m.specular.x.to_bits(),
+        m.specular.y.to_bits(),
+        m.specular.z.to_bits(),
+        m.shininess.to_bits(),
+        m.ambient_intensity.to_bits(),
+        m.transparency.to_bits(),
+        m.unlit as u64,
+    ]
+}
+
+/// A fixed (same on every call and every run) hash of a material's key: a multiply-xor mix,
+/// then a final avalanche so that every input bit reaches both the low bits (cache slots)
+/// and the high bits (tags).
+fn hash_key(key: &[u64; 13]) -> u64 {
+    const K: u64 = 0x9E37_79B9_7F4A_7C15;
+    let mut h: u64 = 0;
+    for &k in key {
+        h = (h.rotate_left(23) ^ k).wrapping_mul(K);
+    }
+    h ^= h >> 33;
+    h = h.wrapping_mul(0xFF51_AFD7_ED55_8CCD);
+    h ^= h >> 33;
+    h = h.wrapping_mul(0xC4CE_B9FE_1A85_EC53);
+    h ^ (h >> 33)
+}
+
+/// Slots of [`RecentMaterials`]: 16 KiB of indices, small enough to stay in the L1/L2 caches.
+const RECENT_SLOTS: usize = 4096;
+
+/// A direct-mapped cache from material content to its index in `Scene::materials`.
+///
+/// A material equal to the last one that hashed to its slot is found; any other is pushed
+/// and takes the slot. While no slot has ever been taken from another material, every
+/// material pushed had no equal before it (an equal one would have hashed to the same slot
+/// and still be there), so the materials are already distinct; `evicted` says whether that
+/// still holds.
+pub(crate) struct RecentMaterials {
+    /// Index + 1 into `Scene::materials`; 0 is empty.
+    slots: Box<[u32; RECENT_SLOTS]>,
+    evicted: bool,
+    /// The hash of each material pushed, for [`share_equal`].
+    hashes: Vec<u64>,
+}
+
+impl Default for RecentMaterials {
+    fn default() -> Self {
+        RecentMaterials {
+            slots: Box::new([0; RECENT_SLOTS]),
+            evicted: false,
+            hashes: Vec::new(),
+        }
+    }
+}
+
+impl RecentMaterials {
+    /// The index of `m` in `mats`: a recent equal material's, or a new one's. Every material
+    /// of `mats` must have come through here.
+    #[inline]
+    pub(crate) fn index(&mut self, m: Material, mats: &mut Vec<Material>) -> u32 {
+        let key = material_key(&m);
+        let hash = hash_key(&key);
+        let slot = hash as usize % RECENT_SLOTS;
+        let e = self.slots[slot];
+        if e != 0 {
+            let i = e - 1;
+            if material_key(&mats[i as usize]) == key {
+                return i;
+            }
+            self.evicted = true;
+        }
+        let i = mats.len() as u32;
+        mats.push(m);
+        self.hashes.push(hash);
+        self.slots[slot] = i + 1;
+        i
+    }
+
+    /// Merges the equal materials the cache let through (see [`share_equal`]); does nothing
+    /// when the cache never forgot a material, as the materials are then distinct.
+    pub(crate) fn finish(self, scene: &mut Scene) {
+        if self.evicted {
+            share_equal(scene, self.hashes);
+        }
+    }
+}
+
+/// Merges equal materials: each content keeps its first entry, the entries stay in file order
+/// (so the unlit material at 0 stays at 0), and every sphere points at its content's entry.
+/// `hashes[i]` is [`hash_key`] of material i (recomputed if the lengths differ).
+///
+/// The materials are split by the top bits of their hashes into buckets of a few thousand,
+/// each deduplicated with a hash table small enough for the L1/L2 caches: one table over a
+/// million materials missed the caches (and the TLB) on every probe.
+pub(crate) fn share_equal(scene: &mut Scene, mut hashes: Vec<u64>) {
+    let mats = &mut scene.materials;
+    let n = mats.len();
+    if n < 2 {
+        return;
+    }
+    if hashes.len() != n {
+        hashes = mats.iter().map(|m| hash_key(&material_key(m))).collect();
+    }
+    // About 4096 materials a bucket.
+    let bits = (usize::BITS - n.leading_zeros()).saturating_sub(12).min(16);
+    let bucket = |h: u64| {
+        if bits == 0 {
+            0
+        } else {
+            (h >> (64 - bits)) as usize
+        }
+    };
+    let mut starts = vec![0usize; (1 << bits) + 1];
+    for &h in &hashes {
+        starts[bucket(h) + 1] += 1;
+    }
+    for b in 0..1 << bits {
+        starts[b + 1] += starts[b];
+    }
+    // By bucket, within a bucket in index order: the hash's high half over the index.
+    let mut pairs = vec![0u64; n];
+    let mut next = starts.clone();
+    for (i, &h) in hashes.iter().enumerate() {
+        let b = bucket(h);
+        pairs[next[b]] = h & !0xFFFF_FFFF | i as u64;
+        next[b] += 1;
+    }
+    drop(hashes);
+    // `first[i]`: the first material equal to material i. Filled in only once a duplicate turns
+    // up; until then every material is its own first.
+    let mut first: Vec<u32> = Vec::new();
+    let mut table: Vec<u32> = Vec::new();
+    for b in 0..1 << bits {
+        let part = &pairs[starts[b]..starts[b + 1]];
+        let size = (2 * part.len()).next_power_of_two();
+        let mask = size - 1;
+        table.clear();
+        table.resize(size, 0);
+        for (k, &p) in part.iter().enumerate() {
+            let (tag, i) = ((p >> 32) as u32, p as u32);
+            // Position + 1 in `part` of a first material; 0 is empty.
+            let mut t = tag as usize & mask;
+            let dup = loop {
+                let e = table[t] as usize;
+                if e == 0 {
+                    table[t] = k as u32 + 1;
+                    break None;
+                }
+                let q = part[e - 1];
+                let j = q as u32;
+                if (q >> 32) as u32 == tag
+                    && material_key(&mats[j as usize]) == material_key(&mats[i as usize])
+                {
+                    break Some(j);
+                }
+                t = (t + 1) & mask;
+            };
+            if let Some(j) = dup {
+                if first.is_empty() {
+                    first = (0..n as u32).collect();
+                }
+                first[i as usize] = j;
+            }
+        }
+    }
+    drop(pairs);
+    if first.is_empty() {
+        return;
+    }
+    // Keep the first of each content, in order; `first[i]` becomes where entry i went.
+    let mut kept = 0;
+    for i in 0..n {
+        let f = first[i] as usize;
+        if f == i {
+            mats.swap(kept, i);
+            first[i] = kept as u32;
+            kept += 1;
+        } else {
+            // (f < i, so its new place is already written.)
+            first[i] = first[f];
+        }
+    }
+    mats.truncate(kept);
+    for s in &mut scene.spheres {
+        s.material = first[s.material as usize];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Origin, Sphere, NO_ELLIPSOID};
+    use glam::DVec3;
+
+    fn material(i: usize) -> Material {
+        Material {
+            diffuse: DVec3::new(i as f64 / 7.0, 0.5, (i % 3) as f64),
+            ..Material::default()
+        }
+    }
+
+    /// Reads `picks` (material numbers) as spheres through the cache and the final merge, and
+    /// checks the result against sharing done the obvious way: an ordered map from content to
+    /// the first entry with it.
+    fn check(picks: &[usize]) {
+        let mut recent = RecentMaterials::default();
+        let mut scene = Scene::default();
+        for (k, &p) in picks.iter().enumerate() {
+            let i = recent.index(material(p), &mut scene.materials);
+            scene.spheres.push(Sphere {
+                center: DVec3::new(k as f64, 0.0, 0.0),
+                radius: 1.0,
+                material: i,
+                ellipsoid: NO_ELLIPSOID,
+                origin: Origin::default(),
+            });
+        }
+        recent.finish(&mut scene);
+        let mut distinct: Vec<Material> = Vec::new();
+        let mut seen = std::collections::BTreeMap::new();
+        let mut expect = Vec::new();
+        for &p in picks {
+            let m = material(p);
+            let at = *seen.entry(material_key(&m)).or_insert_with(|| {
+                distinct.push(m);
+                distinct.len() - 1
+            });
+            expect.push(at as u32);
+        }
+        assert_eq!(scene.materials, distinct);
+        let got: Vec<u32> = scene.spheres.iter().map(|s| s.material).collect();
+        assert_eq!(got, expect);
+    }
+
+    #[test]
+    fn few_colours_are_shared_while_reading() {
+        let picks: Vec<usize> = (0..20_000).map(|k| k * 7 % 5).collect();
+        let mut recent = RecentMaterials::default();
+        let mut mats = Vec::new();
+        for &p in &picks {
+            recent.index(material(p), &mut mats);
+        }
+        assert_eq!(mats.len(), 5);
+        check(&picks);
+    }
+
+    #[test]
+    fn many_colours_are_shared_when_the_cache_forgets() {
+        // 20 000 distinct materials, each seen three times far apart: the cache evicts them.
+        let picks: Vec<usize> = (0..60_000).map(|k| (k * 7919) % 20_000).collect();
+        check(&picks);
+        // All distinct, in order, then all again backwards.
+        let picks: Vec<usize> = (0..10_000).chain((0..10_000).rev()).collect();
+        check(&picks);
+        // Nothing repeated: the merge must leave everything in place.
+        let picks: Vec<usize> = (0..30_000).collect();
+        check(&picks);
+    }
+
+    #[test]
+    fn pseudo_random_picks_match_the_obvious_sharing() {
+        let mut x: u64 = 0x2545_F491_4F6C_DD1D;
+        for round in 0..20 {
+            let kinds = [3, 50, 5000, 100_000][round % 4];
+            let picks: Vec<usize> = (0..3000)
+                .map(|_| {
+                    x ^= x << 13;
+                    x ^= x >> 7;
+                    x ^= x << 17;
+                    (x % kinds) as usize
+                })
+                .collect();
+            check(&picks);
+        }
+    }
+
+    #[test]
+    fn signed_zero_colours_stay_apart() {
+        let mut recent = RecentMaterials::default();
+        let mut mats = Vec::new();
+        let a = Material {
+            emissive: DVec3::new(0.0, 0.0, 0.0),
+            ..Material::default()
+        };
+        let b = Material {
+            emissive: DVec3::new(-0.0, 0.0, 0.0),
+            ..Material::default()
+        };
+        assert_ne!(recent.index(a, &mut mats), recent.index(b, &mut mats));
+        assert_eq!(recent.index(a, &mut mats), 0);
+    }
+}
