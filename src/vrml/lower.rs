@@ -900,10 +900,7 @@ impl Lowerer {
     }
 
     fn origin(&self, at: u64) -> Origin {
-        Origin {
-            file: self.file,
-            offset: at,
-        }
+        Origin::new(self.file, at)
     }
 
     // ----- diagnostics
@@ -3133,6 +3130,16 @@ impl Sink for Lowerer {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn spheres_stay_small() {
+        // A million spheres are 48 MB of IR; Origin is packed into one word for this.
+        assert_eq!(std::mem::size_of::<Sphere>(), 48);
+        let o = Origin::new(3, 123_456_789_012);
+        assert_eq!((o.file(), o.offset()), (3, 123_456_789_012));
+        let o = Origin::new(u32::MAX, u64::MAX);
+        assert_eq!((o.file(), o.offset()), ((1 << 20) - 1, (1 << 44) - 1));
+    }
 
     #[test]
     fn open_node_frames_stay_small() {

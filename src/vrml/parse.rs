@@ -606,7 +606,7 @@ impl Parser {
                     self.skip_ws()?;
                     let at2 = self.src.offset();
                     if external {
-                        self.step(sink, at2, url_list)?;
+                        self.step(sink, at2, ItemIn::Urls)?;
                     } else {
                         if !self.src.rest().starts_with('{') {
                             return Err(self.error_at(at2, "expected '{' to open the PROTO body"));
@@ -632,12 +632,10 @@ impl Parser {
                 continue;
             }
             match top {
-                Frame::Top | Frame::ProtoBody => self.step(sink, at, |i, _| statement(i))?,
-                Frame::Body => self.step(sink, at, body_element)?,
-                Frame::List => self.step(sink, at, |i, _| list_item(i))?,
-                Frame::Iface { external } => {
-                    self.step(sink, at, |i, s| iface_element(i, external, s))?
-                }
+                Frame::Top | Frame::ProtoBody => self.step(sink, at, ItemIn::Statement)?,
+                Frame::Body => self.step(sink, at, ItemIn::Body)?,
+                Frame::List => self.step(sink, at, ItemIn::List)?,
+                Frame::Iface { external } => self.step(sink, at, ItemIn::Iface { external })?,
                 Frame::Single => unreachable!("a Single frame is popped when its node closes"),
             }
         }
@@ -645,13 +643,22 @@ impl Parser {
 
     /// Runs one item parser, retrying with more input when it ran into the end of the window,
     /// then turns the item into events.
-    fn step<S: Sink + ?Sized, F>(&mut self, sink: &mut S, at: u64, f: F) -> Result<(), Error>
-    where
-        F: for<'a> Fn(&'a str, &'a mut Scratch) -> PResult<'a, Item<'a>>,
-    {
+    #[inline(always)]
+    fn step<S: Sink + ?Sized>(&mut self, sink: &mut S, at: u64, what: ItemIn) -> Result<(), Error> {
         loop {
             let eof = self.src.eof;
-            match f(self.src.rest(), &mut self.scratch) {
+            let i = self.src.rest();
+            let s = &mut self.scratch;
+            // Direct calls (not a closure per kind), so that the item parsers are inlined here
+            // and their result need not be built in memory.
+            let parsed = match what {
+                ItemIn::Body => body_element(i, s),
+                ItemIn::Statement => statement(i),
+                ItemIn::List => list_item(i),
+                ItemIn::Iface { external } => iface_element(i, external, s),
+                ItemIn::Urls => url_list(i, s),
+            };
+            match parsed {
                 Err(e) if !e.incomplete || eof => {
                     let off = self.src.offset_of(e.at);
                     let msg = e.msg;
@@ -694,6 +701,16 @@ impl Parser {
             }
         }
     }
+}
+
+/// Which item parser a step runs.
+#[derive(Clone, Copy)]
+enum ItemIn {
+    Statement,
+    Body,
+    List,
+    Iface { external: bool },
+    Urls,
 }
 
 enum StackOp {
