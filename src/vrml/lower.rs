@@ -888,7 +888,16 @@ impl Lowerer {
     }
 
     fn material_index(&mut self, m: Material) -> u32 {
-        self.materials.index(m, &mut self.scene.materials)
+        self.materials.index(&m, &mut self.scene.materials)
+    }
+
+    /// The scene's index of the innermost open Material's fields, which it takes off
+    /// `open_materials` (read in place: no copy of the material until it is stored).
+    fn close_material(&mut self) -> u32 {
+        let m = self.open_materials.last().expect("open Material");
+        let i = self.materials.index(m, &mut self.scene.materials);
+        self.open_materials.pop();
+        i
     }
 
     fn marks(&self) -> Marks {
@@ -2202,7 +2211,8 @@ impl Lowerer {
         enum Leaf {
             Shape(Option<Option<u32>>, Option<Geom>),
             Appearance(Option<u32>),
-            Material(Material),
+            /// (Its fields are the top of `open_materials`.)
+            Material,
             Sphere(f64),
         }
         let frame = self.frames.last()?;
@@ -2213,7 +2223,7 @@ impl Lowerer {
                 geometry,
             } => Leaf::Shape(appearance, geometry),
             Kind::Appearance { material } => Leaf::Appearance(material),
-            Kind::Material => Leaf::Material(self.open_materials.pop()?),
+            Kind::Material => Leaf::Material,
             Kind::Sphere { radius } => Leaf::Sphere(radius),
             _ => return None,
         };
@@ -2224,7 +2234,7 @@ impl Lowerer {
                 Result_::Nothing
             }
             Leaf::Appearance(material) => Result_::Appearance(material),
-            Leaf::Material(m) => Result_::Material(self.material_index(m)),
+            Leaf::Material => Result_::Material(self.close_material()),
             Leaf::Sphere(radius) => Result_::Geometry(Geom::Sphere(radius, at)),
         })
     }
@@ -2282,10 +2292,7 @@ impl Lowerer {
                 Result_::Nothing
             }
             Kind::Appearance { material } => Result_::Appearance(material),
-            Kind::Material => {
-                let m = self.open_materials.pop().expect("open Material");
-                Result_::Material(self.material_index(m))
-            }
+            Kind::Material => Result_::Material(self.close_material()),
             Kind::Sphere { radius } => Result_::Geometry(Geom::Sphere(radius, at)),
             Kind::Mesh(m) => {
                 let geom = self.mesh_geom(&m, at);

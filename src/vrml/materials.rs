@@ -51,7 +51,7 @@ fn hash_key(key: &[u64; 13]) -> u64 {
     h ^ (h >> 33)
 }
 
-/// Slots of [`RecentMaterials`]: 16 KiB of indices, small enough to stay in the L1/L2 caches.
+/// Slots of [`RecentMaterials`]: 32 KiB, small enough to stay in the L1/L2 caches.
 const RECENT_SLOTS: usize = 4096;
 
 /// A direct-mapped cache from material content to its index in `Scene::materials`.
@@ -62,8 +62,9 @@ const RECENT_SLOTS: usize = 4096;
 /// and still be there), so the materials are already distinct; `evicted` says whether that
 /// still holds.
 pub(crate) struct RecentMaterials {
-    /// Index + 1 into `Scene::materials`; 0 is empty.
-    slots: Box<[u32; RECENT_SLOTS]>,
+    /// The high half of the material's hash over its index + 1 into `Scene::materials`; 0 is
+    /// empty. (Only a material whose hash matches is read and compared.)
+    slots: Box<[u64; RECENT_SLOTS]>,
     evicted: bool,
     /// The hash of each material pushed, for [`share_equal`].
     hashes: Vec<u64>,
@@ -83,22 +84,23 @@ impl RecentMaterials {
     /// The index of `m` in `mats`: a recent equal material's, or a new one's. Every material
     /// of `mats` must have come through here.
     #[inline]
-    pub(crate) fn index(&mut self, m: Material, mats: &mut Vec<Material>) -> u32 {
-        let key = material_key(&m);
+    pub(crate) fn index(&mut self, m: &Material, mats: &mut Vec<Material>) -> u32 {
+        let key = material_key(m);
         let hash = hash_key(&key);
         let slot = hash as usize % RECENT_SLOTS;
+        let tag = hash & !0xFFFF_FFFF;
         let e = self.slots[slot];
         if e != 0 {
-            let i = e - 1;
-            if material_key(&mats[i as usize]) == key {
+            let i = (e as u32).wrapping_sub(1);
+            if e & !0xFFFF_FFFF == tag && material_key(&mats[i as usize]) == key {
                 return i;
             }
             self.evicted = true;
         }
         let i = mats.len() as u32;
-        mats.push(m);
+        mats.push(*m);
         self.hashes.push(hash);
-        self.slots[slot] = i + 1;
+        self.slots[slot] = tag | (u64::from(i) + 1);
         i
     }
 
@@ -232,7 +234,7 @@ mod tests {
         let mut recent = RecentMaterials::default();
         let mut scene = Scene::default();
         for (k, &p) in picks.iter().enumerate() {
-            let i = recent.index(material(p), &mut scene.materials);
+            let i = recent.index(&material(p), &mut scene.materials);
             scene.spheres.push(Sphere {
                 center: DVec3::new(k as f64, 0.0, 0.0),
                 radius: 1.0,
@@ -264,7 +266,7 @@ mod tests {
         let mut recent = RecentMaterials::default();
         let mut mats = Vec::new();
         for &p in &picks {
-            recent.index(material(p), &mut mats);
+            recent.index(&material(p), &mut mats);
         }
         assert_eq!(mats.len(), 5);
         check(&picks);
@@ -312,7 +314,7 @@ mod tests {
             emissive: DVec3::new(-0.0, 0.0, 0.0),
             ..Material::default()
         };
-        assert_ne!(recent.index(a, &mut mats), recent.index(b, &mut mats));
-        assert_eq!(recent.index(a, &mut mats), 0);
+        assert_ne!(recent.index(&a, &mut mats), recent.index(&b, &mut mats));
+        assert_eq!(recent.index(&a, &mut mats), 0);
     }
 }

@@ -531,8 +531,10 @@ impl Parser {
         )))
     }
 
+    /// Skips white space; returns the next byte and how many bytes the window holds from it,
+    /// or None at the end of the input.
     #[inline(always)]
-    fn skip_ws(&mut self) -> Result<(), Error> {
+    fn skip_ws(&mut self) -> Result<Option<(u8, usize)>, Error> {
         loop {
             self.src.ensure().map_err(|e| io_err(&self.src, e))?;
             let rest = ws(self.src.rest());
@@ -542,8 +544,9 @@ impl Parser {
                 continue;
             }
             let n = rest.len();
+            let next = rest.as_bytes().first().map(|&b| (b, n));
             self.src.advance_to(n);
-            return Ok(());
+            return Ok(next);
         }
     }
 
@@ -578,10 +581,10 @@ impl Parser {
         self.header()?;
         self.stack.push(Frame::Top);
         loop {
-            self.skip_ws()?;
+            let next = self.skip_ws()?;
             let at = self.src.offset();
             let top = *self.stack.last().unwrap_or(&Frame::Top);
-            if self.src.rest().is_empty() {
+            let Some((first, ahead)) = next else {
                 let what = match top {
                     Frame::Top => return Ok(()),
                     Frame::Body | Frame::Single => "expected '}' to close a node",
@@ -590,17 +593,15 @@ impl Parser {
                     Frame::ProtoBody => "expected '}' to close a PROTO body",
                 };
                 return Err(self.error_at(at, format!("unexpected end of file: {what}")));
-            }
-            if let Frame::ProtoBody = top {
-                if self.src.rest().starts_with('}') {
+            };
+            match (top, first) {
+                (Frame::ProtoBody, b'}') => {
                     self.src.pos += 1;
                     self.stack.pop();
                     sink.event(&self.src, Event::ProtoEnd { at, urls: &[] })?;
                     continue;
                 }
-            }
-            if let Frame::Iface { external } = top {
-                if self.src.rest().starts_with(']') {
+                (Frame::Iface { external }, b']') => {
                     self.src.pos += 1;
                     self.stack.pop();
                     self.skip_ws()?;
@@ -617,19 +618,19 @@ impl Parser {
                     }
                     continue;
                 }
-            }
-            // A `}` or `]` closing a node or a list, when more text follows in the window: what
-            // `step` does with the Close item, without the item parser and its retry check.
-            let next = self.src.rest().as_bytes();
-            if next.len() > 1 && matches!((top, next[0]), (Frame::Body, b'}') | (Frame::List, b']'))
-            {
-                let k = self.stack.len();
-                let under = k.checked_sub(2).map(|j| self.stack[j]);
-                let rest = &self.src.rest()[1..];
-                let pushes = emit(&self.src, sink, at, Item::Close, Some(top), under, rest)?;
-                self.src.pos += 1;
-                self.apply(pushes);
-                continue;
+                // A `}` or `]` closing a node or a list, when more text follows in the window:
+                // what `step` does with the Close item, without the item parser and its retry
+                // check.
+                (Frame::Body, b'}') | (Frame::List, b']') if ahead > 1 => {
+                    let k = self.stack.len();
+                    let under = k.checked_sub(2).map(|j| self.stack[j]);
+                    // (A Close item's events do not use the text after it.)
+                    let pushes = emit(&self.src, sink, at, Item::Close, Some(top), under, "")?;
+                    self.src.pos += 1;
+                    self.apply(pushes);
+                    continue;
+                }
+                _ => {}
             }
             match top {
                 Frame::Top | Frame::ProtoBody => self.step(sink, at, ItemIn::Statement)?,
