@@ -897,7 +897,38 @@ impl Lowerer {
         let m = self.open_materials.last().expect("open Material");
         let i = self.materials.index(m, &mut self.scene.materials);
         self.open_materials.pop();
+        if self.materials.wants_merge(&self.scene.materials) {
+            return self.merge_materials(i);
+        }
         i
+    }
+
+    /// Merges the duplicate materials stored so far and renumbers every material index held:
+    /// the spheres', the open Appearances' and Shapes', and `i` (returned).
+    #[cold]
+    #[inline(never)]
+    fn merge_materials(&mut self, i: u32) -> u32 {
+        let Some(new_index) = self.materials.merge(&mut self.scene.materials) else {
+            return i;
+        };
+        let renumber = |m: &mut u32| *m = new_index[*m as usize];
+        self.scene
+            .spheres
+            .iter_mut()
+            .for_each(|s| renumber(&mut s.material));
+        for f in &mut self.frames {
+            match &mut f.kind {
+                Kind::Appearance {
+                    material: Some(m), ..
+                }
+                | Kind::Shape {
+                    appearance: Some(Some(m)),
+                    ..
+                } => renumber(m),
+                _ => {}
+            }
+        }
+        new_index[i as usize]
     }
 
     fn marks(&self) -> Marks {

@@ -5,13 +5,14 @@
 //! - while reading, [`RecentMaterials`] (a small direct-mapped cache that stays in the CPU
 //!   caches) finds a material equal to one seen recently, so files of few colours never store
 //!   more than a few;
-//! - when the file is read, [`share_equal`] merges whatever duplicates the cache let through,
-//!   in one pass over the materials.
+//! - [`merge_equal`] merges whatever duplicates the cache let through, in one pass over the
+//!   materials: when the file is read, and while it is read whenever the materials stored
+//!   have doubled since the last merge (so a file of 20 000 colours in random order never
+//!   holds a copy per sphere).
 //!
 //! Together they give exactly what one table of all materials would (the first material of
 //! each content keeps its place, in file order), but a file of a million distinct colours no
-//! longer pays a cache miss into a large table for every Material node while it is read; the
-//! final pass has no other work in between, so its misses overlap.
+//! longer pays a cache miss into a large table for every Material node while it is read.
 
 use crate::scene::{Material, Scene};
 
@@ -54,20 +55,29 @@ fn hash_key(key: &[u64; 13]) -> u64 {
 /// Slots of [`RecentMaterials`]: 32 KiB, small enough to stay in the L1/L2 caches.
 const RECENT_SLOTS: usize = 4096;
 
-/// A direct-mapped cache from material content to its index in `Scene::materials`.
+/// Materials stored before duplicates are first looked for (6.8 MB): below this, what the
+/// cache lets through costs nothing worth a merge.
+const MERGE_MIN: usize = 1 << 16;
+
+/// A direct-mapped cache from material content to its index in `Scene::materials`, and the
+/// bookkeeping of the merges that remove the duplicates it lets through.
 ///
 /// A material equal to the last one that hashed to its slot is found; any other is pushed
-/// and takes the slot. While no slot has ever been taken from another material, every
-/// material pushed had no equal before it (an equal one would have hashed to the same slot
-/// and still be there), so the materials are already distinct; `evicted` says whether that
-/// still holds.
+/// and takes the slot. No slot is ever emptied, so an empty slot means no stored material
+/// has that slot. Hence while no slot has been taken from another material since the
+/// materials were last merged (or ever), every material pushed had no equal before it (an
+/// equal one would have hashed to the same slot and still be there): the materials are
+/// distinct, and `evicted` says whether that still holds.
 pub(crate) struct RecentMaterials {
     /// The high half of the material's hash over its index + 1 into `Scene::materials`; 0 is
     /// empty. (Only a material whose hash matches is read and compared.)
     slots: Box<[u64; RECENT_SLOTS]>,
     evicted: bool,
-    /// The hash of each material pushed, for [`share_equal`].
+    /// The hash of each stored material, for [`merge_equal`].
     hashes: Vec<u64>,
+    /// Merge again once this many materials are stored (so that a file of many repeated
+    /// colours never holds many copies: memory stays within a small factor of the merged set).
+    next_merge: usize,
 }
 
 impl Default for RecentMaterials {
@@ -76,13 +86,14 @@ impl Default for RecentMaterials {
             slots: Box::new([0; RECENT_SLOTS]),
             evicted: false,
             hashes: Vec::new(),
+            next_merge: MERGE_MIN,
         }
     }
 }
 
 impl RecentMaterials {
     /// The index of `m` in `mats`: a recent equal material's, or a new one's. Every material
-    /// of `mats` must have come through here.
+    /// of `mats` must have come through here (or through a merge).
     #[inline]
     pub(crate) fn index(&mut self, m: &Material, mats: &mut Vec<Material>) -> u32 {
         let key = material_key(m);
@@ -104,30 +115,65 @@ impl RecentMaterials {
         i
     }
 
-    /// Merges the equal materials the cache let through (see [`share_equal`]); does nothing
-    /// when the cache never forgot a material, as the materials are then distinct.
-    pub(crate) fn finish(self, scene: &mut Scene) {
-        if self.evicted {
-            share_equal(scene, self.hashes);
+    /// Whether enough materials have piled up since the last merge that duplicates should be
+    /// merged now (see [`RecentMaterials::merge`]).
+    #[inline]
+    pub(crate) fn wants_merge(&self, mats: &[Material]) -> bool {
+        self.evicted && mats.len() >= self.next_merge
+    }
+
+    /// Merges equal materials (see [`merge_equal`]) if the cache may have let any through.
+    /// Returns where each old index went when any moved: the caller must renumber every index
+    /// it holds (spheres, open nodes). The cache follows by itself.
+    pub(crate) fn merge(&mut self, mats: &mut Vec<Material>) -> Option<Vec<u32>> {
+        if !self.evicted {
+            return None;
+        }
+        let before = mats.len();
+        let moved = merge_equal(mats, &mut self.hashes);
+        if let Some(new_index) = &moved {
+            for e in self.slots.iter_mut().filter(|e| **e != 0) {
+                let i = (*e as u32 - 1) as usize;
+                *e = *e & !0xFFFF_FFFF | (u64::from(new_index[i]) + 1);
+            }
+        }
+        // The materials are distinct again. A merge that found few duplicates (distinct
+        // colours) waits longer for the next, so that such files pay for about one pass.
+        self.evicted = false;
+        let factor = if 8 * (before - mats.len()) < before {
+            4
+        } else {
+            2
+        };
+        self.next_merge = (factor * mats.len()).max(MERGE_MIN);
+        moved
+    }
+
+    /// The last merge, when the whole file has been read.
+    pub(crate) fn finish(mut self, scene: &mut Scene) {
+        if let Some(new_index) = self.merge(&mut scene.materials) {
+            for s in &mut scene.spheres {
+                s.material = new_index[s.material as usize];
+            }
         }
     }
 }
 
-/// Merges equal materials: each content keeps its first entry, the entries stay in file order
-/// (so the unlit material at 0 stays at 0), and every sphere points at its content's entry.
-/// `hashes[i]` is [`hash_key`] of material i (recomputed if the lengths differ).
+/// Merges equal materials: each content keeps its first entry, the entries stay in order (so
+/// the unlit material at 0 stays at 0), and `hashes` (the [`hash_key`] of each material,
+/// recomputed if the lengths differ) follows. Returns where each old entry went, or None when
+/// the materials were already distinct (nothing moved).
 ///
 /// The materials are split by the top bits of their hashes into buckets of a few thousand,
 /// each deduplicated with a hash table small enough for the L1/L2 caches: one table over a
 /// million materials missed the caches (and the TLB) on every probe.
-pub(crate) fn share_equal(scene: &mut Scene, mut hashes: Vec<u64>) {
-    let mats = &mut scene.materials;
+pub(crate) fn merge_equal(mats: &mut Vec<Material>, hashes: &mut Vec<u64>) -> Option<Vec<u32>> {
     let n = mats.len();
-    if n < 2 {
-        return;
-    }
     if hashes.len() != n {
-        hashes = mats.iter().map(|m| hash_key(&material_key(m))).collect();
+        *hashes = mats.iter().map(|m| hash_key(&material_key(m))).collect();
+    }
+    if n < 2 {
+        return None;
     }
     // About 4096 materials a bucket.
     let bits = (usize::BITS - n.leading_zeros()).saturating_sub(12).min(16);
@@ -139,7 +185,7 @@ pub(crate) fn share_equal(scene: &mut Scene, mut hashes: Vec<u64>) {
         }
     };
     let mut starts = vec![0usize; (1 << bits) + 1];
-    for &h in &hashes {
+    for &h in hashes.iter() {
         starts[bucket(h) + 1] += 1;
     }
     for b in 0..1 << bits {
@@ -153,7 +199,6 @@ pub(crate) fn share_equal(scene: &mut Scene, mut hashes: Vec<u64>) {
         pairs[next[b]] = h & !0xFFFF_FFFF | i as u64;
         next[b] += 1;
     }
-    drop(hashes);
     // `first[i]`: the first material equal to material i. Filled in only once a duplicate turns
     // up; until then every material is its own first.
     let mut first: Vec<u32> = Vec::new();
@@ -193,7 +238,7 @@ pub(crate) fn share_equal(scene: &mut Scene, mut hashes: Vec<u64>) {
     }
     drop(pairs);
     if first.is_empty() {
-        return;
+        return None;
     }
     // Keep the first of each content, in order; `first[i]` becomes where entry i went.
     let mut kept = 0;
@@ -201,6 +246,7 @@ pub(crate) fn share_equal(scene: &mut Scene, mut hashes: Vec<u64>) {
         let f = first[i] as usize;
         if f == i {
             mats.swap(kept, i);
+            hashes.swap(kept, i);
             first[i] = kept as u32;
             kept += 1;
         } else {
@@ -209,9 +255,8 @@ pub(crate) fn share_equal(scene: &mut Scene, mut hashes: Vec<u64>) {
         }
     }
     mats.truncate(kept);
-    for s in &mut scene.spheres {
-        s.material = first[s.material as usize];
-    }
+    hashes.truncate(kept);
+    Some(first)
 }
 
 #[cfg(test)]
@@ -227,14 +272,24 @@ mod tests {
         }
     }
 
-    /// Reads `picks` (material numbers) as spheres through the cache and the final merge, and
-    /// checks the result against sharing done the obvious way: an ordered map from content to
-    /// the first entry with it.
-    fn check(picks: &[usize]) {
+    /// Reads `picks` (material numbers) as spheres through the cache and the merges, as the
+    /// lowering does, and checks the result against sharing done the obvious way: an ordered
+    /// map from content to the first entry with it. Returns the most materials stored at once.
+    fn check(picks: &[usize]) -> usize {
         let mut recent = RecentMaterials::default();
         let mut scene = Scene::default();
+        let mut most = 0;
         for (k, &p) in picks.iter().enumerate() {
-            let i = recent.index(&material(p), &mut scene.materials);
+            let mut i = recent.index(&material(p), &mut scene.materials);
+            most = most.max(scene.materials.len());
+            if recent.wants_merge(&scene.materials) {
+                if let Some(new_index) = recent.merge(&mut scene.materials) {
+                    for s in &mut scene.spheres {
+                        s.material = new_index[s.material as usize];
+                    }
+                    i = new_index[i as usize];
+                }
+            }
             scene.spheres.push(Sphere {
                 center: DVec3::new(k as f64, 0.0, 0.0),
                 radius: 1.0,
@@ -258,6 +313,7 @@ mod tests {
         assert_eq!(scene.materials, distinct);
         let got: Vec<u32> = scene.spheres.iter().map(|s| s.material).collect();
         assert_eq!(got, expect);
+        most
     }
 
     #[test]
@@ -283,6 +339,15 @@ mod tests {
         // Nothing repeated: the merge must leave everything in place.
         let picks: Vec<usize> = (0..30_000).collect();
         check(&picks);
+    }
+
+    #[test]
+    fn many_repeated_colours_are_merged_while_reading() {
+        // 20 000 colours in a scrambled order, 300 000 spheres: the cache forgets nearly
+        // every colour before it comes again, so only the merges keep the copies few.
+        let picks: Vec<usize> = (0..300_000).map(|k| (k * 7919 + k / 3) % 20_000).collect();
+        let most = check(&picks);
+        assert!(most <= 2 * MERGE_MIN, "{most} materials stored at once");
     }
 
     #[test]

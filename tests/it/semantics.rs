@@ -186,6 +186,40 @@ fn materials_are_shared_not_copied() {
 }
 
 #[test]
+fn many_colours_in_scrambled_order_are_each_stored_once() {
+    // 20 000 colours over 100 000 spheres in a scrambled order, Shapes nested in Transforms
+    // and a Group, so that materials are merged while Appearances and Shapes are open: every
+    // colour is stored once, and every sphere keeps its own colour.
+    let colour = |k: usize| {
+        let c = (k * 7919 + k / 3) % 20_000;
+        [(c % 100) as f64 / 100.0, (c / 100) as f64 / 200.0, 0.5]
+    };
+    let mut text = String::from("Group { children [\n");
+    for k in 0..100_000 {
+        let [r, g, b] = colour(k);
+        text += &format!(
+            "Transform {{ translation {k} 0 0 children Shape {{ appearance Appearance {{ \
+             material Material {{ diffuseColor {r} {g} {b} }} }} geometry Sphere {{}} }} }}\n"
+        );
+    }
+    text += "] }\n";
+    let (s, _) = scene(&text);
+    assert_eq!(s.spheres.len(), 100_000);
+    // The unlit white of a Shape without a Material comes first, then each colour once.
+    assert_eq!(s.materials.len(), 20_001);
+    assert!(s.materials[0].unlit);
+    for (k, b) in s.spheres.iter().enumerate() {
+        assert_eq!(b.center.x, k as f64);
+        assert_eq!(
+            s.materials[b.material as usize].diffuse.to_array(),
+            colour(k)
+        );
+    }
+    // First come, first stored.
+    assert_eq!(s.materials[1].diffuse.to_array(), colour(0));
+}
+
+#[test]
 fn vrml_material_defaults() {
     let (s, _) =
         scene("Shape { appearance Appearance { material Material {} } geometry Sphere {} }");
