@@ -855,7 +855,8 @@ impl Lowerer {
             mesh_cache: HashMap::new(),
             last_mesh: None,
         };
-        low.material_index(Material::unlit());
+        low.materials
+            .index(&Material::unlit(), &mut low.scene.materials);
         low
     }
 
@@ -885,10 +886,6 @@ impl Lowerer {
             mesh_spheres: self.mesh_spheres,
         };
         Ok((self.scene, report))
-    }
-
-    fn material_index(&mut self, m: Material) -> u32 {
-        self.materials.index(&m, &mut self.scene.materials)
     }
 
     /// The scene's index of the innermost open Material's fields, which it takes off

@@ -18,7 +18,7 @@ use crate::scene::{Material, Scene};
 
 /// Every field's bits: materials are equal when their keys are (so `-0.0` and `0.0` differ,
 /// as they would be printed differently).
-pub(crate) fn material_key(m: &Material) -> [u64; 13] {
+fn material_key(m: &Material) -> [u64; 13] {
     [
         m.diffuse.x.to_bits(),
         m.diffuse.y.to_bits(),
@@ -167,7 +167,7 @@ impl RecentMaterials {
 /// The materials are split by the top bits of their hashes into buckets of a few thousand,
 /// each deduplicated with a hash table small enough for the L1/L2 caches: one table over a
 /// million materials missed the caches (and the TLB) on every probe.
-pub(crate) fn merge_equal(mats: &mut Vec<Material>, hashes: &mut Vec<u64>) -> Option<Vec<u32>> {
+fn merge_equal(mats: &mut Vec<Material>, hashes: &mut Vec<u64>) -> Option<Vec<u32>> {
     let n = mats.len();
     if hashes.len() != n {
         *hashes = mats.iter().map(|m| hash_key(&material_key(m))).collect();
