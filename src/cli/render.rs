@@ -363,6 +363,7 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
         println!("camera rays        {}", c.camera_rays);
         println!("shadow rays        {}", c.shadow_rays);
         println!("quadrature nodes   {}", c.quadrature_nodes);
+        println!("shadowing spheres  {}", c.shadow_candidates);
         println!("max pixel error    {:e}", done.max_error);
         println!(
             "rays per second    {:.0}",

@@ -114,6 +114,9 @@ pub struct Counters {
     pub shadow_rays: u64,
     /// Integrand evaluations of the exact integrator's quadrature.
     pub quadrature_nodes: u64,
+    /// Shadowing spheres gathered for the exact integrator's segments (summed over every
+    /// segment and light: the spheres whose shadow boundaries and chords it had to consider).
+    pub shadow_candidates: u64,
 }
 
 impl std::ops::AddAssign for Counters {
@@ -121,6 +124,7 @@ impl std::ops::AddAssign for Counters {
         self.camera_rays += o.camera_rays;
         self.shadow_rays += o.shadow_rays;
         self.quadrature_nodes += o.quadrature_nodes;
+        self.shadow_candidates += o.shadow_candidates;
     }
 }
 

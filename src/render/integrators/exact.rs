@@ -59,6 +59,7 @@ pub fn radiance(
                 continue;
             }
             candidates(&prep.bvh, xa, xb, l, &mut s.candidates);
+            counters.shadow_candidates += s.candidates.len() as u64;
             let c0 = cands.len();
             cands.extend_from_slice(&s.candidates);
             s.breaks.clear();
