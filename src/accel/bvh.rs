@@ -675,6 +675,65 @@ impl SphereBvh {
         }
     }
 
+    /// Calls `visit(prim_index, prim)` for every primitive whose (padded) box may meet a
+    /// region of space, as judged by `near(centre, radius)`: whether a ball may meet the region
+    /// (it may answer true for balls that do not; it must never answer false for one that
+    /// does). Each child box of a node is tested as its bounding ball, so only the nodes whose
+    /// boxes come near the region are visited: the cost follows the region, not an enclosing
+    /// axis-aligned box (a diagonal shadow strip, say). `visit` still does the exact test.
+    pub fn near_region(
+        &self,
+        near: impl Fn(DVec3, f64) -> bool,
+        mut visit: impl FnMut(u32, &Prim),
+        stack: &mut Vec<UVec2>,
+    ) {
+        let inv = 1.0 / self.scale;
+        // A child box in world space: its f32 corners mapped back, padded by the primitive
+        // padding again (covers the f32 rounding of the decode itself).
+        let ball = |b: &Aabb| {
+            let lo = b.min.as_dvec3() * inv + self.origin;
+            let hi = b.max.as_dvec3() * inv + self.origin;
+            ((lo + hi) * 0.5, (hi - lo).length() * 0.5 + 2.0 * self.pad)
+        };
+        for c in &self.chunks {
+            if c.bvh.nodes.is_empty() {
+                continue;
+            }
+            let (cc, cr) = ((c.lo + c.hi) * 0.5, (c.hi - c.lo).length() * 0.5);
+            if !near(cc, cr) {
+                continue;
+            }
+            stack.clear();
+            let mut state = Walk::start(c, Vec3A::X, std::mem::take(stack));
+            let mut node: &obvhs::cwbvh::node::CwBvhNode;
+            obvhs::traverse!(
+                c.bvh,
+                node,
+                state,
+                {
+                    let (bits, index) = node.get_child_and_index_bits(state.oct_inv4);
+                    let mut mask = 0u32;
+                    for child in 0..8 {
+                        if node.is_child_empty(child) {
+                            continue;
+                        }
+                        let (centre, radius) = ball(&node.child_aabb(child));
+                        if near(centre, radius) {
+                            mask |= obvhs::cwbvh::node::extract_byte64(bits, child)
+                                << obvhs::cwbvh::node::extract_byte64(index, child);
+                        }
+                    }
+                    mask
+                },
+                {
+                    let i = c.base + state.primitive_id;
+                    visit(i, &self.prims[i as usize]);
+                }
+            );
+            *stack = state.stack;
+        }
+    }
+
     /// Calls `visit(prim_index, prim, roots)` for every primitive the line meets whose box the
     /// ray segment `[tmin, tmax]` reaches (order unspecified).
     pub fn all(

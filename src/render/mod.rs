@@ -1,9 +1,11 @@
 //! Rendering: the scene is prepared once (BVH, camera, lights), then image tiles are traced in
 //! parallel by the chosen integrator and averaged into a film.
 
+pub mod breakpoints;
 pub mod camera;
 pub mod gas;
 pub mod integrators;
+pub mod light_pieces;
 pub mod lighting;
 pub mod lights;
 pub mod quadrature;
@@ -140,6 +142,12 @@ pub struct Prepared {
     /// The `Integrator` and `tol` of the options.
     pub integrator: Integrator,
     pub tol: f64,
+    /// The median sphere radius (sets the depth of the first shadow band, `light_pieces`).
+    pub typical_radius: f64,
+    /// An upper bound on the radiance anything in the scene can send along a ray (largest RGB
+    /// channel): emission plus single scattering of any gas, any lit surface, the background.
+    /// Behind a transmittance `T`, what is left of a camera ray adds at most `T * rest_bound`.
+    pub rest_bound: f64,
     /// Wall time of `prepare` (BVH build included).
     pub prepare_time: Duration,
 }
@@ -219,6 +227,8 @@ pub fn prepare(scene: Scene, opts: &RenderOptions) -> Result<Prepared, String> {
             }
         })
         .collect();
+    let typical_radius = median_radius(&prims);
+    let rest_bound = rest_bound(&materials, &lights, background);
     let bvh = SphereBvh::build(prims, &ellipsoids);
     Ok(Prepared {
         bvh,
@@ -229,6 +239,48 @@ pub fn prepare(scene: Scene, opts: &RenderOptions) -> Result<Prepared, String> {
         gas_spheres,
         integrator: opts.integrator,
         tol: opts.tol,
+        typical_radius,
+        rest_bound,
         prepare_time: start.elapsed(),
     })
+}
+
+/// The median radius of (up to about a thousand evenly spread) primitives; 0 for none.
+fn median_radius(prims: &[Prim]) -> f64 {
+    if prims.is_empty() {
+        return 0.0;
+    }
+    let step = prims.len().div_ceil(1001);
+    let mut r: Vec<f64> = prims.iter().step_by(step).map(|p| p.radius).collect();
+    let mid = r.len() / 2;
+    *r.select_nth_unstable_by(mid, f64::total_cmp).1
+}
+
+/// [`Prepared::rest_bound`]: the largest of the background, any material's surface radiance
+/// (emission, ambient and direct terms of every light at full strength, or 1 when unlit) and
+/// any material's gas source `C + p a sum_i C_i I_i` (attenuation and visibility are at most
+/// 1), each channel bounded by its largest.
+fn rest_bound(
+    materials: &[Material],
+    lights: &[LightSource],
+    background: DVec3,
+) -> f64 {
+    let direct: f64 = lights.iter().map(|l| l.direct.max_element()).sum();
+    let ambient: f64 = lights.iter().map(|l| l.ambient.max_element()).sum();
+    let mut bound = background.max_element();
+    for m in materials {
+        let (e, a, s) = (
+            m.emissive.max_element(),
+            m.diffuse.max_element(),
+            m.specular.max_element(),
+        );
+        let gas = e + integrators::PHASE * a * direct;
+        let surface = if m.unlit {
+            1.0
+        } else {
+            e + ambient * m.ambient_intensity * a + direct * (a + s)
+        };
+        bound = bound.max(gas).max(surface);
+    }
+    bound
 }

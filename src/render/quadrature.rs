@@ -107,6 +107,12 @@ pub struct Quad {
     pub evals: u64,
 }
 
+/// Reusable buffers of [`integrate`].
+#[derive(Default)]
+pub struct QuadScratch {
+    parts: Vec<(f64, DVec3, usize, f64, f64)>,
+}
+
 /// Integrates `f(piece, t)` over every piece `[a, b]` of `pieces` and sums, refining until the summed
 /// error estimate is at most `tol(value)` (a function of the running total, so that a
 /// relative tolerance can be asked for) or `max_intervals` sub-intervals are in use.
@@ -115,9 +121,11 @@ pub fn integrate(
     mut f: impl FnMut(usize, f64) -> DVec3,
     tol: impl Fn(DVec3) -> f64,
     max_intervals: usize,
+    scratch: &mut QuadScratch,
 ) -> Quad {
     // (error, value, piece index, u0, u1)
-    let mut parts: Vec<(f64, DVec3, usize, f64, f64)> = Vec::with_capacity(pieces.len() * 2);
+    let parts = &mut scratch.parts;
+    parts.clear();
     let mut evals = 0u64;
     for (i, &(a, b)) in pieces.iter().enumerate() {
         if b > a {
@@ -168,7 +176,13 @@ mod tests {
     use super::*;
 
     fn scalar(pieces: &[(f64, f64)], f: impl Fn(f64) -> f64, tol: f64) -> Quad {
-        integrate(pieces, |_, t| DVec3::splat(f(t)), |_| tol, 10_000)
+        integrate(
+            pieces,
+            |_, t| DVec3::splat(f(t)),
+            |_| tol,
+            10_000,
+            &mut QuadScratch::default(),
+        )
     }
 
     #[test]
@@ -209,6 +223,7 @@ mod tests {
             |_, x| DVec3::new(1e-12 * x.cos(), 0.0, 0.0),
             |v| 1e-8 * v.abs().max_element(),
             10_000,
+            &mut QuadScratch::default(),
         );
         let want = 1e-12 * 1f64.sin();
         assert!((q.value.x - want).abs() < 1e-8 * want);

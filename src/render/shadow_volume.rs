@@ -1,29 +1,23 @@
-//! Where the single-scattering integrand along a camera segment is not smooth, and which
-//! spheres it depends on (MODEL.md section 3).
+//! The region of space that light rays from a piece of a camera ray sweep on their way to a
+//! light, and the spheres that meet it (MODEL.md section 3).
 //!
-//! For light `i`, points `x(t)` of the segment `[A, B]` send light rays towards the light: along
-//! `L` for a directional light (they sweep a half-infinite strip), to the point `P` for a point
-//! light (they sweep the triangle `A B P`). Only spheres that meet that region can shadow any
-//! point of the segment: those are the **candidates** (found through the BVH with the region's
-//! box, then kept if their distance to the region is at most their radius). The integrand
-//! `E_i(x(t))` is smooth in `t` except where
-//! - the light ray from `x(t)` becomes tangent to a candidate: the camera ray crosses its shadow
-//!   boundary, a cylinder (directional light) or a cone with apex `P` (point light); the path
-//!   length through the sphere behaves like a square root there;
-//! - `x(t)` crosses a candidate's surface (its own chord changes form);
-//! - `x(t)` crosses the point light's `radius` sphere (a jump).
+//! For light `i`, the points `x(t)` of the segment `[A, B]` send light rays towards the light:
+//! along `L` for a directional light (they sweep a half-infinite strip), to the point `P` for a
+//! point light (they sweep the triangle `A B P`). Only spheres that meet that region can shadow
+//! any point of the segment: those are the segment's **shadowers**.
 //!
-//! Those parameters are the **breakpoints**. Extra breakpoints cost a little work and never
-//! accuracy, so the cylinder and cone roots are kept without deciding on which side of the
-//! sphere the tangency lies.
+//! The region is cut into **depth bands** along the light rays (distance `s` along `L`, or the
+//! fraction `lambda` of the way to `P`), so that the far bands need only be searched for the
+//! parts of the segment that the near ones leave lit (`render::light_pieces`). A band is a
+//! convex planar quadrilateral; the BVH is searched with the exact distance of each node's
+//! bounding ball to it (`SphereBvh::near_region`), so the nodes visited are those near the
+//! quadrilateral, not those in an axis-aligned box around it (for a diagonal light, a large part
+//! of the scene).
 
-use glam::{DAffine3, DVec3};
+use glam::{DVec3, UVec2};
 
-use super::lights::{LightKind, LightSource};
-use crate::accel::{Prim, SphereBvh};
-use crate::geom::sphere_roots;
-use crate::scene::NO_ELLIPSOID;
-
+use super::lights::LightKind;
+use crate::accel::SphereBvh;
 /// Distance from `c` to the segment `[a, b]`.
 fn to_segment(c: DVec3, a: DVec3, b: DVec3) -> f64 {
     let ab = b - a;
@@ -34,33 +28,6 @@ fn to_segment(c: DVec3, a: DVec3, b: DVec3) -> f64 {
         0.0
     };
     (a + u * ab - c).length()
-}
-
-/// Distance from `c` to the ray `a + s l`, `s >= 0` (`l` unit).
-fn to_ray(c: DVec3, a: DVec3, l: DVec3) -> f64 {
-    let s = (c - a).dot(l).max(0.0);
-    (a + s * l - c).length()
-}
-
-/// Distance from `c` to the half-infinite strip `{a + u (b - a) + s l : u in [0,1], s >= 0}`.
-fn to_strip(c: DVec3, a: DVec3, b: DVec3, l: DVec3) -> f64 {
-    let dv = b - a;
-    let w = c - a;
-    // Unconstrained minimiser of |a + u dv + s l - c|^2 (l unit).
-    let (dd, dl) = (dv.dot(dv), dv.dot(l));
-    let det = dd - dl * dl;
-    if det > 1e-12 * dd {
-        let (wd, wl) = (w.dot(dv), w.dot(l));
-        let u = (wd - dl * wl) / det;
-        let s = (wl * dd - dl * wd) / det;
-        if (0.0..=1.0).contains(&u) && s >= 0.0 {
-            return (a + u * dv + s * l - c).length();
-        }
-    }
-    // Otherwise the nearest point is on an edge.
-    to_ray(c, a, l)
-        .min(to_ray(c, b, l))
-        .min(to_segment(c, a, b))
 }
 
 /// Distance from `p` to the triangle `a b c` (Ericson, Real-Time Collision Detection 5.1.5).
@@ -104,126 +71,95 @@ fn to_triangle(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> f64 {
     (a + ab * v + ac * w - p).length()
 }
 
-/// Where the ray `o + s l` leaves the box `lo..hi` (0 if it starts outside and misses).
-fn exit_along(o: DVec3, l: DVec3, lo: DVec3, hi: DVec3) -> f64 {
-    let mut s1 = f64::INFINITY;
-    for k in 0..3 {
-        if l[k] > 0.0 {
-            s1 = s1.min((hi[k] - o[k]) / l[k]);
-        } else if l[k] < 0.0 {
-            s1 = s1.min((lo[k] - o[k]) / l[k]);
-        }
-    }
-    s1.max(0.0)
+/// A convex planar quadrilateral `q0 q1 q2 q3` (a triangle when two corners coincide), one
+/// depth band of a shadow region.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Region {
+    pub q: [DVec3; 4],
 }
 
-/// Every primitive that the light rays from the segment `[a, b]` towards `light` can meet.
-pub fn candidates(bvh: &SphereBvh, a: DVec3, b: DVec3, light: &LightSource, out: &mut Vec<u32>) {
-    out.clear();
-    let (lo, hi) = bvh.bounds();
-    match light.kind {
-        LightKind::Directional { to_light: l, .. } => {
-            let (ea, eb) = (
-                a + exit_along(a, l, lo, hi) * l,
-                b + exit_along(b, l, lo, hi) * l,
-            );
-            let qlo = a.min(b).min(ea).min(eb);
-            let qhi = a.max(b).max(ea).max(eb);
-            bvh.overlapping(qlo, qhi, |i, p| {
-                let r = p.radius * (1.0 + 1e-9);
-                if to_strip(p.center, a, b, l) <= r {
-                    out.push(i);
-                }
-            });
+impl Region {
+    /// The band `[f0, f1]` of the region swept from the segment `[a, b]` towards `light`: `f`
+    /// is the distance along `L` (directional) or the fraction of the way to `P` (point).
+    pub fn band(light: &LightKind, a: DVec3, b: DVec3, f0: f64, f1: f64) -> Region {
+        match *light {
+            LightKind::Directional { to_light: l, .. } => Region {
+                q: [a + f0 * l, b + f0 * l, b + f1 * l, a + f1 * l],
+            },
+            LightKind::Point { position: p, .. } => Region {
+                q: [a + f0 * (p - a), b + f0 * (p - b), b + f1 * (p - b), a + f1 * (p - a)],
+            },
         }
-        LightKind::Point { position, .. } => {
-            let qlo = a.min(b).min(position).max(lo);
-            let qhi = a.max(b).max(position).min(hi);
-            if qlo.cmpgt(qhi).any() {
-                return;
-            }
-            bvh.overlapping(qlo, qhi, |i, p| {
-                let r = p.radius * (1.0 + 1e-9);
-                if to_triangle(p.center, a, b, position) <= r {
-                    out.push(i);
-                }
-            });
-        }
+    }
+
+    /// Distance from `p` to the region (split along the diagonal `q0 q2` into two triangles).
+    #[inline]
+    pub fn distance(&self, p: DVec3) -> f64 {
+        let [q0, q1, q2, q3] = self.q;
+        to_triangle(p, q0, q1, q2).min(to_triangle(p, q0, q2, q3))
     }
 }
 
-/// Roots of `qa t^2 + qb t + qc = 0` (stable form; a linear or empty equation handled).
-fn quadratic(qa: f64, qb: f64, qc: f64, out: &mut Vec<f64>) {
-    if qa == 0.0 {
-        if qb != 0.0 {
-            out.push(-qc / qb);
-        }
-        return;
-    }
-    let disc = qb * qb - 4.0 * qa * qc;
-    if disc.is_nan() || disc < 0.0 {
-        return;
-    }
-    let q = -0.5 * (qb + disc.sqrt().copysign(qb));
-    out.push(q / qa);
-    if q != 0.0 {
-        out.push(qc / q);
-    }
-}
-
-/// Appends to `out` the breakpoints in `(ta, tb)` that candidate `p` causes along `o + t d`
-/// for `light`. Ellipsoids are handled in their object space (an affine map keeps `t`).
-pub fn breakpoints(
-    p: &Prim,
-    to_object: &[DAffine3],
-    o: DVec3,
-    d: DVec3,
-    light: &LightSource,
-    (ta, tb): (f64, f64),
+/// The band edges along the light rays from the segment `[a, b]`: `0 = f_0 < f_1 < ... = end`,
+/// where `end` lies beyond every sphere (directional: the farthest corner of the scene's box
+/// along `L`; point: the light, `1`), and `f_1 = base`, then four times deeper each band.
+pub fn band_edges(
+    bvh: &SphereBvh,
+    light: &LightKind,
+    a: DVec3,
+    b: DVec3,
+    base: f64,
     out: &mut Vec<f64>,
 ) {
-    let mut roots = Vec::new();
-    // The sphere in its own frame: centre c, radius r; o, d, light mapped alike.
-    let (m, c, r) = if p.ellipsoid == NO_ELLIPSOID {
-        (None, p.center, p.radius)
-    } else {
-        (Some(&to_object[p.ellipsoid as usize]), DVec3::ZERO, 1.0)
-    };
-    let point = |x: DVec3| m.map_or(x, |m| m.transform_point3(x));
-    let vector = |x: DVec3| m.map_or(x, |m| m.transform_vector3(x));
-    let (o, d) = (point(o), vector(d));
-    if let Some((t0, t1)) = sphere_roots(o, d, c, r) {
-        roots.extend([t0, t1]);
-    }
-    match light.kind {
-        LightKind::Directional { to_light, .. } => {
-            // Cylinder around the axis through c along L: a circle in the plane normal to L.
-            let l = vector(to_light).normalize();
-            let perp = |v: DVec3| v - v.dot(l) * l;
-            if let Some((t0, t1)) = sphere_roots(perp(o - c), perp(d), DVec3::ZERO, r) {
-                roots.extend([t0, t1]);
-            }
-        }
-        LightKind::Point { position, .. } => {
-            // Cone with apex P tangent to the sphere: ((x-P).u)^2 = cos^2(alpha) |x-P|^2.
-            let pp = point(position);
-            let axis = c - pp;
-            let dist2 = axis.length_squared();
-            if dist2 > r * r {
-                let u = axis / dist2.sqrt();
-                let k = 1.0 - r * r / dist2;
-                let g = o - pp;
-                let (gu, du) = (g.dot(u), d.dot(u));
-                quadratic(
-                    du * du - k * d.dot(d),
-                    2.0 * (gu * du - k * g.dot(d)),
-                    gu * gu - k * g.dot(g),
-                    &mut roots,
+    out.clear();
+    out.push(0.0);
+    let (end, step) = match *light {
+        LightKind::Directional { to_light: l, .. } => {
+            // Every box point y reached as x + s L has s = (y - x).L, at most the largest over
+            // the corners, which is affine in x and so largest at a or b.
+            let (lo, hi) = bvh.bounds();
+            let mut end = 0.0f64;
+            for k in 0..8 {
+                let corner = DVec3::new(
+                    if k & 1 == 0 { lo.x } else { hi.x },
+                    if k & 2 == 0 { lo.y } else { hi.y },
+                    if k & 4 == 0 { lo.z } else { hi.z },
                 );
+                end = end.max((corner - a).dot(l)).max((corner - b).dot(l));
             }
+            (end, base)
         }
+        LightKind::Point { position: p, .. } => {
+            let near = (p - a).length().min((p - b).length());
+            (1.0, if near > 0.0 { base / near } else { 1.0 })
+        }
+    };
+    let mut f = step;
+    while f.is_finite() && f > 0.0 && f < end {
+        out.push(f);
+        f *= 4.0;
     }
-    out.extend(roots.into_iter().filter(|t| *t > ta && *t < tb));
+    out.push(end.max(0.0));
+}
+
+/// Appends to `out` every primitive that meets `region`.
+pub fn gather(bvh: &SphereBvh, region: &Region, out: &mut Vec<u32>, stack: &mut Vec<UVec2>) {
+    // Rounding of the distance: a few ulps of the coordinates involved.
+    let slack = {
+        let (lo, hi) = bvh.bounds();
+        let big = lo.abs().max(hi.abs()).max_element();
+        let q = region.q.iter().fold(big, |m, v| m.max(v.abs().max_element()));
+        64.0 * f64::EPSILON * q
+    };
+    bvh.near_region(
+        |c, r| region.distance(c) <= r + slack,
+        |i, p| {
+            if region.distance(p.center) <= p.radius * (1.0 + 1e-9) + slack {
+                out.push(i);
+            }
+        },
+        stack,
+    );
 }
 
 #[cfg(test)]
@@ -232,7 +168,7 @@ mod tests {
 
     /// Distances against dense sampling of the regions.
     #[test]
-    fn strip_and_triangle_distances_against_sampling() {
+    fn band_and_triangle_distances_against_sampling() {
         let mut state = 99u64;
         let mut rnd = || {
             state = state
@@ -240,29 +176,51 @@ mod tests {
                 .wrapping_add(1442695040888963407);
             (state >> 11) as f64 / (1u64 << 53) as f64 * 4.0 - 2.0
         };
-        for _ in 0..200 {
+        for k in 0..200 {
             let a = DVec3::new(rnd(), rnd(), rnd());
             let b = DVec3::new(rnd(), rnd(), rnd());
             let q = DVec3::new(rnd(), rnd(), rnd());
             let c = DVec3::new(rnd(), rnd(), rnd());
             let l = DVec3::new(rnd(), rnd(), rnd()).normalize();
-            let (mut best_s, mut best_t) = (f64::INFINITY, f64::INFINITY);
+            let (f0, f1) = (0.25 * (rnd() + 2.0), 2.0 + rnd() + 2.0);
+            let light = if k % 2 == 0 {
+                LightKind::Directional {
+                    to_light: l,
+                    scope: (0, u32::MAX),
+                }
+            } else {
+                LightKind::Point {
+                    position: c,
+                    attenuation: DVec3::X,
+                    radius: 100.0,
+                }
+            };
+            let (f0, f1) = if k % 2 == 0 {
+                (f0, f1)
+            } else {
+                (f0 * 0.25, (f1 * 0.25).min(1.0))
+            };
+            let band = Region::band(&light, a, b, f0, f1);
+            let (mut best_b, mut best_t) = (f64::INFINITY, f64::INFINITY);
             for i in 0..=200 {
                 let u = i as f64 / 200.0;
-                for j in 0..=400 {
-                    let s = j as f64 / 40.0;
-                    best_s = best_s.min((a + u * (b - a) + s * l - q).length());
-                }
+                let x = a + u * (b - a);
                 for j in 0..=200 {
+                    let f = f0 + (f1 - f0) * j as f64 / 200.0;
+                    let y = match light {
+                        LightKind::Directional { .. } => x + f * l,
+                        LightKind::Point { .. } => x + f * (c - x),
+                    };
+                    best_b = best_b.min((y - q).length());
                     let v = j as f64 / 200.0 * (1.0 - u);
                     best_t = best_t.min((a + u * (b - a) + v * (c - a) - q).length());
                 }
             }
-            let ds = to_strip(q, a, b, l);
+            let db = band.distance(q);
             let dt = to_triangle(q, a, b, c);
             assert!(
-                ds <= best_s + 1e-12 && ds > best_s - 0.05,
-                "strip {ds} vs {best_s}"
+                db <= best_b + 1e-12 && db > best_b - 0.05,
+                "band {db} vs {best_b}"
             );
             assert!(
                 dt <= best_t + 1e-12 && dt > best_t - 0.05,

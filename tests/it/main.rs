@@ -18,6 +18,7 @@ mod render_gas;
 mod render_opaque;
 mod roundtrip;
 mod semantics;
+mod shadow_query;
 mod support;
 mod vmd;
 mod writer;

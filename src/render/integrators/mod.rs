@@ -31,15 +31,20 @@ pub struct Estimate {
     pub covered: bool,
 }
 
-/// Reusable buffers of one worker (no allocation per ray).
+/// Reusable buffers of one worker (no allocation per ray once they have grown).
 #[derive(Default)]
 pub struct Scratch {
     pub intervals: Vec<Interval>,
     pub events: Vec<(f64, u32)>,
     pub segments: Vec<Segment>,
     pub members: Vec<u32>,
-    pub candidates: Vec<u32>,
-    pub breaks: Vec<f64>,
+    /// The exact integrator's: shadow pieces of one segment and light, the lit pieces of the
+    /// whole ray with their shadowers, and the quadrature's buffers.
+    pub light: super::light_pieces::Buffers,
+    pub pieces: Vec<(f64, f64)>,
+    pub meta: Vec<exact::PieceMeta>,
+    pub active: Vec<u32>,
+    pub quad: super::quadrature::QuadScratch,
 }
 
 /// The camera ray's radiance with the chosen integrator. Scenes without gas always take the
