@@ -138,6 +138,7 @@ pub fn radiance(
         },
         |v| tol * (known + v).abs().max_element().max(1e-3),
         MAX_INTERVALS,
+        &mut crate::render::quadrature::QuadScratch::default(),
     );
     counters.quadrature_nodes += q.evals;
     Estimate {
