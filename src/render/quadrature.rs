@@ -7,6 +7,25 @@
 //! `s(u) = 3u^2 - 2u^3`: `s'` vanishes at both ends, so an integrand that behaves like
 //! `sqrt(t - a)` at an end (a shadow boundary met at a breakpoint, where a light's path length
 //! through a sphere is the square root of a quadratic in `t`) becomes smooth in `u`.
+//!
+//! The worst interval is kept on top of a binary heap, and the intervals and the heap live in a
+//! [`QuadScratch`] the caller keeps per thread. The running totals are compensated sums (each
+//! split subtracts the parent's value and error), and the result is summed afresh from the
+//! live intervals.
+//!
+//! Error estimate, chosen by measurement on random integrands of four families (the tests):
+//! - An interval not yet split gets QUADPACK's `asc * min(1, (s |K - G| / asc)^1.5)`, with
+//!   `s = 400` (QUADPACK's 200 loses coverage on kinks inside a piece). `|K - G|` alone
+//!   cannot tell a smooth integrand, where K15 is far better than G7, from a kink, where
+//!   both are equally wrong; the power law must cover kinks, so it overstates smooth errors
+//!   by 1e3 to 1e7 (measured), and no calibration of it serves both.
+//! - Once split, each half also gets a share of `4 max(|K_p - K_l - K_r|, |K-G|_l + |K-G|_r)`:
+//!   the parent's measured error bounds its halves' if the rule converges at all, and the
+//!   factor covers the level-to-level fluctuation of kink errors. Each half keeps the lesser
+//!   estimate; with kinks this brings the median estimate / true error to about 20.
+
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
 
 use glam::DVec3;
 
@@ -39,17 +58,25 @@ const WG: [f64; 4] = [
     0.417_959_183_673_469_4,
 ];
 
-/// One Gauss-Kronrod estimate over `[u0, u1]` of the piece `[a, b]` (in the smoothed
-/// variable): the Kronrod value and QUADPACK's error estimate
-/// `resasc * min(1, (200 |K - G| / resasc)^1.5)` per channel (max over channels).
+/// The three sums of one Gauss-Kronrod application, per channel.
+#[derive(Clone, Copy, Debug, Default)]
+struct Rule {
+    /// Kronrod and Gauss values.
+    k: DVec3,
+    g: DVec3,
+    /// `integral |f - mean|` by the Kronrod rule (QUADPACK's `resasc`): the scale of the
+    /// integrand's variation over the interval.
+    asc: DVec3,
+}
+
+/// Applies the rule over `[u0, u1]` of the piece `[a, b]` (in the smoothed variable).
 fn gk15(
     f: &mut impl FnMut(usize, f64) -> DVec3,
     piece: usize,
-    a: f64,
-    b: f64,
+    (a, b): (f64, f64),
     u0: f64,
     u1: f64,
-) -> (DVec3, f64) {
+) -> Rule {
     let c = 0.5 * (u0 + u1);
     let h = 0.5 * (u1 - u0);
     let mut g = |u: f64| {
@@ -77,24 +104,153 @@ fn gk15(
         }
     }
     let mean = k * 0.5;
-    let mut resasc = DVec3::ZERO;
+    let mut asc = (fc - mean).abs() * WGK[7];
     for j in 0..7 {
-        resasc += ((fv[j] - mean).abs() + (fv[14 - j] - mean).abs()) * WGK[j];
+        asc += ((fv[j] - mean).abs() + (fv[14 - j] - mean).abs()) * WGK[j];
     }
-    resasc += (fc - mean).abs() * WGK[7];
-    let (k, gauss, resasc) = (k * h, gauss * h, resasc * h);
-    let mut err: f64 = 0.0;
-    for ch in 0..3 {
-        let diff = (k[ch] - gauss[ch]).abs();
-        let e = if resasc[ch] != 0.0 && diff != 0.0 {
-            resasc[ch] * (50.0 * diff / resasc[ch]).powf(1.5).min(1.0)
+    Rule {
+        k: k * h,
+        g: gauss * h,
+        asc: asc * h,
+    }
+}
+
+/// Which error estimate (see the module documentation); the old one is kept for the tests'
+/// before/after comparison.
+#[derive(Clone, Copy, Debug)]
+enum Estimator {
+    /// This module's: QUADPACK's power law, bounded once split by the parent's error.
+    Calibrated,
+    /// The estimate before the rewrite: the power law with scale 50 and no parent.
+    #[cfg(test)]
+    Old,
+}
+
+/// Never claim better than the rounding of the sums allows.
+fn rounding_floor(k: f64) -> f64 {
+    50.0 * f64::EPSILON * k.abs()
+}
+
+impl Estimator {
+    /// Estimate for one interval from its own rule alone, per channel: QUADPACK's
+    /// `asc * min(1, (400 |K - G| / asc)^1.5)` (QUADPACK has 200).
+    fn single(self, r: &Rule, ch: usize) -> f64 {
+        let scale = match self {
+            Estimator::Calibrated => 400.0,
+            #[cfg(test)]
+            Estimator::Old => 50.0,
+        };
+        let diff = (r.k[ch] - r.g[ch]).abs();
+        let asc = r.asc[ch];
+        let e = if asc != 0.0 && diff != 0.0 {
+            asc * (scale * diff / asc).powf(1.5).min(1.0)
         } else {
             diff
         };
-        // Never claim better than rounding of the sum allows.
-        err = err.max(e.max(50.0 * f64::EPSILON * k[ch].abs()));
+        e.max(rounding_floor(r.k[ch]))
     }
-    (k, err)
+
+    fn interval(self, r: &Rule) -> f64 {
+        (0..3).map(|ch| self.single(r, ch)).fold(0.0, f64::max)
+    }
+
+    /// Estimates for the two halves `l`, `r` of a split interval whose rule was `p`.
+    ///
+    /// `d = |K_p - K_l - K_r|` is the parent's actual error, up to the children's. If the
+    /// rule converges at all, the children's summed error is below it; kinks make the error
+    /// fluctuate from level to level with their position among the nodes, hence the factor
+    /// 4 (measured: with 1 or 2, kinks lose coverage). The bound is shared in proportion to
+    /// the children's `|K - G|`, and each child keeps the lesser of it and its own estimate.
+    fn pair(self, p: &Rule, l: &Rule, r: &Rule) -> (f64, f64) {
+        let (mut el, mut er): (f64, f64) = (0.0, 0.0);
+        for ch in 0..3 {
+            let (sl, sr) = (self.single(l, ch), self.single(r, ch));
+            let (bl, br) = match self {
+                Estimator::Calibrated => {
+                    let dl = (l.k[ch] - l.g[ch]).abs();
+                    let dr = (r.k[ch] - r.g[ch]).abs();
+                    let d = (p.k[ch] - (l.k[ch] + r.k[ch])).abs();
+                    let bound = 4.0 * d.max(dl + dr);
+                    let wl = if dl + dr > 0.0 { dl / (dl + dr) } else { 0.5 };
+                    (
+                        (bound * wl).max(rounding_floor(l.k[ch])),
+                        (bound * (1.0 - wl)).max(rounding_floor(r.k[ch])),
+                    )
+                }
+                #[cfg(test)]
+                Estimator::Old => (sl, sr),
+            };
+            el = el.max(sl.min(bl));
+            er = er.max(sr.min(br));
+        }
+        (el, er)
+    }
+}
+
+/// Neumaier's compensated sum, per channel: the running totals lose an interval's value each
+/// time it is split, and without compensation the cancellation would leave rounding garbage
+/// of the size of the largest value ever added.
+#[derive(Clone, Copy, Default)]
+struct Sum {
+    s: DVec3,
+    c: DVec3,
+}
+
+impl Sum {
+    fn add(&mut self, x: DVec3) {
+        let t = self.s + x;
+        let big = self.s.abs().cmpge(x.abs());
+        self.c += DVec3::select(big, (self.s - t) + x, (x - t) + self.s);
+        self.s = t;
+    }
+    fn get(&self) -> DVec3 {
+        self.s + self.c
+    }
+}
+
+/// One live sub-interval `[u0, u1]` of piece `piece`.
+#[derive(Clone, Copy, Debug)]
+struct Part {
+    piece: usize,
+    u0: f64,
+    u1: f64,
+    rule: Rule,
+    err: f64,
+}
+
+/// A heap entry: the error of `parts[idx]`. Entries never go stale, since an interval's
+/// error only changes when it is split, and it is popped to be split.
+#[derive(Clone, Copy, Debug)]
+struct Entry {
+    err: f64,
+    idx: usize,
+}
+
+impl PartialEq for Entry {
+    fn eq(&self, o: &Self) -> bool {
+        self.cmp(o) == Ordering::Equal
+    }
+}
+impl Eq for Entry {}
+impl PartialOrd for Entry {
+    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl Ord for Entry {
+    fn cmp(&self, o: &Self) -> Ordering {
+        #[cfg(test)]
+        tests::COMPARISONS.with(|c| c.set(c.get() + 1));
+        self.err.total_cmp(&o.err).then(o.idx.cmp(&self.idx))
+    }
+}
+
+/// Buffers of [`integrate`], kept by the caller (one per thread) so that a call allocates
+/// only when it needs more sub-intervals than any call before it on that scratch.
+#[derive(Debug, Default)]
+pub struct QuadScratch {
+    parts: Vec<Part>,
+    heap: BinaryHeap<Entry>,
 }
 
 /// Result of [`integrate`].
@@ -107,73 +263,134 @@ pub struct Quad {
     pub evals: u64,
 }
 
-/// Reusable buffers of [`integrate`].
-#[derive(Default)]
-pub struct QuadScratch {
-    parts: Vec<(f64, DVec3, usize, f64, f64)>,
-}
-
-/// Integrates `f(piece, t)` over every piece `[a, b]` of `pieces` and sums, refining until the summed
-/// error estimate is at most `tol(value)` (a function of the running total, so that a
+/// Integrates `f(piece, t)` over every piece `[a, b]` of `pieces` and sums, refining until the
+/// summed error estimate is at most `tol(value)` (a function of the running total, so that a
 /// relative tolerance can be asked for) or `max_intervals` sub-intervals are in use.
 pub fn integrate(
+    pieces: &[(f64, f64)],
+    f: impl FnMut(usize, f64) -> DVec3,
+    tol: impl Fn(DVec3) -> f64,
+    max_intervals: usize,
+    scratch: &mut QuadScratch,
+) -> Quad {
+    integrate_with(
+        Estimator::Calibrated,
+        pieces,
+        f,
+        tol,
+        max_intervals,
+        scratch,
+    )
+}
+
+fn integrate_with(
+    est: Estimator,
     pieces: &[(f64, f64)],
     mut f: impl FnMut(usize, f64) -> DVec3,
     tol: impl Fn(DVec3) -> f64,
     max_intervals: usize,
     scratch: &mut QuadScratch,
 ) -> Quad {
-    // (error, value, piece index, u0, u1)
-    let parts = &mut scratch.parts;
+    let QuadScratch { parts, heap } = scratch;
     parts.clear();
+    heap.clear();
+    let mut value = Sum::default();
+    let mut error = Sum::default();
     let mut evals = 0u64;
     for (i, &(a, b)) in pieces.iter().enumerate() {
         if b > a {
-            let (v, e) = gk15(&mut f, i, a, b, 0.0, 1.0);
+            let rule = gk15(&mut f, i, (a, b), 0.0, 1.0);
+            let err = est.interval(&rule);
             evals += 15;
-            parts.push((e, v, i, 0.0, 1.0));
+            value.add(rule.k);
+            error.add(DVec3::splat(err));
+            heap.push(Entry {
+                err,
+                idx: parts.len(),
+            });
+            parts.push(Part {
+                piece: i,
+                u0: 0.0,
+                u1: 1.0,
+                rule,
+                err,
+            });
         }
     }
-    loop {
-        let value: DVec3 = parts.iter().map(|p| p.1).sum();
-        let error: f64 = parts.iter().map(|p| p.0).sum();
-        let worst = parts
-            .iter()
-            .enumerate()
-            .max_by(|x, y| x.1 .0.total_cmp(&y.1 .0))
-            .map(|(k, _)| k);
-        let Some(w) = worst else {
-            return Quad::default();
+    let mut split = |idx: usize,
+                     parts: &mut Vec<Part>,
+                     heap: &mut BinaryHeap<Entry>,
+                     value: &mut Sum,
+                     error: &mut Sum,
+                     evals: &mut u64|
+     -> bool {
+        let p = parts[idx];
+        let um = 0.5 * (p.u0 + p.u1);
+        if um <= p.u0 || um >= p.u1 {
+            return false;
+        }
+        let piece = pieces[p.piece];
+        let l = gk15(&mut f, p.piece, piece, p.u0, um);
+        let r = gk15(&mut f, p.piece, piece, um, p.u1);
+        *evals += 30;
+        let (el, er) = est.pair(&p.rule, &l, &r);
+        value.add(-p.rule.k);
+        value.add(l.k);
+        value.add(r.k);
+        error.add(DVec3::splat(-p.err));
+        error.add(DVec3::splat(el));
+        error.add(DVec3::splat(er));
+        parts[idx] = Part {
+            u1: um,
+            rule: l,
+            err: el,
+            ..p
         };
-        if error <= tol(value) || parts.len() >= max_intervals {
-            return Quad {
-                value,
-                error,
-                evals,
-            };
+        heap.push(Entry { err: el, idx });
+        heap.push(Entry {
+            err: er,
+            idx: parts.len(),
+        });
+        parts.push(Part {
+            u0: um,
+            rule: r,
+            err: er,
+            ..p
+        });
+        true
+    };
+    while error.get().x > tol(value.get()) && parts.len() < max_intervals {
+        let Some(Entry { idx, .. }) = heap.pop() else {
+            break;
+        };
+        if !split(idx, parts, heap, &mut value, &mut error, &mut evals) {
+            // The worst interval cannot be split further in f64.
+            break;
         }
-        let (_, _, i, u0, u1) = parts[w];
-        let um = 0.5 * (u0 + u1);
-        if um <= u0 || um >= u1 {
-            // The interval cannot be split further in f64.
-            return Quad {
-                value,
-                error,
-                evals,
-            };
-        }
-        let (a, b) = pieces[i];
-        let (v1, e1) = gk15(&mut f, i, a, b, u0, um);
-        let (v2, e2) = gk15(&mut f, i, a, b, um, u1);
-        evals += 30;
-        parts[w] = (e1, v1, i, u0, um);
-        parts.push((e2, v2, i, um, u1));
+    }
+    // The result from the live intervals alone, free of the running sums' history.
+    let mut value = Sum::default();
+    let mut error = 0.0;
+    for p in parts.iter() {
+        value.add(p.rule.k);
+        error += p.err;
+    }
+    Quad {
+        value: value.get(),
+        error,
+        evals,
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::cell::Cell;
+
+    thread_local! {
+        /// Heap comparisons made on this thread (see `Entry::cmp`).
+        pub(super) static COMPARISONS: Cell<u64> = const { Cell::new(0) };
+    }
 
     fn scalar(pieces: &[(f64, f64)], f: impl Fn(f64) -> f64, tol: f64) -> Quad {
         integrate(
@@ -227,5 +444,520 @@ mod tests {
         );
         let want = 1e-12 * 1f64.sin();
         assert!((q.value.x - want).abs() < 1e-8 * want);
+    }
+
+    /// SplitMix64: a small deterministic generator.
+    struct Rng(u64);
+
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            z ^ (z >> 31)
+        }
+        /// Uniform in [0, 1).
+        fn unit(&mut self) -> f64 {
+            (self.next() >> 11) as f64 / (1u64 << 53) as f64
+        }
+        fn range(&mut self, lo: f64, hi: f64) -> f64 {
+            lo + (hi - lo) * self.unit()
+        }
+        /// `10^x` with `x` uniform in `[lo, hi)`.
+        fn log10(&mut self, lo: f64, hi: f64) -> f64 {
+            10f64.powf(self.range(lo, hi))
+        }
+        fn below(&mut self, n: usize) -> usize {
+            (self.unit() * n as f64) as usize
+        }
+    }
+
+    /// Nodes and weights of `n`-point Gauss-Legendre on [-1, 1], by Newton's method on the
+    /// Legendre recurrence (for the reference integrals: a rule independent of the one tested).
+    fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
+        (0..n)
+            .map(|i| {
+                let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
+                let mut dp = 0.0;
+                for _ in 0..100 {
+                    let (mut p0, mut p1) = (1.0, x);
+                    for k in 2..=n {
+                        let k = k as f64;
+                        (p0, p1) = (p1, ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k);
+                    }
+                    dp = n as f64 * (x * p1 - p0) / (x * x - 1.0);
+                    let dx = p1 / dp;
+                    x -= dx;
+                    if dx.abs() < 1e-16 {
+                        break;
+                    }
+                }
+                (x, 2.0 / ((1.0 - x * x) * dp * dp))
+            })
+            .collect()
+    }
+
+    /// The integral of `f` over `[a, b]`, split at `breaks` (every kink and square-root point,
+    /// in any order), and `integral |f|`: composite 20-point Gauss-Legendre on `panels` panels
+    /// of each cell of a mesh graded geometrically towards both ends of every sub-interval, so
+    /// that square-root ends and singularities just outside converge (a rule and a treatment
+    /// of the ends independent of the ones tested).
+    fn composite(
+        f: &dyn Fn(f64) -> f64,
+        a: f64,
+        b: f64,
+        breaks: &[f64],
+        panels: usize,
+    ) -> (f64, f64) {
+        thread_local! {
+            static GL: Vec<(f64, f64)> = gauss_legendre(20);
+        }
+        let mut pts: Vec<f64> = breaks.iter().copied().filter(|&x| x > a && x < b).collect();
+        pts.push(a);
+        pts.push(b);
+        pts.sort_by(f64::total_cmp);
+        pts.dedup();
+        let mut mesh = Vec::new();
+        for w in pts.windows(2) {
+            let h = w[1] - w[0];
+            mesh.push(w[0]);
+            // Down to cells far above the spacing of f64 there, so that no node rounds onto
+            // the end (where a chord's indicator jumps); the last cell's square root costs
+            // (1e6 ulp / h)^1.5.
+            let ulp = f64::EPSILON * w[0].abs().max(w[1].abs());
+            let mut d = 0.5 * h;
+            while d > 1e6 * ulp {
+                mesh.push(w[0] + d);
+                mesh.push(w[1] - d);
+                d *= 0.5;
+            }
+        }
+        mesh.push(b);
+        mesh.sort_by(f64::total_cmp);
+        mesh.dedup();
+        let (mut sum, mut abs) = (Sum::default(), 0.0);
+        GL.with(|gl| {
+            for w in mesh.windows(2) {
+                let h = (w[1] - w[0]) / panels as f64;
+                for k in 0..panels {
+                    let c = w[0] + (k as f64 + 0.5) * h;
+                    for &(x, wt) in gl {
+                        let y = f(c + 0.5 * h * x) * wt * 0.5 * h;
+                        sum.add(DVec3::splat(y));
+                        abs += y.abs();
+                    }
+                }
+            }
+        });
+        (sum.get().x, abs)
+    }
+
+    /// One random integrand: its pieces, and what the reference needs.
+    struct Case {
+        f: Box<dyn Fn(f64) -> f64>,
+        pieces: Vec<(f64, f64)>,
+        /// Kinks and square-root points of `f` (for the reference).
+        breaks: Vec<f64>,
+        /// The closed form, where there is one.
+        exact: Option<f64>,
+        /// The parameters, for messages.
+        what: String,
+    }
+
+    impl Case {
+        /// The reference value, `integral |f|`, and the reference's uncertainty: the change
+        /// when the panel width is halved (asserted small), or the rounding of a closed form.
+        fn reference(&self) -> (f64, f64, f64) {
+            let (a, b) = (self.pieces[0].0, self.pieces.last().unwrap().1);
+            let mut breaks = self.breaks.clone();
+            breaks.extend(self.pieces.iter().map(|p| p.0));
+            let (c1, _) = composite(&*self.f, a, b, &breaks, 3);
+            let (c2, abs) = composite(&*self.f, a, b, &breaks, 6);
+            let unc = (c1 - c2).abs();
+            assert!(
+                unc <= 1e-12 * abs,
+                "reference not converged: {c1:e} vs {c2:e} ({:e}) for {} on {:?}",
+                (c1 - c2) / abs,
+                self.what,
+                self.pieces
+            );
+            if let Some(e) = self.exact {
+                assert!((e - c2).abs() <= 1e-13 * abs, "closed form {e:e} vs {c2:e}");
+                return (e, abs, 4.0 * f64::EPSILON * abs);
+            }
+            (c2, abs, unc)
+        }
+    }
+
+    /// An interval `[a, b]` of random position and length, cut into 1 to `n` pieces at random.
+    fn random_pieces(rng: &mut Rng, n: usize, extra: &[f64]) -> (f64, f64, Vec<(f64, f64)>) {
+        let len = rng.log10(-2.0, 2.0);
+        let a = rng.range(-2.0, 2.0) * len;
+        let b = a + len;
+        let mut cuts: Vec<f64> = (0..rng.below(n)).map(|_| rng.range(a, b)).collect();
+        cuts.extend(extra.iter().copied().filter(|&x| x > a && x < b));
+        cuts.push(a);
+        cuts.push(b);
+        cuts.sort_by(f64::total_cmp);
+        cuts.dedup();
+        let pieces = cuts.windows(2).map(|w| (w[0], w[1])).collect();
+        (a, b, pieces)
+    }
+
+    /// (a) Smooth: a polynomial, an exponential and a cosine of random scales, with closed
+    /// forms.
+    fn smooth(rng: &mut Rng) -> Case {
+        let (a, b, pieces) = random_pieces(rng, 4, &[]);
+        let len = b - a;
+        let deg = rng.below(16);
+        let coef: Vec<f64> = (0..=deg).map(|_| rng.range(-1.0, 1.0)).collect();
+        let wp = rng.log10(-3.0, 1.0);
+        let k = rng.range(-30.0, 30.0) / len;
+        let we = rng.log10(-3.0, 1.0);
+        let om = rng.range(0.0, 60.0) / len;
+        let phi = rng.range(0.0, 6.3);
+        let wc = rng.log10(-3.0, 1.0);
+        let scale = rng.log10(-3.0, 3.0);
+        // Positive: the polynomial of (t - a) / len is bounded by the sum of |coef|.
+        let offset = coef.iter().map(|c| c.abs()).sum::<f64>() * wp + wc;
+        let f = {
+            let coef = coef.clone();
+            move |t: f64| {
+                let x = (t - a) / len;
+                let p = coef.iter().rev().fold(0.0, |s, c| s * x + c);
+                scale * (offset + wp * p + we * (k * (t - a)).exp() + wc * (om * t + phi).cos())
+            }
+        };
+        let poly: f64 = coef
+            .iter()
+            .enumerate()
+            .map(|(i, c)| c / (i + 1) as f64)
+            .sum();
+        let ex = if k == 0.0 {
+            len
+        } else {
+            (k * len).exp_m1() / k
+        };
+        let co = if om == 0.0 {
+            len * phi.cos()
+        } else {
+            ((om * b + phi).sin() - (om * a + phi).sin()) / om
+        };
+        let exact = scale * (offset * len + wp * poly * len + we * ex + wc * co);
+        Case {
+            f: Box::new(f),
+            pieces,
+            breaks: vec![],
+            exact: Some(exact),
+            what: format!("smooth {coef:?} {wp} {k} {we} {om} {phi} {wc} {scale}"),
+        }
+    }
+
+    /// (b) The gas integrand: extinction along the camera ray, a light's falloff, and the
+    /// attenuation along light paths through spheres whose chords begin and end at the
+    /// breakpoints (shadow boundaries) or just outside the interval; some are partial chords,
+    /// `c + sqrt(..)`.
+    fn gas(rng: &mut Rng) -> Case {
+        let len = rng.log10(-2.0, 2.0);
+        let a = rng.range(-2.0, 2.0) * len;
+        let b = a + len;
+        let mut chords = Vec::new();
+        let mut ends = Vec::new();
+        for _ in 0..rng.below(5) {
+            let tau = rng.log10(-3.0, 30f64.log10());
+            // Ends inside the interval (breakpoints), at its ends, or just outside.
+            let mut end = |rng: &mut Rng, side: f64| match rng.below(4) {
+                0 => {
+                    let x = rng.range(a, b);
+                    ends.push(x);
+                    x
+                }
+                1 => {
+                    if side < 0.0 {
+                        a
+                    } else {
+                        b
+                    }
+                }
+                2 => {
+                    if side < 0.0 {
+                        a - len * rng.log10(-6.0, 0.0)
+                    } else {
+                        b + len * rng.log10(-6.0, 0.0)
+                    }
+                }
+                _ => {
+                    if side < 0.0 {
+                        a - len * rng.range(0.0, 3.0)
+                    } else {
+                        b + len * rng.range(0.0, 3.0)
+                    }
+                }
+            };
+            let lo = end(rng, -1.0);
+            let hi = end(rng, 1.0);
+            let (lo, hi) = if lo < hi { (lo, hi) } else { (hi, lo) };
+            let c = if rng.below(3) == 0 {
+                rng.range(0.0, 1.0)
+            } else {
+                0.0
+            };
+            chords.push((lo, hi, tau, c));
+        }
+        let s = rng.range(0.0, 50.0) / len;
+        let p = rng.range(a - len, b + len);
+        let d = len * rng.log10(-1.0, 1.0);
+        let scale = rng.log10(-3.0, 3.0);
+        let what = format!("{chords:?}");
+        let f = move |t: f64| {
+            let mut od = 0.0;
+            for &(lo, hi, tau, c) in &chords {
+                // Inside the chord by comparison with its ends, so that the jump of `c`
+                // lies exactly on the breakpoints.
+                if lo < t && t < hi {
+                    // 1 - x^2 as a product, without the cancellation near the ends that
+                    // the square root would amplify.
+                    let q = 4.0 * (t - lo) * (hi - t) / ((hi - lo) * (hi - lo));
+                    od += tau * (c + q.sqrt());
+                }
+            }
+            scale * (-s * (t - a)).exp() / (1.0 + ((t - p) / d).powi(2)) * (-od).exp()
+        };
+        let mut pieces = Vec::new();
+        let mut cuts = ends.clone();
+        cuts.push(a);
+        cuts.push(b);
+        cuts.sort_by(f64::total_cmp);
+        cuts.dedup();
+        for w in cuts.windows(2) {
+            pieces.push((w[0], w[1]));
+        }
+        Case {
+            f: Box::new(f),
+            pieces,
+            what: format!("gas {what} s {s} p {p} d {d} scale {scale}"),
+            breaks: ends,
+            exact: None,
+        }
+    }
+
+    /// (c) A kink or an interior square root that no breakpoint marks, on a smooth
+    /// background.
+    fn kink(rng: &mut Rng) -> Case {
+        let (a, b, pieces) = random_pieces(rng, 3, &[]);
+        let len = b - a;
+        let t0 = rng.range(a, b);
+        let kind = rng.below(3);
+        let amp = rng.log10(-2.0, 1.0);
+        let k = rng.range(-10.0, 10.0) / len;
+        let scale = rng.log10(-3.0, 3.0);
+        let f = move |t: f64| {
+            let x = (t - t0) / len;
+            let g = match kind {
+                0 => x.abs(),
+                1 => x.max(0.0).sqrt(),
+                _ => (-x).max(0.0).sqrt(),
+            };
+            scale * (k * (t - a)).exp() * (1.0 + amp * g)
+        };
+        Case {
+            f: Box::new(f),
+            pieces,
+            breaks: vec![t0],
+            exact: None,
+            what: format!("kink {kind} at {t0} amp {amp} k {k}"),
+        }
+    }
+
+    /// (d) A narrow Gaussian or Lorentzian bump on a smooth background, of width down to
+    /// 1e-3 of its piece.
+    fn gaussian(rng: &mut Rng) -> Case {
+        narrow_bump(rng, false)
+    }
+    fn lorentzian(rng: &mut Rng) -> Case {
+        narrow_bump(rng, true)
+    }
+    fn narrow_bump(rng: &mut Rng, lorentz: bool) -> Case {
+        let (a, b, pieces) = random_pieces(rng, 3, &[]);
+        let len = b - a;
+        let t0 = rng.range(a, b);
+        let piece = pieces.iter().find(|p| p.0 <= t0 && t0 <= p.1).unwrap();
+        let eps = (piece.1 - piece.0) * rng.log10(-3.0, -1.0);
+        // The bump's integral relative to the background's.
+        let amp = rng.log10(-2.0, 1.0) * len / eps;
+        let k = rng.range(-5.0, 5.0) / len;
+        let scale = rng.log10(-3.0, 3.0);
+        let f = move |t: f64| {
+            let x = (t - t0) / eps;
+            let bump = if lorentz {
+                1.0 / (1.0 + x * x)
+            } else {
+                (-x * x).exp()
+            };
+            scale * ((k * (t - a)).exp() + amp * bump)
+        };
+        let breaks = (-8..=8).map(|i| t0 + i as f64 * eps).collect();
+        Case {
+            f: Box::new(f),
+            pieces,
+            breaks,
+            exact: None,
+            what: format!("narrow lorentz {lorentz} at {t0} eps {eps} amp {amp} k {k}"),
+        }
+    }
+
+    /// A generator of random integrands.
+    type Family = fn(&mut Rng) -> Case;
+
+    const FAMILIES: [(&str, Family); 5] = [
+        ("smooth", smooth),
+        ("gas", gas),
+        ("kink", kink),
+        ("gauss", gaussian),
+        ("lorentz", lorentzian),
+    ];
+    const TOLS: [f64; 4] = [1e-2, 1e-4, 1e-6, 1e-8];
+
+    /// Coverage (fraction of cases whose true error is at most the estimate), median
+    /// estimate / true error over the cases whose true error is above rounding, how many
+    /// those are, and mean evaluations.
+    #[derive(Debug)]
+    struct Stats {
+        coverage: f64,
+        median: f64,
+        above: usize,
+        evals: f64,
+    }
+
+    fn measure(est: Estimator, family: Family, tol: f64, n: usize) -> Stats {
+        let mut rng = Rng(0x5EED ^ tol.to_bits());
+        let mut scratch = QuadScratch::default();
+        let (mut covered, mut ratios, mut evals) = (0, Vec::new(), 0);
+        for _ in 0..n {
+            let case = family(&mut rng);
+            let (want, abs, unc) = case.reference();
+            let q = integrate_with(
+                est,
+                &case.pieces,
+                |_, t| DVec3::new((case.f)(t), 0.0, 0.0),
+                |v| tol * v.abs().max_element(),
+                4000,
+                &mut scratch,
+            );
+            evals += q.evals;
+            let err = (q.value.x - want).abs();
+            if err <= q.error + unc {
+                covered += 1;
+            }
+            if err > (1e-14 * abs).max(10.0 * unc) {
+                ratios.push(q.error / err);
+            }
+        }
+        ratios.sort_by(f64::total_cmp);
+        Stats {
+            coverage: covered as f64 / n as f64,
+            median: ratios.get(ratios.len() / 2).copied().unwrap_or(f64::NAN),
+            above: ratios.len(),
+            evals: evals as f64 / n as f64,
+        }
+    }
+
+    /// Coverage >= 95% on each family at each tolerance (Gaussian bumps narrower than the
+    /// spacing of the first nodes excepted: no rule sees them, see `report_estimators`), and
+    /// the median estimate / true error where this estimate reaches 100 (kinks only: on smooth
+    /// integrands the power law stays 1e3-1e8 pessimistic, see the module documentation).
+    fn check_family(name: &str, family: Family, median_at_most: f64) {
+        for tol in TOLS {
+            let s = measure(Estimator::Calibrated, family, tol, 400);
+            assert!(s.coverage >= 0.95, "{name} at tol {tol:e}: {s:?}");
+            assert!(
+                s.above == 0 || s.median <= median_at_most,
+                "{name} at tol {tol:e}: {s:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn estimate_covers_smooth_integrands() {
+        check_family("smooth", smooth, 1e9);
+    }
+
+    #[test]
+    fn estimate_covers_the_gas_integrand() {
+        check_family("gas", gas, 1e8);
+    }
+
+    #[test]
+    fn estimate_covers_interior_kinks_within_100x() {
+        check_family("kink", kink, 100.0);
+    }
+
+    #[test]
+    fn estimate_covers_narrow_lorentzian_bumps() {
+        check_family("lorentzian", lorentzian, 1e8);
+    }
+
+    #[test]
+    fn a_second_identical_call_does_not_allocate() {
+        for n in [1, 2000] {
+            let pieces: Vec<(f64, f64)> = (0..n).map(|i| (i as f64, i as f64 + 1.0)).collect();
+            let f = |_: usize, t: f64| DVec3::new((t - 0.3).abs().sqrt(), t.cos(), 1.0);
+            let mut scratch = QuadScratch::default();
+            let capacities = |s: &QuadScratch| (s.parts.capacity(), s.heap.capacity());
+            let first = integrate(&pieces, f, |_| 1e-10, 8000, &mut scratch);
+            let after_first = capacities(&scratch);
+            let second = integrate(&pieces, f, |_| 1e-10, 8000, &mut scratch);
+            assert_eq!(first, second);
+            assert_eq!(capacities(&scratch), after_first, "{n} pieces");
+            assert!(first.evals > 15 * n as u64, "the test should refine");
+        }
+    }
+
+    #[test]
+    fn the_scratch_can_move_to_another_thread() {
+        fn send<T: Send + Default>() {}
+        send::<QuadScratch>();
+    }
+
+    #[test]
+    fn finding_the_worst_interval_is_not_quadratic() {
+        // 2000 pieces refined up to 16000 intervals: a heap makes O(log n) comparisons per
+        // split, a linear search n.
+        let pieces: Vec<(f64, f64)> = (0..2000).map(|i| (i as f64, i as f64 + 1.0)).collect();
+        COMPARISONS.with(|c| c.set(0));
+        let q = integrate(
+            &pieces,
+            |_, t| DVec3::splat((t - t.floor() - 0.37).abs()),
+            |_| 0.0,
+            16_000,
+            &mut QuadScratch::default(),
+        );
+        let n = (q.evals / 15) as f64;
+        let cmp = COMPARISONS.with(|c| c.get()) as f64;
+        assert!(n > 15_000.0, "{q:?}");
+        assert!(
+            cmp < 4.0 * n * n.log2(),
+            "{cmp} comparisons for {n} intervals"
+        );
+    }
+
+    #[test]
+    #[ignore = "a report, not a check: cargo test --lib quadrature -- --ignored --nocapture"]
+    fn report_estimators() {
+        // Coverage / median estimate over true error / mean evaluations, per tolerance.
+        for (name, est) in [("old", Estimator::Old), ("new", Estimator::Calibrated)] {
+            for (fam, gen) in FAMILIES {
+                let mut line = format!("{name} {fam:8}");
+                for tol in TOLS {
+                    let s = measure(est, gen, tol, 200);
+                    line += &format!(
+                        " | {tol:.0e}: {:.3} {:8.1e} {:4.0}",
+                        s.coverage, s.median, s.evals
+                    );
+                }
+                println!("{line}");
+            }
+        }
     }
 }

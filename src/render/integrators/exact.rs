@@ -188,9 +188,6 @@ pub fn radiance(
                 }
             }
         }
-        if std::env::var_os("GTS_DEBUG").is_some() {
-            eprintln!("seg t {:.4}..{:.4} T {:.2e} tau_cut {:.1} lit {} value {:.3e} sh {}", seg.ta, seg.tb, t_a, tau_cut, pieces.len(), value.max_element(), counters.shadow_candidates);
-        }
         if pieces.is_empty() {
             continue;
         }
