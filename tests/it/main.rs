@@ -7,6 +7,7 @@ mod convert_csv;
 mod corpus;
 mod corpus_counts;
 mod errors;
+mod gas_accuracy;
 mod gas_reference;
 mod gas_scatter;
 mod geom;
