@@ -10,6 +10,7 @@ mod errors;
 mod gas_accuracy;
 mod gas_reference;
 mod gas_scatter;
+mod gas_truncation;
 mod geom;
 mod hard_cases;
 mod lexical;
