@@ -8,7 +8,7 @@
 //!
 //! Rounding: the true error is known only to the reference's own error (panels 1 vs 2,
 //! checked far below each tolerance) plus f64 rounding (1e-12 of the value allowed). Where
-//! the true error is at that level (below [`floor`]) the estimate's tightness cannot be
+//! the true error is at that level (below [`Ray::floor`]) the estimate's tightness cannot be
 //! measured: such rays count as tight when the estimate is within 100x of the floor and are
 //! left out of the median otherwise.
 
@@ -17,7 +17,9 @@ use gtsphere::render::integrators::{self, Estimate, Scratch};
 use gtsphere::render::sampler::Rng;
 use gtsphere::render::{prepare, Counters, Integrator, Prepared, RenderOptions};
 
-use crate::gas_reference::{checked, hits_opaque, in_shadow_somewhere, roots, vrml, Ball, Lamp};
+use crate::gas_reference::{
+    checked, hits_opaque, in_shadow_somewhere, roots, sigma_of, vrml, Ball, Lamp,
+};
 use crate::support;
 
 fn prepared(balls: &[Ball], lamps: &[Lamp], tol: f64) -> Prepared {
@@ -260,6 +262,7 @@ fn judge_all(
     claims: &[Claim],
     min_rays: usize,
 ) {
+    // The reference is computed once for every tolerance.
     let start = std::time::Instant::now();
     let refs = references(balls, lamps, rays);
     eprintln!(
@@ -275,9 +278,9 @@ fn judge_all(
     assert!(failures.is_empty(), "\n{}", failures.join("\n"));
 }
 
-/// ~300 barely overlapping gas spheres in [-1, 1]^3, each of optical depth 4 along a
+/// `n` barely overlapping gas spheres in [-1, 1]^3, each of optical depth `tau` along a
 /// diameter, under a point light and a directional light.
-fn thick_cloud(n: usize) -> (Vec<Ball>, Vec<Lamp>) {
+fn thick_cloud(n: usize, tau: f64) -> (Vec<Ball>, Vec<Lamp>) {
     let mut rnd = lcg(2024);
     let r = 0.6 * (n as f64).powf(-1.0 / 3.0);
     let albedo = DVec3::new(0.9, 0.7, 0.5);
@@ -285,7 +288,7 @@ fn thick_cloud(n: usize) -> (Vec<Ball>, Vec<Lamp>) {
         .map(|_| Ball {
             c: DVec3::new(rnd(), rnd(), rnd()) * 2.0 - 1.0,
             r,
-            gas: Some(((-4.0f64).exp(), DVec3::ZERO, albedo)),
+            gas: Some(((-tau).exp(), DVec3::ZERO, albedo)),
         })
         .collect();
     let lamps = vec![
@@ -302,20 +305,33 @@ fn thick_cloud(n: usize) -> (Vec<Ball>, Vec<Lamp>) {
     (balls, lamps)
 }
 
-/// A thick cloud: the camera ray may stop early, light paths through several tau-4 spheres
-/// may stop early, and most of the 300 spheres are negligible shadowers for most rays.
+/// A thick cloud: the camera ray may stop early, light paths through several dense spheres
+/// may stop early, and most of the spheres are negligible shadowers for most rays. 300
+/// spheres of optical depth 4, and 400 of optical depth 16 so that most camera rays end
+/// far below every tolerance.
 fn thick_cloud_check(claims: &[Claim]) {
-    let (balls, lamps) = thick_cloud(300);
-    let rays = sunflower(DVec3::new(0.0, 0.0, 4.0), DVec3::ZERO, 1.0, 64);
-    judge_all(
-        "thick cloud",
-        &balls,
-        &lamps,
-        &rays,
-        &[1e-4, 1e-6],
-        claims,
-        50,
-    );
+    for (n, tau) in [(300, 4.0), (400, 16.0)] {
+        let (balls, lamps) = thick_cloud(n, tau);
+        let rays = sunflower(DVec3::new(0.0, 0.0, 4.0), DVec3::ZERO, 1.0, 64);
+        // How thick: the optical depth of each camera ray through the whole cloud.
+        let mut depth: Vec<f64> = rays
+            .iter()
+            .map(|&(o, w)| {
+                balls
+                    .iter()
+                    .filter_map(|b| roots(o, w, b.c, b.r).map(|(t0, t1)| sigma_of(b) * (t1 - t0)))
+                    .sum()
+            })
+            .collect();
+        depth.sort_by(f64::total_cmp);
+        let name = format!("thick cloud ({n} spheres of tau {tau})");
+        eprintln!(
+            "{name}: camera-ray optical depth median {:.1}, max {:.1}",
+            depth[depth.len() / 2],
+            depth[depth.len() - 1]
+        );
+        judge_all(&name, &balls, &lamps, &rays, &[1e-4, 1e-6], claims, 50);
+    }
 }
 
 #[test]
