@@ -1,0 +1,347 @@
+//! Every exact-integrator case of ../shared/cases/gas-accuracy/ as a regression test: the
+//! scene is read in place, rendered through the library as the README's command does
+//! (`--sampler center --aov error --tol T`, f64 film), and each listed pixel (the largest RGB
+//! channel) must (1) be within the tolerance of the README's expected value and (2) carry an
+//! error estimate (the "error" layer) at least as large as its true error.
+//!
+//! The expected values come from the cases' own independent reference (good to ~1e-14
+//! relative); the README prints them to 10 significant digits, so half a unit in their last
+//! printed digit is allowed on top of the true error in check (2). They are checked here
+//! against `gas_reference` too, a second independent reference.
+
+use std::path::{Path, PathBuf};
+
+use gtsphere::render::tiles::render;
+use gtsphere::render::{prepare, Integrator, RenderOptions, SamplerKind};
+use gtsphere::scene::{Light, Scene};
+use gtsphere::vrml::{load_path, LoadOptions};
+
+use crate::gas_reference::{checked, Ball, Lamp};
+
+fn cases_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/cases/gas-accuracy")
+}
+
+/// One pixel of a README row: (row, col) with row 0 at the top, and the expected value as
+/// printed there.
+struct Probe {
+    row: usize,
+    col: usize,
+    expected: &'static str,
+}
+
+/// One README command: image size and `--tol`, and the pixels listed for it.
+struct Command {
+    width: u32,
+    height: u32,
+    tol: f64,
+    probes: &'static [Probe],
+}
+
+const fn px(row: usize, col: usize, expected: &'static str) -> Probe {
+    Probe { row, col, expected }
+}
+
+const LIGHT_ON_SURFACE: &[Command] = &[
+    Command {
+        width: 32,
+        height: 32,
+        tol: 1e-8,
+        probes: &[px(6, 26, "0.03172993481")],
+    },
+    Command {
+        width: 128,
+        height: 128,
+        tol: 1e-8,
+        probes: &[px(28, 102, "0.03187363157"), px(28, 103, "0.03128416623")],
+    },
+];
+
+const DENSE_SHADOW_POINT: &[Command] = &[
+    Command {
+        width: 32,
+        height: 32,
+        tol: 1e-6,
+        probes: &[px(8, 20, "0.00508250201"), px(12, 23, "0.00490844904")],
+    },
+    Command {
+        width: 32,
+        height: 32,
+        tol: 1e-2,
+        probes: &[px(8, 20, "0.00508250201")],
+    },
+];
+
+const TINY_DENSE_SHADOW: &[Command] = &[
+    Command {
+        width: 32,
+        height: 32,
+        tol: 1e-8,
+        probes: &[px(9, 22, "0.01510585916"), px(10, 21, "0.01703763063")],
+    },
+    Command {
+        width: 32,
+        height: 32,
+        tol: 1e-1,
+        probes: &[px(15, 16, "0.02014717713")],
+    },
+];
+
+const ATTENUATION_KINK: &[Command] = &[
+    Command {
+        width: 32,
+        height: 32,
+        tol: 1e-6,
+        probes: &[px(7, 21, "0.02545802666"), px(13, 22, "0.00876284043")],
+    },
+    Command {
+        width: 32,
+        height: 32,
+        tol: 1e-8,
+        probes: &[px(13, 22, "0.00876284043"), px(13, 23, "0.0100842997")],
+    },
+];
+
+const ALL: &[(&str, &[Command])] = &[
+    ("light_on_surface", LIGHT_ON_SURFACE),
+    ("dense_shadow_point", DENSE_SHADOW_POINT),
+    ("tiny_dense_shadow", TINY_DENSE_SHADOW),
+    ("attenuation_kink", ATTENUATION_KINK),
+];
+
+/// Half a unit in the last printed digit of a decimal like "0.00508250201".
+fn printed_half_ulp(s: &str) -> f64 {
+    let decimals = s.split_once('.').map_or(0, |(_, f)| f.len());
+    0.5 * 10f64.powi(-(decimals as i32))
+}
+
+/// Renders `case.wrl` once per command and checks every probe; all failures are collected
+/// and reported together, with by how much each misses.
+fn check_case(case: &str, commands: &[Command]) {
+    let path = cases_dir().join(format!("{case}.wrl"));
+    let mut failures = Vec::new();
+    for cmd in commands {
+        let (scene, _) = load_path(&path, &LoadOptions::default()).unwrap_or_else(|e| {
+            panic!(
+                "{}: {e} (shared/ must be beside the checkout)",
+                path.display()
+            )
+        });
+        let mut opts = RenderOptions {
+            width: cmd.width,
+            height: cmd.height,
+            sampler: SamplerKind::Center,
+            integrator: Integrator::Exact,
+            tol: cmd.tol,
+            film_f64: true,
+            ..RenderOptions::default()
+        };
+        opts.aovs.error = true;
+        let prep = prepare(scene, &opts).expect("prepare");
+        let done = render(&prep, &opts);
+        let error = &done
+            .image
+            .layers
+            .iter()
+            .find(|l| l.name == "error")
+            .expect("error layer")
+            .data;
+        for p in cmd.probes {
+            let at = p.row * cmd.width as usize + p.col;
+            let got = done.rgb64[at].iter().copied().fold(f64::MIN, f64::max);
+            let expected: f64 = p.expected.parse().expect("expected value");
+            let true_err = (got - expected).abs();
+            let reported = f64::from(error[at]);
+            let within_tol = true_err <= cmd.tol * expected;
+            // The layer is f32: allow its rounding; the README's values are rounded to
+            // their printed digits.
+            let covered = reported * (1.0 + 1e-6) + printed_half_ulp(p.expected) >= true_err;
+            let line = format!(
+                "{case} {}x{} tol {:e} pixel ({},{}): got {got:.12e} expected {expected:.12e}: \
+                 rel err {:.2e} = {:.3}x tol, error layer {:.2e} = {:.3}x the true error",
+                cmd.width,
+                cmd.height,
+                cmd.tol,
+                p.row,
+                p.col,
+                true_err / expected,
+                true_err / (cmd.tol * expected),
+                reported,
+                reported / true_err
+            );
+            eprintln!("{line}");
+            if !within_tol || !covered {
+                let why = match (within_tol, covered) {
+                    (false, false) => "outside tol, error layer below the true error",
+                    (false, true) => "outside tol",
+                    _ => "error layer below the true error",
+                };
+                failures.push(format!("{line}: {why}"));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "\n{}", failures.join("\n"));
+}
+
+/// A PointLight exactly on a gas sphere's surface: its shadow boundary is the tangent plane
+/// (a degenerate cone), crossed by these camera rays.
+#[test]
+fn point_light_on_a_gas_surface_casts_a_resolved_tangent_plane_shadow() {
+    check_case("light_on_surface", LIGHT_ON_SURFACE);
+}
+
+/// A tau-700 shadower under a PointLight: the rim of its shadow cone must be resolved, and at
+/// every tolerance (the error used to be the same at 1e-2 and 1e-6).
+#[test]
+fn rim_of_a_dense_shadow_cone_is_resolved_at_every_tolerance() {
+    check_case("dense_shadow_point", DENSE_SHADOW_POINT);
+}
+
+/// Tiny tau-700 shadowers (r 0.04, 0.05) under a DirectionalLight and a PointLight: their
+/// shadow rims are thinner than 1e-7 and must still be resolved, or at least reported.
+#[test]
+fn rims_of_tiny_dense_shadowers_are_resolved_or_reported() {
+    check_case("tiny_dense_shadow", TINY_DENSE_SHADOW);
+}
+
+/// Attenuation 0 0 1: 1 / max(d^2, 1) has a kink at distance 1 from the light, which must be
+/// a break point of the quadrature.
+#[test]
+fn attenuation_kink_at_unit_distance_is_a_break_point() {
+    check_case("attenuation_kink", ATTENUATION_KINK);
+}
+
+/// Every exact-integrator row of the README is one of the probes above (with the same size,
+/// tol and expected value), so a case added there is not forgotten here.
+#[test]
+fn every_exact_row_of_the_cases_readme_is_tested() {
+    let readme = std::fs::read_to_string(cases_dir().join("README.md")).expect("README.md");
+    let mut rows = 0;
+    for line in readme.lines().filter(|l| l.starts_with("| ")) {
+        let cols: Vec<&str> = line.split('|').map(str::trim).collect();
+        // | case | command | pixel | expected | got | rel err | error AOV |
+        let (case, command, pixel, expected) = (cols[1], cols[2], cols[3], cols[4]);
+        if case == "case" || case.starts_with("---") || command.contains("--integrator") {
+            continue;
+        }
+        let arg = |name: &str| -> &str {
+            let words: Vec<&str> = command.trim_matches('`').split_whitespace().collect();
+            let k = words
+                .iter()
+                .position(|w| *w == name)
+                .unwrap_or_else(|| panic!("{name} in {command}"));
+            words[k + 1]
+        };
+        let (w, h): (u32, u32) = (
+            arg("--width").parse().unwrap(),
+            arg("--height").parse().unwrap(),
+        );
+        let tol: f64 = arg("--tol").parse().unwrap();
+        let (r, c) = pixel.split_once(',').expect("row,col");
+        let (r, c): (usize, usize) = (r.parse().unwrap(), c.parse().unwrap());
+        let commands = ALL
+            .iter()
+            .find(|(name, _)| *name == case)
+            .unwrap_or_else(|| panic!("case {case} has no test"))
+            .1;
+        let found = commands.iter().any(|cmd| {
+            cmd.width == w
+                && cmd.height == h
+                && cmd.tol == tol
+                && cmd
+                    .probes
+                    .iter()
+                    .any(|p| p.row == r && p.col == c && p.expected == expected)
+        });
+        assert!(found, "README row not tested: {line}");
+        rows += 1;
+    }
+    assert_eq!(rows, 13, "exact rows in the README");
+}
+
+/// The scene as the brute-force reference's spheres and lamps (every case is plain spheres,
+/// unscoped lights, headlight off).
+fn reference_scene(scene: &Scene) -> (Vec<Ball>, Vec<Lamp>) {
+    assert!(!scene.headlight && scene.ellipsoids.is_empty());
+    let balls = scene
+        .spheres
+        .iter()
+        .map(|s| {
+            let m = &scene.materials[s.material as usize];
+            Ball {
+                c: s.center,
+                r: s.radius,
+                gas: (m.transparency > 0.0).then_some((m.transparency, m.emissive, m.diffuse)),
+            }
+        })
+        .collect();
+    let lamps = scene
+        .lights
+        .iter()
+        .map(|l| match *l {
+            Light::Point(p) => {
+                assert!(p.on && p.radius >= 100.0);
+                Lamp::Point {
+                    p: p.location,
+                    power: p.color * p.intensity,
+                    att: p.attenuation,
+                }
+            }
+            Light::Directional(d) => {
+                assert!(d.on && d.scope.0 == 0 && d.scope.1 as usize >= scene.spheres.len());
+                Lamp::Dir {
+                    to_light: -d.direction.normalize(),
+                    power: d.color * d.intensity,
+                }
+            }
+        })
+        .collect();
+    (balls, lamps)
+}
+
+/// The README's expected values agree with `gas_reference` at every probe, to their printed
+/// digits: two independent references, so a failure above is the renderer's.
+#[test]
+fn expected_values_agree_with_the_brute_force_reference() {
+    let mut worst = 0.0f64;
+    for (case, commands) in ALL {
+        let path = cases_dir().join(format!("{case}.wrl"));
+        for cmd in *commands {
+            let (scene, _) = load_path(&path, &LoadOptions::default()).expect("load");
+            let (balls, lamps) = reference_scene(&scene);
+            let opts = RenderOptions {
+                width: cmd.width,
+                height: cmd.height,
+                ..RenderOptions::default()
+            };
+            let cam = prepare(scene, &opts).expect("prepare").camera.camera;
+            for p in cmd.probes {
+                let (o, w) = cam.ray(
+                    (p.col as f64 + 0.5) / f64::from(cmd.width),
+                    (p.row as f64 + 0.5) / f64::from(cmd.height),
+                );
+                let (r, ref_err) = checked(&balls, &lamps, o, w);
+                let got = r.gas.max_element();
+                let expected: f64 = p.expected.parse().unwrap();
+                let diff = (got - expected).abs();
+                worst = worst.max(diff / expected);
+                eprintln!(
+                    "{case} ({},{}): reference {got:.12e}, README {expected:.12e}, rel diff \
+                     {:.1e}, reference's own error {:.1e}",
+                    p.row,
+                    p.col,
+                    diff / expected,
+                    ref_err / got
+                );
+                assert!(
+                    diff <= printed_half_ulp(p.expected) + 1e-12 * expected
+                        && ref_err <= 1e-12 * got,
+                    "{case} ({},{}): reference {got:e} +- {ref_err:e}, README {expected:e}",
+                    p.row,
+                    p.col
+                );
+            }
+        }
+    }
+    eprintln!("largest relative difference {worst:.1e}");
+}
