@@ -59,18 +59,10 @@ pub enum BenchCommand {
         #[arg(long)]
         dir: Option<PathBuf>,
     },
-    /// Time against error of the gas integrators (exact, march, mc) on a lit gas scene.
-    Gas {
-        /// Number of gas spheres.
-        #[arg(long, default_value_t = 1000)]
-        spheres: usize,
-        /// Image width and height (one ray, or mc paths, through each pixel centre).
-        #[arg(long, default_value_t = 256)]
-        size: u32,
-        /// Worker threads.
-        #[arg(long, default_value_t = 2)]
-        threads: usize,
-    },
+    /// Lit gas: time against error of the gas integrators (exact, march, mc) on a lit gas
+    /// scene; with --scaling, how exact's cost per ray grows with N on gas clouds, against
+    /// march at equal error (issue 12); with --write DIR, those clouds as .wrl files.
+    Gas(super::bench_gas::GasArgs),
 }
 
 /// How the particles are laid out in the file.
@@ -162,11 +154,7 @@ pub fn run(cmd: BenchCommand) -> Result<ExitCode, Error> {
             runs,
             threads,
         } => return super::bench_trace::run(spheres, size, runs, threads),
-        BenchCommand::Gas {
-            spheres,
-            size,
-            threads,
-        } => return super::bench_gas::run(spheres, size, threads),
+        BenchCommand::Gas(args) => return super::bench_gas::run(&args),
         BenchCommand::Convert { rows, runs, dir } => {
             return super::bench_convert::run(rows, runs, dir)
         }

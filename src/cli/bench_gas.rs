@@ -1,5 +1,7 @@
-//! `gtsphere bench gas`: time against error for the three gas integrators on a lit gas scene
-//! (issue 4): N gas spheres at S x S pixels, one ray (or, for mc, `spp` paths) through each
+//! `gtsphere bench gas`: two measurements on lit gas.
+//!
+//! **Time against error** (the default; issue 4): the three gas integrators on a lit gas
+//! scene of N gas spheres at S x S pixels, one ray (or, for mc, `spp` paths) through each
 //! pixel centre, so that only the integration error is measured, against a reference
 //! rendered by `exact` at a tolerance 1000 times tighter than the tightest one measured.
 //! The measuring is `gtsphere bench`'s (src/cli/bench_report.rs), on this one scene.
@@ -9,13 +11,27 @@
 //! albedo 0.8; two opaque spheres; a PointLight at (0.3, 0.5, 0.2) inside the cloud and a
 //! DirectionalLight along (-1, -0.6, -0.4); camera at (0, 0, 4.5) looking down -z,
 //! fieldOfView 0.7; headlight off.
+//!
+//! **Scaling** (`--scaling`; issue 12, item 5): how the exact integrator's cost per camera
+//! ray grows with N, on the clouds [`cloud`] at N = 1e3 ... 1e6, and what `march` needs for
+//! the same error. See [`run_scaling`] for what is measured and the goals it checks.
+//! `--write DIR` writes the clouds as VRML, for timing a whole `gtsphere render` and for
+//! benches/povray/.
 
+use std::fmt::Write as _;
+use std::path::PathBuf;
 use std::process::ExitCode;
 
+use clap::{Args, ValueEnum};
 use glam::{DQuat, DVec3};
 
-use super::bench_report::{goals, run_scene, table, BenchScene, Case};
+use super::bench::median;
+use super::bench_report::{goals, relative_rms, run_scene, table, BenchScene, Case};
+use super::bench_trace::random_spheres;
 use crate::error::Error;
+use crate::render::{
+    prepare, tiles::render, Aovs, Counters, Integrator, RenderOptions, SamplerKind,
+};
 use crate::scene::{
     DirectionalLight, Light, Material, Origin, PointLight, Scene, Sphere, Viewpoint,
 };
@@ -117,7 +133,8 @@ fn bench_view() -> Viewpoint {
     }
 }
 
-pub fn run(n: usize, size: u32, threads: usize) -> Result<ExitCode, Error> {
+/// The time-against-error sweep on [`lit_gas`].
+pub fn run_tradeoff(n: usize, size: u32, threads: usize) -> Result<ExitCode, Error> {
     if n == 0 || size == 0 || threads == 0 {
         return Err(Error::Other(
             "--spheres, --size and --threads must be positive".into(),
@@ -151,4 +168,710 @@ pub fn run(n: usize, size: u32, threads: usize) -> Result<ExitCode, Error> {
     println!("{}", table(&rows));
     print!("{}", goals(&rows));
     Ok(ExitCode::SUCCESS)
+}
+
+/// `gtsphere bench gas`'s arguments.
+#[derive(Debug, Args)]
+pub struct GasArgs {
+    /// Measure the scaling table on the clouds (cloud-N, thick and thin) instead of the
+    /// time-against-error sweep.
+    #[arg(long)]
+    pub scaling: bool,
+    /// With --scaling: N = 1e3 and 1e4 only, 32 x 32 pixels, march budget 2 s (a smoke test).
+    #[arg(long, requires = "scaling")]
+    pub quick: bool,
+    /// Number of gas spheres of the time-against-error sweep.
+    #[arg(long, default_value_t = 1000, conflicts_with = "scaling")]
+    pub spheres: usize,
+    /// Image width and height in pixels, one ray (or mc paths) through each pixel centre
+    /// [default: 256; with --scaling 128, with --quick 32].
+    #[arg(long)]
+    pub size: Option<u32>,
+    /// Worker threads [default: 2; with --scaling 1, so that rays/s are per core].
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Cloud sizes N for --scaling and --write, comma-separated; 1e6 or 1000000
+    /// [default: 1e3,1e4,1e5,1e6; with --quick 1e3,1e4].
+    #[arg(long, value_delimiter = ',', value_parser = parse_count)]
+    pub sizes: Vec<usize>,
+    /// Which clouds, for --scaling and --write.
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [Cloud::Thick, Cloud::Thin])]
+    pub clouds: Vec<Cloud>,
+    /// Runs of each exact render at the default tol, the median time is reported
+    /// [default: 3 for N <= 1e4, 1 above].
+    #[arg(long)]
+    pub runs: Option<usize>,
+    /// Seconds: march's step sweep stops when its next step would take longer than this,
+    /// and the time it would need is projected [default: 120; with --quick 2].
+    #[arg(long)]
+    pub march_budget: Option<f64>,
+    /// Write the clouds as DIR/cloud-{thick,thin}-N.wrl (for --sizes and --clouds) and exit
+    /// without measuring.
+    #[arg(long, value_name = "DIR", conflicts_with = "scaling")]
+    pub write: Option<PathBuf>,
+}
+
+/// The two clouds of the scaling table.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Cloud {
+    /// Optical depth 4 along a diameter (transparency exp(-4)).
+    Thick,
+    /// Transparency 0.9 (optical depth 0.105 along a diameter).
+    Thin,
+}
+
+impl Cloud {
+    pub fn name(self) -> &'static str {
+        match self {
+            Cloud::Thick => "thick",
+            Cloud::Thin => "thin",
+        }
+    }
+    pub fn transparency(self) -> f64 {
+        match self {
+            Cloud::Thick => (-4.0f64).exp(),
+            Cloud::Thin => 0.9,
+        }
+    }
+}
+
+/// A count written as an integer or in exponent form (`1e6`).
+fn parse_count(s: &str) -> Result<usize, String> {
+    match s.parse::<usize>() {
+        Ok(n) if n > 0 => return Ok(n),
+        Ok(_) => return Err("0 is not a positive count".into()),
+        Err(_) => {}
+    }
+    match s.parse::<f64>() {
+        Ok(v) if v >= 1.0 && v.fract() == 0.0 && v <= 1e12 => Ok(v as usize),
+        _ => Err(format!("'{s}' is not a positive whole number")),
+    }
+}
+
+/// Albedos of the clouds: 16 colours spread over hue and brightness (linear RGB in
+/// [0.2, 0.95]), so that every channel's scattering differs from sphere to sphere.
+fn palette(k: usize) -> DVec3 {
+    let f = |x: f64| 0.2 + 0.75 * x.fract();
+    let k = k as f64;
+    DVec3::new(
+        f(k * 0.618_034 + 0.1),
+        f(k * 0.381_966 + 0.45),
+        f(k * 0.723_607 + 0.8),
+    )
+}
+
+/// Colours of the clouds.
+pub const CLOUD_COLOURS: usize = 16;
+
+/// cloud-N: `bench trace`'s N centres (uniform in `[-1,1]^3`, SplitMix64 seeded with 1, so
+/// also benches/embree's), radius `0.6 N^(-1/3)`, every sphere gas of transparency
+/// [`Cloud::transparency`] and emission 0, albedo (diffuseColor) one of 16 colours picked by
+/// a hash of the sphere's index; `PointLight { location 3 3 3 intensity 0.8 }`,
+/// `DirectionalLight { direction -1 -1 -1 intensity 0.5 }`, headlight off, `Viewpoint {
+/// position 0 0 4 fieldOfView 0.785398 }`, background black.
+pub fn cloud(n: usize, kind: Cloud) -> Scene {
+    let mut scene = random_spheres(n);
+    scene.materials = (0..CLOUD_COLOURS)
+        .map(|k| Material {
+            diffuse: palette(k),
+            emissive: DVec3::ZERO,
+            specular: DVec3::ZERO,
+            transparency: kind.transparency(),
+            ..Material::default()
+        })
+        .collect();
+    for (i, s) in scene.spheres.iter_mut().enumerate() {
+        s.material = (crate::render::sampler::mix(i as u64 ^ 0xC10D) % CLOUD_COLOURS as u64) as u32;
+    }
+    scene.lights = vec![
+        Light::Point(PointLight {
+            location: DVec3::new(3.0, 3.0, 3.0),
+            color: DVec3::ONE,
+            intensity: 0.8,
+            ambient_intensity: 0.0,
+            attenuation: DVec3::new(1.0, 0.0, 0.0),
+            // The VRML default; every sphere is within 6 of the light.
+            radius: 100.0,
+            on: true,
+            origin: Origin::default(),
+        }),
+        Light::Directional(DirectionalLight {
+            direction: DVec3::new(-1.0, -1.0, -1.0).normalize(),
+            color: DVec3::ONE,
+            intensity: 0.5,
+            ambient_intensity: 0.0,
+            on: true,
+            scope: (0, u32::MAX),
+            origin: Origin::default(),
+        }),
+    ];
+    scene
+}
+
+/// `--write DIR`: the clouds as VRML files.
+fn write_clouds(dir: &std::path::Path, sizes: &[usize], clouds: &[Cloud]) -> Result<(), Error> {
+    std::fs::create_dir_all(dir).map_err(|e| Error::Io {
+        path: dir.display().to_string(),
+        source: e,
+    })?;
+    for &n in sizes {
+        for &c in clouds {
+            let path = dir.join(format!("cloud-{}-{n}.wrl", c.name()));
+            crate::vrml::write::write_scene_file(&path, &cloud(n, c))?;
+            eprintln!("wrote {}", path.display());
+        }
+    }
+    Ok(())
+}
+
+/// One render of a cloud, repeated `runs` times.
+struct Shot {
+    /// The pixels in f64, row by row.
+    rgb: Vec<[f64; 3]>,
+    /// The error AOV (the pixel's estimated absolute error), row by row; empty unless asked.
+    error: Vec<f32>,
+    /// Median wall time of the tile loop.
+    seconds: f64,
+    runs: usize,
+    counters: Counters,
+}
+
+fn shoot(
+    scene: &Scene,
+    size: u32,
+    integrator: Integrator,
+    tol: f64,
+    runs: usize,
+    error_aov: bool,
+) -> Result<Shot, Error> {
+    let opts = RenderOptions {
+        width: size,
+        height: size,
+        spp: 1,
+        sampler: SamplerKind::Center,
+        integrator,
+        tol,
+        film_f64: true,
+        aovs: Aovs {
+            error: error_aov,
+            ..Aovs::default()
+        },
+        ..RenderOptions::default()
+    };
+    let prep = prepare(scene.clone(), &opts).map_err(Error::Other)?;
+    let mut times = Vec::new();
+    loop {
+        let mut done = render(&prep, &opts);
+        times.push(done.seconds);
+        if times.len() >= runs.max(1) {
+            let error = done
+                .image
+                .layers
+                .iter_mut()
+                .find(|l| l.name == "error")
+                .map(|l| std::mem::take(&mut l.data))
+                .unwrap_or_default();
+            return Ok(Shot {
+                rgb: done.rgb64,
+                error,
+                runs: times.len(),
+                seconds: median(times),
+                counters: done.counters,
+            });
+        }
+    }
+}
+
+/// How the reported per-pixel error compares with the true one: the fraction of pixels
+/// whose reported error is at least `max_c |pixel_c - reference_c|`, and the median of
+/// reported / true over the pixels with a true error above 0.
+pub fn error_coverage(img: &[[f64; 3]], reported: &[f32], reference: &[[f64; 3]]) -> (f64, f64) {
+    let mut covered = 0usize;
+    let mut ratios = Vec::new();
+    for ((a, b), &e) in img.iter().zip(reference).zip(reported) {
+        let truth = (0..3).map(|k| (a[k] - b[k]).abs()).fold(0.0, f64::max);
+        let e = f64::from(e);
+        covered += usize::from(e >= truth);
+        if truth > 0.0 {
+            ratios.push(e / truth);
+        }
+    }
+    let frac = covered as f64 / img.len().max(1) as f64;
+    let med = if ratios.is_empty() {
+        f64::NAN
+    } else {
+        median(ratios)
+    };
+    (frac, med)
+}
+
+/// What march needs for a target error.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MarchNeed {
+    /// The step, measured or projected.
+    pub step: f64,
+    /// Its render time (seconds), measured or projected.
+    pub seconds: f64,
+    /// Projected from the last two steps rather than measured.
+    pub extrapolated: bool,
+}
+
+/// March's step and time for relative RMS `target`, from the steps measured so far
+/// (`(step, rel_rms, seconds)`, coarsest first), if the last two allow a projection: the
+/// error's order in the step from the last two (O(h) expected; it must be positive), the
+/// time's growth as `h^-q` with q from the last two but at least 1 (march's work per ray is
+/// proportional to 1 / h; at coarse steps fixed costs hide that).
+pub fn march_projection(points: &[(f64, f64, f64)], target: f64) -> Option<MarchNeed> {
+    let [.., (h1, e1, t1), (h2, e2, t2)] = points else {
+        return None;
+    };
+    let order = (e1 / e2).ln() / (h1 / h2).ln();
+    if !(order.is_finite() && order > 0.0) {
+        return None;
+    }
+    let q = ((t2 / t1).ln() / (h1 / h2).ln()).max(1.0);
+    let q = if q.is_finite() { q } else { 1.0 };
+    let step = h2 * (target / e2).powf(1.0 / order);
+    Some(MarchNeed {
+        step,
+        seconds: t2 * (h2 / step).powf(q),
+        extrapolated: true,
+    })
+}
+
+/// Steps `0.2 / 4^k` until march's relative RMS is at most `target`, or until the next step's
+/// projected time exceeds `budget` (then the projection, [`march_projection`]).
+fn march_to(
+    scene: &Scene,
+    size: u32,
+    reference: &[[f64; 3]],
+    target: f64,
+    budget: f64,
+) -> Result<Option<MarchNeed>, Error> {
+    let mut points: Vec<(f64, f64, f64)> = Vec::new();
+    for k in 0..12 {
+        let step = 0.2 / 4f64.powi(k);
+        let m = shoot(scene, size, Integrator::March { step }, 0.0, 1, false)?;
+        let err = relative_rms(&m.rgb, reference);
+        eprintln!(
+            "    march step {step:.3e}: {:.3} s, rel. RMS {err:.2e}",
+            m.seconds
+        );
+        if err <= target {
+            return Ok(Some(MarchNeed {
+                step,
+                seconds: m.seconds,
+                extrapolated: false,
+            }));
+        }
+        points.push((step, err, m.seconds));
+        if points.len() >= 2 {
+            let next = march_projection(&points, target);
+            let [.., (h1, _, t1), (h2, _, t2)] = points.as_slice() else {
+                unreachable!()
+            };
+            let q = ((t2 / t1).ln() / (h1 / h2).ln()).max(1.0);
+            let next_seconds = t2 * 4f64.powf(if q.is_finite() { q } else { 1.0 });
+            if next.is_none() || next_seconds > budget {
+                return Ok(next);
+            }
+        }
+    }
+    Ok(march_projection(&points, target))
+}
+
+/// One row of the scaling table.
+#[derive(Clone, Debug)]
+pub struct ScalingRow {
+    pub n: usize,
+    pub cloud: Cloud,
+    /// Median render time of exact at the default tol.
+    pub seconds: f64,
+    pub runs: usize,
+    pub counters: Counters,
+    /// Relative RMS error against exact at the reference tol.
+    pub rel_rms: f64,
+    /// Fraction of pixels whose reported error covers the true error; median reported/true.
+    pub covered: f64,
+    pub ratio: f64,
+    /// Reference render time.
+    pub ref_seconds: f64,
+    pub march: Option<MarchNeed>,
+}
+
+impl ScalingRow {
+    pub fn seconds_per_ray(&self) -> f64 {
+        self.seconds / self.counters.camera_rays.max(1) as f64
+    }
+    fn per_ray(&self, v: u64) -> f64 {
+        v as f64 / self.counters.camera_rays.max(1) as f64
+    }
+}
+
+/// The default tol of `gtsphere render` and the reference's.
+pub const DEFAULT_TOL: f64 = 1e-4;
+pub const REFERENCE_TOL: f64 = 1e-8;
+
+/// The scaling table (Markdown).
+pub fn scaling_table(rows: &[ScalingRow]) -> String {
+    let mut t = String::from(
+        "| N | cloud | seconds | runs | camera rays/s | quadrature nodes / ray | shadowing spheres / ray | rel. RMS error | pixels whose reported error covers the true one | median reported / true | reference s | march step for that error | march seconds | march / exact |\n\
+         |---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+    );
+    for r in rows {
+        let (step, ms, ratio) = match r.march {
+            Some(m) => {
+                let tilde = if m.extrapolated { "~" } else { "" };
+                let note = if m.extrapolated {
+                    " (extrapolated)"
+                } else {
+                    ""
+                };
+                (
+                    format!("{tilde}{:.2e}", m.step),
+                    format!("{tilde}{:.3}{note}", m.seconds),
+                    format!("{tilde}{:.1}x", m.seconds / r.seconds),
+                )
+            }
+            None => ("not reached".into(), "-".into(), "-".into()),
+        };
+        let _ = writeln!(
+            t,
+            "| {} | {} | {:.3} | {} | {:.3e} | {:.1} | {:.1} | {:.2e} | {:.1}% | {:.3} | {:.2} | {step} | {ms} | {ratio} |",
+            r.n,
+            r.cloud.name(),
+            r.seconds,
+            r.runs,
+            r.counters.camera_rays as f64 / r.seconds,
+            r.per_ray(r.counters.quadrature_nodes),
+            r.per_ray(r.counters.shadow_candidates),
+            r.rel_rms,
+            100.0 * r.covered,
+            r.ratio,
+            r.ref_seconds,
+        );
+    }
+    t
+}
+
+fn verdict(ok: bool) -> &'static str {
+    if ok {
+        "PASS"
+    } else {
+        "FAIL"
+    }
+}
+
+/// Time per camera ray at each N relative to the smallest N = 1e3, per cloud.
+fn per_ray_ratios(rows: &[ScalingRow], cloud: Cloud) -> Vec<(usize, f64)> {
+    let Some(base) = rows.iter().find(|r| r.cloud == cloud && r.n == 1000) else {
+        return Vec::new();
+    };
+    rows.iter()
+        .filter(|r| r.cloud == cloud)
+        .map(|r| (r.n, r.seconds_per_ray() / base.seconds_per_ray()))
+        .collect()
+}
+
+/// The ratios the goals need, then the goals with PASS or FAIL (issue 12).
+pub fn scaling_goals(rows: &[ScalingRow]) -> String {
+    let mut t = String::new();
+    for c in [Cloud::Thick, Cloud::Thin] {
+        let r = per_ray_ratios(rows, c);
+        if !r.is_empty() {
+            let list: Vec<String> = r.iter().map(|(n, v)| format!("N {n}: {v:.2}x")).collect();
+            let _ = writeln!(
+                t,
+                "- {}: time per camera ray relative to N = 1000: {}",
+                c.name(),
+                list.join(", ")
+            );
+        }
+    }
+    for r in rows {
+        if let Some(m) = r.march {
+            let _ = writeln!(
+                t,
+                "- {} N {}: exact is {}{:.1}x faster than march at equal error ({:.2e})",
+                r.cloud.name(),
+                r.n,
+                if m.extrapolated { "~" } else { "" },
+                m.seconds / r.seconds,
+                r.rel_rms
+            );
+        }
+    }
+    t.push_str("\nGoals:\n");
+    for (c, limit) in [(Cloud::Thick, 3.0), (Cloud::Thin, 10.0)] {
+        let r = per_ray_ratios(rows, c);
+        match r.iter().find(|(n, _)| *n == 1_000_000) {
+            Some((_, v)) => {
+                let _ = writeln!(
+                    t,
+                    "- {}: time per camera ray at N = 1e6 / N = 1e3 = {v:.2}x (goal <= {limit}x): {}",
+                    c.name(),
+                    verdict(*v <= limit)
+                );
+            }
+            None => {
+                let _ = writeln!(
+                    t,
+                    "- {}: time per camera ray at N = 1e6 / N = 1e3 (goal <= {limit}x): not measured (needs --sizes with 1e3 and 1e6)",
+                    c.name()
+                );
+            }
+        }
+    }
+    let speedups: Vec<f64> = rows
+        .iter()
+        .map(|r| r.march.map_or(f64::NAN, |m| m.seconds / r.seconds))
+        .collect();
+    if speedups.is_empty() || speedups.iter().any(|v| v.is_nan()) {
+        let _ = writeln!(
+            t,
+            "- exact >= 10x faster than march at equal error: FAIL (march's time not found for every row)"
+        );
+    } else {
+        let worst = speedups.iter().copied().fold(f64::INFINITY, f64::min);
+        let _ = writeln!(
+            t,
+            "- exact vs march at equal error, smallest speed-up over the rows: {worst:.1}x (goal >= 10x): {}",
+            verdict(worst >= 10.0)
+        );
+    }
+    let worst = rows.iter().map(|r| r.rel_rms).fold(0.0, f64::max);
+    let _ = writeln!(
+        t,
+        "- largest rel. RMS error at the default tol {DEFAULT_TOL:e}: {worst:.2e} (goal <= 1e-4): {}",
+        verdict(!rows.is_empty() && worst <= 1e-4)
+    );
+    let at_1e4: Vec<&ScalingRow> = rows.iter().filter(|r| r.n == 10_000).collect();
+    if at_1e4.is_empty() {
+        let _ = writeln!(
+            t,
+            "- N = 1e4, pixels whose reported error covers the true error (goal >= 95%): not measured"
+        );
+    }
+    for r in at_1e4 {
+        let _ = writeln!(
+            t,
+            "- {} N = 1e4: pixels whose reported error covers the true error {:.1}% (goal >= 95%): {}; median reported / true {:.3}",
+            r.cloud.name(),
+            100.0 * r.covered,
+            verdict(r.covered >= 0.95),
+            r.ratio
+        );
+    }
+    t
+}
+
+/// The scaling table on cloud-N for every N in `sizes` and every cloud: exact at the default
+/// tol (median of `runs` runs, one thread, S x S pixel centres, f64 film) against exact at
+/// [`REFERENCE_TOL`]: time, camera rays/s, quadrature nodes and shadowing spheres per camera
+/// ray (`Counters::shadow_candidates / camera_rays`), relative RMS error (over all pixels and
+/// channels, divided by the reference's RMS), how well the error AOV covers the true error,
+/// and the time march needs for the same error ([`march_to`]). Then the goals.
+pub fn run_scaling(args: &GasArgs) -> Result<ExitCode, Error> {
+    let quick = args.quick;
+    let sizes = if !args.sizes.is_empty() {
+        args.sizes.clone()
+    } else if quick {
+        vec![1000, 10_000]
+    } else {
+        vec![1000, 10_000, 100_000, 1_000_000]
+    };
+    let size = args.size.unwrap_or(if quick { 32 } else { 128 });
+    let threads = args.threads.unwrap_or(1);
+    let budget = args.march_budget.unwrap_or(if quick { 2.0 } else { 120.0 });
+    if size == 0 || threads == 0 || sizes.contains(&0) || args.runs == Some(0) {
+        return Err(Error::Other(
+            "--size, --threads, --sizes and --runs must be positive".into(),
+        ));
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| Error::Other(format!("cannot start worker threads: {e}")))?;
+    let mut rows = Vec::new();
+    for &n in &sizes {
+        for &c in &args.clouds {
+            let scene = cloud(n, c);
+            let runs = args.runs.unwrap_or(if n <= 10_000 { 3 } else { 1 });
+            eprintln!(
+                "cloud-{}-{n}, {size}x{size}, {threads} thread(s):",
+                c.name()
+            );
+            let row = pool.install(|| -> Result<ScalingRow, Error> {
+                let reference = shoot(&scene, size, Integrator::Exact, REFERENCE_TOL, 1, false)?;
+                eprintln!(
+                    "    exact tol {REFERENCE_TOL:e} (reference): {:.3} s",
+                    reference.seconds
+                );
+                let m = shoot(&scene, size, Integrator::Exact, DEFAULT_TOL, runs, true)?;
+                let rel_rms = relative_rms(&m.rgb, &reference.rgb);
+                eprintln!(
+                    "    exact tol {DEFAULT_TOL:e}: {:.3} s (median of {}), rel. RMS {rel_rms:.2e}",
+                    m.seconds, m.runs
+                );
+                let (covered, ratio) = error_coverage(&m.rgb, &m.error, &reference.rgb);
+                let march = march_to(&scene, size, &reference.rgb, rel_rms, budget)?;
+                Ok(ScalingRow {
+                    n,
+                    cloud: c,
+                    seconds: m.seconds,
+                    runs: m.runs,
+                    counters: m.counters,
+                    rel_rms,
+                    covered,
+                    ratio,
+                    ref_seconds: reference.seconds,
+                    march,
+                })
+            })?;
+            rows.push(row);
+        }
+    }
+    println!(
+        "bench gas --scaling: cloud-N at {size}x{size} pixel centres, {threads} thread(s), exact at tol {DEFAULT_TOL:e} against tol {REFERENCE_TOL:e}; march steps 0.2/4^k, budget {budget} s\n"
+    );
+    println!("{}", scaling_table(&rows));
+    print!("{}", scaling_goals(&rows));
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `gtsphere bench gas`.
+pub fn run(args: &GasArgs) -> Result<ExitCode, Error> {
+    if let Some(dir) = &args.write {
+        let sizes = if args.sizes.is_empty() {
+            vec![1000, 10_000, 100_000, 1_000_000]
+        } else {
+            args.sizes.clone()
+        };
+        write_clouds(dir, &sizes, &args.clouds)?;
+        return Ok(ExitCode::SUCCESS);
+    }
+    if args.scaling {
+        return run_scaling(args);
+    }
+    run_tradeoff(
+        args.spheres,
+        args.size.unwrap_or(256),
+        args.threads.unwrap_or(2),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::vrml::{load_str, LoadOptions};
+
+    #[test]
+    fn a_written_cloud_reads_back_as_the_same_scene() {
+        for kind in [Cloud::Thick, Cloud::Thin] {
+            let a = cloud(300, kind);
+            let mut text = Vec::new();
+            crate::vrml::write::write_scene(&a, &mut text).unwrap();
+            let text = String::from_utf8(text).unwrap();
+            let (b, report) = load_str("cloud.wrl", &text, &LoadOptions::default()).unwrap();
+            assert!(report.warnings.is_empty());
+            assert_eq!(a.spheres.len(), b.spheres.len());
+            for (s, t) in a.spheres.iter().zip(&b.spheres) {
+                assert_eq!((s.center, s.radius), (t.center, t.radius));
+                assert_eq!(
+                    a.materials[s.material as usize],
+                    b.materials[t.material as usize]
+                );
+            }
+            assert_eq!(
+                (a.headlight, a.background, a.viewpoints[0].position),
+                (b.headlight, b.background, b.viewpoints[0].position)
+            );
+            assert_eq!(a.viewpoints[0].field_of_view, b.viewpoints[0].field_of_view);
+            assert_eq!(a.lights.len(), b.lights.len());
+            for (l, m) in a.lights.iter().zip(&b.lights) {
+                match (l, m) {
+                    (Light::Point(p), Light::Point(q)) => assert_eq!(
+                        PointLight {
+                            origin: Origin::default(),
+                            ..*q
+                        },
+                        *p
+                    ),
+                    (Light::Directional(p), Light::Directional(q)) => {
+                        // A top-level light lights every sphere, however the range is spelt.
+                        assert!(q.scope.0 == 0 && q.scope.1 as usize >= b.spheres.len());
+                        assert_eq!(
+                            (p.direction, p.color, p.intensity, p.ambient_intensity, p.on),
+                            (q.direction, q.color, q.intensity, q.ambient_intensity, q.on)
+                        );
+                    }
+                    _ => panic!("lights in another order: {l:?} {m:?}"),
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn clouds_are_as_described() {
+        let n = 1000;
+        let thick = cloud(n, Cloud::Thick);
+        let trace = random_spheres(n);
+        let r = 0.6 * (n as f64).powf(-1.0 / 3.0);
+        for (s, t) in thick.spheres.iter().zip(&trace.spheres) {
+            assert_eq!((s.center, s.radius), (t.center, r));
+            let m = &thick.materials[s.material as usize];
+            // Optical depth 4 along a diameter.
+            assert!((m.sigma(s.radius) * 2.0 * s.radius - 4.0).abs() < 1e-12);
+        }
+        let used: std::collections::BTreeSet<u32> =
+            thick.spheres.iter().map(|s| s.material).collect();
+        assert_eq!(used.len(), CLOUD_COLOURS, "every colour is used");
+        let thin = cloud(n, Cloud::Thin);
+        assert!(thin.materials.iter().all(|m| m.transparency == 0.9));
+    }
+
+    #[test]
+    fn counts_in_exponent_form() {
+        assert_eq!(parse_count("1e6"), Ok(1_000_000));
+        assert_eq!(parse_count("1000"), Ok(1000));
+        assert!(parse_count("1.5").is_err() && parse_count("0").is_err());
+    }
+
+    #[test]
+    fn reported_errors_against_true_ones() {
+        let reference = [[1.0, 1.0, 1.0], [1.0, 1.0, 1.0], [0.0, 0.0, 0.0], [2.0; 3]];
+        let img = [
+            [1.1, 1.0, 1.0],
+            [1.0, 0.9, 1.02],
+            [0.0, 0.0, 0.0],
+            [2.0, 2.0, 2.4],
+        ];
+        // Reported 0.2 (covers 0.1), 0.05 (not 0.1), 0 on an exact pixel, 0.2 (not 0.4).
+        let reported = [0.2, 0.05, 0.0, 0.2];
+        let (frac, med) = error_coverage(&img, &reported, &reference);
+        assert_eq!(frac, 0.5);
+        // Ratios 2, 0.5, 0.5: the median is 0.5 (up to f32 rounding of the reports).
+        assert!((med - 0.5).abs() < 1e-6, "{med}");
+    }
+
+    #[test]
+    fn march_projection_follows_the_observed_orders() {
+        // Error ~ h, time ~ 1/h: from (0.2, 1e-2, 1 s) and (0.05, 2.5e-3, 4 s), 1e-5 needs
+        // h = 2e-4 and 1000 s.
+        let p = march_projection(&[(0.2, 1e-2, 1.0), (0.05, 2.5e-3, 4.0)], 1e-5).unwrap();
+        assert!(
+            (p.step - 2e-4).abs() < 1e-15 && (p.seconds - 1000.0).abs() < 1e-9,
+            "{p:?}"
+        );
+        assert!(p.extrapolated);
+        // Fixed costs at coarse steps (time growing slower than 1/h) still project as 1/h.
+        let p = march_projection(&[(0.2, 1e-2, 1.0), (0.05, 2.5e-3, 1.5)], 1e-5).unwrap();
+        assert!((p.seconds - 375.0).abs() < 1e-9, "{p:?}");
+        // An error that does not shrink gives no projection.
+        assert_eq!(
+            march_projection(&[(0.2, 1e-2, 1.0), (0.05, 1e-2, 4.0)], 1e-5),
+            None
+        );
+        assert_eq!(march_projection(&[(0.2, 1e-2, 1.0)], 1e-5), None);
+    }
 }

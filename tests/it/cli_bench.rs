@@ -134,3 +134,92 @@ fn bench_quick_writes_csv_table_and_plot() {
         assert!(n > 50, "colour {rgb:?}: {n} pixels");
     }
 }
+
+/// `gtsphere bench gas --scaling --quick`: the scaling table and its goals, as a user runs it.
+#[test]
+fn bench_gas_scaling_quick_prints_the_table_and_the_goals() {
+    let out = Command::new(env!("CARGO_BIN_EXE_gtsphere"))
+        .args(["bench", "gas", "--scaling", "--quick", "--size", "16"])
+        .args(["--march-budget", "0.5", "--runs", "1"])
+        .output()
+        .expect("run gtsphere");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let rows: Vec<Vec<&str>> = stdout
+        .lines()
+        .filter(|l| l.starts_with("| 1"))
+        .map(|l| l.split('|').map(str::trim).collect())
+        .collect();
+    let keys: Vec<(&str, &str)> = rows.iter().map(|r| (r[1], r[2])).collect();
+    assert_eq!(
+        keys,
+        [
+            ("1000", "thick"),
+            ("1000", "thin"),
+            ("10000", "thick"),
+            ("10000", "thin")
+        ],
+        "{stdout}"
+    );
+    for r in &rows {
+        let num = |k: usize| r[k].trim_end_matches('%').parse::<f64>().unwrap();
+        // seconds, camera rays/s, nodes per ray, rel. RMS error, coverage.
+        assert!(num(3) > 0.0 && num(5) > 0.0, "{r:?}");
+        assert!(num(6) > 0.0, "a lit cloud needs quadrature nodes: {r:?}");
+        assert!(num(8) >= 0.0 && num(8) < 1e-2, "{r:?}");
+        assert!((0.0..=100.0).contains(&num(9)), "{r:?}");
+        // march's time: measured or projected.
+        assert!(r[13] != "-" || r[12] == "not reached", "{r:?}");
+    }
+    for goal in [
+        "- thick: time per camera ray relative to N = 1000: N 1000: 1.00x, N 10000: ",
+        "- thick: time per camera ray at N = 1e6 / N = 1e3 (goal <= 3x): not measured",
+        "(goal >= 10x): ",
+        "(goal <= 1e-4): ",
+        "- thick N = 1e4: pixels whose reported error covers the true error ",
+        "- thin N = 1e4: pixels whose reported error covers the true error ",
+    ] {
+        assert!(stdout.contains(goal), "no {goal:?} in\n{stdout}");
+    }
+    let verdicts = stdout.matches(": PASS").count() + stdout.matches(": FAIL").count();
+    assert!(verdicts >= 4, "{stdout}");
+}
+
+/// `gtsphere bench gas --write DIR`: the clouds as files that `gtsphere render` reads.
+#[test]
+fn bench_gas_write_gives_files_that_render() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_bench_gas_write");
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = Command::new(env!("CARGO_BIN_EXE_gtsphere"))
+        .args(["bench", "gas", "--sizes", "1e3", "--write"])
+        .arg(&dir)
+        .output()
+        .expect("run gtsphere");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for cloud in ["thick", "thin"] {
+        let wrl = dir.join(format!("cloud-{cloud}-1000.wrl"));
+        let img = dir.join(format!("cloud-{cloud}.pfm"));
+        let out = Command::new(env!("CARGO_BIN_EXE_gtsphere"))
+            .arg("render")
+            .arg(&wrl)
+            .args(["--width", "8", "--height", "8", "--sampler", "center", "-o"])
+            .arg(&img)
+            .output()
+            .expect("run gtsphere");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let pfm = std::fs::read(&img).expect("image");
+        assert!(pfm.starts_with(b"PF\n8 8\n"));
+    }
+}
