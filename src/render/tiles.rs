@@ -74,28 +74,30 @@ fn render_pixel(
     }
     let cam = &prep.camera.camera;
     let mut sum = DVec3::ZERO;
-    let mut sum2 = DVec3::ZERO;
+    // Welford's running mean and sum of squared deviations (the one-pass `sum x^2 - n mean^2`
+    // cancels, reporting ~sqrt(eps) |mean| where the samples agree to the last bit).
+    let (mut run_mean, mut m2) = (DVec3::ZERO, DVec3::ZERO);
     let mut err = 0.0;
     let mut covered = 0u32;
     // The Monte Carlo integrator's own random numbers: a stream per pixel, apart from the
     // sample positions' stream.
     let mut rng = Rng::new(opts.seed ^ 0x6D63_5F70_6174_6873, pixel);
-    for &(sx, sy) in samples.iter() {
+    for (k, &(sx, sy)) in samples.iter().enumerate() {
         let (o, d) = cam.ray((f64::from(i) + sx) / w, (f64::from(j) + sy) / h);
         let e = integrators::radiance(prep, o, d, &mut rng, scratch, counters);
         sum += e.value;
-        sum2 += e.value * e.value;
         err += e.error;
         covered += u32::from(e.covered);
+        let delta = e.value - run_mean;
+        run_mean += delta / (k + 1) as f64;
+        m2 += delta * (e.value - run_mean);
     }
     let n = samples.len() as f64;
     let mean = sum / n;
     let error = if prep.integrator == Integrator::Mc && prep.gas_spheres > 0 {
         // Standard error of the mean, worst channel.
         if n > 1.0 {
-            ((sum2 / n - mean * mean).max(DVec3::ZERO) / (n - 1.0))
-                .max_element()
-                .sqrt()
+            (m2.max(DVec3::ZERO) / (n * (n - 1.0))).max_element().sqrt()
         } else {
             f64::INFINITY
         }
