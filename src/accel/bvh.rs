@@ -676,31 +676,21 @@ impl SphereBvh {
     }
 
     /// Calls `visit(prim_index, prim)` for every primitive whose (padded) box may meet a
-    /// region of space, as judged by `near(centre, radius)`: whether a ball may meet the region
-    /// (it may answer true for balls that do not; it must never answer false for one that
-    /// does). Each child box of a node is tested as its bounding ball, so only the nodes whose
-    /// boxes come near the region are visited: the cost follows the region, not an enclosing
+    /// region of space, as judged by `near(lo, hi)`: whether the world box `lo..hi` may meet
+    /// the region (it may answer true for boxes that do not; it must never answer false for
+    /// one that does). Each child box of a node is tested, so only the nodes whose boxes come
+    /// near the region are visited: the cost follows the region, not an enclosing
     /// axis-aligned box (a diagonal shadow strip, say). `visit` still does the exact test.
     pub fn near_region(
         &self,
-        near: impl Fn(DVec3, f64) -> bool,
+        near: impl Fn(DVec3, DVec3) -> bool,
         mut visit: impl FnMut(u32, &Prim),
         stack: &mut Vec<UVec2>,
     ) {
         let inv = 1.0 / self.scale;
-        // A child box in world space: its f32 corners mapped back, padded by the primitive
-        // padding again (covers the f32 rounding of the decode itself).
-        let ball = |b: &Aabb| {
-            let lo = b.min.as_dvec3() * inv + self.origin;
-            let hi = b.max.as_dvec3() * inv + self.origin;
-            ((lo + hi) * 0.5, (hi - lo).length() * 0.5 + 2.0 * self.pad)
-        };
+        let pad = DVec3::splat(2.0 * self.pad);
         for c in &self.chunks {
-            if c.bvh.nodes.is_empty() {
-                continue;
-            }
-            let (cc, cr) = ((c.lo + c.hi) * 0.5, (c.hi - c.lo).length() * 0.5);
-            if !near(cc, cr) {
+            if c.bvh.nodes.is_empty() || !near(c.lo, c.hi) {
                 continue;
             }
             stack.clear();
@@ -717,8 +707,12 @@ impl SphereBvh {
                         if node.is_child_empty(child) {
                             continue;
                         }
-                        let (centre, radius) = ball(&node.child_aabb(child));
-                        if near(centre, radius) {
+                        // The child box in world space, padded again for the f32 rounding of
+                        // its decoding.
+                        let b = node.child_aabb(child);
+                        let lo = b.min.as_dvec3() * inv + self.origin - pad;
+                        let hi = b.max.as_dvec3() * inv + self.origin + pad;
+                        if near(lo, hi) {
                             mask |= obvhs::cwbvh::node::extract_byte64(bits, child)
                                 << obvhs::cwbvh::node::extract_byte64(index, child);
                         }

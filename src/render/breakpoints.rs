@@ -142,7 +142,11 @@ pub fn breakpoints(
             let w = (p.center - position).length();
             (
                 Light::At(point(position)),
-                if v.length() > 0.0 { w / v.length() } else { 1.0 },
+                if v.length() > 0.0 {
+                    w / v.length()
+                } else {
+                    1.0
+                },
             )
         }
     };

@@ -260,11 +260,7 @@ fn median_radius(prims: &[Prim]) -> f64 {
 /// (emission, ambient and direct terms of every light at full strength, or 1 when unlit) and
 /// any material's gas source `C + p a sum_i C_i I_i` (attenuation and visibility are at most
 /// 1), each channel bounded by its largest.
-fn rest_bound(
-    materials: &[Material],
-    lights: &[LightSource],
-    background: DVec3,
-) -> f64 {
+fn rest_bound(materials: &[Material], lights: &[LightSource], background: DVec3) -> f64 {
     let direct: f64 = lights.iter().map(|l| l.direct.max_element()).sum();
     let ambient: f64 = lights.iter().map(|l| l.ambient.max_element()).sum();
     let mut bound = background.max_element();

@@ -76,20 +76,76 @@ fn to_triangle(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> f64 {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Region {
     pub q: [DVec3; 4],
+    /// Unit normal of its plane (zero when degenerate) and the plane's offset `n . q0`.
+    normal: DVec3,
+    offset: f64,
+    /// A ball around it: centre and radius.
+    centre: DVec3,
+    reach: f64,
+    /// In its plane, the inward unit normals of its four edges and their offsets: a point `y`
+    /// of the plane is inside when `e_k . y >= o_k` for every edge (unused when degenerate).
+    edges: [(DVec3, f64); 4],
 }
 
 impl Region {
+    pub fn new(q: [DVec3; 4]) -> Region {
+        let n = (q[1] - q[0]).cross(q[3] - q[0]) + (q[3] - q[2]).cross(q[1] - q[2]);
+        let scale = q
+            .iter()
+            .map(|v| (*v - q[0]).length_squared())
+            .fold(0.0, f64::max);
+        // Below this the plane is not well defined (a zero-length segment, or rays along it).
+        let normal = if n.length_squared() > 1e-20 * scale * scale {
+            n.normalize()
+        } else {
+            DVec3::ZERO
+        };
+        let centre = (q[0] + q[1] + q[2] + q[3]) * 0.25;
+        let reach = q.iter().map(|v| (*v - centre).length()).fold(0.0, f64::max);
+        let mut edges = [(DVec3::ZERO, f64::NEG_INFINITY); 4];
+        // (A skipped edge keeps (0, -inf): no constraint.)
+        if normal != DVec3::ZERO {
+            for (k, e) in edges.iter_mut().enumerate() {
+                let (a, b) = (q[k], q[(k + 1) % 4]);
+                // An edge of (nearly) zero length, such as the apex of a band that reaches a
+                // point light (two corners equal up to rounding), has no direction: no plane.
+                if (b - a).length_squared() <= 1e-20 * scale {
+                    continue;
+                }
+                let inward = normal.cross(b - a).normalize_or_zero();
+                // Orient it towards the centre (the quad's corners are in either order).
+                let inward = if inward.dot(centre - a) < 0.0 {
+                    -inward
+                } else {
+                    inward
+                };
+                *e = (inward, inward.dot(a));
+            }
+        }
+        Region {
+            q,
+            normal,
+            offset: normal.dot(q[0]),
+            centre,
+            reach,
+            edges,
+        }
+    }
+
     /// The band `[f0, f1]` of the region swept from the segment `[a, b]` towards `light`: `f`
     /// is the distance along `L` (directional) or the fraction of the way to `P` (point).
     pub fn band(light: &LightKind, a: DVec3, b: DVec3, f0: f64, f1: f64) -> Region {
-        match *light {
-            LightKind::Directional { to_light: l, .. } => Region {
-                q: [a + f0 * l, b + f0 * l, b + f1 * l, a + f1 * l],
-            },
-            LightKind::Point { position: p, .. } => Region {
-                q: [a + f0 * (p - a), b + f0 * (p - b), b + f1 * (p - b), a + f1 * (p - a)],
-            },
-        }
+        Region::new(match *light {
+            LightKind::Directional { to_light: l, .. } => {
+                [a + f0 * l, b + f0 * l, b + f1 * l, a + f1 * l]
+            }
+            LightKind::Point { position: p, .. } => [
+                a + f0 * (p - a),
+                b + f0 * (p - b),
+                b + f1 * (p - b),
+                a + f1 * (p - a),
+            ],
+        })
     }
 
     /// Distance from `p` to the region (split along the diagonal `q0 q2` into two triangles).
@@ -98,11 +154,61 @@ impl Region {
         let [q0, q1, q2, q3] = self.q;
         to_triangle(p, q0, q1, q2).min(to_triangle(p, q0, q2, q3))
     }
+
+    /// Whether the ball `(c, r)` meets the region (exactly, up to rounding).
+    #[inline]
+    pub fn meets(&self, c: DVec3, r: f64) -> bool {
+        self.may_meet(c, r) && self.distance(c) <= r
+    }
+
+    /// Whether the ball `(c, r)` may meet the region, from lower bounds of the distance only
+    /// (so never false for a ball that meets it): the distance to its plane, to a ball around
+    /// it, and, in the plane, the largest violation of the edges' half-planes (a convex
+    /// polygon is at least that far from a point).
+    #[inline]
+    pub fn may_meet(&self, c: DVec3, r: f64) -> bool {
+        let above = self.normal.dot(c) - self.offset;
+        if above.abs() > r {
+            return false;
+        }
+        if (c - self.centre).length_squared() > (r + self.reach) * (r + self.reach) {
+            return false;
+        }
+        let mut out = 0.0f64;
+        for &(e, o) in &self.edges {
+            out = out.max(o - e.dot(c));
+        }
+        above * above + out * out <= r * r
+    }
+
+    /// Whether the box `lo..hi` (grown by `slack`) may meet the region: false only when a
+    /// plane separates them, among its own plane, the four planes through its edges along
+    /// its normal, and the box's faces (the box against a ball around the region).
+    #[inline]
+    pub fn may_meet_box(&self, lo: DVec3, hi: DVec3, slack: f64) -> bool {
+        let c = (lo + hi) * 0.5;
+        let e = (hi - lo) * 0.5 + slack;
+        // The box's extent along a unit axis n, either side of its centre: sum |n_i| e_i.
+        if (self.normal.dot(c) - self.offset).abs() > self.normal.abs().dot(e) {
+            return false;
+        }
+        let gap = ((self.centre - c).abs() - e).max(DVec3::ZERO);
+        if gap.length_squared() > self.reach * self.reach {
+            return false;
+        }
+        for &(n, o) in &self.edges {
+            if n.dot(c) + n.abs().dot(e) < o {
+                return false;
+            }
+        }
+        true
+    }
 }
 
 /// The band edges along the light rays from the segment `[a, b]`: `0 = f_0 < f_1 < ... = end`,
 /// where `end` lies beyond every sphere (directional: the farthest corner of the scene's box
-/// along `L`; point: the light, `1`), and `f_1 = base`, then four times deeper each band.
+/// along `L`; point: the light, `1`), and `f_1 = base`, then eight times deeper each band (fewer bands cost fewer BVH descents; deeper
+/// ones gather more spheres that turn out to lie behind dark pieces).
 pub fn band_edges(
     bvh: &SphereBvh,
     light: &LightKind,
@@ -137,7 +243,7 @@ pub fn band_edges(
     let mut f = step;
     while f.is_finite() && f > 0.0 && f < end {
         out.push(f);
-        f *= 4.0;
+        f *= 8.0;
     }
     out.push(end.max(0.0));
 }
@@ -148,13 +254,16 @@ pub fn gather(bvh: &SphereBvh, region: &Region, out: &mut Vec<u32>, stack: &mut 
     let slack = {
         let (lo, hi) = bvh.bounds();
         let big = lo.abs().max(hi.abs()).max_element();
-        let q = region.q.iter().fold(big, |m, v| m.max(v.abs().max_element()));
+        let q = region
+            .q
+            .iter()
+            .fold(big, |m, v| m.max(v.abs().max_element()));
         64.0 * f64::EPSILON * q
     };
     bvh.near_region(
-        |c, r| region.distance(c) <= r + slack,
+        |lo, hi| region.may_meet_box(lo, hi, slack),
         |i, p| {
-            if region.distance(p.center) <= p.radius * (1.0 + 1e-9) + slack {
+            if region.meets(p.center, p.radius * (1.0 + 1e-9) + slack) {
                 out.push(i);
             }
         },
@@ -218,6 +327,19 @@ mod tests {
             }
             let db = band.distance(q);
             let dt = to_triangle(q, a, b, c);
+            // The cheap tests never reject a ball, or a box around it, that meets the band.
+            for r in [0.5 * db, db * (1.0 + 1e-9) + 1e-12, 1.5 * db, db + 1.0] {
+                assert_eq!(band.meets(q, r), db <= r, "meets at r {r}, distance {db}");
+                assert!(
+                    band.may_meet(q, r) || db > r,
+                    "may_meet at r {r}, distance {db}"
+                );
+                let h = DVec3::new(r, 1.5 * r, 2.0 * r); // contains the ball
+                assert!(
+                    band.may_meet_box(q - h, q + h, 1e-12) || db > r,
+                    "may_meet_box at r {r}, distance {db}"
+                );
+            }
             assert!(
                 db <= best_b + 1e-12 && db > best_b - 0.05,
                 "band {db} vs {best_b}"

@@ -90,7 +90,7 @@ fn bench_quick_writes_csv_table_and_plot() {
         for ig in integrators {
             let e = errors(rows, ig);
             assert!(e.len() >= 3, "{scene} {ig}: {e:?}");
-            if *ig == "exact" || (*ig == "mc" && *scene == "emission") {
+            if *ig == "exact" || (*ig == "mc" && scene == "emission") {
                 // exact; and mc, whose emission and transmittance are expected values (closed
                 // form), is exact where nothing scatters.
                 continue;
@@ -110,10 +110,19 @@ fn bench_quick_writes_csv_table_and_plot() {
         let e = errors(&csv["emission"], ig);
         assert!(e.iter().all(|&v| v < 1e-12), "{ig}: {e:?}");
     }
-    // exact with scattering: far below the approximations, and no worse as tol tightens,
+    // exact with scattering: within each tolerance (it truncates what cannot matter at the
+    // tolerance asked for, so a loose tol gives a looser answer), no worse as tol tightens,
     // ending below both the loosest setting's error and 1e-8.
     let e = errors(&csv["lit gas"], "exact");
-    assert!(e.iter().all(|&v| v < 1e-6), "{e:?}");
+    let tols: Vec<f64> = csv["lit gas"]
+        .iter()
+        .filter(|r| r.0 == "exact")
+        .map(|r| r.1)
+        .collect();
+    assert!(
+        e.iter().zip(&tols).all(|(&v, &t)| v <= t),
+        "{e:?} at {tols:?}"
+    );
     assert!(
         e.windows(2).all(|w| w[1] <= w[0] * 1.5),
         "exact's error grows as tol tightens: {e:?}"

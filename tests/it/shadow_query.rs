@@ -1,7 +1,8 @@
 //! The shadow-volume query against testing every sphere: for random scenes, camera segments and
 //! lights, the shadowers `light_pieces::resolve` finds are exactly the spheres that a light ray
 //! from the segment can meet, except spheres it may leave out because every point they shadow
-//! lies in a piece it reports as dark (bounded in the error) or as zero.
+//! lies in a piece it reports as dark (bounded in the error) or as zero (behind an opaque
+//! shadower). Without truncation no piece is dark.
 //!
 //! "Can meet" is decided here independently of the renderer: the distance from the centre to
 //! the swept region (the strip towards a directional light, the triangle towards a point light)
@@ -27,7 +28,11 @@ impl Rng {
         ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
     }
     fn v(&mut self, s: f64) -> DVec3 {
-        DVec3::new(self.f() * 2.0 - 1.0, self.f() * 2.0 - 1.0, self.f() * 2.0 - 1.0) * s
+        DVec3::new(
+            self.f() * 2.0 - 1.0,
+            self.f() * 2.0 - 1.0,
+            self.f() * 2.0 - 1.0,
+        ) * s
     }
 }
 
@@ -65,9 +70,9 @@ fn region_distance(c: DVec3, a: DVec3, b: DVec3, light: &LightKind) -> f64 {
             let s = (c - x).dot(l).max(0.0);
             (x + s * l - c).length()
         }),
-        LightKind::Point { position: p, .. } => ternary(|g| {
-            to_segment(c, a + g * (p - a), b + g * (p - b))
-        }),
+        LightKind::Point { position: p, .. } => {
+            ternary(|g| to_segment(c, a + g * (p - a), b + g * (p - b)))
+        }
     }
 }
 
@@ -91,7 +96,10 @@ fn scene(rng: &mut Rng, n: usize, lights: &str) -> Prepared {
         let mat = if k % 7 == 3 {
             "diffuseColor 0.5 0.5 0.5".to_string()
         } else {
-            format!("transparency {} diffuseColor 0.7 0.7 0.7", (-8.0 * rng.f()).exp())
+            format!(
+                "transparency {} diffuseColor 0.7 0.7 0.7",
+                (-8.0 * rng.f()).exp()
+            )
         };
         body.push_str(&format!(
             "Transform {{ translation {} {} {} children Shape {{ appearance Appearance {{ material Material {{ {mat} }} }} geometry Sphere {{ radius {r} }} }} }}\n",
@@ -114,7 +122,16 @@ fn check(prep: &Prepared, rng: &mut Rng, tau_cut: f64, cases: usize) -> (usize, 
         let (a, b) = (o + ta * d, o + tb * d);
         for light in &prep.lights {
             active.clear();
-            let (pieces, n) = resolve(prep, o, d, (ta, tb), light, tau_cut, &mut buffers, &mut active);
+            let (pieces, n) = resolve(
+                prep,
+                o,
+                d,
+                (ta, tb),
+                light,
+                tau_cut,
+                &mut buffers,
+                &mut active,
+            );
             let pieces = pieces.to_vec();
             let mut got: Vec<u32> = buffers.shadowers().collect();
             got.sort_unstable();
@@ -125,6 +142,9 @@ fn check(prep: &Prepared, rng: &mut Rng, tau_cut: f64, cases: usize) -> (usize, 
             assert_eq!(pieces.last().unwrap().t1, tb);
             for w in pieces.windows(2) {
                 assert_eq!(w[0].t1, w[1].t0);
+            }
+            if tau_cut.is_infinite() {
+                assert!(!pieces.iter().any(|p| matches!(p.class, Class::Dark(_))));
             }
             for (i, p) in prep.bvh.prims.iter().enumerate() {
                 let dist = region_distance(p.center, a, b, &light.kind);
@@ -141,13 +161,9 @@ fn check(prep: &Prepared, rng: &mut Rng, tau_cut: f64, cases: usize) -> (usize, 
                 if dist > p.radius * (1.0 - 1e-6) {
                     continue;
                 }
-                // Missed: allowed only where everything it shadows is dark or zero.
+                // Missed: allowed only where everything it shadows is dark (bounded) or zero
+                // (behind an opaque shadower: nothing more can change it).
                 left_out += 1;
-                assert!(
-                    tau_cut.is_finite(),
-                    "sphere {i} meets the region (distance {dist}, radius {}) but was not found",
-                    p.radius
-                );
                 for k in 0..=2000 {
                     let t = ta + (tb - ta) * k as f64 / 2000.0;
                     if !ray_meets(o + t * d, &light.kind, p.center, p.radius * (1.0 - 1e-6)) {
@@ -159,7 +175,9 @@ fn check(prep: &Prepared, rng: &mut Rng, tau_cut: f64, cases: usize) -> (usize, 
                         .expect("a piece");
                     assert!(
                         !matches!(piece.class, Class::Lit(_)),
-                        "sphere {i} shadows t = {t} in a lit piece {piece:?} but was left out"
+                        "sphere {i} (distance {dist}, radius {}) shadows t = {t} in a lit \
+                         piece {piece:?} but was left out",
+                        p.radius
                     );
                 }
             }
@@ -177,9 +195,8 @@ fn shadowers_found_equal_every_sphere_tested() {
                   PointLight { location 0.1 -0.2 0.3 }";
     for n in [10, 60, 250] {
         let prep = scene(&mut rng, n, lights);
-        let (found, left_out) = check(&prep, &mut rng, f64::INFINITY, 12);
+        let (found, _) = check(&prep, &mut rng, f64::INFINITY, 12);
         assert!(found > 0);
-        assert_eq!(left_out, 0);
     }
 }
 
@@ -190,5 +207,8 @@ fn truncated_queries_leave_out_only_what_lies_in_dark_pieces() {
     let prep = scene(&mut rng, 400, lights);
     let (_, left_out) = check(&prep, &mut rng, 6.0, 20);
     // The test is only meaningful if truncation actually left some spheres out.
-    assert!(left_out > 0, "no sphere was left out: truncation not exercised");
+    assert!(
+        left_out > 0,
+        "no sphere was left out: truncation not exercised"
+    );
 }

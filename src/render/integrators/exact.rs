@@ -23,13 +23,14 @@
 //!   bound.
 //! - **A light ray stops** adding optical depth past `tau_cut +` [`NODE_MARGIN`]; such nodes
 //!   can move the segment's value by at most `U_seg exp(-tau_cut - NODE_MARGIN)`.
+//!
 //! Each segment's quadrature is asked for its share `U_seg / U` of [`QUAD_SHARE`] of the
 //! tolerance.
 
 use glam::DVec3;
 
 use super::{behind, gas_along, scatter_for, Estimate, Scratch, PHASE};
-use crate::render::light_pieces::{resolve, Class};
+use crate::render::light_pieces::{gas_chord, resolve, Class};
 use crate::render::lights::{towards, LightKind, LightSource};
 use crate::render::quadrature::integrate;
 use crate::render::segments::Segment;
@@ -249,19 +250,13 @@ fn scattered(
     };
     // V_i(x) from the piece's active shadowers alone: no other sphere meets a light ray from
     // this piece, and no opaque one does.
-    let bvh = &prep.bvh;
     let mut od = 0.0;
     for &c in &active[m.active.0 as usize..m.active.1 as usize] {
-        let p = &bvh.prims[c as usize];
-        if let Some((t0, t1)) = bvh.roots(p, x, dir) {
-            let overlap = t1.min(dist) - t0.max(0.0);
-            if overlap > 0.0 {
-                od += p.sigma * overlap;
-                if od > limit {
-                    *deep = true;
-                    return DVec3::ZERO;
-                }
-            }
+        let p = &prep.bvh.prims[c as usize];
+        od += p.sigma * gas_chord(prep, p, x, dir, dist);
+        if od > limit {
+            *deep = true;
+            return DVec3::ZERO;
         }
     }
     m.coeff * (att * (-(m.sigma * (t - m.ta) + od)).exp())
