@@ -41,7 +41,8 @@ pub enum IntegratorArg {
     Exact,
     /// Fixed-step ray marching with midpoint samples (needs --step): an approximation.
     March,
-    /// Unbiased Monte Carlo, free-path and light sampling, --spp paths per pixel.
+    /// Unbiased Monte Carlo (scattering sampled at one point per gas segment), --spp samples
+    /// per pixel.
     Mc,
 }
 

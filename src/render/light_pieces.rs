@@ -149,8 +149,9 @@ pub fn gas_chord(prep: &Prepared, p: &Prim, x: DVec3, dir: DVec3, dist: f64) -> 
 
 /// Cuts light `light`'s integrand over the segment `[ta, tb]` of `o + t d` into pieces; the
 /// lit pieces' active shadowers are appended to `active`. Returns the pieces (in `b`) and the
-/// number of shadowers found. `tau_cut` is the optical depth from which a piece is dark; `rim`
-/// caps the rim breakpoints of dense shadowers.
+/// number of shadowers found. `tau_cut` is the optical depth from which a piece is dark; the
+/// rim breakpoints of dense shadowers go up to `4 tau_cut` (deeper ones could only split dark
+/// pieces).
 #[allow(clippy::too_many_arguments)]
 pub fn resolve<'b>(
     prep: &Prepared,

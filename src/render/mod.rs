@@ -105,7 +105,8 @@ pub enum Integrator {
     Exact,
     /// Fixed-step ray marching with midpoint samples (step in world units).
     March { step: f64 },
-    /// Unbiased Monte Carlo: free-path sampling plus light sampling, `spp` paths per pixel.
+    /// Unbiased Monte Carlo: emission and transmittance as expected values, single scattering
+    /// from one sampled collision point per gas segment, `spp` samples per pixel.
     Mc,
 }
 

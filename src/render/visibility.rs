@@ -9,7 +9,8 @@ use crate::accel::SphereBvh;
 /// Visibility from `x` towards a light at unit direction `l`, distance `dist` (infinite for a
 /// directional light). `own` is the opaque primitive `x` lies on (or `u32::MAX`): its own
 /// shadow is exact from the sign of `N.L` (a sphere is convex), so the caller decides it and
-/// it is skipped here.
+/// it is skipped here. The ray stops at the first opaque blocker, or once the optical depth
+/// makes the transmittance underflow to 0.
 ///
 /// Spheres are solid (one-sided, MODEL.md section 2): an opaque sphere blocks when the light
 /// ray enters it, at its first root, between `x` and the light; a ray that starts inside an
@@ -24,7 +25,9 @@ pub fn visible(bvh: &SphereBvh, x: DVec3, l: DVec3, dist: f64, own: u32) -> f64 
             if overlap > 0.0 {
                 tau += p.sigma * overlap;
             }
-            false
+            // Past this, exp(-tau) is 0 in f64 whatever else the ray meets: stop (exactly the
+            // same answer, for less work through dense gas).
+            tau > 746.0
         } else {
             t0 > 0.0 && t0 < dist
         }

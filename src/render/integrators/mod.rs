@@ -5,7 +5,8 @@
 //! - [`exact`]: gas emission and absorption in closed form, single scattering by adaptive
 //!   quadrature between breakpoints, to `--tol` (the default).
 //! - [`march`]: fixed-step ray marching with midpoint samples (an approximation, by name only).
-//! - [`mc`]: unbiased Monte Carlo, free-path sampling plus light sampling.
+//! - [`mc`]: unbiased Monte Carlo: expected-value emission, one sampled scattering point per
+//!   segment.
 
 pub mod exact;
 pub mod march;
