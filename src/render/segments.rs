@@ -61,10 +61,12 @@ pub fn sweep(
     events: &mut Vec<(f64, u32)>,
     out: &mut Vec<Segment>,
     members: &mut Vec<u32>,
+    active: &mut Vec<u32>,
 ) {
     out.clear();
     events.clear();
     members.clear();
+    active.clear();
     for (k, iv) in intervals.iter().enumerate() {
         let t1 = iv.t1.min(t_end);
         if t1 > iv.t0 {
@@ -74,7 +76,6 @@ pub fn sweep(
         }
     }
     events.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    let mut active: Vec<u32> = Vec::new();
     let mut e = 0;
     while e < events.len() {
         let t = events[e].0;
@@ -91,7 +92,7 @@ pub fn sweep(
             let tb = events[e].0;
             let (mut sigma, mut emit, mut scatter) = (0.0, DVec3::ZERO, DVec3::ZERO);
             let start = members.len() as u32;
-            for &k in &active {
+            for &k in active.iter() {
                 members.push(intervals[k as usize].prim);
                 let p = &prep.bvh.prims[intervals[k as usize].prim as usize];
                 let (c, a) = emission_albedo(&prep.materials, p);

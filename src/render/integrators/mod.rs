@@ -39,6 +39,8 @@ pub struct Scratch {
     pub events: Vec<(f64, u32)>,
     pub segments: Vec<Segment>,
     pub members: Vec<u32>,
+    /// The sweep's set of gas spheres present.
+    pub inside: Vec<u32>,
     /// The exact integrator's: shadow pieces of one segment and light, the lit pieces of the
     /// whole ray with their shadowers, and the quadrature's buffers.
     pub light: super::light_pieces::Buffers,
@@ -87,6 +89,7 @@ pub fn gas_along(
         &mut s.events,
         &mut s.segments,
         &mut s.members,
+        &mut s.inside,
     );
     hit
 }
