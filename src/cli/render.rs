@@ -29,8 +29,9 @@ pub enum AovArg {
     Normal,
     /// Index of the sphere in file order; -1 on a miss (exact up to 2^24 spheres).
     Id,
-    /// The pixel's estimated absolute error (exact: mean quadrature estimate of its samples;
-    /// mc: standard error of its mean; 0 where the answer is exact).
+    /// The pixel's estimated absolute error (exact: mean of its samples' error estimates,
+    /// truncation bounds included, an upper estimate; mc: standard error of its mean; 0 where
+    /// the answer is exact).
     Error,
 }
 
@@ -92,7 +93,8 @@ pub struct RenderArgs {
     #[arg(long)]
     pub step: Option<f64>,
     /// Target error of --integrator exact, relative to the pixel's value (absolute floor
-    /// tol * 1e-3).
+    /// tol * 1e-3). What cannot change a ray within it (gas behind a large optical depth, light
+    /// paths through it) is bounded instead of computed, and the bound is in the error AOV.
     #[arg(long, default_value_t = 1e-4)]
     pub tol: f64,
     /// Make every sphere a ball of gas with this extinction (per world unit); emission is the
