@@ -646,35 +646,6 @@ impl SphereBvh {
         false
     }
 
-    /// Calls `visit(prim_index, prim)` for every primitive whose (padded) box overlaps the
-    /// world box `lo..hi`.
-    pub fn overlapping(&self, lo: DVec3, hi: DVec3, mut visit: impl FnMut(u32, &Prim)) {
-        let pad = Vec3A::splat((self.pad * self.scale) as f32);
-        let q = Aabb::new(
-            ((lo - self.origin) * self.scale).as_vec3a() - pad,
-            ((hi - self.origin) * self.scale).as_vec3a() + pad,
-        );
-        for c in &self.chunks {
-            if c.lo.cmpgt(hi).any() || c.hi.cmplt(lo).any() || c.bvh.nodes.is_empty() {
-                continue;
-            }
-            // A growable stack: this query runs per gas segment, not per sphere test, and
-            // must not lose nodes in a deep chunk (see `Chunk::deep`).
-            let mut state = Walk::start(c, Vec3A::X, Vec::<UVec2>::with_capacity(64));
-            let mut node;
-            obvhs::traverse!(
-                c.bvh,
-                node,
-                state,
-                node.intersect_aabb(&q, state.oct_inv4),
-                {
-                    let i = c.base + state.primitive_id;
-                    visit(i, &self.prims[i as usize]);
-                }
-            );
-        }
-    }
-
     /// Calls `visit(prim_index, prim)` for every primitive whose (padded) box may meet a
     /// region of space, as judged by `near(lo, hi)`: whether the world box `lo..hi` may meet
     /// the region (it may answer true for boxes that do not; it must never answer false for

@@ -45,10 +45,15 @@ pub fn towards(l: &LightSource, x: DVec3) -> Option<(DVec3, f64, f64)> {
             if d > radius || d == 0.0 {
                 return None;
             }
-            let att = 1.0 / (a.x + a.y * d + a.z * d * d).max(1.0);
-            Some((v / d, d, att))
+            Some((v / d, d, attenuation(a, d)))
         }
     }
+}
+
+/// A point light's attenuation at distance `d`: `1 / max(a0 + a1 d + a2 d^2, 1)`.
+#[inline]
+pub fn attenuation(a: DVec3, d: f64) -> f64 {
+    1.0 / (a.x + a.y * d + a.z * d * d).max(1.0)
 }
 
 /// Whether light `l` may light sphere `sphere` (VRML scoping of DirectionalLights).

@@ -112,6 +112,21 @@ pub fn sweep(
     }
 }
 
+impl Segment {
+    /// What the segment emits towards its start, `(emit / sigma) (1 - exp(-sigma (tb - ta)))`,
+    /// with `-expm1` so that tiny optical depths keep full relative precision (0 for gas of
+    /// no extinction, which emits nothing).
+    #[inline]
+    pub fn emitted(&self) -> DVec3 {
+        if self.sigma > 0.0 {
+            // emit / sigma is a sigma-weighted mean of the C_j: no 0/0 as sigma > 0 here.
+            (self.emit / self.sigma) * -(-self.sigma * (self.tb - self.ta)).exp_m1()
+        } else {
+            DVec3::ZERO
+        }
+    }
+}
+
 /// Emission and absorption in closed form over the segments, and the transmittance through
 /// all of them: each segment adds `T(0, t_a) (emit / sigma) (1 - exp(-sigma (t_b - t_a)))`,
 /// with `-expm1` so that optical depths down to 1e-300 keep full relative precision, and
@@ -120,13 +135,8 @@ pub fn emission_absorption(segments: &[Segment]) -> (DVec3, f64) {
     let mut tau = 0.0f64;
     let mut l = DVec3::ZERO;
     for s in segments {
-        let dt = s.tb - s.ta;
-        if s.sigma > 0.0 {
-            // emit / sigma is a sigma-weighted mean of the C_j: no 0/0 as sigma > 0 here.
-            let frac = -(-s.sigma * dt).exp_m1();
-            l += (-tau).exp() * (s.emit / s.sigma) * frac;
-            tau += s.sigma * dt;
-        }
+        l += (-tau).exp() * s.emitted();
+        tau += s.sigma * (s.tb - s.ta);
     }
     (l, (-tau).exp())
 }

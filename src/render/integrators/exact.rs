@@ -31,7 +31,7 @@ use glam::DVec3;
 
 use super::{behind, gas_along, scatter_for, Estimate, Scratch, PHASE};
 use crate::render::light_pieces::{gas_chord, resolve, Class};
-use crate::render::lights::{towards, LightKind, LightSource};
+use crate::render::lights::{attenuation, towards, LightKind, LightSource};
 use crate::render::quadrature::integrate;
 use crate::render::segments::Segment;
 use crate::render::{Counters, Prepared};
@@ -78,8 +78,7 @@ fn attenuation_max(light: &LightSource, o: DVec3, d: DVec3, t0: f64, t1: f64) ->
             ..
         } => {
             let tc = (position - o).dot(d).clamp(t0, t1);
-            let r = (o + tc * d - position).length();
-            1.0 / (a.x + a.y * r + a.z * r * r).max(1.0)
+            attenuation(a, (o + tc * d - position).length())
         }
     }
 }
@@ -102,17 +101,19 @@ pub fn radiance(
         meta,
         active,
         quad,
+        unshadowed_by_segment,
         ..
     } = s;
 
     // The scattering every light would add along the whole ray with no shadows at all
     // (attenuation <= 1): the tolerance is shared out between segments in proportion to it.
-    let mut unshadowed = 0.0;
+    unshadowed_by_segment.clear();
     let mut tau = 0.0f64;
     for seg in segments.iter() {
-        unshadowed += segment_unshadowed(prep, seg, members, (-tau).exp());
+        unshadowed_by_segment.push(segment_unshadowed(prep, seg, members, (-tau).exp()));
         tau += seg.sigma * (seg.tb - seg.ta);
     }
+    let unshadowed: f64 = unshadowed_by_segment.iter().sum();
 
     // Front to back: the value so far is a lower bound of the final one (every term is
     // non-negative), so the tolerance each step may use grows as the ray goes on.
@@ -120,7 +121,7 @@ pub fn radiance(
     let mut error = 0.0;
     let mut tau = 0.0f64;
     let allowed = |v: DVec3| tol * v.abs().max_element().max(1e-3);
-    for seg in segments.iter() {
+    for (k, seg) in segments.iter().enumerate() {
         let t_a = (-tau).exp();
         let rest = t_a * prep.rest_bound;
         if rest <= CAMERA_SHARE * allowed(value) {
@@ -131,14 +132,9 @@ pub fn radiance(
                 covered,
             };
         }
-        let dt = seg.tb - seg.ta;
-        if seg.sigma > 0.0 {
-            // T(0, ta) (emit / sigma) (1 - exp(-sigma dt)), with -expm1 so that tiny optical
-            // depths keep full relative precision.
-            value += t_a * (seg.emit / seg.sigma) * -(-seg.sigma * dt).exp_m1();
-        }
-        tau += seg.sigma * dt;
-        let u_seg = segment_unshadowed(prep, seg, members, t_a);
+        value += t_a * seg.emitted();
+        tau += seg.sigma * (seg.tb - seg.ta);
+        let u_seg = unshadowed_by_segment[k];
         if u_seg == 0.0 {
             continue;
         }

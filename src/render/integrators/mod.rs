@@ -48,6 +48,8 @@ pub struct Scratch {
     pub meta: Vec<exact::PieceMeta>,
     pub active: Vec<u32>,
     pub quad: super::quadrature::QuadScratch,
+    /// The exact integrator's unshadowed scattering bound of each segment.
+    pub unshadowed_by_segment: Vec<f64>,
 }
 
 /// The camera ray's radiance with the chosen integrator. Scenes without gas always take the
