@@ -168,18 +168,27 @@ pub fn breakpoints(
 mod tests {
     use super::*;
 
-    /// The degenerate cone of a point light on the surface gives the tangent-plane crossing.
-    #[test]
-    fn light_on_the_surface_gives_the_tangent_plane() {
-        let p = Prim {
+    /// The unit ball at the origin, gas of extinction `sigma` (opaque for 0).
+    fn unit_ball(sigma: f64) -> Prim {
+        Prim {
             center: DVec3::ZERO,
             radius: 1.0,
             material: 0,
             sphere: 0,
             ellipsoid: NO_ELLIPSOID,
-            flags: 0,
-            sigma: 0.0,
-        };
+            flags: if sigma > 0.0 {
+                crate::accel::bvh::GAS
+            } else {
+                0
+            },
+            sigma,
+        }
+    }
+
+    /// The degenerate cone of a point light on the surface gives the tangent-plane crossing.
+    #[test]
+    fn light_on_the_surface_gives_the_tangent_plane() {
+        let p = unit_ball(0.0);
         let light = LightKind::Point {
             position: DVec3::new(0.0, 1.0, 0.0),
             attenuation: DVec3::X,
@@ -204,15 +213,7 @@ mod tests {
     #[test]
     fn rim_breakpoints_sit_on_the_depth_contours() {
         let sigma = 350.0; // depth 700 along the diameter of the unit ball
-        let p = Prim {
-            center: DVec3::ZERO,
-            radius: 1.0,
-            material: 0,
-            sphere: 0,
-            ellipsoid: NO_ELLIPSOID,
-            flags: crate::accel::bvh::GAS,
-            sigma,
-        };
+        let p = unit_ball(sigma);
         let light = LightKind::Directional {
             to_light: DVec3::Z,
             scope: (0, u32::MAX),

@@ -9,15 +9,9 @@ use gtsphere::accel::{Prim, SphereBvh};
 use gtsphere::geom::sphere_roots;
 use gtsphere::scene::NO_ELLIPSOID;
 
-struct Rng(u64);
+use crate::support::Rng;
+
 impl Rng {
-    fn f(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
     fn unit(&mut self) -> DVec3 {
         loop {
             let v = DVec3::new(self.f(), self.f(), self.f()) * 2.0 - 1.0;

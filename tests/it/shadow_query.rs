@@ -16,17 +16,9 @@ use gtsphere::render::{prepare, Prepared, RenderOptions};
 
 use crate::support;
 
-struct Rng(u64);
+use crate::support::Rng;
 
 impl Rng {
-    fn f(&mut self) -> f64 {
-        // SplitMix64.
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
     fn v(&mut self, s: f64) -> DVec3 {
         DVec3::new(
             self.f() * 2.0 - 1.0,
