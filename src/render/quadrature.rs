@@ -13,16 +13,17 @@
 //! split subtracts the parent's value and error), and the result is summed afresh from the
 //! live intervals.
 //!
-//! Error estimate, chosen by measurement on random integrands of four families (the tests):
-//! - An interval not yet split gets QUADPACK's `asc * min(1, (s |K - G| / asc)^1.5)`, with
-//!   `s = 400` (QUADPACK's 200 loses coverage on kinks inside a piece). `|K - G|` alone
-//!   cannot tell a smooth integrand, where K15 is far better than G7, from a kink, where
-//!   both are equally wrong; the power law must cover kinks, so it overstates smooth errors
-//!   by 1e3 to 1e7 (measured), and no calibration of it serves both.
-//! - Once split, each half also gets a share of `4 max(|K_p - K_l - K_r|, |K-G|_l + |K-G|_r)`:
-//!   the parent's measured error bounds its halves' if the rule converges at all, and the
-//!   factor covers the level-to-level fluctuation of kink errors. Each half keeps the lesser
-//!   estimate; with kinks this brings the median estimate / true error to about 20.
+//! Error estimate, chosen by measurement on random integrands of five families (the tests,
+//! `report_estimators`): **each interval contributes its 7-point Gauss value `G`, with the
+//! error `16 |K - G|`.** Where the integrand is smooth, K15 is many orders more accurate than
+//! G7, so `|K - G|` is G7's error itself, and the reported error is within a small factor of
+//! the true one (median 16 to 22 on every family and tolerance), with at least 96 % coverage
+//! (narrow bumps that no node sees excepted). Reporting K15 instead would be more accurate
+//! than claimed by 1e3 to 1e7: no estimate from 15 nodes can see K15's own error (QUADPACK's
+//! power law `asc * min(1, (s |K - G| / asc)^1.5)` overstates it by that much; null rules
+//! were tried and spread over 3 decades at fixed decay), and a user could not trust the
+//! reported error in either direction. The cost is the same: the power law asked for as many
+//! evaluations (within 20 %, more on smooth pieces, fewer on kinks).
 
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
@@ -115,16 +116,21 @@ fn gk15(
     }
 }
 
-/// Which error estimate (see the module documentation); the old one is kept for the tests'
-/// before/after comparison.
+/// Which error estimate and which value (see the module documentation); the power law is
+/// kept for the tests' before/after comparison.
 #[derive(Clone, Copy, Debug)]
 enum Estimator {
-    /// This module's: QUADPACK's power law, bounded once split by the parent's error.
-    Calibrated,
-    /// The estimate before the rewrite: the power law with scale 50 and no parent.
+    /// This module's: the Gauss value, with error [`GAUSS_FACTOR`] `|K - G|`.
+    Embedded,
+    /// The estimate before: the Kronrod value, QUADPACK's power law with scale 400, bounded
+    /// once split by the parent's error.
     #[cfg(test)]
-    Old,
+    PowerLaw,
 }
+
+/// The factor on `|K - G|` in the reported error of a Gauss value (measured: 4 covers smooth
+/// and gas integrands in 99 % of cases, 16 also interior kinks and steep peaks in 96 %).
+const GAUSS_FACTOR: f64 = 16.0;
 
 /// Never claim better than the rounding of the sums allows.
 fn rounding_floor(k: f64) -> f64 {
@@ -132,20 +138,29 @@ fn rounding_floor(k: f64) -> f64 {
 }
 
 impl Estimator {
-    /// Estimate for one interval from its own rule alone, per channel: QUADPACK's
-    /// `asc * min(1, (400 |K - G| / asc)^1.5)` (QUADPACK has 200).
-    fn single(self, r: &Rule, ch: usize) -> f64 {
-        let scale = match self {
-            Estimator::Calibrated => 400.0,
+    /// The value an interval contributes.
+    fn value(self, r: &Rule) -> DVec3 {
+        match self {
+            Estimator::Embedded => r.g,
             #[cfg(test)]
-            Estimator::Old => 50.0,
-        };
+            Estimator::PowerLaw => r.k,
+        }
+    }
+
+    /// Estimate for one interval from its own rule alone, per channel.
+    fn single(self, r: &Rule, ch: usize) -> f64 {
         let diff = (r.k[ch] - r.g[ch]).abs();
-        let asc = r.asc[ch];
-        let e = if asc != 0.0 && diff != 0.0 {
-            asc * (scale * diff / asc).powf(1.5).min(1.0)
-        } else {
-            diff
+        let e = match self {
+            Estimator::Embedded => GAUSS_FACTOR * diff,
+            #[cfg(test)]
+            Estimator::PowerLaw => {
+                let asc = r.asc[ch];
+                if asc != 0.0 && diff != 0.0 {
+                    asc * (400.0 * diff / asc).powf(1.5).min(1.0)
+                } else {
+                    diff
+                }
+            }
         };
         e.max(rounding_floor(r.k[ch]))
     }
@@ -156,34 +171,32 @@ impl Estimator {
 
     /// Estimates for the two halves `l`, `r` of a split interval whose rule was `p`.
     ///
-    /// `d = |K_p - K_l - K_r|` is the parent's actual error, up to the children's. If the
-    /// rule converges at all, the children's summed error is below it; kinks make the error
-    /// fluctuate from level to level with their position among the nodes, hence the factor
-    /// 4 (measured: with 1 or 2, kinks lose coverage). The bound is shared in proportion to
-    /// the children's `|K - G|`, and each child keeps the lesser of it and its own estimate.
+    /// Embedded: each half's own. Power law: `d = |K_p - K_l - K_r|` is the parent's actual
+    /// error, up to the children's; the bound `4 max(d, |K-G|_l + |K-G|_r)` is shared in
+    /// proportion to the children's `|K - G|`, and each child keeps the lesser of it and its
+    /// own estimate.
+    #[cfg_attr(not(test), allow(unused_variables))]
     fn pair(self, p: &Rule, l: &Rule, r: &Rule) -> (f64, f64) {
-        let (mut el, mut er): (f64, f64) = (0.0, 0.0);
-        for ch in 0..3 {
-            let (sl, sr) = (self.single(l, ch), self.single(r, ch));
-            let (bl, br) = match self {
-                Estimator::Calibrated => {
+        match self {
+            Estimator::Embedded => (self.interval(l), self.interval(r)),
+            #[cfg(test)]
+            Estimator::PowerLaw => {
+                let (mut el, mut er): (f64, f64) = (0.0, 0.0);
+                for ch in 0..3 {
+                    let (sl, sr) = (self.single(l, ch), self.single(r, ch));
                     let dl = (l.k[ch] - l.g[ch]).abs();
                     let dr = (r.k[ch] - r.g[ch]).abs();
                     let d = (p.k[ch] - (l.k[ch] + r.k[ch])).abs();
                     let bound = 4.0 * d.max(dl + dr);
                     let wl = if dl + dr > 0.0 { dl / (dl + dr) } else { 0.5 };
-                    (
-                        (bound * wl).max(rounding_floor(l.k[ch])),
-                        (bound * (1.0 - wl)).max(rounding_floor(r.k[ch])),
-                    )
+                    let bl = (bound * wl).max(rounding_floor(l.k[ch]));
+                    let br = (bound * (1.0 - wl)).max(rounding_floor(r.k[ch]));
+                    el = el.max(sl.min(bl));
+                    er = er.max(sr.min(br));
                 }
-                #[cfg(test)]
-                Estimator::Old => (sl, sr),
-            };
-            el = el.max(sl.min(bl));
-            er = er.max(sr.min(br));
+                (el, er)
+            }
         }
-        (el, er)
     }
 }
 
@@ -273,14 +286,7 @@ pub fn integrate(
     max_intervals: usize,
     scratch: &mut QuadScratch,
 ) -> Quad {
-    integrate_with(
-        Estimator::Calibrated,
-        pieces,
-        f,
-        tol,
-        max_intervals,
-        scratch,
-    )
+    integrate_with(Estimator::Embedded, pieces, f, tol, max_intervals, scratch)
 }
 
 fn integrate_with(
@@ -302,7 +308,7 @@ fn integrate_with(
             let rule = gk15(&mut f, i, (a, b), 0.0, 1.0);
             let err = est.interval(&rule);
             evals += 15;
-            value.add(rule.k);
+            value.add(est.value(&rule));
             error.add(DVec3::splat(err));
             heap.push(Entry {
                 err,
@@ -334,9 +340,9 @@ fn integrate_with(
         let r = gk15(&mut f, p.piece, piece, um, p.u1);
         *evals += 30;
         let (el, er) = est.pair(&p.rule, &l, &r);
-        value.add(-p.rule.k);
-        value.add(l.k);
-        value.add(r.k);
+        value.add(-est.value(&p.rule));
+        value.add(est.value(&l));
+        value.add(est.value(&r));
         error.add(DVec3::splat(-p.err));
         error.add(DVec3::splat(el));
         error.add(DVec3::splat(er));
@@ -372,7 +378,7 @@ fn integrate_with(
     let mut value = Sum::default();
     let mut error = 0.0;
     for p in parts.iter() {
-        value.add(p.rule.k);
+        value.add(est.value(&p.rule));
         error += p.err;
     }
     Quad {
@@ -865,27 +871,26 @@ mod tests {
 
     /// Coverage >= 95% on each family at each tolerance (Gaussian bumps narrower than the
     /// spacing of the first nodes excepted: no rule sees them, see `report_estimators`), and
-    /// the median estimate / true error where this estimate reaches 100 (kinks only: on smooth
-    /// integrands the power law stays 1e3-1e8 pessimistic, see the module documentation).
+    /// the median estimate / true error between 1 and `median_at_most`.
     fn check_family(name: &str, family: Family, median_at_most: f64) {
         for tol in TOLS {
-            let s = measure(Estimator::Calibrated, family, tol, 400);
+            let s = measure(Estimator::Embedded, family, tol, 400);
             assert!(s.coverage >= 0.95, "{name} at tol {tol:e}: {s:?}");
             assert!(
-                s.above == 0 || s.median <= median_at_most,
+                s.above == 0 || (1.0..=median_at_most).contains(&s.median),
                 "{name} at tol {tol:e}: {s:?}"
             );
         }
     }
 
     #[test]
-    fn estimate_covers_smooth_integrands() {
-        check_family("smooth", smooth, 1e9);
+    fn estimate_covers_smooth_integrands_within_100x() {
+        check_family("smooth", smooth, 100.0);
     }
 
     #[test]
-    fn estimate_covers_the_gas_integrand() {
-        check_family("gas", gas, 1e8);
+    fn estimate_covers_the_gas_integrand_within_100x() {
+        check_family("gas", gas, 100.0);
     }
 
     #[test]
@@ -894,8 +899,8 @@ mod tests {
     }
 
     #[test]
-    fn estimate_covers_narrow_lorentzian_bumps() {
-        check_family("lorentzian", lorentzian, 1e8);
+    fn estimate_covers_narrow_lorentzian_bumps_within_100x() {
+        check_family("lorentzian", lorentzian, 100.0);
     }
 
     #[test]
@@ -946,7 +951,10 @@ mod tests {
     #[ignore = "a report, not a check: cargo test --lib quadrature -- --ignored --nocapture"]
     fn report_estimators() {
         // Coverage / median estimate over true error / mean evaluations, per tolerance.
-        for (name, est) in [("old", Estimator::Old), ("new", Estimator::Calibrated)] {
+        for (name, est) in [
+            ("power law", Estimator::PowerLaw),
+            ("embedded", Estimator::Embedded),
+        ] {
             for (fam, gen) in FAMILIES {
                 let mut line = format!("{name} {fam:8}");
                 for tol in TOLS {
