@@ -39,7 +39,7 @@ use glam::{DVec3, UVec2};
 
 use super::breakpoints::breakpoints;
 use super::lights::{towards, LightKind, LightSource};
-use super::shadow_volume::{band_edges, gather, Region};
+use super::shadow_volume::{band_edges, BandCache};
 use super::Prepared;
 use crate::accel::Prim;
 use crate::scene::NO_ELLIPSOID;
@@ -79,15 +79,36 @@ pub struct Buffers {
     found: Vec<u32>,
     breaks: Vec<f64>,
     own: Vec<f64>,
-    edges: Vec<f64>,
     spans: Vec<(f64, f64)>,
     order: Vec<u32>,
     live: Vec<u32>,
     stack: Vec<UVec2>,
     pieces: Vec<Piece>,
+    /// The camera ray's part that may ask (see [`Buffers::start_ray`]) and, per light, its
+    /// band edges and band searches.
+    range: (f64, f64),
+    lights: Vec<LightCache>,
+}
+
+/// One light's band edges for the current camera ray and its searches, one per band.
+#[derive(Default)]
+struct LightCache {
+    ready: bool,
+    edges: Vec<f64>,
+    bands: Vec<BandCache>,
 }
 
 impl Buffers {
+    /// A new camera ray, whose segments will ask [`resolve`] for parts of `[t0, t1]`, front to
+    /// back: the band edges are then the same for all its segments, and one BVH descent per
+    /// band serves the segments that follow within the band's depth.
+    pub fn start_ray(&mut self, (t0, t1): (f64, f64)) {
+        self.range = (t0, t1);
+        for l in &mut self.lights {
+            l.ready = false;
+        }
+    }
+
     /// The shadowers the last [`resolve`] found (primitive indices), for tests and counters.
     pub fn shadowers(&self) -> impl Iterator<Item = u32> + '_ {
         self.shadowers.iter().map(|s| s.prim)
@@ -148,7 +169,8 @@ pub fn gas_chord(prep: &Prepared, p: &Prim, x: DVec3, dir: DVec3, dist: f64) -> 
 }
 
 /// Cuts light `light`'s integrand over the segment `[ta, tb]` of `o + t d` into pieces; the
-/// lit pieces' active shadowers are appended to `active`. Returns the pieces (in `b`) and the
+/// lit pieces' active shadowers are appended to `active`. `slot` is the light's index (its
+/// band searches are kept per camera ray, see [`Buffers::start_ray`]). Returns the pieces (in `b`) and the
 /// number of shadowers found. `tau_cut` is the optical depth from which a piece is dark; the
 /// rim breakpoints of dense shadowers go up to `4 tau_cut` (deeper ones could only split dark
 /// pieces).
@@ -158,7 +180,7 @@ pub fn resolve<'b>(
     o: DVec3,
     d: DVec3,
     (ta, tb): (f64, f64),
-    light: &LightSource,
+    (slot, light): (usize, &LightSource),
     tau_cut: f64,
     b: &'b mut Buffers,
     active: &mut Vec<u32>,
@@ -196,18 +218,46 @@ pub fn resolve<'b>(
         }
     }
     let rim_cap = 4.0 * tau_cut.max(1.0);
-    let base = 8.0 * prep.typical_radius;
-    let (xa, xb) = (o + ta * d, o + tb * d);
-    band_edges(&prep.bvh, &light.kind, xa, xb, base, &mut b.edges);
+    if !(b.range.0 <= ta && tb <= b.range.1) {
+        // Not announced by start_ray: this segment alone.
+        b.start_ray((ta, tb));
+    }
+    if b.lights.len() <= slot {
+        b.lights.resize_with(slot + 1, LightCache::default);
+    }
+    let cache = &mut b.lights[slot];
+    if !cache.ready {
+        let (xa, xb) = (o + b.range.0 * d, o + b.range.1 * d);
+        let base = 8.0 * prep.typical_radius;
+        band_edges(&prep.bvh, &light.kind, xa, xb, base, &mut cache.edges);
+        if cache.bands.len() < cache.edges.len() {
+            cache
+                .bands
+                .resize_with(cache.edges.len(), BandCache::default);
+        }
+        for band in &mut cache.bands {
+            band.clear();
+        }
+        cache.ready = true;
+    }
     b.spans.clear();
     b.spans.push((ta, tb));
-    let bands = b.edges.len() - 1;
+    let bands = b.lights[slot].edges.len() - 1;
     for band in 0..bands {
-        let (f0, f1) = (b.edges[band], b.edges[band + 1]);
+        let cache = &mut b.lights[slot];
+        let f = (cache.edges[band], cache.edges[band + 1]);
         b.found.clear();
-        for &(u0, u1) in &b.spans {
-            let region = Region::band(&light.kind, o + u0 * d, o + u1 * d, f0, f1);
-            gather(&prep.bvh, &region, &mut b.found, &mut b.stack);
+        for &span in &b.spans {
+            cache.bands[band].query(
+                &prep.bvh,
+                &light.kind,
+                (o, d),
+                f,
+                span,
+                b.range.1,
+                &mut b.found,
+                &mut b.stack,
+            );
         }
         b.found.sort_unstable();
         b.found.dedup();

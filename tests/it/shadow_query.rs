@@ -1,8 +1,9 @@
-//! The shadow-volume query against testing every sphere: for random scenes, camera segments and
-//! lights, the shadowers `light_pieces::resolve` finds are exactly the spheres that a light ray
-//! from the segment can meet, except spheres it may leave out because every point they shadow
-//! lies in a piece it reports as dark (bounded in the error) or as zero (behind an opaque
-//! shadower). Without truncation no piece is dark.
+//! The shadow-volume query against testing every sphere: for random scenes, camera rays cut into
+//! segments (asked for front to back, so that later segments use the band searches of earlier
+//! ones) and lights, the shadowers `light_pieces::resolve` finds are exactly the spheres that a
+//! light ray from the segment can meet, except spheres it may leave out because every point
+//! they shadow lies in a piece it reports as dark (bounded in the error) or as zero (behind an
+//! opaque shadower). Without truncation no piece is dark.
 //!
 //! "Can meet" is decided here independently of the renderer: the distance from the centre to
 //! the swept region (the strip towards a directional light, the triangle towards a point light)
@@ -110,67 +111,80 @@ fn check(prep: &Prepared, rng: &mut Rng, tau_cut: f64, cases: usize) -> (usize, 
         let o = DVec3::new(rng.f() - 0.5, rng.f() - 0.5, 4.0);
         let target = rng.v(0.9);
         let d = (target - o).normalize();
-        let (ta, tb) = (2.5 + rng.f(), 3.5 + 2.0 * rng.f());
-        let (a, b) = (o + ta * d, o + tb * d);
-        for light in &prep.lights {
-            active.clear();
-            let (pieces, n) = resolve(
-                prep,
-                o,
-                d,
-                (ta, tb),
-                light,
-                tau_cut,
-                &mut buffers,
-                &mut active,
-            );
-            let pieces = pieces.to_vec();
-            let mut got: Vec<u32> = buffers.shadowers().collect();
-            got.sort_unstable();
-            assert_eq!(got.len(), n);
-            found_total += n;
-            // Pieces tile the segment.
-            assert_eq!(pieces.first().unwrap().t0, ta);
-            assert_eq!(pieces.last().unwrap().t1, tb);
-            for w in pieces.windows(2) {
-                assert_eq!(w[0].t1, w[1].t0);
-            }
-            if tau_cut.is_infinite() {
-                assert!(!pieces.iter().any(|p| matches!(p.class, Class::Dark(_))));
-            }
-            for (i, p) in prep.bvh.prims.iter().enumerate() {
-                let dist = region_distance(p.center, a, b, &light.kind);
-                let listed = got.binary_search(&(i as u32)).is_ok();
-                if listed {
-                    // Nothing far from the region is listed.
-                    assert!(
-                        dist <= p.radius * (1.0 + 1e-6) + 1e-9,
-                        "listed sphere {i} is {dist} from the region, radius {}",
-                        p.radius
-                    );
-                    continue;
+        let (t_first, t_last) = (2.5 + rng.f(), 3.5 + 2.0 * rng.f());
+        // The camera ray's part, cut into up to four segments asked for front to back, as the
+        // integrator does: the later ones use the band searches of the earlier ones.
+        let cuts = 1 + (rng.f() * 4.0) as usize;
+        let mut ends: Vec<f64> = (1..cuts)
+            .map(|_| t_first + (t_last - t_first) * rng.f())
+            .collect();
+        ends.sort_by(f64::total_cmp);
+        ends.insert(0, t_first);
+        ends.push(t_last);
+        buffers.start_ray((t_first, t_last));
+        for w in ends.windows(2) {
+            let (ta, tb) = (w[0], w[1]);
+            let (a, b) = (o + ta * d, o + tb * d);
+            for (slot, light) in prep.lights.iter().enumerate() {
+                active.clear();
+                let (pieces, n) = resolve(
+                    prep,
+                    o,
+                    d,
+                    (ta, tb),
+                    (slot, light),
+                    tau_cut,
+                    &mut buffers,
+                    &mut active,
+                );
+                let pieces = pieces.to_vec();
+                let mut got: Vec<u32> = buffers.shadowers().collect();
+                got.sort_unstable();
+                assert_eq!(got.len(), n);
+                found_total += n;
+                // Pieces tile the segment.
+                assert_eq!(pieces.first().unwrap().t0, ta);
+                assert_eq!(pieces.last().unwrap().t1, tb);
+                for w in pieces.windows(2) {
+                    assert_eq!(w[0].t1, w[1].t0);
                 }
-                if dist > p.radius * (1.0 - 1e-6) {
-                    continue;
+                if tau_cut.is_infinite() {
+                    assert!(!pieces.iter().any(|p| matches!(p.class, Class::Dark(_))));
                 }
-                // Missed: allowed only where everything it shadows is dark (bounded) or zero
-                // (behind an opaque shadower: nothing more can change it).
-                left_out += 1;
-                for k in 0..=2000 {
-                    let t = ta + (tb - ta) * k as f64 / 2000.0;
-                    if !ray_meets(o + t * d, &light.kind, p.center, p.radius * (1.0 - 1e-6)) {
+                for (i, p) in prep.bvh.prims.iter().enumerate() {
+                    let dist = region_distance(p.center, a, b, &light.kind);
+                    let listed = got.binary_search(&(i as u32)).is_ok();
+                    if listed {
+                        // Nothing far from the region is listed.
+                        assert!(
+                            dist <= p.radius * (1.0 + 1e-6) + 1e-9,
+                            "listed sphere {i} is {dist} from the region, radius {}",
+                            p.radius
+                        );
                         continue;
                     }
-                    let piece = pieces
-                        .iter()
-                        .find(|q| q.t0 <= t && t <= q.t1)
-                        .expect("a piece");
-                    assert!(
-                        !matches!(piece.class, Class::Lit(_)),
-                        "sphere {i} (distance {dist}, radius {}) shadows t = {t} in a lit \
+                    if dist > p.radius * (1.0 - 1e-6) {
+                        continue;
+                    }
+                    // Missed: allowed only where everything it shadows is dark (bounded) or zero
+                    // (behind an opaque shadower: nothing more can change it).
+                    left_out += 1;
+                    for k in 0..=2000 {
+                        let t = ta + (tb - ta) * k as f64 / 2000.0;
+                        if !ray_meets(o + t * d, &light.kind, p.center, p.radius * (1.0 - 1e-6)) {
+                            continue;
+                        }
+                        let piece = pieces
+                            .iter()
+                            .find(|q| q.t0 <= t && t <= q.t1)
+                            .expect("a piece");
+                        assert!(
+                            !matches!(piece.class, Class::Lit(_)),
+                            "sphere {i} (distance {dist}, radius {}) shadows t = {t} in a lit \
                          piece {piece:?} but was left out",
-                        p.radius
-                    );
+                            p.radius
+                        );
+                    }
                 }
             }
         }

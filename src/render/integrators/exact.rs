@@ -114,6 +114,9 @@ pub fn radiance(
         tau += seg.sigma * (seg.tb - seg.ta);
     }
     let unshadowed: f64 = unshadowed_by_segment.iter().sum();
+    if let (Some(first), Some(last)) = (segments.first(), segments.last()) {
+        buffers.start_ray((first.ta, last.tb));
+    }
 
     // Front to back: the value so far is a lower bound of the final one (every term is
     // non-negative), so the tolerance each step may use grows as the ray goes on.
@@ -161,7 +164,16 @@ pub fn radiance(
                 continue;
             }
             let coeff = t_a * PHASE * a * l.direct;
-            let (found, n) = resolve(prep, o, d, (seg.ta, seg.tb), l, tau_cut, buffers, active);
+            let (found, n) = resolve(
+                prep,
+                o,
+                d,
+                (seg.ta, seg.tb),
+                (i, l),
+                tau_cut,
+                buffers,
+                active,
+            );
             counters.shadow_candidates += n as u64;
             for p in found {
                 match p.class {
