@@ -6,6 +6,7 @@ mod cli_render;
 mod convert_csv;
 mod corpus;
 mod corpus_counts;
+mod depth_limits;
 mod errors;
 mod gas_accuracy;
 mod gas_mc;

@@ -1,0 +1,249 @@
+//! PROTO expansion. An instance is recorded while it is read and expanded when it closes:
+//! its field values are checked against the PROTO's interface and kept by interface field
+//! ([`Subst`]), then the body is replayed up to the end of its first node (the one that is
+//! drawn: VRML97 4.8.3), in a namespace of its own. A body field `name IS target` is
+//! replaced by the instance's value of `target`, or by the interface default; that value is
+//! emitted in the instance's own scope, with the substitutions of the next expansion out.
+
+use std::ops::Range;
+use std::rc::Rc;
+
+use super::declare::ProtoDecl;
+use super::fields::is_event;
+use super::record::{value_end, Rec};
+use super::{error, Lowerer};
+use crate::error::Error;
+use crate::source::SourceWindow;
+use crate::vrml::schema;
+use crate::vrml::syntax::{Event, OwnedEvent, OwnedValue};
+
+/// The values an instance gives its PROTO's interface fields.
+#[derive(Debug)]
+pub(super) struct Subst {
+    proto: Rc<ProtoDecl>,
+    /// By interface field index (the first field of a name, as [`ProtoDecl::field`] finds).
+    values: Vec<Option<Range<usize>>>,
+}
+
+/// The PROTO expansions under way.
+#[derive(Default)]
+pub(super) struct Expansions {
+    /// IS substitutions of the expansions under way (innermost last).
+    pub(super) substs: Vec<Subst>,
+    /// Emptied `Subst::values` of finished expansions, reused (one per nesting level).
+    spare_values: Vec<Vec<Option<Range<usize>>>>,
+}
+
+impl Lowerer {
+    /// Replaces `field IS target` by the PROTO instance's value (or the interface default).
+    pub(super) fn substitute(
+        &mut self,
+        src: &SourceWindow,
+        name: &str,
+        target: &str,
+        at: u64,
+    ) -> Result<(), Error> {
+        let Some(sub) = self.expansions.substs.last() else {
+            return Err(error(
+                src,
+                at,
+                format!("'{name} IS {target}' outside a PROTO body"),
+            ));
+        };
+        let Some(fi) = sub.proto.field_index(target) else {
+            let msg = format!(
+                "'IS {target}': PROTO {} has no interface field '{target}'",
+                sub.proto.name
+            );
+            return Err(error(src, at, msg));
+        };
+        self.substitute_field(src, name, fi, at)
+    }
+
+    /// [`Self::substitute`] for interface field `fi` of the innermost expansion's PROTO.
+    fn substitute_field(
+        &mut self,
+        src: &SourceWindow,
+        name: &str,
+        fi: usize,
+        at: u64,
+    ) -> Result<(), Error> {
+        let Some(sub) = self.expansions.substs.last() else {
+            return Err(Error::Other(
+                "internal: IS outside a PROTO expansion".into(),
+            ));
+        };
+        let range = sub.values[fi]
+            .clone()
+            .or_else(|| sub.proto.fields[fi].default.clone());
+        let Some(range) = range else {
+            // An event (eventIn/eventOut) has no value to substitute.
+            return Ok(());
+        };
+        // A plain value with nothing recording: lowered at once, as written in scene text.
+        if let Rec::Ev(OwnedEvent::Field { value, at: vat, .. }) = &self.rec.arena[range.start] {
+            if !matches!(value, OwnedValue::Is(_)) && self.rec.recorders.is_empty() {
+                let (v, vat) = (value.clone(), *vat);
+                return self.field(src, name, vat, v.as_value());
+            }
+        }
+        // The instance's substitutions are set aside while its value is emitted: the value is
+        // resolved in the instance's scope, with the IS substitutions of the next one out.
+        let Some(sub) = self.expansions.substs.pop() else {
+            return Ok(());
+        };
+        // Emit the value under this field's own name.
+        let r = match &self.rec.arena[range.start] {
+            Rec::Ev(OwnedEvent::Field { value, at: vat, .. }) => {
+                let (v, vat) = (value.clone(), *vat);
+                self.dispatch(
+                    src,
+                    Event::Field {
+                        name,
+                        at: vat,
+                        value: v.as_value(),
+                    },
+                )
+            }
+            Rec::Ev(OwnedEvent::NodesStart { at: vat, .. }) => {
+                let vat = *vat;
+                self.handle(src, Event::NodesStart { name, at: vat })
+                    .and_then(|_| self.replay(src, range.start + 1..range.end - 1, at))
+                    .and_then(|_| self.handle(src, Event::NodesEnd { at: vat }))
+            }
+            _ => Ok(()),
+        };
+        self.expansions.substs.push(sub);
+        r
+    }
+
+    /// Expands a recorded PROTO instance: its field values replace `IS` in the body's first node.
+    pub(super) fn expand(
+        &mut self,
+        src: &SourceWindow,
+        proto: Rc<ProtoDecl>,
+        inst: Range<usize>,
+        at: u64,
+    ) -> Result<(), Error> {
+        // The instance's fields (skip its NodeStart and NodeEnd).
+        let mut values = self.expansions.spare_values.pop().unwrap_or_default();
+        values.resize(proto.fields.len(), None);
+        let mut i = inst.start + 1;
+        while i + 1 < inst.end {
+            let end = value_end(&self.rec.arena, i);
+            let (fname, fat) = match &self.rec.arena[i] {
+                Rec::Ev(OwnedEvent::Field { name, at, .. })
+                | Rec::Ev(OwnedEvent::NodesStart { name, at }) => (name.clone(), *at),
+                _ => {
+                    i = end;
+                    continue;
+                }
+            };
+            match proto.field_index(&fname) {
+                None => self.diags.warn(
+                    src,
+                    fat,
+                    format!("unknown field '{fname}' of PROTO {}: ignored", proto.name),
+                ),
+                Some(fi) => {
+                    let f = &proto.fields[fi];
+                    if let Rec::Ev(OwnedEvent::Field { value, .. }) = &self.rec.arena[i] {
+                        if f.ty.is_node() {
+                            if *value != OwnedValue::Empty {
+                                return Err(error(
+                                    src,
+                                    fat,
+                                    format!(
+                                        "field '{fname}' of PROTO {} expects {}",
+                                        proto.name,
+                                        f.ty.name()
+                                    ),
+                                ));
+                            }
+                        } else if let Err(e) = schema::check_value(f.ty, &value.as_value()) {
+                            return Err(error(
+                                src,
+                                fat,
+                                format!("field '{fname}' of PROTO {} {e}", proto.name),
+                            ));
+                        }
+                    } else if !f.ty.is_node() {
+                        return Err(error(
+                            src,
+                            fat,
+                            format!(
+                                "field '{fname}' of PROTO {} expects {}, found a node",
+                                proto.name,
+                                f.ty.name()
+                            ),
+                        ));
+                    }
+                    if is_event(f.access) {
+                        self.diags.warn(
+                            src,
+                            fat,
+                            format!(
+                                "'{fname}' of PROTO {} is an {}, not a field: ignored",
+                                proto.name,
+                                f.access.keyword()
+                            ),
+                        );
+                    } else {
+                        values[fi] = Some(i..end);
+                    }
+                }
+            }
+            i = end;
+        }
+        // The body runs in a namespace of its own, with this instance's substitutions.
+        self.scopes.push_body();
+        self.expansions.substs.push(Subst {
+            proto: proto.clone(),
+            values,
+        });
+        let saved = std::mem::take(&mut self.rec.recorders);
+        let reusing = std::mem::replace(&mut self.replay.reusing, 0);
+        let n = proto.first_end;
+        let r = self.replay_first_node(src, &proto.body_events[..n], &proto.body_is[..n], at);
+        self.replay.reusing = reusing;
+        self.rec.recorders = saved;
+        if let Some(mut sub) = self.expansions.substs.pop() {
+            sub.values.clear();
+            self.expansions.spare_values.push(sub.values);
+        }
+        self.scopes.pop();
+        r
+    }
+
+    /// Replays a PROTO body up to the end of its first node (earlier PROTO declarations
+    /// included): `events` and `is` are cut at [`ProtoDecl::first_end`]. The common events
+    /// take the same fast path as scene text (see `dispatch`).
+    fn replay_first_node(
+        &mut self,
+        src: &SourceWindow,
+        events: &[Rec],
+        is: &[u32],
+        at: u64,
+    ) -> Result<(), Error> {
+        for (rec, &is) in events.iter().zip(is) {
+            match rec {
+                Rec::Ev(ev) => {
+                    self.enter_replay(src, at, "PROTO expansions")?;
+                    let r = match ev {
+                        // `field IS target` of this body: the instance's value, found by index.
+                        OwnedEvent::Field { name, at, .. }
+                            if is != u32::MAX && self.rec.proto_decls == 0 =>
+                        {
+                            self.substitute_field(src, name, is as usize, *at)
+                        }
+                        _ => self.dispatch_recorded(src, ev),
+                    };
+                    self.replay.depth -= 1;
+                    r?;
+                }
+                Rec::Used { range, at } => self.use_range(src, range.clone(), *at)?,
+            }
+        }
+        Ok(())
+    }
+}

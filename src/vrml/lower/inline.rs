@@ -1,0 +1,175 @@
+//! Files: the scene file and the files its Inline nodes name. Each file is parsed straight
+//! into the lowering, in a namespace of its own, under a root frame that groups its
+//! top-level nodes (the scope of top-level DirectionalLights); an Inline's file is read when
+//! the Inline closes, inside the Inline's group, so its Transforms apply. Only local relative
+//! paths to VRML97 files are read (never a network URL); an Inline that includes itself is an
+//! error, and so is one nested deeper than [`super::LoadOptions::max_inline_depth`] files.
+
+use std::path::{Path, PathBuf};
+
+use super::open::{Frame, Kind, Marks, Name};
+use super::{error, Lowerer};
+use crate::error::Error;
+use crate::source::SourceWindow;
+use crate::vrml::parse::Parser;
+
+/// The file being read and the chain of files that include it.
+#[derive(Default)]
+pub(super) struct Files {
+    /// The index in `Scene::files` of the file being read.
+    pub(super) current: u32,
+    /// The path of the scene file, then of each Inline'd file being read, innermost last.
+    stack: Vec<PathBuf>,
+    /// Source bytes read (decompressed), over all files.
+    pub(super) bytes: u64,
+}
+
+/// Whether an Inline's url names a local file relative to the including one.
+fn is_local_relative(url: &str) -> bool {
+    let lower = url.to_ascii_lowercase();
+    let has_scheme = lower.find(':').is_some_and(|k| {
+        k > 1
+            && lower[..k]
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || "+-.".contains(c))
+    });
+    !has_scheme && !url.starts_with('/') && !url.starts_with('\\') && !url.is_empty()
+}
+
+impl Lowerer {
+    pub(super) fn load_file(&mut self, path: &Path) -> Result<(), Error> {
+        let src = crate::input::open(path)?;
+        self.load_source(src, path)
+    }
+
+    /// Parses and lowers one file, its Inlines included.
+    pub(super) fn load_source(&mut self, src: SourceWindow, path: &Path) -> Result<(), Error> {
+        let saved_file = self.files.current;
+        self.files.current = self.scene.files.len() as u32;
+        self.scene.files.push(src.name.to_string());
+        self.files.stack.push(path.to_path_buf());
+        self.scopes.push_file();
+        // The file's root groups its top-level nodes (scope of top-level DirectionalLights).
+        let root = Kind::Group {
+            transform: None,
+            marks: Marks::of(&self.scene),
+            dirlights: None,
+            inline_urls: None,
+        };
+        self.open.push(Name::Static("<file>"), None, root, 0);
+        let depth = self.open.frames.len();
+        // A new file is a new namespace, even when reached again through a USE'd Inline.
+        let reusing = std::mem::replace(&mut self.replay.reusing, 0);
+        let substs = std::mem::take(&mut self.expansions.substs);
+        let mut parser = Parser::new(src);
+        let r = parser.run(self);
+        self.replay.reusing = reusing;
+        self.expansions.substs = substs;
+        r?;
+        let src = &parser.src;
+        if let Some(at) = src.bad_utf8 {
+            self.diags
+                .warn(src, at, "invalid UTF-8 (bytes replaced by '?')");
+        }
+        debug_assert_eq!(self.open.frames.len(), depth);
+        let root = self.open.frames.pop().expect("file root frame");
+        self.close_group_like(src, root.kind, 0)?;
+        self.scopes.pop();
+        self.files.stack.pop();
+        self.files.bytes += src.bytes_read;
+        self.files.current = saved_file;
+        Ok(())
+    }
+
+    /// Closes an Inline: loads the file it names inside its group, then closes the group
+    /// over what it lowered.
+    pub(super) fn close_inline(&mut self, src: &SourceWindow, frame: Frame) -> Result<(), Error> {
+        let at = frame.at;
+        let urls = match &frame.kind {
+            Kind::Group {
+                inline_urls: Some(urls),
+                ..
+            } => urls.clone(),
+            _ => Box::default(),
+        };
+        self.open.frames.push(frame);
+        self.load_inline(src, at, &urls)?;
+        let frame = self.open.frames.pop().expect("inline frame");
+        self.close_group_like(src, frame.kind, at)
+    }
+
+    /// Loads the first of `urls` that is a local VRML97 file; a warning if none is.
+    fn load_inline(&mut self, src: &SourceWindow, at: u64, urls: &[String]) -> Result<(), Error> {
+        if !self.opts.inline {
+            return Ok(());
+        }
+        let base = self
+            .files
+            .stack
+            .last()
+            .and_then(|p| p.parent().map(Path::to_path_buf))
+            .unwrap_or_default();
+        let mut tried = Vec::new();
+        for url in urls {
+            if !is_local_relative(url) {
+                tried.push(format!("'{url}' (not a local relative path)"));
+                continue;
+            }
+            let path = base.join(url);
+            if !path.is_file() {
+                tried.push(format!("'{url}' (no such file)"));
+                continue;
+            }
+            let canon = path.canonicalize().unwrap_or(path.clone());
+            if self
+                .files
+                .stack
+                .iter()
+                .any(|p| p.canonicalize().map(|c| c == canon).unwrap_or(false))
+            {
+                return Err(error(
+                    src,
+                    at,
+                    format!("Inline '{url}' includes itself (a cycle)"),
+                ));
+            }
+            // The stack holds the scene file and the Inline'd files being read: this one
+            // would be Inline number `stack.len()` down from the scene file.
+            if self.files.stack.len() > self.opts.max_inline_depth {
+                return Err(error(
+                    src,
+                    at,
+                    format!(
+                        "Inline '{url}' nests deeper than {} files",
+                        self.opts.max_inline_depth
+                    ),
+                ));
+            }
+            // Only VRML97 is read; other formats (X3D, 3DS, VRML 1.0) are reported, not fatal.
+            let mut head = [0u8; 16];
+            let n = crate::input::open(&path)
+                .ok()
+                .map(|mut w| {
+                    let _ = w.fill(16);
+                    let b = w.rest().as_bytes();
+                    let k = b.len().min(16);
+                    head[..k].copy_from_slice(&b[..k]);
+                    k
+                })
+                .unwrap_or(0);
+            if !head[..n].starts_with(b"#VRML V2.0") {
+                tried.push(format!("'{url}' (not a VRML97 file)"));
+                continue;
+            }
+            return self.load_file(&path);
+        }
+        let what = if tried.is_empty() {
+            "no url".to_string()
+        } else {
+            tried.join(", ")
+        };
+        self.diags
+            .warn(src, at, format!("Inline not loaded: {what}"));
+        Ok(())
+    }
+}

@@ -1,0 +1,62 @@
+//! Lights and their scopes. A PointLight lights the whole scene; a DirectionalLight lights
+//! only the siblings in its enclosing grouping node and their descendants (VRML97 4.6.7,
+//! 6.16). Since a group's contents are one range of the IR, a DirectionalLight's scope is
+//! the range of spheres lowered between that group's opening and closing: the light's index
+//! is kept in its group's frame ([`DirLights`]) and the range is set when the group closes.
+
+use glam::DVec3;
+
+use super::open::{Kind, Marks};
+use super::Lowerer;
+use crate::scene::{DirectionalLight, Light, PointLight};
+use crate::source::SourceWindow;
+
+/// The DirectionalLights among a grouping node's children (indices into the scene's lights).
+/// Rare, so boxed: the open-node frames stay small enough to move without a `memcpy` call.
+pub(super) type DirLights = Option<Box<Vec<usize>>>;
+
+impl Lowerer {
+    /// A closed PointLight.
+    pub(super) fn close_point_light(&mut self, l: PointLight) {
+        self.scene.lights.push(Light::Point(l));
+    }
+
+    /// A closed DirectionalLight: stored, and its scope left to the enclosing grouping node.
+    pub(super) fn close_directional_light(
+        &mut self,
+        src: &SourceWindow,
+        mut l: DirectionalLight,
+        at: u64,
+    ) {
+        let d = l.direction;
+        if d.length_squared() == 0.0 || !d.is_finite() {
+            self.diags
+                .warn(src, at, "DirectionalLight direction is zero: using 0 0 -1");
+            l.direction = DVec3::new(0.0, 0.0, -1.0);
+        } else {
+            l.direction = d.normalize();
+        }
+        let idx = self.scene.lights.len();
+        self.scene.lights.push(Light::Directional(l));
+        // Scope: the siblings in the enclosing grouping node (set when it closes).
+        if let Some(
+            Kind::Group { dirlights, .. }
+            | Kind::Switch { dirlights, .. }
+            | Kind::Lod { dirlights, .. },
+        ) = self.open.innermost_group()
+        {
+            dirlights.get_or_insert_with(Box::default).push(idx);
+        }
+    }
+
+    /// A grouping node that opened at `marks` closes: its DirectionalLights light what was
+    /// lowered inside it.
+    pub(super) fn scope_lights(&mut self, marks: Marks, dirlights: DirLights) {
+        let end = self.scene.spheres.len() as u32;
+        for i in dirlights.into_iter().flat_map(|d| *d) {
+            if let Light::Directional(l) = &mut self.scene.lights[i] {
+                l.scope = (marks.spheres as u32, end);
+            }
+        }
+    }
+}

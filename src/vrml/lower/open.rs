@@ -1,0 +1,246 @@
+//! The open nodes: a stack of [`Frame`]s, one per node whose `}` has not been read, and a
+//! stack of the node-valued fields being filled ([`FieldCtx`]). A frame's [`Kind`] is what the
+//! node is being lowered to, holding the field values read so far; grouping kinds remember
+//! the [`Marks`] of the IR when they opened, so that their matrix and light scope apply to
+//! what was lowered since. Frames are pushed and popped for every node, so they are kept
+//! within 128 bytes (large, rare payloads are boxed) and names borrow the standard tables'
+//! strings when they can ([`Name`]).
+
+use std::ops::Range;
+use std::rc::Rc;
+
+use glam::DVec3;
+
+use super::declare::ProtoDecl;
+use super::lights::DirLights;
+use super::mesh::{CoordFit, MeshState};
+use super::transform::TransformFields;
+use crate::scene::{DirectionalLight, PointLight, Scene, Viewpoint};
+use crate::vrml::schema;
+
+/// How much of the IR existed when a grouping node opened.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Marks {
+    pub(super) spheres: usize,
+    pub(super) lights: usize,
+    pub(super) views: usize,
+}
+
+impl Marks {
+    pub(super) fn of(scene: &Scene) -> Marks {
+        Marks {
+            spheres: scene.spheres.len(),
+            lights: scene.lights.len(),
+            views: scene.viewpoints.len(),
+        }
+    }
+}
+
+/// What a closed geometry node is.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Geom {
+    Sphere(f64, u64),
+    /// An IndexedFaceSet recognised as a sphere: index into `Meshes::fits`, node offset.
+    Mesh(u32, u64),
+    Other,
+}
+
+/// The nodes that are closed in place, without moving their frame out (most nodes of a
+/// particle file: see `close`). Small and `Copy`.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Leaf {
+    Shape {
+        appearance: Option<Option<u32>>,
+        geometry: Option<Geom>,
+    },
+    Appearance {
+        material: Option<u32>,
+    },
+    /// Its fields are the top of `Materials::open`.
+    Material,
+    Sphere {
+        radius: f64,
+    },
+}
+
+/// What an open node is lowered to. Large, rare payloads are boxed and a Material's fields
+/// live on `Materials::open`, so that a [`Frame`] stays within 128 bytes.
+#[derive(Debug)]
+pub(super) enum Kind {
+    /// Group, Transform, Anchor, Billboard, Collision, Inline, and each file's root.
+    Group {
+        transform: Option<Box<TransformFields>>,
+        marks: Marks,
+        dirlights: DirLights,
+        inline_urls: Option<Box<[String]>>,
+    },
+    Switch {
+        which: i64,
+        choices: Vec<Range<usize>>,
+        marks: Marks,
+        dirlights: DirLights,
+    },
+    Lod {
+        levels: u32,
+        marks: Marks,
+        dirlights: DirLights,
+    },
+    /// Shape, Appearance, Material, Sphere.
+    Leaf(Leaf),
+    /// An IndexedFaceSet (see "Tessellated spheres" in the module documentation).
+    Mesh(Box<MeshState>),
+    /// A Coordinate in an IndexedFaceSet's `coord` field.
+    Coord(CoordFit),
+    PointLight(Box<PointLight>),
+    DirectionalLight(Box<DirectionalLight>),
+    Viewpoint(Box<Viewpoint>),
+    NavigationInfo {
+        headlight: Option<bool>,
+    },
+    Background {
+        sky: Option<DVec3>,
+    },
+    /// Not modelled: its contents are read (DEFs inside stay usable) but not lowered.
+    Skip,
+    /// Recorded, not lowered (PROTO instance, Switch choice, ignored LOD level or proxy).
+    Quiet,
+}
+
+/// A node type or field name held while its node is open: the standard tables' own string
+/// when there is one (no allocation per node), a shared copy otherwise.
+#[derive(Clone, Debug)]
+pub(super) enum Name {
+    Static(&'static str),
+    Shared(Rc<str>),
+}
+
+impl std::ops::Deref for Name {
+    type Target = str;
+    #[inline]
+    fn deref(&self) -> &str {
+        match self {
+            Name::Static(s) => s,
+            Name::Shared(s) => s,
+        }
+    }
+}
+
+impl std::fmt::Display for Name {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self)
+    }
+}
+
+/// An open node.
+#[derive(Debug)]
+pub(super) struct Frame {
+    pub(super) ty: Name,
+    pub(super) spec: Option<&'static schema::NodeSpec>,
+    /// The PROTO whose instance this is (interface used for field checks).
+    pub(super) proto: Option<Rc<ProtoDecl>>,
+    pub(super) kind: Kind,
+    pub(super) at: u64,
+    /// This frame started a suppression (contents are not lowered).
+    pub(super) quiet: bool,
+}
+
+/// What a closed node hands to the field it stands in.
+pub(super) enum Result_ {
+    Nothing,
+    Material(u32),
+    Appearance(Option<u32>),
+    Geometry(Geom),
+    Coord(CoordFit),
+}
+
+/// The node-valued field being filled, with the frame index that owns it.
+#[derive(Debug)]
+pub(super) struct FieldCtx {
+    pub(super) name: Name,
+    pub(super) frame: usize,
+}
+
+/// The open nodes and node-valued fields, innermost last.
+#[derive(Default)]
+pub(super) struct Open {
+    pub(super) frames: Vec<Frame>,
+    pub(super) fields: Vec<FieldCtx>,
+    /// Open frames that suppress lowering (Skip / Quiet frames, PROTO declarations).
+    pub(super) quiet: u32,
+}
+
+impl Open {
+    /// Pushes a frame of `kind` for a node of type `ty` (lowered, not suppressing).
+    #[inline(always)]
+    pub(super) fn push(
+        &mut self,
+        ty: Name,
+        spec: Option<&'static schema::NodeSpec>,
+        kind: Kind,
+        at: u64,
+    ) {
+        self.frames.push(Frame {
+            ty,
+            spec,
+            proto: None,
+            kind,
+            at,
+            quiet: false,
+        });
+    }
+
+    /// Pushes a frame that suppresses lowering of its contents (`frame.quiet` is set).
+    pub(super) fn push_suppressing(&mut self, frame: Frame) {
+        debug_assert!(frame.quiet);
+        self.frames.push(frame);
+        self.quiet += 1;
+    }
+
+    /// Pushes a frame whose contents are recorded or ignored, not lowered.
+    pub(super) fn push_quiet(&mut self, ty: Name, at: u64) {
+        self.push_suppressing(Frame {
+            ty,
+            spec: None,
+            proto: None,
+            kind: Kind::Quiet,
+            at,
+            quiet: true,
+        });
+    }
+
+    /// The type of the innermost open node (for messages).
+    pub(super) fn open_type(&self) -> Name {
+        self.frames
+            .last()
+            .map_or(Name::Static(""), |f| f.ty.clone())
+    }
+
+    /// Whether the node starting now stands in a Shape's `geometry` field.
+    pub(super) fn in_shape_geometry(&self) -> bool {
+        self.fields.last().is_some_and(|ctx| {
+            &*ctx.name == "geometry"
+                && matches!(self.frames[ctx.frame].kind, Kind::Leaf(Leaf::Shape { .. }))
+        })
+    }
+
+    /// The innermost open grouping node (the scope of a DirectionalLight closing now).
+    pub(super) fn innermost_group(&mut self) -> Option<&mut Kind> {
+        self.frames.iter_mut().rev().map(|f| &mut f.kind).find(|k| {
+            matches!(
+                k,
+                Kind::Group { .. } | Kind::Switch { .. } | Kind::Lod { .. }
+            )
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn open_node_frames_stay_small() {
+        // Frames are pushed and popped for every node; up to 128 bytes they are moved inline.
+        assert!(std::mem::size_of::<Frame>() <= 128);
+    }
+}

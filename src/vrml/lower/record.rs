@@ -1,0 +1,287 @@
+//! Recording events for later replay. DEF'd nodes, PROTO declarations, PROTO instances,
+//! Switch choices and interface defaults are kept as their events in one arena
+//! ([`Recording::arena`]), never as trees; a [`Recorder`] marks where each recording under
+//! way started and how many nodes are open inside it, and it ends when that returns to zero.
+//! Names in recorded events are shared through an [`Interner`], so recording a PROTO
+//! instance allocates no string per event. Entries below [`Recording::pinned`] belong to
+//! DEFs and PROTOs and stay; the rest is released once an instance or choice is done.
+
+use std::ops::Range;
+use std::rc::Rc;
+
+use hashbrown::HashSet;
+
+use super::open::Name;
+use crate::vrml::syntax::{Event, OwnedEvent};
+
+/// An event in the arena: as written, or a USE already resolved to the recording it names.
+#[derive(Clone, Debug)]
+pub(super) enum Rec {
+    Ev(OwnedEvent),
+    /// A USE resolved when it was recorded (later redefinitions do not change what it means).
+    Used {
+        range: Range<usize>,
+        at: u64,
+    },
+}
+
+/// What an active recording is for.
+#[derive(Debug)]
+pub(super) enum RecKind {
+    Def(Rc<str>),
+    ProtoDecl,
+    /// A node inside a Switch's `choice`: kept for replay when the Switch closes.
+    Choice,
+    /// A PROTO instance: expanded when it closes.
+    Instance,
+}
+
+#[derive(Debug)]
+pub(super) struct Recorder {
+    pub(super) start: usize,
+    /// Open nodes (or PROTOs for a ProtoDecl) inside the recording; it ends when this returns to 0.
+    pub(super) depth: u32,
+    pub(super) kind: RecKind,
+}
+
+/// Recordings that ended at one event, with the arena range each recorded.
+pub(super) type Done = Vec<(RecKind, Range<usize>)>;
+
+/// Slots of [`Interner::recent`].
+const RECENT_NAMES: usize = 16;
+
+/// Shared copies of node type and field names (DEF names are not kept here).
+#[derive(Default)]
+pub(super) struct Interner {
+    names: HashSet<Rc<str>>,
+    /// The last name met in each slot of a small cache in front of `names`.
+    recent: [Option<Rc<str>>; RECENT_NAMES],
+}
+
+impl Interner {
+    /// A shared copy of `name`.
+    pub(super) fn rc(&mut self, name: &str) -> Rc<str> {
+        // The same few names come back in turn (one PROTO instance after another): a small
+        // direct-mapped cache answers most of them without hashing.
+        let b = name.as_bytes();
+        let slot = (b.len() ^ (usize::from(b.first().copied().unwrap_or(0)) * 3)) % RECENT_NAMES;
+        if let Some(n) = &self.recent[slot] {
+            if n.as_bytes() == b {
+                return n.clone();
+            }
+        }
+        let n = match self.names.get(name) {
+            Some(n) => n.clone(),
+            None => {
+                let n: Rc<str> = Rc::from(name);
+                self.names.insert(n.clone());
+                n
+            }
+        };
+        self.recent[slot] = Some(n.clone());
+        n
+    }
+}
+
+/// The event arena and the recordings under way.
+#[derive(Default)]
+pub(super) struct Recording {
+    pub(super) arena: Vec<Rec>,
+    /// Arena entries below this are referenced by DEFs or PROTOs and must stay.
+    pub(super) pinned: usize,
+    pub(super) recorders: Vec<Recorder>,
+    /// Open PROTO declarations being recorded (their contents are neither lowered nor checked).
+    pub(super) proto_decls: u32,
+    /// Node type and field names of recorded events, shared (no allocation per recorded event).
+    pub(super) names: Interner,
+    /// A buffer for the recordings that end at one event (see `end_slow`).
+    done_buf: Done,
+}
+
+impl Recording {
+    /// Nothing is being recorded and no PROTO declaration is open: events of plain scene text
+    /// may take the fast path (see `dispatch`).
+    #[inline(always)]
+    pub(super) fn idle(&self) -> bool {
+        self.recorders.is_empty() && self.proto_decls == 0
+    }
+
+    /// Appends `ev` to the arena if anything is recording.
+    pub(super) fn record(&mut self, ev: &Event) {
+        if self.recorders.is_empty() {
+            return;
+        }
+        let owned = match *ev {
+            Event::NodeStart { def: None, ty, at } => OwnedEvent::NodeStart {
+                def: None,
+                ty: self.names.rc(ty),
+                at,
+            },
+            Event::Field { name, at, value } => OwnedEvent::Field {
+                name: self.names.rc(name),
+                at,
+                value: value.to_owned_value(),
+            },
+            Event::NodesStart { name, at } => OwnedEvent::NodesStart {
+                name: self.names.rc(name),
+                at,
+            },
+            _ => ev.to_owned_event(),
+        };
+        self.arena.push(Rec::Ev(owned));
+    }
+
+    /// Called after an event has been handled: closes recorders whose node (or PROTO) ended.
+    #[inline]
+    pub(super) fn end(&mut self, ev: &Event) -> Done {
+        if self.recorders.is_empty() {
+            return Vec::new();
+        }
+        self.end_slow(ev)
+    }
+
+    /// [`Self::end`] when something is recording.
+    pub(super) fn end_slow(&mut self, ev: &Event) -> Done {
+        let mut done = Vec::new();
+        let (open, close) = match ev {
+            Event::NodeStart { .. } => (true, false),
+            Event::NodeEnd { .. } => (false, true),
+            Event::ProtoStart { .. } => (true, false),
+            Event::ProtoEnd { .. } => (false, true),
+            _ => (false, false),
+        };
+        if !open && !close {
+            return done;
+        }
+        for r in self.recorders.iter_mut() {
+            if open {
+                r.depth += 1;
+            } else {
+                r.depth -= 1;
+            }
+        }
+        // A recorder that began at this very event started with depth 0 before the increment.
+        while let Some(r) = self.recorders.last() {
+            if r.depth == 0 {
+                let r = self.recorders.pop().expect("recorder");
+                if done.capacity() == 0 {
+                    // (One per PROTO instance: `hand_back` returns the buffer.)
+                    done = std::mem::take(&mut self.done_buf);
+                }
+                done.push((r.kind, r.start..self.arena.len()));
+            } else {
+                break;
+            }
+        }
+        done
+    }
+
+    /// Takes back the (emptied) buffer that [`Self::end`] handed out, for the next time.
+    pub(super) fn hand_back(&mut self, done: Done) {
+        if done.capacity() > 0 {
+            self.done_buf = done;
+        }
+    }
+
+    /// Drops arena entries that nothing refers to (after a PROTO instance or Switch choice).
+    pub(super) fn release(&mut self, from: usize) {
+        if self.recorders.is_empty() {
+            let keep = from.max(self.pinned);
+            if keep < self.arena.len() {
+                self.arena.truncate(keep);
+            }
+        }
+    }
+
+    /// Starts recording a DEF'd node whose NodeStart is being handled (and was recorded just
+    /// before, if anything was recording).
+    pub(super) fn start_def(&mut self, def: &Rc<str>, ty: &str, at: u64) {
+        let start = if self.recorders.is_empty() {
+            self.arena.push(Rec::Ev(OwnedEvent::NodeStart {
+                def: Some(def.clone()),
+                ty: ty.into(),
+                at,
+            }));
+            self.arena.len() - 1
+        } else {
+            self.arena.len() - 1
+        };
+        self.recorders.push(Recorder {
+            start,
+            depth: 0,
+            kind: RecKind::Def(def.clone()),
+        });
+    }
+
+    /// Starts a recorder of `kind` whose first event is the NodeStart just handled.
+    pub(super) fn start_here(&mut self, ty: &Name, def: Option<&str>, at: u64, kind: RecKind) {
+        let start = if self.recorders.is_empty() {
+            let ty = match ty {
+                Name::Shared(rc) => rc.clone(),
+                Name::Static(s) => self.names.rc(s),
+            };
+            self.arena.push(Rec::Ev(OwnedEvent::NodeStart {
+                def: def.map(Rc::from),
+                ty,
+                at,
+            }));
+            self.arena.len() - 1
+        } else {
+            // Already recorded by the enclosing recorder; a DEF recorder may have started here too.
+            self.recorders
+                .last()
+                .filter(|r| r.depth == 0)
+                .map(|r| r.start)
+                .unwrap_or(self.arena.len() - 1)
+        };
+        self.recorders.push(Recorder {
+            start,
+            depth: 0,
+            kind,
+        });
+    }
+
+    /// Starts recording a PROTO declaration at its ProtoStart event (outside any other).
+    pub(super) fn start_proto_decl(&mut self, ev: &Event) {
+        self.recorders.push(Recorder {
+            start: self.arena.len() - usize::from(!self.recorders.is_empty()),
+            depth: 0,
+            kind: RecKind::ProtoDecl,
+        });
+        if self.recorders.len() == 1 {
+            self.arena.push(Rec::Ev(ev.to_owned_event()));
+        }
+    }
+
+    /// Whether a Switch choice is being recorded (a node inside it is part of that choice).
+    pub(super) fn in_choice(&self) -> bool {
+        self.recorders
+            .iter()
+            .any(|r| matches!(r.kind, RecKind::Choice))
+    }
+}
+
+/// The end (exclusive) of the value that starts at `i`: one Field, or NodesStart .. NodesEnd.
+pub(super) fn value_end(arena: &[Rec], i: usize) -> usize {
+    match arena.get(i) {
+        Some(Rec::Ev(OwnedEvent::NodesStart { .. })) => {
+            let mut depth = 0;
+            let mut k = i;
+            while k < arena.len() {
+                match &arena[k] {
+                    Rec::Ev(OwnedEvent::NodesStart { .. }) => depth += 1,
+                    Rec::Ev(OwnedEvent::NodesEnd { .. }) => {
+                        depth -= 1;
+                        if depth == 0 {
+                            return k + 1;
+                        }
+                    }
+                    _ => {}
+                }
+                k += 1;
+            }
+            arena.len()
+        }
+        _ => i + 1,
+    }
+}

@@ -1,0 +1,122 @@
+//! Replaying recorded events: a USE replays its DEF's events, a Switch replays its chosen
+//! choice, and a PROTO instance replays its body (in `expand`). Replays nest (a USE inside a
+//! DEF, an instance inside a body), and every level costs stack, so one depth counter guards
+//! them all: at most [`MAX_REPLAY_DEPTH`] replays may be under way at once, and the next one
+//! is an error at the USE or instance that would start it. While a USE or choice is
+//! replayed, the DEFs inside it are not registered again (they were when first read).
+
+use std::ops::Range;
+
+use super::open::{Frame, Kind};
+use super::record::Rec;
+use super::{error, Lowerer};
+use crate::error::Error;
+use crate::source::SourceWindow;
+
+/// How many USE, Switch choice and PROTO body replays may nest (each level is a few stack
+/// frames of the event handlers, well within a 2 MiB thread stack).
+pub(super) const MAX_REPLAY_DEPTH: u32 = 200;
+
+/// The replays under way.
+#[derive(Default)]
+pub(super) struct Replay {
+    /// Replays nested now (bounded by [`MAX_REPLAY_DEPTH`]).
+    pub(super) depth: u32,
+    /// Replaying a USE or a Switch choice: DEFs inside were registered when first read.
+    pub(super) reusing: u32,
+}
+
+impl Lowerer {
+    /// Enters one more level of replay; an error at `at` if that would make more than
+    /// [`MAX_REPLAY_DEPTH`]. `what` names the replays in the message.
+    #[inline(always)]
+    pub(super) fn enter_replay(
+        &mut self,
+        src: &SourceWindow,
+        at: u64,
+        what: &str,
+    ) -> Result<(), Error> {
+        if self.replay.depth >= MAX_REPLAY_DEPTH {
+            return Err(error(
+                src,
+                at,
+                format!("{what} nest deeper than {MAX_REPLAY_DEPTH}"),
+            ));
+        }
+        self.replay.depth += 1;
+        Ok(())
+    }
+
+    /// Replays the arena's events in `range` (a DEF'd node or a Switch choice).
+    pub(super) fn replay(
+        &mut self,
+        src: &SourceWindow,
+        range: Range<usize>,
+        at: u64,
+    ) -> Result<(), Error> {
+        self.enter_replay(src, at, "USE and PROTO expansions")?;
+        let mut i = range.start;
+        while i < range.end {
+            let rec = self.rec.arena[i].clone();
+            match rec {
+                Rec::Ev(ev) => self.handle(src, ev.as_event())?,
+                Rec::Used { range, at } => self.use_range(src, range, at)?,
+            }
+            i += 1;
+        }
+        self.replay.depth -= 1;
+        Ok(())
+    }
+
+    /// Replays a recording that was read before (a USE or a Switch choice): nothing is
+    /// recorded again and the DEFs inside are not registered again.
+    pub(super) fn replay_reused(
+        &mut self,
+        src: &SourceWindow,
+        range: Range<usize>,
+        at: u64,
+    ) -> Result<(), Error> {
+        // Replaying must not record the replayed events again into the same recorders: they
+        // already hold what stands for them (a `Used` entry, or the Switch's own events).
+        let saved = std::mem::take(&mut self.rec.recorders);
+        self.replay.reusing += 1;
+        let r = self.replay(src, range, at);
+        self.replay.reusing -= 1;
+        self.rec.recorders = saved;
+        r
+    }
+
+    /// A resolved USE: recorded as such if recording, replayed if lowering.
+    pub(super) fn use_range(
+        &mut self,
+        src: &SourceWindow,
+        range: Range<usize>,
+        at: u64,
+    ) -> Result<(), Error> {
+        if !self.rec.recorders.is_empty() {
+            self.rec.arena.push(Rec::Used {
+                range: range.clone(),
+                at,
+            });
+        }
+        if self.open.quiet == 0 {
+            // A USE'd IndexedFaceSet as a Shape's geometry: lowered once, then looked up.
+            let mesh = self.is_mesh_use(range.start);
+            if mesh && self.reuse_mesh(src, range.start, at)? {
+                return Ok(());
+            }
+            self.replay_reused(src, range.clone(), at)?;
+            if mesh {
+                self.remember_mesh(range.start);
+            }
+        } else if let Some(Frame {
+            kind: Kind::Switch { choices, .. },
+            ..
+        }) = self.open.frames.last_mut()
+        {
+            // A USE among a Switch's choices is a choice of its own.
+            choices.push(range);
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,105 @@
+//! DEF and PROTO namespaces. Each file has one, and so has each PROTO body expansion (VRML97
+//! 4.6.3 and 4.8.3); a [`Scope`] maps DEF names to their recorded events and PROTO names to
+//! their declarations. DEF lookups see only the innermost scope; PROTO lookups go outwards
+//! through enclosing PROTO bodies but stop at the file (an Inline'd file does not see the
+//! PROTOs of the file that includes it). [`Scopes`] also remembers whether a PROTO was given
+//! a standard node type's name, since standard types must then be looked up among PROTOs too.
+
+use std::ops::Range;
+use std::rc::Rc;
+
+use hashbrown::HashMap;
+
+use super::declare::ProtoDecl;
+
+/// A DEF: the arena range of its node's events, and its node type.
+#[derive(Clone, Debug)]
+pub(super) struct DefEntry {
+    pub(super) range: Range<usize>,
+    pub(super) ty: Rc<str>,
+}
+
+/// A DEF and PROTO namespace: one per file, one per PROTO body expansion.
+#[derive(Default)]
+pub(super) struct Scope {
+    defs: HashMap<Rc<str>, DefEntry>,
+    protos: HashMap<Rc<str>, Rc<ProtoDecl>>,
+    /// Names whose DEF'd node is still open (a Script may USE itself).
+    open_defs: Vec<Rc<str>>,
+    /// File scopes stop PROTO lookups from reaching the including file.
+    file_root: bool,
+}
+
+/// The namespaces in effect, innermost last.
+#[derive(Default)]
+pub(super) struct Scopes {
+    stack: Vec<Scope>,
+    /// A PROTO was declared with a standard node type's name: standard types must then be
+    /// looked up among the PROTOs too (otherwise they cannot name one).
+    pub(super) proto_shadows_standard: bool,
+}
+
+impl Scopes {
+    /// Enters a file's namespace.
+    pub(super) fn push_file(&mut self) {
+        self.stack.push(Scope {
+            file_root: true,
+            ..Scope::default()
+        });
+    }
+
+    /// Enters a PROTO body expansion's namespace.
+    pub(super) fn push_body(&mut self) {
+        self.stack.push(Scope::default());
+    }
+
+    pub(super) fn pop(&mut self) {
+        self.stack.pop();
+    }
+
+    pub(super) fn def(&self, name: &str) -> Option<&DefEntry> {
+        self.stack.last().and_then(|s| s.defs.get(name))
+    }
+
+    pub(super) fn proto(&self, name: &str) -> Option<Rc<ProtoDecl>> {
+        for s in self.stack.iter().rev() {
+            if let Some(p) = s.protos.get(name) {
+                return Some(p.clone());
+            }
+            if s.file_root {
+                break;
+            }
+        }
+        None
+    }
+
+    /// A DEF'd node of this name has started and not yet ended.
+    pub(super) fn open_def(&mut self, name: &Rc<str>) {
+        if let Some(s) = self.stack.last_mut() {
+            s.open_defs.push(name.clone());
+        }
+    }
+
+    /// Whether the DEF'd node of this name is still open (a USE of it is inside it).
+    pub(super) fn is_open(&self, name: &str) -> bool {
+        self.stack
+            .last()
+            .is_some_and(|s| s.open_defs.iter().any(|n| &**n == name))
+    }
+
+    /// A DEF'd node has ended: its name now means its events.
+    pub(super) fn define(&mut self, name: Rc<str>, def: DefEntry) {
+        if let Some(s) = self.stack.last_mut() {
+            s.open_defs.retain(|n| *n != name);
+            s.defs.insert(name, def);
+        }
+    }
+
+    /// A PROTO declaration has ended: its name now means it.
+    pub(super) fn declare(&mut self, name: Rc<str>, decl: Rc<ProtoDecl>, standard_name: bool) {
+        self.proto_shadows_standard |= standard_name;
+        if let Some(s) = self.stack.last_mut() {
+            s.protos.insert(name, decl);
+        }
+    }
+}

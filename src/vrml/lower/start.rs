@@ -1,0 +1,319 @@
+//! The node table and `node_start`: what each standard node type is lowered to
+//! ([`Lowered`], one entry per [`schema::NODES`] entry, built at compile time so that no node
+//! type is matched by string), and where a starting node goes: a DEF starts a recording, a
+//! node inside a PROTO declaration, a skipped node or a Switch choice opens a quiet frame, a
+//! PROTO instance is recorded for expansion when it closes, and a modelled node opens a frame
+//! of its [`Kind`] with the VRML97 defaults of its fields.
+
+use glam::{DQuat, DVec3};
+
+use super::open::{Frame, Kind, Leaf, Marks, Name};
+use super::record::RecKind;
+use super::Lowerer;
+use crate::error::Error;
+use crate::scene::{DirectionalLight, Material, PointLight, Viewpoint};
+use crate::source::SourceWindow;
+use crate::vrml::schema;
+
+/// What a standard node type lowers to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Lowered {
+    Group,
+    Transform,
+    Inline,
+    Switch,
+    Lod,
+    Shape,
+    Appearance,
+    Material,
+    Sphere,
+    IndexedFaceSet,
+    Coordinate,
+    PointLight,
+    DirectionalLight,
+    Viewpoint,
+    NavigationInfo,
+    Background,
+    /// Not modelled: counted and skipped.
+    Skipped,
+}
+
+const fn same_str(a: &str, b: &str) -> bool {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
+
+const fn lowered_as(name: &str) -> Lowered {
+    const MODELLED: [(&str, Lowered); 19] = [
+        ("Group", Lowered::Group),
+        ("Anchor", Lowered::Group),
+        ("Billboard", Lowered::Group),
+        ("Collision", Lowered::Group),
+        ("Transform", Lowered::Transform),
+        ("Inline", Lowered::Inline),
+        ("Switch", Lowered::Switch),
+        ("LOD", Lowered::Lod),
+        ("Shape", Lowered::Shape),
+        ("Appearance", Lowered::Appearance),
+        ("Material", Lowered::Material),
+        ("Sphere", Lowered::Sphere),
+        ("IndexedFaceSet", Lowered::IndexedFaceSet),
+        ("Coordinate", Lowered::Coordinate),
+        ("PointLight", Lowered::PointLight),
+        ("DirectionalLight", Lowered::DirectionalLight),
+        ("Viewpoint", Lowered::Viewpoint),
+        ("NavigationInfo", Lowered::NavigationInfo),
+        ("Background", Lowered::Background),
+    ];
+    let mut i = 0;
+    while i < MODELLED.len() {
+        if same_str(MODELLED[i].0, name) {
+            return MODELLED[i].1;
+        }
+        i += 1;
+    }
+    Lowered::Skipped
+}
+
+/// [`Lowered`] for each entry of [`schema::NODES`], by index (no string matching per node).
+static LOWERED: [Lowered; schema::NODES.len()] = {
+    let mut t = [Lowered::Skipped; schema::NODES.len()];
+    let mut i = 0;
+    while i < t.len() {
+        t[i] = lowered_as(schema::NODES[i].name);
+        i += 1;
+    }
+    t
+};
+
+impl Lowerer {
+    pub(super) fn node_start(
+        &mut self,
+        src: &SourceWindow,
+        def: Option<&str>,
+        ty: &str,
+        at: u64,
+    ) -> Result<(), Error> {
+        let def_rc: Option<std::rc::Rc<str>> = def.map(std::rc::Rc::from);
+        if self.rec.proto_decls > 0 {
+            return Ok(());
+        }
+        if let (Some(d), 0) = (&def_rc, self.replay.reusing) {
+            // Record the DEF'd node (this NodeStart was pushed just before, if recording).
+            self.rec.start_def(d, ty, at);
+            self.scopes.open_def(d);
+        }
+        self.add_nodes(1, src, at)?;
+        let index = schema::node_index(ty);
+        let spec = index.map(|i| &schema::NODES[i]);
+        // A standard type was found by this very name.
+        let ty_rc = match spec {
+            Some(s) => Name::Static(s.name),
+            None => Name::Shared(self.rec.names.rc(ty)),
+        };
+        if self.open.quiet > 0 {
+            // Not lowered; a frame keeps the nesting.
+            self.open.push(ty_rc, None, Kind::Quiet, at);
+            return Ok(());
+        }
+        self.check_child(src, ty, at);
+        // Where does this node stand? (A Switch choice, an LOD level after the first, or a
+        // Collision proxy is recorded or ignored, not lowered.)
+        let (in_choice, ignored_level) = match self.open.fields.last() {
+            None => (false, false),
+            Some(ctx) => match &mut self.open.frames[ctx.frame].kind {
+                Kind::Switch { .. } => (&*ctx.name == "choice", false),
+                Kind::Lod { levels, .. } if &*ctx.name == "level" => {
+                    let ignored = *levels > 0;
+                    *levels += 1;
+                    (false, ignored)
+                }
+                Kind::Group { .. } => (false, &*ctx.name == "proxy"),
+                Kind::Mesh(_) => {
+                    self.mesh_child(ty_rc, at);
+                    return Ok(());
+                }
+                _ => (false, false),
+            },
+        };
+        if in_choice || ignored_level {
+            if in_choice && !self.rec.in_choice() {
+                self.rec.start_here(&ty_rc, def, at, RecKind::Choice);
+            }
+            self.open.push_quiet(ty_rc, at);
+            return Ok(());
+        }
+        let proto = if index.is_none() || self.scopes.proto_shadows_standard {
+            self.scopes.proto(ty)
+        } else {
+            None
+        };
+        if let Some(proto) = proto {
+            if proto.body.is_some() {
+                // Record the instance, expand it when it closes.
+                self.rec.start_here(&ty_rc, def, at, RecKind::Instance);
+            } else {
+                self.diags.skip(ty);
+                self.diags.warn(
+                    src,
+                    at,
+                    format!("EXTERNPROTO {ty} is not available (external prototypes are not loaded): skipped"),
+                );
+            }
+            self.open.push_suppressing(Frame {
+                ty: ty_rc,
+                spec: None,
+                proto: Some(proto),
+                kind: Kind::Quiet,
+                at,
+                quiet: true,
+            });
+            return Ok(());
+        }
+        let m = Marks::of(&self.scene);
+        let group = |transform| Kind::Group {
+            transform,
+            marks: m,
+            dirlights: None,
+            inline_urls: None,
+        };
+        let lowered = index.map_or(Lowered::Skipped, |i| LOWERED[i]);
+        let kind = match lowered {
+            Lowered::Group => group(None),
+            Lowered::Transform => group(Some(self.transforms.take())),
+            Lowered::Inline => Kind::Group {
+                transform: None,
+                marks: m,
+                dirlights: None,
+                inline_urls: Some(Box::default()),
+            },
+            Lowered::Switch => Kind::Switch {
+                which: -1,
+                choices: Vec::new(),
+                marks: m,
+                dirlights: None,
+            },
+            Lowered::Lod => Kind::Lod {
+                levels: 0,
+                marks: m,
+                dirlights: None,
+            },
+            Lowered::Shape => Kind::Leaf(Leaf::Shape {
+                appearance: None,
+                geometry: None,
+            }),
+            Lowered::Appearance => Kind::Leaf(Leaf::Appearance { material: None }),
+            Lowered::Material => {
+                self.materials.open.push(Material::default());
+                Kind::Leaf(Leaf::Material)
+            }
+            Lowered::Sphere => Kind::Leaf(Leaf::Sphere { radius: 1.0 }),
+            Lowered::IndexedFaceSet => {
+                self.open_mesh(ty_rc, at);
+                return Ok(());
+            }
+            Lowered::PointLight => Kind::PointLight(Box::new(PointLight {
+                location: DVec3::ZERO,
+                color: DVec3::ONE,
+                intensity: 1.0,
+                ambient_intensity: 0.0,
+                attenuation: DVec3::new(1.0, 0.0, 0.0),
+                radius: 100.0,
+                on: true,
+                origin: self.origin(at),
+            })),
+            Lowered::DirectionalLight => Kind::DirectionalLight(Box::new(DirectionalLight {
+                direction: DVec3::new(0.0, 0.0, -1.0),
+                color: DVec3::ONE,
+                intensity: 1.0,
+                ambient_intensity: 0.0,
+                on: true,
+                scope: (0, 0),
+                origin: self.origin(at),
+            })),
+            Lowered::Viewpoint => Kind::Viewpoint(Box::new(Viewpoint {
+                name: def.map(str::to_string),
+                description: String::new(),
+                position: DVec3::new(0.0, 0.0, 10.0),
+                orientation: DQuat::IDENTITY,
+                field_of_view: std::f64::consts::FRAC_PI_4,
+                origin: self.origin(at),
+            })),
+            Lowered::NavigationInfo => Kind::NavigationInfo { headlight: None },
+            Lowered::Background => Kind::Background { sky: None },
+            // A Coordinate is read only in an IndexedFaceSet's `coord` (see `mesh_child`).
+            Lowered::Skipped | Lowered::Coordinate => {
+                // Standard nodes we do not model are counted in the report, not warned about:
+                // they are valid VRML, and `--strict` is about validity.
+                if spec.is_none() {
+                    self.diags
+                        .warn(src, at, format!("unknown node type '{ty}': skipped"));
+                }
+                self.diags.skip(ty);
+                self.open.push_suppressing(Frame {
+                    ty: ty_rc,
+                    spec,
+                    proto: None,
+                    kind: Kind::Skip,
+                    at,
+                    quiet: true,
+                });
+                return Ok(());
+            }
+        };
+        self.open.push(ty_rc, spec, kind, at);
+        Ok(())
+    }
+
+    /// Warns when a node type does not belong in the field it stands in.
+    #[inline(always)]
+    pub(super) fn check_child(&mut self, src: &SourceWindow, ty: &str, at: u64) {
+        let Some(ctx) = self.open.fields.last() else {
+            return;
+        };
+        let parent = &self.open.frames[ctx.frame];
+        let allowed: &[&str] = match (&parent.kind, &*ctx.name) {
+            (Kind::Leaf(Leaf::Shape { .. }), "appearance") => &["Appearance"],
+            (Kind::Leaf(Leaf::Appearance { .. }), "material") => &["Material"],
+            _ => return,
+        };
+        if !allowed.contains(&ty) && self.scopes.proto(ty).is_none() {
+            let msg = format!(
+                "{ty} is not allowed in field '{}' of {}: ignored",
+                ctx.name, parent.ty
+            );
+            self.diags.warn(src, at, msg);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_modelled_type_is_a_standard_node() {
+        let modelled: Vec<_> = schema::NODES
+            .iter()
+            .zip(LOWERED)
+            .filter(|(_, l)| *l != Lowered::Skipped)
+            .map(|(n, _)| n.name)
+            .collect();
+        assert_eq!(modelled.len(), 19, "{modelled:?}");
+        assert_eq!(LOWERED[schema::node_index("LOD").unwrap()], Lowered::Lod);
+        assert_eq!(
+            LOWERED[schema::node_index("Box").unwrap()],
+            Lowered::Skipped
+        );
+    }
+}
