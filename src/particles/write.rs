@@ -188,6 +188,8 @@ impl<W: Write> ParticleWriter<W> {
     /// (particles near +-1e308: the half-diagonal and the distance are computed without
     /// overflow where they fit, and refused where they do not).
     pub fn framing(&self) -> Option<(DVec3, f64)> {
+        // Streamed: the ball is the one around the bounds (half their diagonal, computed
+        // without overflow where it fits), as the spheres are gone by the end.
         let (lo, hi) = self.bounds()?;
         let centre = 0.5 * lo + 0.5 * hi;
         let half = 0.5 * hi - 0.5 * lo;
@@ -195,11 +197,10 @@ impl<W: Write> ParticleWriter<W> {
         let radius = if m > 0.0 {
             m * (half / m).length()
         } else {
-            f64::MIN_POSITIVE
+            0.0
         };
-        let fov = std::f64::consts::FRAC_PI_4;
-        let position = centre + DVec3::new(0.0, 0.0, radius / (0.5 * fov).sin());
-        (position.is_finite() && radius.is_finite()).then_some((position, fov))
+        let position = crate::scene::framing_position(centre, radius)?;
+        Some((position, crate::scene::FRAMING_FOV))
     }
 
     /// Adds the framing Viewpoint and lights, and returns the writer.

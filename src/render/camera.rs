@@ -51,18 +51,6 @@ pub struct CameraSetup {
     pub description: String,
 }
 
-/// Centre and radius of a ball holding every sphere (a bounding sphere, not the smallest).
-fn bounding_ball(scene: &Scene) -> Option<(DVec3, f64)> {
-    let b = scene.bounds()?;
-    let c = (DVec3::from(b.min) + DVec3::from(b.max)) * 0.5;
-    let r = scene
-        .spheres
-        .iter()
-        .map(|s| (s.center - c).length() + s.radius)
-        .fold(0.0, f64::max);
-    Some((c, r))
-}
-
 /// Half sizes `(w, h)` of the image plane for the smaller side spanning `2 * s`.
 fn halves(s: f64, width: u32, height: u32) -> (f64, f64) {
     let aspect = f64::from(width) / f64::from(height);
@@ -116,19 +104,18 @@ pub fn setup(
             let vp = &scene.viewpoints[0];
             (vp.position, vp.orientation, vp.field_of_view, named(vp))
         }
-        CameraChoice::Auto => match bounding_ball(scene) {
-            Some((c, r)) => {
-                let fov = FRAC_PI_4;
-                // Far enough that the bounding ball fits the smaller side's angle.
-                let dist = r / (0.5 * fov).sin();
-                (
-                    c + DVec3::new(0.0, 0.0, dist),
-                    DQuat::IDENTITY,
-                    fov,
-                    "no Viewpoint in the scene: looking down -z, placed to frame the scene's bounds"
-                        .to_string(),
-                )
-            }
+        CameraChoice::Auto => match scene.bounding_ball() {
+            Some((c, r)) => (
+                crate::scene::framing_position(c, r).ok_or_else(|| {
+                    "no Viewpoint, and a camera framing the scene would stand beyond the \
+                     range of f64: give the scene a Viewpoint"
+                        .to_string()
+                })?,
+                DQuat::IDENTITY,
+                crate::scene::FRAMING_FOV,
+                "no Viewpoint in the scene: looking down -z, placed to frame the scene's bounds"
+                    .to_string(),
+            ),
             None => (
                 DVec3::new(0.0, 0.0, 10.0),
                 DQuat::IDENTITY,

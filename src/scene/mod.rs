@@ -221,6 +221,19 @@ impl Scene {
         })
     }
 
+    /// Centre and radius of a ball holding every sphere (a bounding ball about the bounds'
+    /// centre, not the smallest one), or None for an empty scene.
+    pub fn bounding_ball(&self) -> Option<(DVec3, f64)> {
+        let b = self.bounds()?;
+        let c = DVec3::from(b.min) * 0.5 + DVec3::from(b.max) * 0.5;
+        let r = self
+            .spheres
+            .iter()
+            .map(|s| (s.center - c).length() + s.radius)
+            .fold(0.0, f64::max);
+        Some((c, r))
+    }
+
     /// Heap bytes held by the IR.
     pub fn heap_bytes(&self) -> usize {
         use std::mem::size_of;
@@ -236,4 +249,17 @@ impl Scene {
                 .sum::<usize>()
             + self.files.iter().map(|f| f.capacity()).sum::<usize>()
     }
+}
+
+/// The field of view of a framing camera (VRML's default, 45 degrees).
+pub const FRAMING_FOV: f64 = std::f64::consts::FRAC_PI_4;
+
+/// Where a camera looking down -z with [`FRAMING_FOV`] sees the ball `(centre, radius)` whole
+/// (far enough that the ball fits the smaller side's angle), or `None` when it would stand
+/// beyond the range of f64 (balls near +-1e308). The one framing rule of `render` (for a
+/// scene without a Viewpoint) and of `convert` (the Viewpoint it writes).
+pub fn framing_position(centre: DVec3, radius: f64) -> Option<DVec3> {
+    let radius = radius.max(f64::MIN_POSITIVE);
+    let position = centre + DVec3::new(0.0, 0.0, radius / (0.5 * FRAMING_FOV).sin());
+    (position.is_finite() && radius.is_finite()).then_some(position)
 }
