@@ -14,6 +14,7 @@ pub mod output;
 pub mod particles;
 pub mod render;
 pub mod scene;
+pub mod scenes;
 pub mod source;
 pub mod vrml;
 

@@ -11,6 +11,7 @@ use std::process::{Command, ExitCode};
 use clap::{Subcommand, ValueEnum};
 
 use crate::error::Error;
+use crate::scenes::{self, write_particles};
 
 #[derive(Debug, Subcommand)]
 pub enum BenchCommand {
@@ -26,12 +27,12 @@ pub enum BenchCommand {
         #[arg(long)]
         dir: Option<PathBuf>,
         /// Which layouts to measure.
-        #[arg(long, value_enum, default_values_t = [Layout::Flat, Layout::Group])]
-        layout: Vec<Layout>,
+        #[arg(long, value_enum, default_values_t = [LayoutArg::Flat, LayoutArg::Group])]
+        layout: Vec<LayoutArg>,
     },
     /// BVH build time, camera and shadow rays per second per core, and peak memory on N random
     /// opaque spheres (the scene is described in `gtsphere bench trace --help`'s source,
-    /// src/cli/bench_trace.rs, and matches benches/embree).
+    /// src/scenes.rs, and matches benches/embree).
     Trace {
         /// Number of spheres.
         #[arg(long, default_value_t = 1_000_000)]
@@ -65,53 +66,25 @@ pub enum BenchCommand {
     Gas(super::bench_gas::GasArgs),
 }
 
-/// How the particles are laid out in the file.
+/// `--layout`: how the particles are laid out in the file ([`scenes::Layout`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum Layout {
+pub enum LayoutArg {
     /// A million top-level Transforms.
     Flat,
     /// A million children of one Group (what VMD-style exporters write).
     Group,
 }
 
-/// Deterministic pseudo-random numbers in [0, 1) (xorshift64*: fast, good enough for
-/// generated test geometry), the same sequence on every call.
-pub(crate) fn unit_random() -> impl FnMut() -> f64 {
-    let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
-    move || {
-        state ^= state >> 12;
-        state ^= state << 25;
-        state ^= state >> 27;
-        (state.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+impl From<LayoutArg> for scenes::Layout {
+    fn from(a: LayoutArg) -> Self {
+        match a {
+            LayoutArg::Flat => scenes::Layout::Flat,
+            LayoutArg::Group => scenes::Layout::Group,
+        }
     }
 }
 
-/// Writes `n` particles: `Transform { translation .. children Shape { appearance Appearance {
-/// material Material { diffuseColor .. } } geometry Sphere { radius .. } } }`, with
-/// deterministic pseudo-random positions, colours and radii.
-pub fn write_particles(out: &mut impl Write, n: usize, layout: Layout) -> std::io::Result<()> {
-    writeln!(out, "#VRML V2.0 utf8")?;
-    if layout == Layout::Group {
-        writeln!(out, "Group {{ children [")?;
-    }
-    let mut next = unit_random();
-    let radius = 0.6 * (n.max(1) as f64).powf(-1.0 / 3.0);
-    for _ in 0..n {
-        let (x, y, z) = (2.0 * next() - 1.0, 2.0 * next() - 1.0, 2.0 * next() - 1.0);
-        let (r, g, b) = (next(), next(), next());
-        let rad = radius * (0.5 + next());
-        writeln!(
-            out,
-            "Transform {{ translation {x:.6} {y:.6} {z:.6} children Shape {{ appearance Appearance {{ material Material {{ diffuseColor {r:.3} {g:.3} {b:.3} }} }} geometry Sphere {{ radius {rad:.5} }} }} }}"
-        )?;
-    }
-    if layout == Layout::Group {
-        writeln!(out, "] }}")?;
-    }
-    Ok(())
-}
-
-fn generate(dir: &Path, n: usize, layout: Layout) -> Result<PathBuf, Error> {
+fn generate(dir: &Path, n: usize, layout: scenes::Layout) -> Result<PathBuf, Error> {
     let name = format!(
         "gtsphere-bench-{}-{n}.wrl",
         format!("{layout:?}").to_lowercase()
@@ -165,6 +138,7 @@ pub fn run(cmd: BenchCommand) -> Result<ExitCode, Error> {
     println!("| layout | particles | file MB | median MB/s | median s | IR MB | peak RSS MB | peak / IR |");
     println!("|---|---:|---:|---:|---:|---:|---:|---:|");
     for l in layout {
+        let l = scenes::Layout::from(l);
         let path = generate(&dir, particles, l)?;
         let mut speeds = Vec::new();
         let mut secs = Vec::new();

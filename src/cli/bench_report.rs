@@ -24,11 +24,10 @@ use std::process::ExitCode;
 use clap::Args;
 
 use super::bench::median;
-use super::bench_gas::gas_cloud;
-use super::bench_trace::random_spheres;
 use crate::error::Error;
 use crate::render::{prepare, tiles::render, Counters, Integrator, RenderOptions, SamplerKind};
 use crate::scene::Scene;
+use crate::scenes::{gas_cloud, random_spheres};
 
 /// Renders faster than this (seconds) are repeated for a median.
 pub const REPEAT_BELOW: f64 = 0.3;
