@@ -77,7 +77,7 @@ pub fn to_json(path: &Path, s: &Scene, r: &LoadReport) -> serde_json::Value {
         "mb_per_s": mb_per_s(r),
         "nodes": r.nodes,
         "files": r.files,
-        "peak_rss_bytes": super::peak_rss_bytes(),
+        "peak_rss_bytes": crate::cli::memory::peak_rss_bytes(),
     })
 }
 
@@ -200,7 +200,7 @@ pub fn to_text(path: &Path, s: &Scene, r: &LoadReport) -> String {
         "memory:     IR {}, recorded DEF/PROTO events {}{}",
         human(s.heap_bytes() as u64),
         human(r.recorded_bytes as u64),
-        super::peak_rss_bytes()
+        crate::cli::memory::peak_rss_bytes()
             .map(|p| format!(", peak resident {}", human(p)))
             .unwrap_or_default()
     );

@@ -9,15 +9,11 @@ use clap::{Parser, Subcommand};
 use crate::error::Error;
 
 pub mod bench;
-pub mod bench_convert;
-pub mod bench_gas;
-pub mod bench_plot;
-pub mod bench_report;
-pub mod bench_trace;
 pub mod compare;
 pub mod convert_csv;
 pub mod convert_vrml;
 pub mod info;
+pub mod memory;
 pub mod merge;
 pub mod render;
 
@@ -94,7 +90,7 @@ pub enum Command {
         #[command(subcommand)]
         what: Option<bench::BenchCommand>,
         #[command(flatten)]
-        report: bench_report::ReportArgs,
+        report: bench::report::ReportArgs,
     },
 }
 
@@ -119,14 +115,6 @@ pub fn run(cli: Cli) -> Result<ExitCode, Error> {
         Command::Bench {
             what: Some(what), ..
         } => bench::run(what),
-        Command::Bench { what: None, report } => bench_report::run(&report),
+        Command::Bench { what: None, report } => bench::report::run(&report),
     }
-}
-
-/// Peak resident memory of this process so far (Linux `VmHWM`), in bytes.
-pub fn peak_rss_bytes() -> Option<u64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024)
 }

@@ -379,7 +379,7 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
             prep.bvh.build_time.as_secs_f64()
         );
         println!("BVH + prims bytes  {}", prep.bvh.heap_bytes());
-        if let Some(p) = super::peak_rss_bytes() {
+        if let Some(p) = crate::cli::memory::peak_rss_bytes() {
             println!("peak resident      {p}");
         }
     }

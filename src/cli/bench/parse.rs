@@ -8,63 +8,11 @@ use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
-use clap::{Subcommand, ValueEnum};
+use clap::ValueEnum;
 
+use super::measure::median;
 use crate::error::Error;
 use crate::scenes::{self, write_particles};
-
-#[derive(Debug, Subcommand)]
-pub enum BenchCommand {
-    /// Parse speed (MB/s, one core) and peak memory on generated files of N particles.
-    Parse {
-        /// Number of particles.
-        #[arg(long, default_value_t = 1_000_000)]
-        particles: usize,
-        /// Runs per layout (the median is reported).
-        #[arg(long, default_value_t = 3)]
-        runs: usize,
-        /// Where the generated files go (kept for reuse). Default: the system temp folder.
-        #[arg(long)]
-        dir: Option<PathBuf>,
-        /// Which layouts to measure.
-        #[arg(long, value_enum, default_values_t = [LayoutArg::Flat, LayoutArg::Group])]
-        layout: Vec<LayoutArg>,
-    },
-    /// BVH build time, camera and shadow rays per second per core, and peak memory on N random
-    /// opaque spheres (the scene is described in `gtsphere bench trace --help`'s source,
-    /// src/scenes.rs, and matches benches/embree).
-    Trace {
-        /// Number of spheres.
-        #[arg(long, default_value_t = 1_000_000)]
-        spheres: usize,
-        /// Image width and height in pixels (one ray through each pixel centre).
-        #[arg(long, default_value_t = 1024)]
-        size: u32,
-        /// Runs (the median is reported).
-        #[arg(long, default_value_t = 3)]
-        runs: usize,
-        /// Threads for the full-render pass (the ray passes use one thread).
-        #[arg(long, default_value_t = 1)]
-        threads: usize,
-    },
-    /// `gtsphere convert` speed (rows/s, MB/s, one core) and peak memory on a generated
-    /// particle CSV of N rows (x, y, z, radius, red, green, blue as 0-255).
-    Convert {
-        /// Number of rows.
-        #[arg(long, default_value_t = 10_000_000)]
-        rows: usize,
-        /// Runs (the median is reported).
-        #[arg(long, default_value_t = 3)]
-        runs: usize,
-        /// Where the generated table goes (kept for reuse). Default: the system temp folder.
-        #[arg(long)]
-        dir: Option<PathBuf>,
-    },
-    /// Lit gas: time against error of the gas integrators (exact, march, mc) on a lit gas
-    /// scene; with --scaling, how exact's cost per ray grows with N on gas clouds, against
-    /// march at equal error (issue 12); with --write DIR, those clouds as .wrl files.
-    Gas(super::bench_gas::GasArgs),
-}
 
 /// `--layout`: how the particles are laid out in the file ([`scenes::Layout`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -107,31 +55,12 @@ fn generate(dir: &Path, n: usize, layout: scenes::Layout) -> Result<PathBuf, Err
     Ok(path)
 }
 
-/// The median (upper median for an even count); `v` must not be empty.
-pub(crate) fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
-pub fn run(cmd: BenchCommand) -> Result<ExitCode, Error> {
-    let (particles, runs, dir, layout) = match cmd {
-        BenchCommand::Parse {
-            particles,
-            runs,
-            dir,
-            layout,
-        } => (particles, runs, dir, layout),
-        BenchCommand::Trace {
-            spheres,
-            size,
-            runs,
-            threads,
-        } => return super::bench_trace::run(spheres, size, runs, threads),
-        BenchCommand::Gas(args) => return super::bench_gas::run(&args),
-        BenchCommand::Convert { rows, runs, dir } => {
-            return super::bench_convert::run(rows, runs, dir)
-        }
-    };
+pub fn run(
+    particles: usize,
+    runs: usize,
+    dir: Option<PathBuf>,
+    layout: Vec<LayoutArg>,
+) -> Result<ExitCode, Error> {
     let dir = dir.unwrap_or_else(std::env::temp_dir);
     let exe = std::env::current_exe()
         .map_err(|e| Error::Other(format!("cannot find own executable: {e}")))?;

@@ -9,8 +9,8 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
-use super::bench::median;
-use super::peak_rss_bytes;
+use super::measure::median;
+use crate::cli::memory::peak_rss_bytes;
 use crate::error::Error;
 use crate::output::write_file_atomically;
 use crate::particles::{self, Extras, TableOptions, WriteOptions};

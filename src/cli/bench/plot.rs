@@ -11,7 +11,7 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
-use super::bench_report::{BenchScene, Row};
+use super::measure::{BenchScene, Row};
 use crate::error::Error;
 
 /// What the plot shows, for bench.md.

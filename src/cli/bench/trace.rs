@@ -11,7 +11,8 @@
 use std::process::ExitCode;
 use std::time::Instant;
 
-use super::bench::median;
+use super::measure::median;
+use crate::cli::memory::peak_rss_bytes;
 use crate::error::Error;
 use crate::render::integrators::surface::{first_hit, surface_point};
 use crate::render::lights::towards;
@@ -40,7 +41,7 @@ fn one_run(n: usize, size: u32, threads: usize) -> Result<Run, Error> {
         ..RenderOptions::default()
     };
     let prep = prepare(random_spheres(n), &opts).map_err(Error::Other)?;
-    let peak_prepare = super::peak_rss_bytes().unwrap_or(0);
+    let peak_prepare = peak_rss_bytes().unwrap_or(0);
     let cam = prep.camera.camera;
     let w = f64::from(size);
 
@@ -118,7 +119,7 @@ pub fn run(spheres: usize, size: u32, runs: usize, threads: usize) -> Result<Exi
         all.push(one_run(spheres, size, threads)?);
     }
     let med = |f: fn(&Run) -> f64| median(all.iter().map(f).collect());
-    let peak = super::peak_rss_bytes().unwrap_or(0) as f64;
+    let peak = peak_rss_bytes().unwrap_or(0) as f64;
     // The process's high-water mark only grows: after the first run it also holds that run's
     // render buffers, so only the first run's reading is the scene and BVH alone.
     let peak_prepare = all[0].peak_prepare as f64;

@@ -4,7 +4,7 @@
 //! scene of N gas spheres at S x S pixels, one ray (or, for mc, `spp` paths) through each
 //! pixel centre, so that only the integration error is measured, against a reference
 //! rendered by `exact` at a tolerance 1000 times tighter than the tightest one measured.
-//! The measuring is `gtsphere bench`'s (src/cli/bench_report.rs), on this one scene.
+//! The measuring is `gtsphere bench`'s ([`super::measure`]), on this one scene.
 //!
 //! Scene: [`crate::scenes::lit_gas`].
 //!
@@ -20,8 +20,7 @@ use std::process::ExitCode;
 
 use clap::{Args, ValueEnum};
 
-use super::bench::median;
-use super::bench_report::{goals, relative_rms, run_scene, table, BenchScene, Case};
+use super::measure::{goals, median, relative_rms, run_scene, table, BenchScene, Case};
 use crate::error::Error;
 use crate::render::{
     prepare, tiles::render, Aovs, Counters, Integrator, RenderOptions, SamplerKind,
