@@ -4,7 +4,6 @@
 //! ([`vrml::parse`]) -> scene IR ([`vrml::lower`] into [`scene::Scene`]).
 
 pub mod accel;
-pub mod cli;
 pub mod compare;
 pub mod diag;
 pub mod error;

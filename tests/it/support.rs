@@ -39,15 +39,6 @@ pub fn close(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol * (1.0 + b.abs())
 }
 
-/// Runs the `gtsphere` binary with `args` in `dir`.
-pub fn gtsphere(args: &[&str], dir: &std::path::Path) -> std::process::Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_gtsphere"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run gtsphere")
-}
-
 /// A fresh, empty directory `group/name` under the target dir's test scratch space.
 pub fn scratch(group: &str, name: &str) -> std::path::PathBuf {
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))

@@ -6,9 +6,9 @@
 
 use std::fmt::Write as _;
 
-use crate::error::Error;
-use crate::render::{prepare, tiles::render, Counters, Integrator, RenderOptions, SamplerKind};
-use crate::scene::Scene;
+use gtsphere::error::Error;
+use gtsphere::render::{prepare, tiles::render, Counters, Integrator, RenderOptions, SamplerKind};
+use gtsphere::scene::Scene;
 
 /// Renders faster than this (seconds) are repeated for a median.
 pub const REPEAT_BELOW: f64 = 0.3;

@@ -1,5 +1,5 @@
 //! `gtsphere bench` and its subcommands: one module per measurement, and the shared
-//! measuring in [`measure`]. The scenes come from the library ([`crate::scenes`]), so that
+//! measuring in [`measure`]. The scenes come from the library ([`gtsphere::scenes`]), so that
 //! `cargo bench` and the tests use the same ones.
 //!
 //! Dependency order: each module uses only the ones below it (and the library), never the
@@ -24,7 +24,7 @@ use std::process::ExitCode;
 
 use clap::Subcommand;
 
-use crate::error::Error;
+use gtsphere::error::Error;
 
 pub mod convert;
 pub mod gas;

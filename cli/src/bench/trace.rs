@@ -1,7 +1,7 @@
 //! `gtsphere bench trace`: BVH build time, camera and shadow rays per second, and peak memory
 //! on N random opaque spheres (issue 3's benchmark scene).
 //!
-//! Scene: [`crate::scenes::random_spheres`] (the same as `benches/embree/`, so the two can be
+//! Scene: [`gtsphere::scenes::random_spheres`] (the same as `benches/embree/`, so the two can be
 //! run side by side), one ray through each pixel's centre.
 //!
 //! Camera rays and shadow rays are timed in separate passes on one thread (per-core
@@ -12,13 +12,13 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use super::measure::median;
-use crate::cli::memory::peak_rss_bytes;
-use crate::error::Error;
-use crate::render::integrators::surface::{first_hit, surface_point};
-use crate::render::lights::towards;
-use crate::render::visibility::visible;
-use crate::render::{prepare, tiles::render, Counters, RenderOptions, SamplerKind};
-use crate::scenes::random_spheres;
+use crate::memory::peak_rss_bytes;
+use gtsphere::error::Error;
+use gtsphere::render::integrators::surface::{first_hit, surface_point};
+use gtsphere::render::lights::towards;
+use gtsphere::render::visibility::visible;
+use gtsphere::render::{prepare, tiles::render, Counters, RenderOptions, SamplerKind};
+use gtsphere::scenes::random_spheres;
 
 /// One measured run.
 struct Run {

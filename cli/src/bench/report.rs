@@ -23,8 +23,8 @@ use std::process::ExitCode;
 use clap::Args;
 
 use super::measure::{goals, run_scene, table, BenchScene, Case, Row};
-use crate::error::Error;
-use crate::scenes::{gas_cloud, random_spheres};
+use gtsphere::error::Error;
+use gtsphere::scenes::{gas_cloud, random_spheres};
 
 /// `gtsphere bench` without a subcommand.
 #[derive(Debug, Args)]

@@ -6,10 +6,10 @@
 //! rendered by `exact` at a tolerance 1000 times tighter than the tightest one measured.
 //! The measuring is `gtsphere bench`'s ([`super::measure`]), on this one scene.
 //!
-//! Scene: [`crate::scenes::lit_gas`].
+//! Scene: [`gtsphere::scenes::lit_gas`].
 //!
 //! **Scaling** (`--scaling`; issue 12, item 5): how the exact integrator's cost per camera
-//! ray grows with N, on the clouds [`crate::scenes::cloud`] at N = 1e3 ... 1e6, and what `march` needs for
+//! ray grows with N, on the clouds [`gtsphere::scenes::cloud`] at N = 1e3 ... 1e6, and what `march` needs for
 //! the same error. See [`run_scaling`] for what is measured and the goals it checks.
 //! `--write DIR` writes the clouds as VRML, for timing a whole `gtsphere render` and for
 //! benches/povray/.
@@ -21,12 +21,12 @@ use std::process::ExitCode;
 use clap::{Args, ValueEnum};
 
 use super::measure::{goals, median, relative_rms, run_scene, table, BenchScene, Case};
-use crate::error::Error;
-use crate::render::{
+use gtsphere::error::Error;
+use gtsphere::render::{
     prepare, tiles::render, Aovs, Counters, Integrator, RenderOptions, SamplerKind,
 };
-use crate::scene::Scene;
-use crate::scenes::{cloud, lit_gas, Cloud};
+use gtsphere::scene::Scene;
+use gtsphere::scenes::{cloud, lit_gas, Cloud};
 
 /// The time-against-error sweep on [`lit_gas`].
 pub fn run_tradeoff(n: usize, size: u32, threads: usize) -> Result<ExitCode, Error> {
@@ -147,7 +147,7 @@ fn write_clouds(dir: &std::path::Path, sizes: &[usize], clouds: &[CloudArg]) -> 
         for &c in clouds {
             let c = Cloud::from(c);
             let path = dir.join(format!("cloud-{}-{n}.wrl", c.name()));
-            crate::vrml::write::write_scene_file(&path, &cloud(n, c))?;
+            gtsphere::vrml::write::write_scene_file(&path, &cloud(n, c))?;
             eprintln!("wrote {}", path.display());
         }
     }

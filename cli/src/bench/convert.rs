@@ -10,11 +10,11 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use super::measure::median;
-use crate::cli::memory::peak_rss_bytes;
-use crate::error::Error;
-use crate::output::write_file_atomically;
-use crate::particles::{self, Extras, TableOptions, WriteOptions};
-use crate::scenes::write_table;
+use crate::memory::peak_rss_bytes;
+use gtsphere::error::Error;
+use gtsphere::output::write_file_atomically;
+use gtsphere::particles::{self, Extras, TableOptions, WriteOptions};
+use gtsphere::scenes::write_table;
 
 fn generate(dir: &Path, n: usize) -> Result<PathBuf, Error> {
     let path = dir.join(format!("gtsphere-bench-particles-{n}.csv"));

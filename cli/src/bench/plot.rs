@@ -12,7 +12,7 @@ use std::path::Path;
 use plotters::prelude::*;
 
 use super::measure::{BenchScene, Row};
-use crate::error::Error;
+use gtsphere::error::Error;
 
 /// What the plot shows, for bench.md.
 pub const LEGEND: &str = "One panel per scene. x: seconds (median wall time of the render \

@@ -11,8 +11,8 @@ use std::process::{Command, ExitCode};
 use clap::ValueEnum;
 
 use super::measure::median;
-use crate::error::Error;
-use crate::scenes::{self, write_particles};
+use gtsphere::error::Error;
+use gtsphere::scenes::{self, write_particles};
 
 /// `--layout`: how the particles are laid out in the file ([`scenes::Layout`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
