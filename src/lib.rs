@@ -4,7 +4,6 @@
 //! ([`vrml::parse`]) -> scene IR ([`vrml::lower`] into [`scene::Scene`]).
 
 pub mod accel;
-pub mod cli;
 pub mod compare;
 pub mod diag;
 pub mod error;
@@ -14,6 +13,7 @@ pub mod output;
 pub mod particles;
 pub mod render;
 pub mod scene;
+pub mod scenes;
 pub mod source;
 pub mod vrml;
 

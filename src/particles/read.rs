@@ -27,7 +27,8 @@ use crate::diag::{Diagnostic, Severity};
 /// How many data rows decide the colour scale.
 pub const SNIFF_ROWS: usize = 1000;
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+/// The field separator of a table.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Delimiter {
     Comma,
     Semicolon,
@@ -37,13 +38,11 @@ pub enum Delimiter {
 }
 
 /// The range colour values are written in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ColorScale {
     /// Floats from 0 to 1.
-    #[value(name = "1")]
     Unit,
     /// Integers from 0 to 255.
-    #[value(name = "255")]
     Byte,
 }
 

@@ -68,8 +68,6 @@ pub struct RenderOptions {
     /// Render only the pixels `x0..x1, y0..y1` of the `width x height` image (`--region`,
     /// `--tile`); the result is the same as those pixels of the whole render, bit for bit.
     pub region: Option<(u32, u32, u32, u32)>,
-    /// Show a progress bar (only drawn when stderr is a terminal).
-    pub progress: bool,
     /// Also return the pixels in f64 (`Rendered::rgb64`, 24 bytes a pixel more), for
     /// measuring errors below f32 rounding. Default false.
     pub film_f64: bool,
@@ -90,7 +88,6 @@ impl Default for RenderOptions {
             integrator: Integrator::Exact,
             tol: 1e-4,
             region: None,
-            progress: false,
             film_f64: false,
         }
     }

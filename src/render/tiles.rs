@@ -5,7 +5,6 @@
 use std::time::Instant;
 
 use glam::DVec3;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 
 use super::integrators::{self, surface, Scratch};
@@ -39,19 +38,17 @@ struct PixelOut {
     aov: Option<[f32; 5]>,
 }
 
-fn progress_bar(n: u64, show: bool) -> ProgressBar {
-    if !show {
-        return ProgressBar::hidden();
-    }
-    // indicatif draws only when stderr is a terminal.
-    let pb = ProgressBar::with_draw_target(Some(n), ProgressDrawTarget::stderr());
-    pb.set_style(
-        ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {percent:>3}% tiles, ETA {eta}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar())
-            .progress_chars("=> "),
-    );
-    pb
+/// Told how the tile loop goes (the command line draws a progress bar); `()` is told nothing.
+pub trait Progress: Sync {
+    /// Before the first tile: how many tiles there are.
+    fn start(&self, _tiles: u64) {}
+    /// A tile is done (called from the worker threads, in any order).
+    fn tile_done(&self) {}
+    /// After the last tile.
+    fn finish(&self) {}
 }
+
+impl Progress for () {}
 
 fn render_pixel(
     prep: &Prepared,
@@ -126,13 +123,22 @@ fn render_pixel(
 
 /// Renders the prepared scene. Run inside a rayon pool to choose the thread count.
 pub fn render(prep: &Prepared, opts: &RenderOptions) -> Rendered {
+    render_with_progress(prep, opts, &())
+}
+
+/// [`render`], telling `progress` of each finished tile.
+pub fn render_with_progress(
+    prep: &Prepared,
+    opts: &RenderOptions,
+    progress: &dyn Progress,
+) -> Rendered {
     let start = Instant::now();
     // The pixels to render: the region asked for, or the whole image. Each pixel depends
     // only on its own position, so a region equals the same pixels of a whole render.
     let (rx0, ry0, rx1, ry1) = opts.region.unwrap_or((0, 0, opts.width, opts.height));
     let (w, h) = (rx1 - rx0, ry1 - ry0);
     let (tx, ty) = (w.div_ceil(TILE), h.div_ceil(TILE));
-    let pb = progress_bar(u64::from(tx * ty), opts.progress);
+    progress.start(u64::from(tx * ty));
     let tiles: Vec<(Vec<PixelOut>, Counters)> = (0..tx * ty)
         .into_par_iter()
         .map(|t| {
@@ -156,11 +162,11 @@ pub fn render(prep: &Prepared, opts: &RenderOptions) -> Rendered {
                     ));
                 }
             }
-            pb.inc(1);
+            progress.tile_done();
             (px, counters)
         })
         .collect();
-    pb.finish_and_clear();
+    progress.finish();
 
     let n = (w as usize) * (h as usize);
     let mut image = Image {

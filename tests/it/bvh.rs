@@ -191,11 +191,11 @@ fn grazing_rays_through_the_bvh() {
 /// visibility through the renderer's own functions against a brute-force loop.
 #[test]
 fn benchmark_scene_shadows_match_brute_force() {
-    use gtsphere::cli::bench_trace::random_spheres;
     use gtsphere::render::integrators::surface::{first_hit, surface_point};
     use gtsphere::render::lights::towards;
     use gtsphere::render::visibility::visible;
     use gtsphere::render::{prepare, RenderOptions};
+    use gtsphere::scenes::random_spheres;
     let scene = random_spheres(20_000);
     let spheres: Vec<(DVec3, f64)> = scene.spheres.iter().map(|s| (s.center, s.radius)).collect();
     let prep = prepare(scene, &RenderOptions::default()).unwrap();

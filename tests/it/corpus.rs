@@ -9,8 +9,9 @@ use gtsphere::Error;
 
 use super::corpus_counts::EXPECTED;
 
-fn corpus_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus")
+/// The corpus, or `None` (the test is skipped) when ../shared is not beside the checkout.
+fn corpus_dir() -> Option<PathBuf> {
+    crate::support::shared("corpus")
 }
 
 fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
@@ -37,8 +38,8 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
 }
 
 /// Paths (relative to the corpus) that MANIFEST.md marks EXPECTED-INVALID.
-fn expected_invalid() -> Vec<String> {
-    let manifest = std::fs::read_to_string(corpus_dir().join("MANIFEST.md")).expect("MANIFEST.md");
+fn expected_invalid(corpus: &Path) -> Vec<String> {
+    let manifest = std::fs::read_to_string(corpus.join("MANIFEST.md")).expect("MANIFEST.md");
     manifest
         .lines()
         .filter(|l| l.starts_with("| ") && l.contains("EXPECTED-INVALID"))
@@ -48,8 +49,9 @@ fn expected_invalid() -> Vec<String> {
 
 #[test]
 fn every_corpus_file_reads_or_fails_with_a_positioned_error() {
+    let Some(corpus) = corpus_dir() else { return };
     let mut files = Vec::new();
-    walk(&corpus_dir(), &mut files);
+    walk(&corpus, &mut files);
     assert!(files.len() >= 280, "corpus has {} files", files.len());
     let (mut clean, mut warned, mut failed) = (0, 0, Vec::new());
     for f in &files {
@@ -89,18 +91,19 @@ fn every_corpus_file_reads_or_fails_with_a_positioned_error() {
 
 #[test]
 fn expected_invalid_files_are_rejected_under_strict() {
+    let Some(corpus) = corpus_dir() else { return };
     let strict = LoadOptions {
         strict: true,
         ..LoadOptions::default()
     };
-    let list = expected_invalid();
+    let list = expected_invalid(&corpus);
     assert_eq!(
         list.len(),
         12,
         "MANIFEST lists 12 EXPECTED-INVALID files: {list:?}"
     );
     for rel in list {
-        let path = corpus_dir().join(&rel);
+        let path = corpus.join(&rel);
         match load_path(&path, &strict) {
             Ok(_) => panic!("{rel}: accepted under --strict"),
             Err(Error::Diag(_) | Error::Diags(_)) => {}
@@ -111,8 +114,9 @@ fn expected_invalid_files_are_rejected_under_strict() {
 
 #[test]
 fn hand_counted_files_match() {
+    let Some(corpus) = corpus_dir() else { return };
     for e in EXPECTED {
-        let path = corpus_dir().join(e.path);
+        let path = corpus.join(e.path);
         let (s, r) = load_path(&path, &LoadOptions::default())
             .unwrap_or_else(|err| panic!("{}: {err}", e.path));
         let got = (
@@ -145,14 +149,15 @@ fn hand_counted_files_match() {
 
 #[test]
 fn files_without_viewpoint_say_so_and_files_with_them_keep_names() {
+    let Some(corpus) = corpus_dir() else { return };
     let (s, _) = load_path(
-        &corpus_dir().join("tools/meshlab/meshlab_pointcloud500.wrl"),
+        &corpus.join("tools/meshlab/meshlab_pointcloud500.wrl"),
         &LoadOptions::default(),
     )
     .expect("meshlab");
     assert!(s.viewpoints.is_empty());
     let (s, _) = load_path(
-        &corpus_dir().join("conformance/openvrml/models/SimplePROTO.wrl"),
+        &corpus.join("conformance/openvrml/models/SimplePROTO.wrl"),
         &LoadOptions::default(),
     )
     .expect("SimplePROTO");

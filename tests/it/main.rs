@@ -1,8 +1,7 @@
-//! One integration-test binary of named modules.
+//! One integration-test binary of named modules: the library's tests (the `gtsphere`
+//! binary's are in cli/tests/it/).
 
 mod bvh;
-mod cli_bench;
-mod cli_render;
 mod convert_csv;
 mod corpus;
 mod corpus_counts;

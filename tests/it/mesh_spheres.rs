@@ -268,8 +268,10 @@ fn coordinate_outside_an_indexed_face_set_is_still_skipped() {
 /// `gtsphere render jmol_peptide20_spacefill.wrl` shows the atoms.
 #[test]
 fn jmol_spacefill_renders_its_atoms() {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/corpus/tools/jmol/jmol_peptide20_spacefill.wrl");
+    let Some(corpus) = crate::support::shared("corpus") else {
+        return;
+    };
+    let path = corpus.join("tools/jmol/jmol_peptide20_spacefill.wrl");
     let (s, r) = load_path(&path, &LoadOptions::default()).unwrap();
     assert_eq!((s.spheres.len(), r.mesh_spheres), (324, 324));
     let opts = RenderOptions {

@@ -1,5 +1,9 @@
 //! Helpers shared by the integration tests.
 
+use std::io::Write as _;
+use std::path::PathBuf;
+use std::sync::Once;
+
 use gtsphere::scene::Scene;
 // load_str goes through the streaming reader (1 MiB chunks), as files do.
 use gtsphere::vrml::{load_str, LoadOptions, LoadReport};
@@ -39,13 +43,41 @@ pub fn close(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol * (1.0 + b.abs())
 }
 
-/// Runs the `gtsphere` binary with `args` in `dir`.
-pub fn gtsphere(args: &[&str], dir: &std::path::Path) -> std::process::Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_gtsphere"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run gtsphere")
+/// `../shared/SUB` beside the checkout (`corpus`, the VRML corpus; `cases/...`, the gas
+/// accuracy cases), or `None` when it is not there: the test then returns early, and the
+/// first test to find it missing says so once, on the terminal, with where it is expected.
+/// When the environment variable `CI` is set (to anything but `false` or `0`), a missing
+/// folder fails the test instead, so CI cannot pass without the corpus.
+pub fn shared(sub: &str) -> Option<PathBuf> {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    // The checkout's parent, spelt without `..`, for the message.
+    let beside = root.parent().unwrap_or(root).join("shared");
+    let path = beside.join(sub);
+    if path.exists() {
+        return Some(path);
+    }
+    let ci = std::env::var("CI").is_ok_and(|v| !v.is_empty() && v != "false" && v != "0");
+    if ci {
+        panic!(
+            "{} is missing: the corpus ({}, with corpus/ and cases/) must be beside the \
+             checkout, and under CI=true its absence is a failure",
+            path.display(),
+            beside.display()
+        );
+    }
+    static SAID: Once = Once::new();
+    SAID.call_once(|| {
+        // Straight to stderr: the test harness captures eprintln! of passing tests.
+        let _ = writeln!(
+            std::io::stderr(),
+            "\nnote: the corpus is absent: {} is not there (expected beside this checkout, \
+             holding corpus/ and cases/), so the tests that read it are skipped and pass \
+             without checking. Put the shared folder there to run them; with CI=true they \
+             fail instead.\n",
+            if beside.exists() { &path } else { &beside }.display()
+        );
+    });
+    None
 }
 
 /// A fresh, empty directory `group/name` under the target dir's test scratch space.

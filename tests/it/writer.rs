@@ -140,13 +140,12 @@ fn files() -> Vec<String> {
         .iter()
         .map(|s| format!("{}/samples/{s}.wrl", env!("CARGO_MANIFEST_DIR")))
         .collect();
-    for tool in ["pymol", "jmol", "vtk", "meshlab"] {
-        let dir = format!(
-            "{}/../shared/corpus/tools/{tool}",
-            env!("CARGO_MANIFEST_DIR")
-        );
-        for e in std::fs::read_dir(&dir).unwrap() {
-            v.push(e.unwrap().path().display().to_string());
+    // The tool exports of the corpus, when it is there (the samples are tested without it).
+    if let Some(corpus) = crate::support::shared("corpus") {
+        for tool in ["pymol", "jmol", "vtk", "meshlab"] {
+            for e in std::fs::read_dir(corpus.join("tools").join(tool)).unwrap() {
+                v.push(e.unwrap().path().display().to_string());
+            }
         }
     }
     v.push(format!(

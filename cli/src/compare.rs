@@ -3,9 +3,9 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use crate::compare::{heatmap, metrics};
-use crate::error::Error;
-use crate::output::{read_image, write_image};
+use gtsphere::compare::{heatmap, metrics};
+use gtsphere::error::Error;
+use gtsphere::output::{read_image, write_image};
 
 pub fn run(
     image: &Path,

@@ -5,13 +5,15 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Args, ValueEnum};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use crate::error::Error;
-use crate::output::{format_for, write_image, write_part, Format, Placement};
-use crate::render::{
-    prepare, tiles::render, Aovs, CameraChoice, Integrator, Projection, RenderOptions, SamplerKind,
+use gtsphere::error::Error;
+use gtsphere::output::{format_for, write_image, write_part, Format, Placement};
+use gtsphere::render::{
+    prepare, tiles::render_with_progress, tiles::Progress, Aovs, CameraChoice, Integrator,
+    Projection, RenderOptions, SamplerKind,
 };
-use crate::vrml::{load_path, LoadOptions};
+use gtsphere::vrml::{load_path, LoadOptions};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum SamplerArg {
@@ -129,6 +131,39 @@ pub struct RenderArgs {
     /// Print nothing but errors.
     #[arg(short, long)]
     pub quiet: bool,
+}
+
+/// The progress bar of the tile loop, drawn only when stderr is a terminal (indicatif's
+/// choice) and not `--quiet`.
+struct TileBar(ProgressBar);
+
+impl TileBar {
+    fn new(show: bool) -> Self {
+        if !show {
+            return TileBar(ProgressBar::hidden());
+        }
+        let pb = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+        pb.set_style(
+            ProgressStyle::with_template(
+                "{elapsed_precise} [{bar:40}] {percent:>3}% tiles, ETA {eta}",
+            )
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+        );
+        TileBar(pb)
+    }
+}
+
+impl Progress for TileBar {
+    fn start(&self, tiles: u64) {
+        self.0.set_length(tiles);
+    }
+    fn tile_done(&self) {
+        self.0.inc(1);
+    }
+    fn finish(&self) {
+        self.0.finish_and_clear();
+    }
 }
 
 /// The output path: as given, or `<scene stem>.png` in the current directory.
@@ -280,7 +315,6 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<RenderOptions, Error> {
         as_gas: args.as_gas,
         integrator,
         tol: args.tol,
-        progress: !args.quiet,
         film_f64: false,
     })
 }
@@ -333,7 +367,8 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
         .num_threads(args.threads.unwrap_or(0))
         .build()
         .map_err(|e| Error::Other(format!("cannot start worker threads: {e}")))?;
-    let done = pool.install(|| render(&prep, &opts));
+    let bar = TileBar::new(!args.quiet);
+    let done = pool.install(|| render_with_progress(&prep, &opts, &bar));
     match opts.region {
         Some((x0, y0, _, _)) => write_part(
             &out,
@@ -379,7 +414,7 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
             prep.bvh.build_time.as_secs_f64()
         );
         println!("BVH + prims bytes  {}", prep.bvh.heap_bytes());
-        if let Some(p) = super::peak_rss_bytes() {
+        if let Some(p) = crate::memory::peak_rss_bytes() {
             println!("peak resident      {p}");
         }
     }

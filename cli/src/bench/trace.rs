@@ -1,11 +1,8 @@
 //! `gtsphere bench trace`: BVH build time, camera and shadow rays per second, and peak memory
 //! on N random opaque spheres (issue 3's benchmark scene).
 //!
-//! Scene (the same as `benches/embree/`, so the two can be run side by side): centres uniform
-//! in `[-1,1]^3` from SplitMix64 seeded with 1 (x, y, z drawn in that order per sphere,
-//! `u = (next >> 11) * 2^-53`, centre `2u - 1`), radius `0.6 N^(-1/3)`; camera at (0,0,4)
-//! looking down -z with fieldOfView 0.785398, one ray through each pixel's centre; a
-//! PointLight at (3,3,3) and a DirectionalLight along (-1,-1,-1), headlight off.
+//! Scene: [`gtsphere::scenes::random_spheres`] (the same as `benches/embree/`, so the two can be
+//! run side by side), one ray through each pixel's centre.
 //!
 //! Camera rays and shadow rays are timed in separate passes on one thread (per-core
 //! figures): pass 1 finds every camera hit, pass 2 traces one shadow ray per hit and light.
@@ -14,75 +11,14 @@
 use std::process::ExitCode;
 use std::time::Instant;
 
-use glam::{DQuat, DVec3};
-
-use super::bench::median;
-use crate::error::Error;
-use crate::render::integrators::surface::{first_hit, surface_point};
-use crate::render::lights::towards;
-use crate::render::visibility::visible;
-use crate::render::{prepare, tiles::render, Counters, RenderOptions, SamplerKind};
-use crate::scene::{
-    DirectionalLight, Light, Material, Origin, PointLight, Scene, Sphere, Viewpoint,
-};
-
-/// The benchmark scene with `n` spheres.
-#[allow(
-    clippy::approx_constant,
-    reason = "fieldOfView 0.785398 is the benchmark's stated value, as the Embree side uses it"
-)]
-pub fn random_spheres(n: usize) -> Scene {
-    let mut state: u64 = 1;
-    let mut next = || {
-        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        (crate::render::sampler::mix(state) >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    };
-    let radius = 0.6 * (n.max(1) as f64).powf(-1.0 / 3.0);
-    let mut scene = Scene {
-        headlight: false,
-        ..Scene::default()
-    };
-    scene.materials = vec![Material::unlit(), Material::default()];
-    scene.spheres.reserve_exact(n);
-    for _ in 0..n {
-        let (x, y, z) = (next(), next(), next());
-        scene.spheres.push(Sphere {
-            center: DVec3::new(2.0 * x - 1.0, 2.0 * y - 1.0, 2.0 * z - 1.0),
-            radius,
-            material: 1,
-            ellipsoid: crate::scene::NO_ELLIPSOID,
-            origin: Origin::default(),
-        });
-    }
-    scene.lights.push(Light::Point(PointLight {
-        location: DVec3::new(3.0, 3.0, 3.0),
-        color: DVec3::ONE,
-        intensity: 1.0,
-        ambient_intensity: 0.0,
-        attenuation: DVec3::new(1.0, 0.0, 0.0),
-        radius: f64::INFINITY,
-        on: true,
-        origin: Origin::default(),
-    }));
-    scene.lights.push(Light::Directional(DirectionalLight {
-        direction: DVec3::new(-1.0, -1.0, -1.0).normalize(),
-        color: DVec3::ONE,
-        intensity: 1.0,
-        ambient_intensity: 0.0,
-        on: true,
-        scope: (0, u32::MAX),
-        origin: Origin::default(),
-    }));
-    scene.viewpoints.push(Viewpoint {
-        name: None,
-        description: "bench".into(),
-        position: DVec3::new(0.0, 0.0, 4.0),
-        orientation: DQuat::IDENTITY,
-        field_of_view: 0.785398,
-        origin: Origin::default(),
-    });
-    scene
-}
+use super::measure::median;
+use crate::memory::peak_rss_bytes;
+use gtsphere::error::Error;
+use gtsphere::render::integrators::surface::{first_hit, surface_point};
+use gtsphere::render::lights::towards;
+use gtsphere::render::visibility::visible;
+use gtsphere::render::{prepare, tiles::render, Counters, RenderOptions, SamplerKind};
+use gtsphere::scenes::random_spheres;
 
 /// One measured run.
 struct Run {
@@ -105,7 +41,7 @@ fn one_run(n: usize, size: u32, threads: usize) -> Result<Run, Error> {
         ..RenderOptions::default()
     };
     let prep = prepare(random_spheres(n), &opts).map_err(Error::Other)?;
-    let peak_prepare = super::peak_rss_bytes().unwrap_or(0);
+    let peak_prepare = peak_rss_bytes().unwrap_or(0);
     let cam = prep.camera.camera;
     let w = f64::from(size);
 
@@ -183,7 +119,7 @@ pub fn run(spheres: usize, size: u32, runs: usize, threads: usize) -> Result<Exi
         all.push(one_run(spheres, size, threads)?);
     }
     let med = |f: fn(&Run) -> f64| median(all.iter().map(f).collect());
-    let peak = super::peak_rss_bytes().unwrap_or(0) as f64;
+    let peak = peak_rss_bytes().unwrap_or(0) as f64;
     // The process's high-water mark only grows: after the first run it also holds that run's
     // render buffers, so only the first run's reading is the scene and BVH alone.
     let peak_prepare = all[0].peak_prepare as f64;

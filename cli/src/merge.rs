@@ -5,8 +5,8 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use crate::error::Error;
-use crate::output::{read_part, write_image, Image, Layer};
+use gtsphere::error::Error;
+use gtsphere::output::{read_part, write_image, Image, Layer};
 
 pub fn run(parts: &[PathBuf], out: &Path) -> Result<ExitCode, Error> {
     let bad = |m: String| Error::Other(m);

@@ -1,12 +1,12 @@
 //! `gtsphere convert scene.wrl -o out.wrl`: the scene as the renderer sees it, written back as
-//! flattened VRML97 (see [`crate::vrml::write`]).
+//! flattened VRML97 (see [`gtsphere::vrml::write`]).
 
 use std::path::Path;
 use std::process::ExitCode;
 
-use crate::error::Error;
-use crate::vrml::write::write_scene_file;
-use crate::vrml::{load_path, LoadOptions};
+use gtsphere::error::Error;
+use gtsphere::vrml::write::write_scene_file;
+use gtsphere::vrml::{load_path, LoadOptions};
 
 pub fn run(input: &Path, output: &Path, strict: bool, quiet: bool) -> Result<ExitCode, Error> {
     let opts = LoadOptions {

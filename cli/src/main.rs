@@ -1,25 +1,22 @@
-//! Command-line arguments (clap) and the subcommands. Raw arguments are turned into library
-//! options here; the library never sees clap.
+//! The `gtsphere` command: command-line arguments (clap), the subcommands, progress bars and
+//! plots, over the `gtsphere` library. Raw arguments are turned into library options here; the
+//! library never sees clap (see `gtsphere --help`).
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use crate::error::Error;
+use gtsphere::error::Error;
 
-pub mod bench;
-pub mod bench_convert;
-pub mod bench_gas;
-pub mod bench_plot;
-pub mod bench_report;
-pub mod bench_trace;
-pub mod compare;
-pub mod convert_csv;
-pub mod convert_vrml;
-pub mod info;
-pub mod merge;
-pub mod render;
+mod bench;
+mod compare;
+mod convert_csv;
+mod convert_vrml;
+mod info;
+mod memory;
+mod merge;
+mod render;
 
 #[derive(Debug, Parser)]
 #[command(
@@ -27,13 +24,13 @@ pub mod render;
     version,
     about = "Ground-truth renderer for particle data drawn as spheres"
 )]
-pub struct Cli {
+struct Cli {
     #[command(subcommand)]
-    pub command: Command,
+    command: Command,
 }
 
 #[derive(Debug, Subcommand)]
-pub enum Command {
+enum Command {
     /// Read a VRML97 scene and report what it holds: spheres, lights, viewpoints, skipped nodes,
     /// bounds, memory, parse speed, and every warning.
     Info {
@@ -94,11 +91,11 @@ pub enum Command {
         #[command(subcommand)]
         what: Option<bench::BenchCommand>,
         #[command(flatten)]
-        report: bench_report::ReportArgs,
+        report: bench::report::ReportArgs,
     },
 }
 
-pub fn run(cli: Cli) -> Result<ExitCode, Error> {
+fn run(cli: Cli) -> Result<ExitCode, Error> {
     match cli.command {
         Command::Info {
             scene,
@@ -119,14 +116,16 @@ pub fn run(cli: Cli) -> Result<ExitCode, Error> {
         Command::Bench {
             what: Some(what), ..
         } => bench::run(what),
-        Command::Bench { what: None, report } => bench_report::run(&report),
+        Command::Bench { what: None, report } => bench::report::run(&report),
     }
 }
 
-/// Peak resident memory of this process so far (Linux `VmHWM`), in bytes.
-pub fn peak_rss_bytes() -> Option<u64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024)
+fn main() -> ExitCode {
+    match run(Cli::parse()) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("{e}");
+            ExitCode::from(1)
+        }
+    }
 }

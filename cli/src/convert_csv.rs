@@ -1,4 +1,4 @@
-//! `gtsphere convert`: particle tables to VRML97 ([`crate::particles`]), or VRML97 back out
+//! `gtsphere convert`: particle tables to VRML97 ([`gtsphere::particles`]), or VRML97 back out
 //! ([`super::convert_vrml`]). The input kind is decided by content: a file whose text starts
 //! with `#VRML` (after gunzip) is a scene, anything else a particle table.
 
@@ -7,13 +7,54 @@ use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use clap::Args;
+use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use crate::error::Error;
-use crate::input::sniff;
-use crate::particles::columns::ColumnSpec;
-use crate::particles::{self, ColorScale, Delimiter, Extras, TableOptions, WriteOptions};
+use gtsphere::error::Error;
+use gtsphere::input::sniff;
+use gtsphere::particles::columns::ColumnSpec;
+use gtsphere::particles::{self, ColorScale, Delimiter, Extras, TableOptions, WriteOptions};
+
+/// `--delimiter` ([`Delimiter`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum DelimiterArg {
+    Comma,
+    Semicolon,
+    Tab,
+    /// One or more spaces or tabs.
+    Whitespace,
+}
+
+impl From<DelimiterArg> for Delimiter {
+    fn from(a: DelimiterArg) -> Self {
+        match a {
+            DelimiterArg::Comma => Delimiter::Comma,
+            DelimiterArg::Semicolon => Delimiter::Semicolon,
+            DelimiterArg::Tab => Delimiter::Tab,
+            DelimiterArg::Whitespace => Delimiter::Whitespace,
+        }
+    }
+}
+
+/// `--color-scale` ([`ColorScale`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ColorScaleArg {
+    /// Floats from 0 to 1.
+    #[value(name = "1")]
+    Unit,
+    /// Integers from 0 to 255.
+    #[value(name = "255")]
+    Byte,
+}
+
+impl From<ColorScaleArg> for ColorScale {
+    fn from(a: ColorScaleArg) -> Self {
+        match a {
+            ColorScaleArg::Unit => ColorScale::Unit,
+            ColorScaleArg::Byte => ColorScale::Byte,
+        }
+    }
+}
 
 #[derive(Debug, Args)]
 pub struct ConvertArgs {
@@ -36,11 +77,11 @@ pub struct ConvertArgs {
     pub radius: Option<f64>,
     /// Field separator (default: guessed from the first line).
     #[arg(long, value_enum)]
-    pub delimiter: Option<Delimiter>,
+    pub delimiter: Option<DelimiterArg>,
     /// Colour values are 0-1 floats (`1`) or 0-255 integers (`255`) (default: guessed from
     /// the first 1000 rows).
     #[arg(long, value_enum, value_name = "1|255")]
-    pub color_scale: Option<ColorScale>,
+    pub color_scale: Option<ColorScaleArg>,
     /// Skip bad rows (and say how many) instead of stopping at the first.
     #[arg(long)]
     pub skip_bad: bool,
@@ -127,8 +168,8 @@ pub fn run(args: &ConvertArgs) -> Result<ExitCode, Error> {
     let table = TableOptions {
         columns,
         radius: args.radius,
-        delimiter: args.delimiter,
-        color_scale: args.color_scale,
+        delimiter: args.delimiter.map(Delimiter::from),
+        color_scale: args.color_scale.map(ColorScale::from),
         skip_bad: args.skip_bad,
     };
     let opts = WriteOptions {

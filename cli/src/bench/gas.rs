@@ -4,16 +4,12 @@
 //! scene of N gas spheres at S x S pixels, one ray (or, for mc, `spp` paths) through each
 //! pixel centre, so that only the integration error is measured, against a reference
 //! rendered by `exact` at a tolerance 1000 times tighter than the tightest one measured.
-//! The measuring is `gtsphere bench`'s (src/cli/bench_report.rs), on this one scene.
+//! The measuring is `gtsphere bench`'s ([`super::measure`]), on this one scene.
 //!
-//! Scene: centres uniform in `[-1,1]^3` (SplitMix64 seeded with 7), radii `0.9 N^(-1/3)` times
-//! a factor in [0.6, 1.4), transparency in [0.3, 0.9), emission a warm colour scaled by 0.3,
-//! albedo 0.8; two opaque spheres; a PointLight at (0.3, 0.5, 0.2) inside the cloud and a
-//! DirectionalLight along (-1, -0.6, -0.4); camera at (0, 0, 4.5) looking down -z,
-//! fieldOfView 0.7; headlight off.
+//! Scene: [`gtsphere::scenes::lit_gas`].
 //!
 //! **Scaling** (`--scaling`; issue 12, item 5): how the exact integrator's cost per camera
-//! ray grows with N, on the clouds [`cloud`] at N = 1e3 ... 1e6, and what `march` needs for
+//! ray grows with N, on the clouds [`gtsphere::scenes::cloud`] at N = 1e3 ... 1e6, and what `march` needs for
 //! the same error. See [`run_scaling`] for what is measured and the goals it checks.
 //! `--write DIR` writes the clouds as VRML, for timing a whole `gtsphere render` and for
 //! benches/povray/.
@@ -23,115 +19,14 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, ValueEnum};
-use glam::{DQuat, DVec3};
 
-use super::bench::median;
-use super::bench_report::{goals, relative_rms, run_scene, table, BenchScene, Case};
-use super::bench_trace::random_spheres;
-use crate::error::Error;
-use crate::render::{
+use super::measure::{goals, median, relative_rms, run_scene, table, BenchScene, Case};
+use gtsphere::error::Error;
+use gtsphere::render::{
     prepare, tiles::render, Aovs, Counters, Integrator, RenderOptions, SamplerKind,
 };
-use crate::scene::{
-    DirectionalLight, Light, Material, Origin, PointLight, Scene, Sphere, Viewpoint,
-};
-
-/// The benchmark's lit gas scene with `n` gas spheres.
-pub fn lit_gas(n: usize) -> Scene {
-    gas_cloud(n, true)
-}
-
-/// `n` gas spheres as described above; without `lit`, no lights and no opaque spheres (only
-/// emission and absorption: the `emission` scene of `gtsphere bench`).
-pub fn gas_cloud(n: usize, lit: bool) -> Scene {
-    let mut state: u64 = 7;
-    let mut next = || {
-        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        (crate::render::sampler::mix(state) >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    };
-    let mut scene = Scene {
-        headlight: false,
-        background: DVec3::new(0.02, 0.02, 0.03),
-        ..Scene::default()
-    };
-    scene.materials.push(Material::unlit());
-    let opaque = Material {
-        diffuse: DVec3::new(0.8, 0.8, 0.8),
-        specular: DVec3::splat(0.3),
-        ..Material::default()
-    };
-    scene.materials.push(opaque);
-    let base = 0.9 * (n.max(1) as f64).powf(-1.0 / 3.0);
-    for _ in 0..n {
-        let c = DVec3::new(next(), next(), next()) * 2.0 - 1.0;
-        let radius = base * (0.6 + 0.8 * next());
-        let warm = DVec3::new(1.0, 0.55 + 0.3 * next(), 0.2 + 0.3 * next());
-        scene.materials.push(Material {
-            diffuse: DVec3::splat(0.8),
-            emissive: warm * 0.3,
-            specular: DVec3::ZERO,
-            shininess: 0.2,
-            ambient_intensity: 0.2,
-            transparency: 0.3 + 0.6 * next(),
-            unlit: false,
-        });
-        scene.spheres.push(Sphere {
-            center: c,
-            radius,
-            material: scene.materials.len() as u32 - 1,
-            ellipsoid: crate::scene::NO_ELLIPSOID,
-            origin: Origin::default(),
-        });
-    }
-    if !lit {
-        scene.viewpoints.push(bench_view());
-        return scene;
-    }
-    for (c, r) in [
-        (DVec3::new(-0.4, -0.3, 0.1), 0.3),
-        (DVec3::new(0.5, 0.2, -0.5), 0.25),
-    ] {
-        scene.spheres.push(Sphere {
-            center: c,
-            radius: r,
-            material: 1,
-            ellipsoid: crate::scene::NO_ELLIPSOID,
-            origin: Origin::default(),
-        });
-    }
-    scene.lights.push(Light::Point(PointLight {
-        location: DVec3::new(0.3, 0.5, 0.2),
-        color: DVec3::new(1.0, 0.9, 0.8),
-        intensity: 1.0,
-        ambient_intensity: 0.0,
-        attenuation: DVec3::new(1.0, 0.0, 0.0),
-        radius: 100.0,
-        on: true,
-        origin: Origin::default(),
-    }));
-    scene.lights.push(Light::Directional(DirectionalLight {
-        direction: DVec3::new(-1.0, -0.6, -0.4).normalize(),
-        color: DVec3::new(0.7, 0.8, 1.0),
-        intensity: 1.0,
-        ambient_intensity: 0.1,
-        on: true,
-        scope: (0, u32::MAX),
-        origin: Origin::default(),
-    }));
-    scene.viewpoints.push(bench_view());
-    scene
-}
-
-fn bench_view() -> Viewpoint {
-    Viewpoint {
-        name: None,
-        description: "bench".into(),
-        position: DVec3::new(0.0, 0.0, 4.5),
-        orientation: DQuat::IDENTITY,
-        field_of_view: 0.7,
-        origin: Origin::default(),
-    }
-}
+use gtsphere::scene::Scene;
+use gtsphere::scenes::{cloud, lit_gas, Cloud};
 
 /// The time-against-error sweep on [`lit_gas`].
 pub fn run_tradeoff(n: usize, size: u32, threads: usize) -> Result<ExitCode, Error> {
@@ -195,8 +90,8 @@ pub struct GasArgs {
     #[arg(long, value_delimiter = ',', value_parser = parse_count)]
     pub sizes: Vec<usize>,
     /// Which clouds, for --scaling and --write.
-    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [Cloud::Thick, Cloud::Thin])]
-    pub clouds: Vec<Cloud>,
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [CloudArg::Thick, CloudArg::Thin])]
+    pub clouds: Vec<CloudArg>,
     /// Runs of each exact render at the default tol, the median time is reported
     /// [default: 3 for N <= 1e4, 1 above].
     #[arg(long)]
@@ -211,26 +106,20 @@ pub struct GasArgs {
     pub write: Option<PathBuf>,
 }
 
-/// The two clouds of the scaling table.
+/// `--clouds`: the two clouds of the scaling table ([`Cloud`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum Cloud {
+pub enum CloudArg {
     /// Optical depth 4 along a diameter (transparency exp(-4)).
     Thick,
     /// Transparency 0.9 (optical depth 0.105 along a diameter).
     Thin,
 }
 
-impl Cloud {
-    pub fn name(self) -> &'static str {
-        match self {
-            Cloud::Thick => "thick",
-            Cloud::Thin => "thin",
-        }
-    }
-    pub fn transparency(self) -> f64 {
-        match self {
-            Cloud::Thick => (-4.0f64).exp(),
-            Cloud::Thin => 0.9,
+impl From<CloudArg> for Cloud {
+    fn from(a: CloudArg) -> Self {
+        match a {
+            CloudArg::Thick => Cloud::Thick,
+            CloudArg::Thin => Cloud::Thin,
         }
     }
 }
@@ -248,76 +137,17 @@ fn parse_count(s: &str) -> Result<usize, String> {
     }
 }
 
-/// Albedos of the clouds: 16 colours spread over hue and brightness (linear RGB in
-/// [0.2, 0.95]), so that every channel's scattering differs from sphere to sphere.
-fn palette(k: usize) -> DVec3 {
-    let f = |x: f64| 0.2 + 0.75 * x.fract();
-    let k = k as f64;
-    DVec3::new(
-        f(k * 0.618_034 + 0.1),
-        f(k * 0.381_966 + 0.45),
-        f(k * 0.723_607 + 0.8),
-    )
-}
-
-/// Colours of the clouds.
-pub const CLOUD_COLOURS: usize = 16;
-
-/// cloud-N: `bench trace`'s N centres (uniform in `[-1,1]^3`, SplitMix64 seeded with 1, so
-/// also benches/embree's), radius `0.6 N^(-1/3)`, every sphere gas of transparency
-/// [`Cloud::transparency`] and emission 0, albedo (diffuseColor) one of 16 colours picked by
-/// a hash of the sphere's index; `PointLight { location 3 3 3 intensity 0.8 }`,
-/// `DirectionalLight { direction -1 -1 -1 intensity 0.5 }`, headlight off, `Viewpoint {
-/// position 0 0 4 fieldOfView 0.785398 }`, background black.
-pub fn cloud(n: usize, kind: Cloud) -> Scene {
-    let mut scene = random_spheres(n);
-    scene.materials = (0..CLOUD_COLOURS)
-        .map(|k| Material {
-            diffuse: palette(k),
-            emissive: DVec3::ZERO,
-            specular: DVec3::ZERO,
-            transparency: kind.transparency(),
-            ..Material::default()
-        })
-        .collect();
-    for (i, s) in scene.spheres.iter_mut().enumerate() {
-        s.material = (crate::render::sampler::mix(i as u64 ^ 0xC10D) % CLOUD_COLOURS as u64) as u32;
-    }
-    scene.lights = vec![
-        Light::Point(PointLight {
-            location: DVec3::new(3.0, 3.0, 3.0),
-            color: DVec3::ONE,
-            intensity: 0.8,
-            ambient_intensity: 0.0,
-            attenuation: DVec3::new(1.0, 0.0, 0.0),
-            // The VRML default; every sphere is within 6 of the light.
-            radius: 100.0,
-            on: true,
-            origin: Origin::default(),
-        }),
-        Light::Directional(DirectionalLight {
-            direction: DVec3::new(-1.0, -1.0, -1.0).normalize(),
-            color: DVec3::ONE,
-            intensity: 0.5,
-            ambient_intensity: 0.0,
-            on: true,
-            scope: (0, u32::MAX),
-            origin: Origin::default(),
-        }),
-    ];
-    scene
-}
-
 /// `--write DIR`: the clouds as VRML files.
-fn write_clouds(dir: &std::path::Path, sizes: &[usize], clouds: &[Cloud]) -> Result<(), Error> {
+fn write_clouds(dir: &std::path::Path, sizes: &[usize], clouds: &[CloudArg]) -> Result<(), Error> {
     std::fs::create_dir_all(dir).map_err(|e| Error::Io {
         path: dir.display().to_string(),
         source: e,
     })?;
     for &n in sizes {
         for &c in clouds {
+            let c = Cloud::from(c);
             let path = dir.join(format!("cloud-{}-{n}.wrl", c.name()));
-            crate::vrml::write::write_scene_file(&path, &cloud(n, c))?;
+            gtsphere::vrml::write::write_scene_file(&path, &cloud(n, c))?;
             eprintln!("wrote {}", path.display());
         }
     }
@@ -695,6 +525,7 @@ pub fn run_scaling(args: &GasArgs) -> Result<ExitCode, Error> {
     let mut rows = Vec::new();
     for &n in &sizes {
         for &c in &args.clouds {
+            let c = Cloud::from(c);
             let scene = cloud(n, c);
             let runs = args.runs.unwrap_or(if n <= 10_000 { 3 } else { 1 });
             eprintln!(
@@ -763,72 +594,6 @@ pub fn run(args: &GasArgs) -> Result<ExitCode, Error> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::vrml::{load_str, LoadOptions};
-
-    #[test]
-    fn a_written_cloud_reads_back_as_the_same_scene() {
-        for kind in [Cloud::Thick, Cloud::Thin] {
-            let a = cloud(300, kind);
-            let mut text = Vec::new();
-            crate::vrml::write::write_scene(&a, &mut text).unwrap();
-            let text = String::from_utf8(text).unwrap();
-            let (b, report) = load_str("cloud.wrl", &text, &LoadOptions::default()).unwrap();
-            assert!(report.warnings.is_empty());
-            assert_eq!(a.spheres.len(), b.spheres.len());
-            for (s, t) in a.spheres.iter().zip(&b.spheres) {
-                assert_eq!((s.center, s.radius), (t.center, t.radius));
-                assert_eq!(
-                    a.materials[s.material as usize],
-                    b.materials[t.material as usize]
-                );
-            }
-            assert_eq!(
-                (a.headlight, a.background, a.viewpoints[0].position),
-                (b.headlight, b.background, b.viewpoints[0].position)
-            );
-            assert_eq!(a.viewpoints[0].field_of_view, b.viewpoints[0].field_of_view);
-            assert_eq!(a.lights.len(), b.lights.len());
-            for (l, m) in a.lights.iter().zip(&b.lights) {
-                match (l, m) {
-                    (Light::Point(p), Light::Point(q)) => assert_eq!(
-                        PointLight {
-                            origin: Origin::default(),
-                            ..*q
-                        },
-                        *p
-                    ),
-                    (Light::Directional(p), Light::Directional(q)) => {
-                        // A top-level light lights every sphere, however the range is spelt.
-                        assert!(q.scope.0 == 0 && q.scope.1 as usize >= b.spheres.len());
-                        assert_eq!(
-                            (p.direction, p.color, p.intensity, p.ambient_intensity, p.on),
-                            (q.direction, q.color, q.intensity, q.ambient_intensity, q.on)
-                        );
-                    }
-                    _ => panic!("lights in another order: {l:?} {m:?}"),
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn clouds_are_as_described() {
-        let n = 1000;
-        let thick = cloud(n, Cloud::Thick);
-        let trace = random_spheres(n);
-        let r = 0.6 * (n as f64).powf(-1.0 / 3.0);
-        for (s, t) in thick.spheres.iter().zip(&trace.spheres) {
-            assert_eq!((s.center, s.radius), (t.center, r));
-            let m = &thick.materials[s.material as usize];
-            // Optical depth 4 along a diameter.
-            assert!((m.sigma(s.radius) * 2.0 * s.radius - 4.0).abs() < 1e-12);
-        }
-        let used: std::collections::BTreeSet<u32> =
-            thick.spheres.iter().map(|s| s.material).collect();
-        assert_eq!(used.len(), CLOUD_COLOURS, "every colour is used");
-        let thin = cloud(n, Cloud::Thin);
-        assert!(thin.materials.iter().all(|m| m.transparency == 0.9));
-    }
 
     #[test]
     fn counts_in_exponent_form() {

@@ -5,9 +5,9 @@ use std::process::ExitCode;
 
 use serde_json::json;
 
-use crate::error::Error;
-use crate::scene::{Light, Scene};
-use crate::vrml::{load_path, LoadOptions, LoadReport};
+use gtsphere::error::Error;
+use gtsphere::scene::{Light, Scene};
+use gtsphere::vrml::{load_path, LoadOptions, LoadReport};
 
 pub fn run(path: &Path, as_json: bool, strict: bool, no_inline: bool) -> Result<ExitCode, Error> {
     let opts = LoadOptions {
@@ -77,7 +77,7 @@ pub fn to_json(path: &Path, s: &Scene, r: &LoadReport) -> serde_json::Value {
         "mb_per_s": mb_per_s(r),
         "nodes": r.nodes,
         "files": r.files,
-        "peak_rss_bytes": super::peak_rss_bytes(),
+        "peak_rss_bytes": crate::memory::peak_rss_bytes(),
     })
 }
 
@@ -200,7 +200,7 @@ pub fn to_text(path: &Path, s: &Scene, r: &LoadReport) -> String {
         "memory:     IR {}, recorded DEF/PROTO events {}{}",
         human(s.heap_bytes() as u64),
         human(r.recorded_bytes as u64),
-        super::peak_rss_bytes()
+        crate::memory::peak_rss_bytes()
             .map(|p| format!(", peak resident {}", human(p)))
             .unwrap_or_default()
     );

@@ -5,35 +5,16 @@
 //! holds little), so the process's peak resident memory (VmHWM) is the conversion's, give or
 //! take the few megabytes of the program itself.
 
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
-use super::bench::{median, unit_random};
-use super::peak_rss_bytes;
-use crate::error::Error;
-use crate::output::write_file_atomically;
-use crate::particles::{self, Extras, TableOptions, WriteOptions};
-
-/// Writes `n` rows `x,y,z,radius,red,green,blue`: positions in [-1,1]^3 with 6 decimals, radii
-/// near `0.6 n^(-1/3)`, colours as 0-255 integers (deterministic pseudo-random values).
-pub fn write_table(out: &mut impl Write, n: usize) -> std::io::Result<()> {
-    writeln!(out, "x,y,z,radius,red,green,blue")?;
-    let mut next = unit_random();
-    let radius = 0.6 * (n.max(1) as f64).powf(-1.0 / 3.0);
-    for _ in 0..n {
-        let (x, y, z) = (2.0 * next() - 1.0, 2.0 * next() - 1.0, 2.0 * next() - 1.0);
-        let rad = radius * (0.5 + next());
-        let (r, g, b) = (
-            (next() * 256.0) as u8,
-            (next() * 256.0) as u8,
-            (next() * 256.0) as u8,
-        );
-        writeln!(out, "{x:.6},{y:.6},{z:.6},{rad:.5},{r},{g},{b}")?;
-    }
-    Ok(())
-}
+use super::measure::median;
+use crate::memory::peak_rss_bytes;
+use gtsphere::error::Error;
+use gtsphere::output::write_file_atomically;
+use gtsphere::particles::{self, Extras, TableOptions, WriteOptions};
+use gtsphere::scenes::write_table;
 
 fn generate(dir: &Path, n: usize) -> Result<PathBuf, Error> {
     let path = dir.join(format!("gtsphere-bench-particles-{n}.csv"));

@@ -11,8 +11,8 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
-use super::bench_report::{BenchScene, Row};
-use crate::error::Error;
+use super::measure::{BenchScene, Row};
+use gtsphere::error::Error;
 
 /// What the plot shows, for bench.md.
 pub const LEGEND: &str = "One panel per scene. x: seconds (median wall time of the render \

@@ -1,0 +1,107 @@
+//! `gtsphere bench` and its subcommands: one module per measurement, and the shared
+//! measuring in [`measure`]. The scenes come from the library ([`gtsphere::scenes`]), so that
+//! `cargo bench` and the tests use the same ones.
+//!
+//! Dependency order: each module uses only the ones below it (and the library), never the
+//! reverse, so there is no import cycle.
+//!
+//! ```text
+//! mod (BenchCommand, dispatch)
+//!  |-- parse     bench parse    (runs `gtsphere info --json` in child processes)
+//!  |-- trace     bench trace
+//!  |-- convert   bench convert
+//!  |-- gas       bench gas ------------------.
+//!  `-- report    bench (no subcommand)       |
+//!       |-- plot   bench.png ----------------|
+//!       `-------------------------------- measure (Case, BenchScene, Row, measure,
+//!                                            relative errors, table, goals, median)
+//! (parse, trace and convert use measure::median; trace and convert also the command
+//! line's memory::peak_rss_bytes, a leaf.)
+//! ```
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::Subcommand;
+
+use gtsphere::error::Error;
+
+pub mod convert;
+pub mod gas;
+pub mod measure;
+pub mod parse;
+pub mod plot;
+pub mod report;
+pub mod trace;
+
+#[derive(Debug, Subcommand)]
+pub enum BenchCommand {
+    /// Parse speed (MB/s, one core) and peak memory on generated files of N particles.
+    Parse {
+        /// Number of particles.
+        #[arg(long, default_value_t = 1_000_000)]
+        particles: usize,
+        /// Runs per layout (the median is reported).
+        #[arg(long, default_value_t = 3)]
+        runs: usize,
+        /// Where the generated files go (kept for reuse). Default: the system temp folder.
+        #[arg(long)]
+        dir: Option<PathBuf>,
+        /// Which layouts to measure.
+        #[arg(long, value_enum, default_values_t = [parse::LayoutArg::Flat, parse::LayoutArg::Group])]
+        layout: Vec<parse::LayoutArg>,
+    },
+    /// BVH build time, camera and shadow rays per second per core, and peak memory on N random
+    /// opaque spheres (the scene is described in `gtsphere bench trace --help`'s source,
+    /// src/scenes.rs, and matches benches/embree).
+    Trace {
+        /// Number of spheres.
+        #[arg(long, default_value_t = 1_000_000)]
+        spheres: usize,
+        /// Image width and height in pixels (one ray through each pixel centre).
+        #[arg(long, default_value_t = 1024)]
+        size: u32,
+        /// Runs (the median is reported).
+        #[arg(long, default_value_t = 3)]
+        runs: usize,
+        /// Threads for the full-render pass (the ray passes use one thread).
+        #[arg(long, default_value_t = 1)]
+        threads: usize,
+    },
+    /// `gtsphere convert` speed (rows/s, MB/s, one core) and peak memory on a generated
+    /// particle CSV of N rows (x, y, z, radius, red, green, blue as 0-255).
+    Convert {
+        /// Number of rows.
+        #[arg(long, default_value_t = 10_000_000)]
+        rows: usize,
+        /// Runs (the median is reported).
+        #[arg(long, default_value_t = 3)]
+        runs: usize,
+        /// Where the generated table goes (kept for reuse). Default: the system temp folder.
+        #[arg(long)]
+        dir: Option<PathBuf>,
+    },
+    /// Lit gas: time against error of the gas integrators (exact, march, mc) on a lit gas
+    /// scene; with --scaling, how exact's cost per ray grows with N on gas clouds, against
+    /// march at equal error (issue 12); with --write DIR, those clouds as .wrl files.
+    Gas(gas::GasArgs),
+}
+
+pub fn run(cmd: BenchCommand) -> Result<ExitCode, Error> {
+    match cmd {
+        BenchCommand::Parse {
+            particles,
+            runs,
+            dir,
+            layout,
+        } => parse::run(particles, runs, dir, layout),
+        BenchCommand::Trace {
+            spheres,
+            size,
+            runs,
+            threads,
+        } => trace::run(spheres, size, runs, threads),
+        BenchCommand::Gas(args) => gas::run(&args),
+        BenchCommand::Convert { rows, runs, dir } => convert::run(rows, runs, dir),
+    }
+}
