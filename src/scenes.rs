@@ -133,7 +133,7 @@ pub fn random_spheres(n: usize) -> Scene {
         intensity: 1.0,
         ambient_intensity: 0.0,
         on: true,
-        scope: (0, u32::MAX),
+        scope: crate::scene::LightScope::All,
         origin: Origin::default(),
     }));
     scene.viewpoints.push(Viewpoint {
@@ -231,7 +231,7 @@ pub fn gas_cloud(n: usize, lit: bool) -> Scene {
         intensity: 1.0,
         ambient_intensity: 0.1,
         on: true,
-        scope: (0, u32::MAX),
+        scope: crate::scene::LightScope::All,
         origin: Origin::default(),
     }));
     scene.viewpoints.push(bench_view());
@@ -326,7 +326,7 @@ pub fn cloud(n: usize, kind: Cloud) -> Scene {
             intensity: 0.5,
             ambient_intensity: 0.0,
             on: true,
-            scope: (0, u32::MAX),
+            scope: crate::scene::LightScope::All,
             origin: Origin::default(),
         }),
     ];
@@ -372,7 +372,7 @@ mod tests {
                     ),
                     (Light::Directional(p), Light::Directional(q)) => {
                         // A top-level light lights every sphere, however the range is spelt.
-                        assert!(q.scope.0 == 0 && q.scope.1 as usize >= b.spheres.len());
+                        assert!(q.scope.covers_all(b.spheres.len()));
                         assert_eq!(
                             (p.direction, p.color, p.intensity, p.ambient_intensity, p.on),
                             (q.direction, q.color, q.intensity, q.ambient_intensity, q.on)

@@ -148,10 +148,11 @@ pub fn to_text(path: &Path, s: &Scene, r: &LoadReport) -> String {
                 );
             }
             Light::Directional(d) => {
+                let (start, end) = d.scope.range(s.spheres.len());
                 let _ = writeln!(
                     o,
                     "            DirectionalLight towards ({:.4}, {:.4}, {:.4}) intensity {} lights spheres {}..{}{}",
-                    d.direction.x, d.direction.y, d.direction.z, d.intensity, d.scope.0, d.scope.1,
+                    d.direction.x, d.direction.y, d.direction.z, d.intensity, start, end,
                     if d.on { "" } else { " (off)" }
                 );
             }

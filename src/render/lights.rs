@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use crate::scene::{Light, Scene};
+use crate::scene::{Light, LightScope, Scene};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LightKind {
@@ -16,7 +16,7 @@ pub enum LightKind {
     },
     /// Unit vector towards the light (opposite to VRML's `direction`); lights the spheres
     /// `scope.0 .. scope.1` of `Scene::spheres`.
-    Directional { to_light: DVec3, scope: (u32, u32) },
+    Directional { to_light: DVec3, scope: LightScope },
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -60,7 +60,7 @@ pub fn attenuation(a: DVec3, d: f64) -> f64 {
 #[inline]
 pub fn in_scope(l: &LightSource, sphere: u32) -> bool {
     match l.kind {
-        LightKind::Directional { scope, .. } => scope.0 <= sphere && sphere < scope.1,
+        LightKind::Directional { scope, .. } => scope.contains(sphere),
         LightKind::Point { .. } => true,
     }
 }
@@ -83,10 +83,10 @@ pub fn collect(scene: &Scene, view: DVec3) -> Vec<LightSource> {
             Light::Directional(d) if d.on => out.push(LightSource {
                 kind: LightKind::Directional {
                     to_light: -d.direction,
-                    // A scope holding every sphere is written as (0, MAX), which integrators
-                    // recognise as "no scoping to apply".
-                    scope: if d.scope.0 == 0 && d.scope.1 as usize >= scene.spheres.len() {
-                        (0, u32::MAX)
+                    // A scope holding every sphere is All, which integrators recognise as "no
+                    // scoping to apply".
+                    scope: if d.scope.covers_all(scene.spheres.len()) {
+                        LightScope::All
                     } else {
                         d.scope
                     },
@@ -101,7 +101,7 @@ pub fn collect(scene: &Scene, view: DVec3) -> Vec<LightSource> {
         out.push(LightSource {
             kind: LightKind::Directional {
                 to_light: -view,
-                scope: (0, u32::MAX),
+                scope: LightScope::All,
             },
             direct: DVec3::ONE,
             ambient: DVec3::ZERO,

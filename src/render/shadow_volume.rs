@@ -449,7 +449,7 @@ mod tests {
             let light = if k % 2 == 0 {
                 LightKind::Directional {
                     to_light: l,
-                    scope: (0, u32::MAX),
+                    scope: crate::scene::LightScope::All,
                 }
             } else {
                 LightKind::Point {
@@ -502,7 +502,7 @@ mod tests {
             let light = if k % 2 == 0 {
                 LightKind::Directional {
                     to_light: l,
-                    scope: (0, u32::MAX),
+                    scope: crate::scene::LightScope::All,
                 }
             } else {
                 LightKind::Point {

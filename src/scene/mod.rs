@@ -117,9 +117,44 @@ pub struct DirectionalLight {
     pub intensity: f64,
     pub ambient_intensity: f64,
     pub on: bool,
-    /// The spheres it lights: `scope.0 .. scope.1` in [`Scene::spheres`] (VRML scoping).
-    pub scope: (u32, u32),
+    /// The spheres it lights (VRML scoping).
+    pub scope: LightScope,
     pub origin: Origin,
+}
+
+/// The spheres a DirectionalLight lights (VRML97 4.6.7: its siblings in the enclosing
+/// grouping node and their descendants, one range of the IR).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LightScope {
+    /// Every sphere of the scene (a light built in code, the headlight).
+    All,
+    /// `Scene::spheres[start..end]`.
+    Spheres { start: u32, end: u32 },
+}
+
+impl LightScope {
+    /// Whether it lights sphere `sphere` (an index into [`Scene::spheres`]).
+    #[inline]
+    pub fn contains(self, sphere: u32) -> bool {
+        match self {
+            LightScope::All => true,
+            LightScope::Spheres { start, end } => start <= sphere && sphere < end,
+        }
+    }
+
+    /// The indices it lights in a scene of `n` spheres, `start .. end`.
+    pub fn range(self, n: usize) -> (u32, u32) {
+        match self {
+            LightScope::All => (0, u32::try_from(n).unwrap_or(u32::MAX)),
+            LightScope::Spheres { start, end } => (start, end),
+        }
+    }
+
+    /// Whether it lights every one of `n` spheres.
+    pub fn covers_all(self, n: usize) -> bool {
+        let (start, end) = self.range(n);
+        start == 0 && end as usize >= n
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]

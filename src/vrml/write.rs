@@ -205,10 +205,13 @@ pub fn write_scene(scene: &Scene, out: &mut impl Write) -> io::Result<()> {
                 p.radius,
                 if p.on { "TRUE" } else { "FALSE" }
             )?,
-            Light::Directional(d) if d.scope.0 == 0 && d.scope.1 >= n => {
+            Light::Directional(d) if d.scope.covers_all(n as usize) => {
                 writeln!(out, "{}", directional(l))?
             }
-            Light::Directional(d) => scoped.push((d.scope.0, d.scope.1, k)),
+            Light::Directional(d) => {
+                let (start, end) = d.scope.range(n as usize);
+                scoped.push((start, end, k))
+            }
         }
     }
     // Outer scopes first: by start, then by end descending.

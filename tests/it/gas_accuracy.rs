@@ -291,7 +291,7 @@ fn reference_scene(scene: &Scene) -> (Vec<Ball>, Vec<Lamp>) {
                 }
             }
             Light::Directional(d) => {
-                assert!(d.on && d.scope.0 == 0 && d.scope.1 as usize >= scene.spheres.len());
+                assert!(d.on && d.scope.covers_all(scene.spheres.len()));
                 Lamp::Dir {
                     to_light: -d.direction.normalize(),
                     power: d.color * d.intensity,

@@ -246,7 +246,10 @@ proptest! {
             prop_assert_eq!(s.materials[b.material as usize].diffuse.to_array(), *col);
         }
         let got: Vec<_> = s.lights.iter().map(|l| match l {
-            Light::Directional(d) => (d.direction, d.scope.0, d.scope.1),
+            Light::Directional(d) => {
+                let (start, end) = d.scope.range(s.spheres.len());
+                (d.direction, start, end)
+            }
             Light::Point(_) => unreachable!(),
         }).collect();
         prop_assert_eq!(got.len(), want.lights.len());

@@ -96,7 +96,7 @@ fn directional_light_lights_only_its_siblings() {
         .lights
         .iter()
         .map(|l| match l {
-            Light::Directional(d) => d.scope,
+            Light::Directional(d) => d.scope.range(s.spheres.len()),
             Light::Point(_) => panic!("no point lights here"),
         })
         .collect();
@@ -285,7 +285,7 @@ fn inline_of_a_local_file_and_refusal_of_urls() {
     let xs: Vec<f64> = s.spheres.iter().map(|b| b.center.x).collect();
     assert_eq!(xs, vec![10.0, 11.0]);
     match s.lights[0] {
-        Light::Directional(d) => assert_eq!(d.scope, (0, 2)),
+        Light::Directional(d) => assert_eq!(d.scope.range(s.spheres.len()), (0, 2)),
         _ => panic!("directional"),
     }
     let msgs: Vec<&str> = r.warnings.iter().map(|w| w.message.as_str()).collect();

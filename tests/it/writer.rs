@@ -6,7 +6,7 @@ use glam::{DAffine3, DQuat, DVec3};
 use gtsphere::render::tiles::render;
 use gtsphere::render::{prepare, RenderOptions, SamplerKind};
 use gtsphere::scene::{
-    DirectionalLight, Light, Material, Origin, PointLight, Scene, Sphere, NO_ELLIPSOID,
+    DirectionalLight, Light, LightScope, Material, Origin, PointLight, Scene, Sphere, NO_ELLIPSOID,
 };
 use gtsphere::vrml::write::write_scene;
 use gtsphere::vrml::{load_path, load_str, LoadOptions};
@@ -78,8 +78,8 @@ fn assert_same(a: &Scene, b: &Scene) {
         Light::Point(p) => (0, 0, 0, p.intensity.to_bits(), p.location.x.to_bits()),
         Light::Directional(d) => (
             1,
-            d.scope.0,
-            d.scope.1,
+            d.scope.range(usize::MAX).0,
+            d.scope.range(usize::MAX).1,
             d.intensity.to_bits(),
             d.color.x.to_bits(),
         ),
@@ -260,7 +260,10 @@ fn generated_scenes_round_trip() {
                 intensity: rnd(),
                 ambient_intensity: rnd(),
                 on: rnd() < 0.8,
-                scope,
+                scope: LightScope::Spheres {
+                    start: scope.0,
+                    end: scope.1,
+                },
                 origin: Origin::default(),
             }));
         }

@@ -144,7 +144,10 @@ pub const PHASE: f64 = 0.25 * std::f64::consts::FRAC_1_PI;
 pub fn scatter_for(prep: &Prepared, seg: &Segment, members: &[u32], i: usize) -> DVec3 {
     let l = &prep.lights[i];
     match l.kind {
-        super::lights::LightKind::Directional { scope, .. } if scope != (0, u32::MAX) => {
+        super::lights::LightKind::Directional {
+            scope: crate::scene::LightScope::Spheres { .. },
+            ..
+        } => {
             let ms = &members[seg.members.0 as usize..(seg.members.0 + seg.members.1) as usize];
             ms.iter()
                 .map(|&k| {

@@ -8,7 +8,7 @@ use glam::DVec3;
 
 use super::open::{Kind, Marks};
 use super::Lowerer;
-use crate::scene::{DirectionalLight, Light, PointLight};
+use crate::scene::{DirectionalLight, Light, LightScope, PointLight};
 use crate::source::SourceWindow;
 
 /// The DirectionalLights among a grouping node's children (indices into the scene's lights).
@@ -55,7 +55,10 @@ impl Lowerer {
         let end = self.scene.spheres.len() as u32;
         for i in dirlights.into_iter().flat_map(|d| *d) {
             if let Light::Directional(l) = &mut self.scene.lights[i] {
-                l.scope = (marks.spheres as u32, end);
+                l.scope = LightScope::Spheres {
+                    start: marks.spheres as u32,
+                    end,
+                };
             }
         }
     }

@@ -11,7 +11,7 @@ use super::open::{Frame, Kind, Leaf, Marks, Name};
 use super::record::RecKind;
 use super::Lowerer;
 use crate::error::Error;
-use crate::scene::{DirectionalLight, Material, PointLight, Viewpoint};
+use crate::scene::{DirectionalLight, LightScope, Material, PointLight, Viewpoint};
 use crate::source::SourceWindow;
 use crate::vrml::schema;
 
@@ -238,7 +238,7 @@ impl Lowerer {
                 intensity: 1.0,
                 ambient_intensity: 0.0,
                 on: true,
-                scope: (0, 0),
+                scope: LightScope::Spheres { start: 0, end: 0 },
                 origin: self.origin(at),
             })),
             Lowered::Viewpoint => Kind::Viewpoint(Box::new(Viewpoint {
