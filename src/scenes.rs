@@ -17,7 +17,7 @@ use glam::{DQuat, DVec3};
 
 use crate::render::sampler::mix;
 use crate::scene::{
-    DirectionalLight, Light, Material, Origin, PointLight, Scene, Sphere, Viewpoint, NO_ELLIPSOID,
+    DirectionalLight, Light, Material, Origin, PointLight, Scene, Sphere, Viewpoint,
 };
 
 /// How the particles are laid out in the file.
@@ -113,7 +113,7 @@ pub fn random_spheres(n: usize) -> Scene {
             center: DVec3::new(2.0 * x - 1.0, 2.0 * y - 1.0, 2.0 * z - 1.0),
             radius,
             material: 1,
-            ellipsoid: NO_ELLIPSOID,
+            ellipsoid: None,
             origin: Origin::default(),
         });
     }
@@ -195,7 +195,7 @@ pub fn gas_cloud(n: usize, lit: bool) -> Scene {
             center: c,
             radius,
             material: scene.materials.len() as u32 - 1,
-            ellipsoid: NO_ELLIPSOID,
+            ellipsoid: None,
             origin: Origin::default(),
         });
     }
@@ -211,7 +211,7 @@ pub fn gas_cloud(n: usize, lit: bool) -> Scene {
             center: c,
             radius: r,
             material: 1,
-            ellipsoid: NO_ELLIPSOID,
+            ellipsoid: None,
             origin: Origin::default(),
         });
     }

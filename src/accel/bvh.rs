@@ -61,19 +61,18 @@ pub struct Prim {
     pub material: u32,
     /// Index of the sphere in `Scene::spheres` (light scopes and the `id` channel use it).
     pub sphere: u32,
-    /// Index into [`SphereBvh::to_object`], or [`crate::scene::NO_ELLIPSOID`].
-    pub ellipsoid: u32,
-    /// Bit 0: gas (not an opaque surface).
-    pub flags: u32,
+    /// Its map in [`SphereBvh::to_object`]; `None` for a true sphere.
+    pub ellipsoid: Option<crate::scene::EllipsoidId>,
+    /// Gas (a participating medium), not an opaque surface.
+    pub gas: bool,
     /// Extinction of a gas primitive (MODEL.md section 1); 0 for opaque ones.
     pub sigma: f64,
 }
 
-pub const GAS: u32 = 1;
-
 impl Prim {
+    #[inline]
     pub fn is_gas(&self) -> bool {
-        self.flags & GAS != 0
+        self.gas
     }
 }
 
@@ -377,9 +376,7 @@ impl SphereBvh {
     /// it to exercise many chunks on small scenes.
     pub fn build_chunked(prims: Vec<Prim>, ellipsoids: &[DAffine3], per_chunk: usize) -> SphereBvh {
         let per_chunk = per_chunk.max(prims.len().div_ceil(MAX_CHUNKS)).max(1);
-        let to_world = |p: &Prim| {
-            (p.ellipsoid != crate::scene::NO_ELLIPSOID).then(|| &ellipsoids[p.ellipsoid as usize])
-        };
+        let to_world = |p: &Prim| p.ellipsoid.map(|e| &ellipsoids[e.index()]);
         let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
         for p in &prims {
             let (a, b) = prim_box(p, to_world(p));
@@ -474,10 +471,9 @@ impl SphereBvh {
     /// Both roots of the line `o + t d` against primitive `p` (sphere or ellipsoid), in `t`.
     #[inline]
     pub fn roots(&self, p: &Prim, o: DVec3, d: DVec3) -> Option<(f64, f64)> {
-        if p.ellipsoid == crate::scene::NO_ELLIPSOID {
-            sphere_roots(o, d, p.center, p.radius)
-        } else {
-            ellipsoid_roots(o, d, &self.to_object[p.ellipsoid as usize])
+        match p.ellipsoid {
+            None => sphere_roots(o, d, p.center, p.radius),
+            Some(e) => ellipsoid_roots(o, d, &self.to_object[e.index()]),
         }
     }
 
@@ -556,18 +552,16 @@ impl SphereBvh {
         tmax: f64,
         mut test: impl FnMut(u32, &Prim, (f64, f64)) -> Option<f64>,
     ) -> Option<Hit> {
-        let mut best = Hit {
-            t: tmax,
-            prim: u32::MAX,
-        };
+        let mut best: Option<Hit> = None;
         let mut list = [(0.0, 0.0, 0u32); MAX_CHUNKS];
         let n = self.chunks_on(o, d, tmin, tmax, &mut list);
         for &(t0, t1, k) in &list[..n] {
-            if t0 > best.t {
+            let best_t = best.map_or(tmax, |h| h.t);
+            if t0 > best_t {
                 break;
             }
             let c = &self.chunks[k as usize];
-            let ray = self.ray32(o, d, t0, t1.min(best.t));
+            let ray = self.ray32(o, d, t0, t1.min(best_t));
             walk(c, ray, |i| {
                 let i = c.base + i;
                 let p = &self.prims[i as usize];
@@ -575,14 +569,15 @@ impl SphereBvh {
                     if let Some(t) = test(i, p, roots) {
                         // Ties (coincident spheres) go to the earlier sphere in the
                         // scene, whatever the traversal order.
-                        let better = if best.prim == u32::MAX {
-                            t <= tmax
-                        } else {
-                            t < best.t
-                                || (t == best.t && p.sphere < self.prims[best.prim as usize].sphere)
+                        let better = match best {
+                            None => t <= tmax,
+                            Some(b) => {
+                                t < b.t
+                                    || (t == b.t && p.sphere < self.prims[b.prim as usize].sphere)
+                            }
                         };
                         if t > tmin && better {
-                            best = Hit { t, prim: i };
+                            best = Some(Hit { t, prim: i });
                             return Step::Shrink(self.t32_above(t, t0));
                         }
                     }
@@ -590,7 +585,7 @@ impl SphereBvh {
                 Step::Go
             });
         }
-        (best.prim != u32::MAX).then_some(best)
+        best
     }
 
     /// Whether any primitive `blocks(prim_index, prim, roots)` along the ray in `[tmin, tmax]`;
@@ -604,7 +599,7 @@ impl SphereBvh {
         tmax: f64,
         blocks: impl FnMut(u32, &Prim, (f64, f64)) -> bool,
     ) -> bool {
-        self.any_except(o, d, tmin, tmax, u32::MAX, blocks)
+        self.any_except(o, d, tmin, tmax, None, blocks)
     }
 
     /// [`SphereBvh::any`], passing over primitive `skip` without a test: a shadow ray's own
@@ -617,7 +612,7 @@ impl SphereBvh {
         d: DVec3,
         tmin: f64,
         tmax: f64,
-        skip: u32,
+        skip: Option<u32>,
         mut blocks: impl FnMut(u32, &Prim, (f64, f64)) -> bool,
     ) -> bool {
         let mut list = [(0.0, 0.0, 0u32); MAX_CHUNKS];
@@ -627,7 +622,7 @@ impl SphereBvh {
             let c = &self.chunks[k as usize];
             walk(c, self.ray32(o, d, t0, t1), |i| {
                 let i = c.base + i;
-                if i == skip {
+                if Some(i) == skip {
                     return Step::Go;
                 }
                 let p = &self.prims[i as usize];

@@ -21,7 +21,6 @@ use glam::{DAffine3, DVec3};
 use super::lights::LightKind;
 use crate::accel::Prim;
 use crate::geom::sphere_roots;
-use crate::scene::NO_ELLIPSOID;
 
 /// Gas shadowers of at least this optical depth along a diameter get rim breakpoints.
 const RIM_MIN_DEPTH: f64 = 6.0;
@@ -120,10 +119,9 @@ pub fn breakpoints(
     };
     // The sphere in its own frame: centre c, radius r; o, d, light mapped alike. `scale` is
     // world length per object length along the light (ellipsoids; roughly, for point lights).
-    let (m, c, r) = if p.ellipsoid == NO_ELLIPSOID {
-        (None, p.center, p.radius)
-    } else {
-        (Some(&to_object[p.ellipsoid as usize]), DVec3::ZERO, 1.0)
+    let (m, c, r) = match p.ellipsoid {
+        None => (None, p.center, p.radius),
+        Some(e) => (Some(&to_object[e.index()]), DVec3::ZERO, 1.0),
     };
     let point = |x: DVec3| m.map_or(x, |m| m.transform_point3(x));
     let vector = |x: DVec3| m.map_or(x, |m| m.transform_vector3(x));
@@ -175,12 +173,8 @@ mod tests {
             radius: 1.0,
             material: 0,
             sphere: 0,
-            ellipsoid: NO_ELLIPSOID,
-            flags: if sigma > 0.0 {
-                crate::accel::bvh::GAS
-            } else {
-                0
-            },
+            ellipsoid: None,
+            gas: sigma > 0.0,
             sigma,
         }
     }

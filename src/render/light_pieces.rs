@@ -42,7 +42,6 @@ use super::lights::{towards, LightKind, LightSource};
 use super::shadow_volume::{band_edges, BandCache};
 use super::Prepared;
 use crate::accel::Prim;
-use crate::scene::NO_ELLIPSOID;
 
 /// What a piece's integrand is.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -146,7 +145,7 @@ pub fn chord(prep: &Prepared, p: &Prim, x: DVec3, dir: DVec3, dist: f64) -> Chor
 /// active, so that care buys nothing and costs a third of the integrand.)
 #[inline]
 pub fn gas_chord(prep: &Prepared, p: &Prim, x: DVec3, dir: DVec3, dist: f64) -> f64 {
-    if p.ellipsoid != NO_ELLIPSOID {
+    if p.ellipsoid.is_some() {
         return match prep.bvh.roots(p, x, dir) {
             Some((t0, t1)) => (t1.min(dist) - t0.max(0.0)).max(0.0),
             None => 0.0,
@@ -410,7 +409,7 @@ fn classify(
             }
             active.push(i);
             let concave = !point_light
-                || (p.ellipsoid == NO_ELLIPSOID
+                || (p.ellipsoid.is_none()
                     && (xm - p.center).length_squared() > p.radius * p.radius
                     && light_outside(light, p));
             if concave {

@@ -55,7 +55,7 @@ pub fn shade(
             continue;
         }
         counters.shadow_rays += 1;
-        let vis = visible(bvh, sp.x, dir, dist, sp.prim);
+        let vis = visible(bvh, sp.x, dir, dist, Some(sp.prim));
         if vis == 0.0 {
             continue;
         }

@@ -19,7 +19,6 @@ use std::time::{Duration, Instant};
 
 use glam::DVec3;
 
-use crate::accel::bvh::GAS;
 use crate::accel::{Prim, SphereBvh};
 use crate::scene::{Material, Scene};
 pub use camera::{CameraChoice, CameraSetup, Projection};
@@ -186,16 +185,9 @@ pub fn prepare(scene: Scene, opts: &RenderOptions) -> Result<Prepared, String> {
     // Gas (MODEL.md section 1): sigma = -ln(transparency) / (2 r), or --as-gas SIGMA for every
     // sphere. An ellipsoid has no single diameter; it uses its volume-equivalent radius
     // (the cube root of the product of its semi-axes), so its mean transmittance matches.
-    let radius_of = |s: &crate::scene::Sphere| {
-        if s.ellipsoid == crate::scene::NO_ELLIPSOID {
-            s.radius
-        } else {
-            ellipsoids[s.ellipsoid as usize]
-                .matrix3
-                .determinant()
-                .abs()
-                .cbrt()
-        }
+    let radius_of = |s: &crate::scene::Sphere| match s.ellipsoid {
+        None => s.radius,
+        Some(e) => ellipsoids[e.index()].matrix3.determinant().abs().cbrt(),
     };
     let sigma_of = |s: &crate::scene::Sphere| -> Option<f64> {
         match opts.as_gas {
@@ -220,7 +212,7 @@ pub fn prepare(scene: Scene, opts: &RenderOptions) -> Result<Prepared, String> {
                 material: s.material,
                 sphere: i as u32,
                 ellipsoid: s.ellipsoid,
-                flags: if sigma.is_some() { GAS } else { 0 },
+                gas: sigma.is_some(),
                 sigma: sigma.unwrap_or(0.0),
             }
         })

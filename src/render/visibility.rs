@@ -7,7 +7,7 @@ use glam::DVec3;
 use crate::accel::SphereBvh;
 
 /// Visibility from `x` towards a light at unit direction `l`, distance `dist` (infinite for a
-/// directional light). `own` is the opaque primitive `x` lies on (or `u32::MAX`): its own
+/// directional light). `own` is the opaque primitive `x` lies on, if any: its own
 /// shadow is exact from the sign of `N.L` (a sphere is convex), so the caller decides it and
 /// it is skipped here. The ray stops at the first opaque blocker, or once the optical depth
 /// makes the transmittance underflow to 0.
@@ -17,7 +17,7 @@ use crate::accel::SphereBvh;
 /// opaque sphere and leaves it is not blocked by it, as a camera inside a sphere does not see
 /// it. A gas sphere attenuates over the part of `[0, dist]` inside it.
 #[inline]
-pub fn visible(bvh: &SphereBvh, x: DVec3, l: DVec3, dist: f64, own: u32) -> f64 {
+pub fn visible(bvh: &SphereBvh, x: DVec3, l: DVec3, dist: f64, own: Option<u32>) -> f64 {
     let mut tau = 0.0;
     let blocked = bvh.any_except(x, l, 0.0, dist, own, |_, p, (t0, t1)| {
         if p.is_gas() {

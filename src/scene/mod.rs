@@ -2,8 +2,24 @@
 
 use glam::{DAffine3, DQuat, DVec3};
 
-/// Index meaning "no ellipsoid transform": the sphere is a true sphere.
-pub const NO_ELLIPSOID: u32 = u32::MAX;
+/// Index of an ellipsoid's map in [`Scene::ellipsoids`] (and in the BVH's copy of them),
+/// stored plus one so that `Option<EllipsoidId>`, "a true sphere" when `None`, is 4 bytes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct EllipsoidId(std::num::NonZeroU32);
+
+impl EllipsoidId {
+    /// The id of `ellipsoids[index]`; `None` past `u32::MAX - 1` ellipsoids.
+    pub fn new(index: usize) -> Option<EllipsoidId> {
+        let stored = u32::try_from(index).ok()?.checked_add(1)?;
+        std::num::NonZeroU32::new(stored).map(EllipsoidId)
+    }
+
+    /// Its index into the ellipsoids.
+    #[inline]
+    pub fn index(self) -> usize {
+        (self.0.get() - 1) as usize
+    }
+}
 
 /// Where an IR item came from: file index into [`Scene::files`] and byte offset, packed in
 /// one word (a sphere is then 48 bytes, not 56). Indices past 2^20 - 1 files and offsets
@@ -49,7 +65,8 @@ pub struct Sphere {
     pub center: DVec3,
     pub radius: f64,
     pub material: u32,
-    pub ellipsoid: u32,
+    /// `None` for a true sphere.
+    pub ellipsoid: Option<EllipsoidId>,
     pub origin: Origin,
 }
 
@@ -222,7 +239,7 @@ impl Scene {
     pub fn ellipsoid_count(&self) -> usize {
         self.spheres
             .iter()
-            .filter(|s| s.ellipsoid != NO_ELLIPSOID)
+            .filter(|s| s.ellipsoid.is_some())
             .count()
     }
     pub fn point_light_count(&self) -> usize {
@@ -240,12 +257,13 @@ impl Scene {
         let mut lo = DVec3::splat(f64::INFINITY);
         let mut hi = DVec3::splat(f64::NEG_INFINITY);
         for s in &self.spheres {
-            let half = if s.ellipsoid == NO_ELLIPSOID {
-                DVec3::splat(s.radius)
-            } else {
-                // Half extent along world axis i of A(unit sphere) is the norm of row i.
-                let m = self.ellipsoids[s.ellipsoid as usize].matrix3;
-                DVec3::new(m.row(0).length(), m.row(1).length(), m.row(2).length())
+            let half = match s.ellipsoid {
+                None => DVec3::splat(s.radius),
+                Some(e) => {
+                    // Half extent along world axis i of A(unit sphere) is the norm of row i.
+                    let m = self.ellipsoids[e.index()].matrix3;
+                    DVec3::new(m.row(0).length(), m.row(1).length(), m.row(2).length())
+                }
             };
             lo = lo.min(s.center - half);
             hi = hi.max(s.center + half);

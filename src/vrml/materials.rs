@@ -262,7 +262,7 @@ fn merge_equal(mats: &mut Vec<Material>, hashes: &mut Vec<u64>) -> Option<Vec<u3
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{Origin, Sphere, NO_ELLIPSOID};
+    use crate::scene::{Origin, Sphere};
     use glam::DVec3;
 
     fn material(i: usize) -> Material {
@@ -294,7 +294,7 @@ mod tests {
                 center: DVec3::new(k as f64, 0.0, 0.0),
                 radius: 1.0,
                 material: i,
-                ellipsoid: NO_ELLIPSOID,
+                ellipsoid: None,
                 origin: Origin::default(),
             });
         }

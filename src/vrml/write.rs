@@ -15,7 +15,7 @@ use std::io::{self, Write};
 
 use glam::{DAffine3, DMat3, DQuat, DVec3};
 
-use crate::scene::{Light, Material, Scene, Sphere, NO_ELLIPSOID};
+use crate::scene::{Light, Material, Scene, Sphere};
 
 fn v3(v: DVec3) -> String {
     format!("{} {} {}", v.x, v.y, v.z)
@@ -295,19 +295,18 @@ fn write_sphere(
             material(m)
         )
     };
-    if s.ellipsoid == NO_ELLIPSOID {
-        writeln!(
+    match s.ellipsoid {
+        None => writeln!(
             out,
             "Transform {{ translation {} children Shape {{ {appearance}geometry Sphere {{ radius {} }} }} }}",
             v3(s.center),
             s.radius
-        )
-    } else {
-        writeln!(
+        ),
+        Some(e) => writeln!(
             out,
             "Transform {{ {} children Shape {{ {appearance}geometry Sphere {{ radius 1 }} }} }}",
-            ellipsoid_transform(&scene.ellipsoids[s.ellipsoid as usize])
-        )
+            ellipsoid_transform(&scene.ellipsoids[e.index()])
+        ),
     }
 }
 

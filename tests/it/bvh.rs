@@ -7,7 +7,6 @@ use std::collections::BTreeSet;
 use glam::DVec3;
 use gtsphere::accel::{Prim, SphereBvh};
 use gtsphere::geom::sphere_roots;
-use gtsphere::scene::NO_ELLIPSOID;
 
 use crate::support::Rng;
 
@@ -29,8 +28,8 @@ fn prims(rng: &mut Rng, n: usize, offset: DVec3, extent: f64, r_lo: f64, r_hi: f
             radius: r_lo * (r_hi / r_lo).powf(rng.f()),
             material: 0,
             sphere: i as u32,
-            ellipsoid: NO_ELLIPSOID,
-            flags: 0,
+            ellipsoid: None,
+            gas: false,
             sigma: 0.0,
         })
         .collect()
@@ -157,8 +156,8 @@ fn grazing_rays_through_the_bvh() {
         radius: r,
         material: 0,
         sphere: 999,
-        ellipsoid: NO_ELLIPSOID,
-        flags: 0,
+        ellipsoid: None,
+        gas: false,
         sigma: 0.0,
     }];
     ps.extend(others);
@@ -211,7 +210,7 @@ fn benchmark_scene_shadows_match_brute_force() {
             let own = prep.bvh.prims[h.prim as usize].sphere as usize;
             for l in &prep.lights {
                 let (dir, dist, _) = towards(l, sp.x).unwrap();
-                let got = visible(&prep.bvh, sp.x, dir, dist, sp.prim) > 0.0;
+                let got = visible(&prep.bvh, sp.x, dir, dist, Some(sp.prim)) > 0.0;
                 let want = spheres.iter().enumerate().all(|(k, &(c, r))| {
                     k == own
                         || !sphere_roots(sp.x, dir, c, r)
@@ -236,8 +235,8 @@ fn concentric_and_coincident_spheres_are_all_found() {
             radius: 0.01 * (k + 1) as f64,
             material: 0,
             sphere: k,
-            ellipsoid: NO_ELLIPSOID,
-            flags: 0,
+            ellipsoid: None,
+            gas: false,
             sigma: 0.0,
         })
         .collect();
@@ -246,8 +245,8 @@ fn concentric_and_coincident_spheres_are_all_found() {
         radius: 0.5,
         material: 0,
         sphere: 600 + k,
-        ellipsoid: NO_ELLIPSOID,
-        flags: 0,
+        ellipsoid: None,
+        gas: false,
         sigma: 0.0,
     }));
     let bvh = SphereBvh::build(ps, &[]);

@@ -93,7 +93,7 @@ fn icosahedron_mesh_is_a_sphere_under_translation_and_uniform_scale() {
     let want = DVec3::new(1.2, 2.0, 2.6);
     assert!((sp.center - want).length() < 1e-12, "{}", sp.center);
     assert!(close(sp.radius, 1.0, 1e-12), "{}", sp.radius);
-    assert_eq!(sp.ellipsoid, gtsphere::scene::NO_ELLIPSOID);
+    assert_eq!(sp.ellipsoid, None);
     // The Shape's Material applies as for a Sphere.
     assert_eq!(
         s.materials[sp.material as usize].diffuse,
@@ -181,7 +181,7 @@ fn non_uniform_scale_makes_an_ellipsoid() {
         (s.spheres.len(), s.ellipsoid_count(), r.mesh_spheres),
         (1, 1, 1)
     );
-    let e = s.ellipsoids[s.spheres[0].ellipsoid as usize];
+    let e = s.ellipsoids[s.spheres[0].ellipsoid.expect("an ellipsoid").index()];
     assert!((e.matrix3.z_axis - DVec3::new(0.0, 0.0, 3.0)).length() < 1e-12);
 }
 

@@ -2,7 +2,7 @@
 //! Expected values are worked out by hand in each test.
 
 use glam::DVec3;
-use gtsphere::scene::{Light, NO_ELLIPSOID};
+use gtsphere::scene::Light;
 
 use super::support::{close, scene};
 
@@ -38,7 +38,7 @@ fn uniform_scale_scales_the_radius_about_the_center_field() {
     let b = s.spheres[0];
     assert_eq!(b.center.to_array(), [-1.0, -1.0, -1.0]);
     assert_eq!(b.radius, 1.0);
-    assert_eq!(b.ellipsoid, NO_ELLIPSOID);
+    assert_eq!(b.ellipsoid, None);
 }
 
 #[test]
@@ -47,8 +47,8 @@ fn non_uniform_scale_makes_an_ellipsoid() {
         "Transform { translation 1 0 0 scale 1 2 3 children Shape { geometry Sphere { radius 2 } } }",
     );
     let b = s.spheres[0];
-    assert_ne!(b.ellipsoid, NO_ELLIPSOID);
-    let e = s.ellipsoids[b.ellipsoid as usize];
+    assert_ne!(b.ellipsoid, None);
+    let e = s.ellipsoids[b.ellipsoid.expect("an ellipsoid").index()];
     // The unit sphere maps to semi-axes 2, 4, 6 centred at (1,0,0).
     assert_eq!(e.transform_point3(DVec3::X).to_array(), [3.0, 0.0, 0.0]);
     assert_eq!(e.transform_point3(DVec3::Y).to_array(), [1.0, 4.0, 0.0]);
@@ -64,7 +64,7 @@ fn scale_orientation_rotates_the_scale_axes() {
     let (s, _) = scene(&format!(
         "Transform {{ scale 2 1 1 scaleOrientation 0 0 1 1.5707963267948966 children {BALL} }}"
     ));
-    let e = s.ellipsoids[s.spheres[0].ellipsoid as usize];
+    let e = s.ellipsoids[s.spheres[0].ellipsoid.expect("an ellipsoid").index()];
     let y = e.transform_point3(DVec3::Y);
     let x = e.transform_point3(DVec3::X);
     assert!(close(y.y, 2.0, 1e-15) && close(x.x, 1.0, 1e-15), "{x} {y}");

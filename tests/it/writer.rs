@@ -6,7 +6,7 @@ use glam::{DAffine3, DQuat, DVec3};
 use gtsphere::render::tiles::render;
 use gtsphere::render::{prepare, RenderOptions, SamplerKind};
 use gtsphere::scene::{
-    DirectionalLight, Light, LightScope, Material, Origin, PointLight, Scene, Sphere, NO_ELLIPSOID,
+    DirectionalLight, EllipsoidId, Light, LightScope, Material, Origin, PointLight, Scene, Sphere,
 };
 use gtsphere::vrml::write::write_scene;
 use gtsphere::vrml::{load_path, load_str, LoadOptions};
@@ -48,18 +48,9 @@ fn assert_same(a: &Scene, b: &Scene) {
             a.materials[s.material as usize], b.materials[t.material as usize],
             "material of sphere {k}"
         );
-        assert_eq!(
-            s.ellipsoid == NO_ELLIPSOID,
-            t.ellipsoid == NO_ELLIPSOID,
-            "sphere {k}"
-        );
-        if s.ellipsoid == NO_ELLIPSOID {
-            assert_eq!((s.center, s.radius), (t.center, t.radius), "sphere {k}");
-        } else {
-            let (m, n) = (
-                a.ellipsoids[s.ellipsoid as usize],
-                b.ellipsoids[t.ellipsoid as usize],
-            );
+        assert_eq!(s.ellipsoid.is_none(), t.ellipsoid.is_none(), "sphere {k}");
+        if let (Some(es), Some(et)) = (s.ellipsoid, t.ellipsoid) {
+            let (m, n) = (a.ellipsoids[es.index()], b.ellipsoids[et.index()]);
             // The same ellipsoid: M M^T (the quadric) and the centre agree.
             let (q, r) = (
                 m.matrix3 * m.matrix3.transpose(),
@@ -70,6 +61,8 @@ fn assert_same(a: &Scene, b: &Scene) {
                 assert!((x - y).abs() <= 1e-12 * scale, "ellipsoid {k}: {q} vs {r}");
             }
             assert!(close3(m.translation, n.translation, 1e-15));
+        } else {
+            assert_eq!((s.center, s.radius), (t.center, t.radius), "sphere {k}");
         }
     }
     // Scoped DirectionalLights are written inside the Group of their spheres, so the order of
@@ -239,7 +232,7 @@ fn generated_scenes_round_trip() {
                     center,
                     radius,
                     material,
-                    ellipsoid: s.ellipsoids.len() as u32 - 1,
+                    ellipsoid: EllipsoidId::new(s.ellipsoids.len() - 1),
                     origin: Origin::default(),
                 });
             } else {
@@ -247,7 +240,7 @@ fn generated_scenes_round_trip() {
                     center,
                     radius: 0.1 + rnd(),
                     material,
-                    ellipsoid: NO_ELLIPSOID,
+                    ellipsoid: None,
                     origin: Origin::default(),
                 });
             }

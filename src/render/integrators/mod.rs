@@ -130,7 +130,7 @@ pub fn lights_at(
             continue;
         }
         c.shadow_rays += 1;
-        let v = super::visibility::visible(&prep.bvh, x, dir, dist, u32::MAX);
+        let v = super::visibility::visible(&prep.bvh, x, dir, dist, None);
         sum += a * l.direct * (att * v);
     }
     sum * PHASE

@@ -8,7 +8,6 @@ use crate::accel::Hit;
 use crate::geom::ellipsoid_normal;
 use crate::render::lighting::{shade, SurfacePoint};
 use crate::render::{Counters, Prepared};
-use crate::scene::NO_ELLIPSOID;
 
 /// The first opaque surface along `o + t d` (`t > tmin`), seen from outside: a sphere whose
 /// first root is behind the origin is culled (MODEL.md: spheres are solid).
@@ -25,12 +24,11 @@ pub fn first_hit(prep: &Prepared, o: DVec3, d: DVec3, tmin: f64) -> Option<Hit> 
 pub fn surface_point(prep: &Prepared, o: DVec3, d: DVec3, hit: Hit) -> SurfacePoint {
     let p = &prep.bvh.prims[hit.prim as usize];
     let x = o + hit.t * d;
-    let n = if p.ellipsoid == NO_ELLIPSOID {
+    let n = match p.ellipsoid {
         // o - c first: for a small sphere far from the origin this keeps the normal's
         // direction to the precision of the hit parameter.
-        ((o - p.center) + hit.t * d).normalize()
-    } else {
-        ellipsoid_normal(x, &prep.bvh.to_object[p.ellipsoid as usize])
+        None => ((o - p.center) + hit.t * d).normalize(),
+        Some(e) => ellipsoid_normal(x, &prep.bvh.to_object[e.index()]),
     };
     SurfacePoint {
         x,

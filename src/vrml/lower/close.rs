@@ -13,7 +13,7 @@ use super::record::{Done, Rec, RecKind};
 use super::scope::DefEntry;
 use super::Lowerer;
 use crate::error::Error;
-use crate::scene::{Sphere, NO_ELLIPSOID};
+use crate::scene::Sphere;
 use crate::source::SourceWindow;
 use crate::vrml::syntax::OwnedEvent;
 
@@ -260,13 +260,13 @@ impl Lowerer {
         };
         let material = match appearance {
             Some(Some(m)) => m,
-            _ => 0, // unlit
+            _ => super::material::UNLIT,
         };
         self.scene.spheres.push(Sphere {
             center,
             radius,
             material,
-            ellipsoid: NO_ELLIPSOID,
+            ellipsoid: None,
             origin: self.origin(sat),
         });
     }

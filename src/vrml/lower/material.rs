@@ -10,6 +10,10 @@ use super::Lowerer;
 use crate::scene::Material;
 use crate::vrml::materials::RecentMaterials;
 
+/// The scene's index of [`Material::unlit`] (a Shape without Appearance or Material): the
+/// first material, interned when the lowerer starts ([`super::Lowerer`]'s constructor).
+pub(super) const UNLIT: u32 = 0;
+
 /// Open Materials and the materials met recently.
 #[derive(Default)]
 pub(super) struct Materials {

@@ -249,9 +249,11 @@ impl Lowerer {
             bound: Bound::default(),
             diags: Diags::default(),
         };
-        low.materials
+        let unlit = low
+            .materials
             .recent
             .index(&Material::unlit(), &mut low.scene.materials);
+        debug_assert_eq!(unlit, material::UNLIT);
         low
     }
 

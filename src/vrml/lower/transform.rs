@@ -11,7 +11,7 @@ use glam::{DAffine3, DMat3, DQuat, DVec3};
 use super::open::Marks;
 use super::{error, Lowerer};
 use crate::error::Error;
-use crate::scene::{Light, Scene, NO_ELLIPSOID};
+use crate::scene::{EllipsoidId, Light, Scene};
 use crate::source::SourceWindow;
 
 /// A Transform's fields, with VRML97 defaults.
@@ -208,7 +208,7 @@ fn only_plain_spheres_since(scene: &Scene, marks: Marks) -> bool {
         && scene.viewpoints.len() == marks.views
         && scene.spheres[marks.spheres..]
             .iter()
-            .all(|s| s.ellipsoid == NO_ELLIPSOID)
+            .all(|s| s.ellipsoid.is_none())
 }
 
 /// Applies `m` to everything lowered since `marks`; says what went out of range, if anything.
@@ -233,30 +233,37 @@ fn apply(scene: &mut Scene, m: &DAffine3, translation: bool, marks: Marks) -> Re
     };
     for i in marks.spheres..scene.spheres.len() {
         let s = &mut scene.spheres[i];
-        if s.ellipsoid == NO_ELLIPSOID {
-            if let Some(k) = sim {
-                s.center = if translation {
-                    s.center + m.translation
-                } else {
-                    m.transform_point3(s.center)
-                };
-                s.radius *= k;
-                check_sphere(s.center, s.radius)?;
-                continue;
+        let id = match s.ellipsoid {
+            Some(id) => {
+                let e = &mut scene.ellipsoids[id.index()];
+                *e = *m * *e;
+                id
             }
-            let a = *m
-                * DAffine3::from_scale_rotation_translation(
-                    DVec3::splat(s.radius),
-                    DQuat::IDENTITY,
-                    s.center,
-                );
-            s.ellipsoid = scene.ellipsoids.len() as u32;
-            scene.ellipsoids.push(a);
-        } else {
-            let e = &mut scene.ellipsoids[s.ellipsoid as usize];
-            *e = *m * *e;
-        }
-        let e = scene.ellipsoids[s.ellipsoid as usize];
+            None => {
+                if let Some(k) = sim {
+                    s.center = if translation {
+                        s.center + m.translation
+                    } else {
+                        m.transform_point3(s.center)
+                    };
+                    s.radius *= k;
+                    check_sphere(s.center, s.radius)?;
+                    continue;
+                }
+                let a = *m
+                    * DAffine3::from_scale_rotation_translation(
+                        DVec3::splat(s.radius),
+                        DQuat::IDENTITY,
+                        s.center,
+                    );
+                let id = EllipsoidId::new(scene.ellipsoids.len())
+                    .ok_or("more than 2^32 - 1 ellipsoids in one scene")?;
+                s.ellipsoid = Some(id);
+                scene.ellipsoids.push(a);
+                id
+            }
+        };
+        let e = scene.ellipsoids[id.index()];
         s.center = e.translation;
         let l = e.matrix3;
         // A bounding radius: the half extents' length bounds every point of the ellipsoid.
@@ -371,11 +378,11 @@ mod tests {
         };
         assert!(near(a.center, DVec3::new(10.0, 0.0, 3.0)), "{}", a.center);
         assert!((a.radius - 1.0).abs() < 1e-12, "{}", a.radius);
-        assert_eq!(a.ellipsoid, NO_ELLIPSOID);
+        assert_eq!(a.ellipsoid, None);
 
         assert!(near(b.center, DVec3::new(11.0, 0.0, -2.0)), "{}", b.center);
         assert!((b.radius - 44f64.sqrt()).abs() < 1e-12, "{}", b.radius);
-        let e = scene.ellipsoids[b.ellipsoid as usize];
+        let e = scene.ellipsoids[b.ellipsoid.expect("an ellipsoid").index()];
         assert!(near(e.matrix3.x_axis, DVec3::new(0.0, 0.0, -6.0)), "{e}");
         assert!(near(e.matrix3.y_axis, DVec3::new(0.0, 2.0, 0.0)), "{e}");
         assert!(near(e.matrix3.z_axis, DVec3::new(2.0, 0.0, 0.0)), "{e}");
@@ -383,6 +390,6 @@ mod tests {
 
         // The shortcut adds exactly: 0.5 + 10 and 0.25 are exact in binary.
         assert_eq!(c.center, DVec3::new(10.5, 0.25, 0.0));
-        assert_eq!((c.radius, c.ellipsoid), (1.0, NO_ELLIPSOID));
+        assert_eq!((c.radius, c.ellipsoid), (1.0, None));
     }
 }
