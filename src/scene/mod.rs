@@ -23,7 +23,9 @@ impl EllipsoidId {
 
 /// Where an IR item came from: file index into [`Scene::files`] and byte offset, packed in
 /// one word (a sphere is then 48 bytes, not 56). Indices past 2^20 - 1 files and offsets
-/// past 2^44 - 1 bytes (16 TiB) are stored as those maxima.
+/// past 2^44 - 1 bytes (16 TiB) are stored as those maxima. [`Scene::position`] turns it into
+/// `file:line:col` when an error found after loading must point into the file; kept rather
+/// than dropped because that costs 8 bytes per item and no line index (STYLE.md habit 2).
 #[derive(Clone, Copy, PartialEq, Eq, Default)]
 pub struct Origin(u64);
 
@@ -285,6 +287,21 @@ impl Scene {
             .map(|s| (s.center - c).length() + s.radius)
             .fold(0.0, f64::max);
         Some((c, r))
+    }
+
+    /// Where `origin` points, as `file:line:col` (1-based line and byte column, as the
+    /// loader's messages), for errors found after loading; the file is read again up to
+    /// there (see [`crate::input::line_col_in`]). A source that is not a readable file (text
+    /// loaded from memory, a file changed since) gives `name:byte OFFSET` instead.
+    pub fn position(&self, origin: Origin) -> String {
+        let name = self
+            .files
+            .get(origin.file() as usize)
+            .map_or("<unknown source>", String::as_str);
+        match crate::input::line_col_in(std::path::Path::new(name), origin.offset()) {
+            Some((line, col)) => format!("{name}:{line}:{col}"),
+            None => format!("{name}:byte {}", origin.offset()),
+        }
     }
 
     /// Heap bytes held by the IR.

@@ -202,3 +202,48 @@ fn errors_in_inlined_files_name_that_file() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// After loading, an IR item's origin still turns into `file:line:col` (of a plain and of a
+/// gzipped file), at the sphere's node: found here independently, by searching the text for
+/// the `Sphere` keywords. Text loaded from memory has no file to read again: a byte offset.
+#[test]
+fn a_spheres_origin_turns_into_file_line_col_after_loading() {
+    use std::io::Write;
+    let text = "#VRML V2.0 utf8\n# two spheres\nShape { geometry Sphere { radius 1 } }\n\
+                Transform { translation 1 0 0 children [\n    Shape { geometry Sphere { radius 2 } }\n] }\n";
+    let want: Vec<(usize, usize)> = text
+        .lines()
+        .enumerate()
+        .filter_map(|(i, l)| l.find("Sphere").map(|c| (i + 1, c + 1)))
+        .collect();
+    assert_eq!(want, vec![(3, 18), (5, 22)]);
+    let dir = super::support::scratch("errors", "origin_position");
+    let plain = dir.join("two.wrl");
+    std::fs::write(&plain, text).unwrap();
+    let gz = dir.join("two.wrz");
+    let mut enc = flate2::write::GzEncoder::new(
+        std::fs::File::create(&gz).unwrap(),
+        flate2::Compression::default(),
+    );
+    enc.write_all(text.as_bytes()).unwrap();
+    enc.finish().unwrap();
+    for path in [&plain, &gz] {
+        let (scene, _) = gtsphere::vrml::load_path(path, &Default::default()).unwrap();
+        let got: Vec<String> = scene
+            .spheres
+            .iter()
+            .map(|s| scene.position(s.origin))
+            .collect();
+        let expect: Vec<String> = want
+            .iter()
+            .map(|(l, c)| format!("{}:{l}:{c}", path.display()))
+            .collect();
+        assert_eq!(got, expect);
+    }
+    let (scene, _) = gtsphere::vrml::load_str("mem.wrl", text, &Default::default()).unwrap();
+    let offset = text.find("Sphere").unwrap();
+    assert_eq!(
+        scene.position(scene.spheres[0].origin),
+        format!("mem.wrl:byte {offset}")
+    );
+}
