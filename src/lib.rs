@@ -15,6 +15,8 @@ pub mod render;
 pub mod scene;
 pub mod scenes;
 pub mod source;
+#[cfg(test)]
+mod testing;
 pub mod vrml;
 
 pub use error::Error;

@@ -111,13 +111,8 @@ fn one_sphere_point_light_outside() {
 
 /// About 20 overlapping gas spheres and 2 opaque ones, both kinds of light: 1e-5.
 fn cloud() -> (Vec<Ball>, Vec<Lamp>) {
-    let mut state = 5u64;
-    let mut rnd = || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = crate::support::Rng(5);
+    let mut rnd = || rng.f();
     let mut balls = Vec::new();
     for _ in 0..20 {
         let c = DVec3::new(rnd(), rnd(), rnd()) * 2.0 - 1.0;

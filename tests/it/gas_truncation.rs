@@ -47,17 +47,6 @@ fn ours(prep: &Prepared, o: DVec3, w: DVec3) -> Estimate {
     )
 }
 
-/// A deterministic generator in [0, 1) (a 64-bit LCG's top 53 bits).
-fn lcg(seed: u64) -> impl FnMut() -> f64 {
-    let mut state = seed;
-    move || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 /// `n` rays from `o` to a sunflower of points filling the disc of `radius` about `centre` in
 /// the plane z = centre.z.
 fn sunflower(o: DVec3, centre: DVec3, radius: f64, n: usize) -> Vec<(DVec3, DVec3)> {
@@ -288,7 +277,8 @@ fn judge_all(
 /// `n` barely overlapping gas spheres in [-1, 1]^3, each of optical depth `tau` along a
 /// diameter, under a point light and a directional light.
 fn thick_cloud(n: usize, tau: f64) -> (Vec<Ball>, Vec<Lamp>) {
-    let mut rnd = lcg(2024);
+    let mut rng = support::Rng(2024);
+    let mut rnd = || rng.f();
     let r = 0.6 * (n as f64).powf(-1.0 / 3.0);
     let albedo = DVec3::new(0.9, 0.7, 0.5);
     let balls = (0..n)
@@ -574,7 +564,10 @@ fn small_scenes() -> Vec<(&'static str, Vec<Ball>, Vec<Lamp>, f64)> {
             att: DVec3::new(1.0, 0.0, 0.0),
         },
     ];
-    let mut rnd = lcg(99);
+    // Seed 2 leaves 37 of the 40 rays for the check, which needs 25 (the others hit the
+    // opaque sphere or see no gas); with some seeds (6, 99) fewer are left.
+    let mut rng = support::Rng(2);
+    let mut rnd = || rng.f();
     let mut cloud: Vec<Ball> = (0..12)
         .map(|_| {
             gas(

@@ -195,13 +195,8 @@ fn written_file_renders_the_same_picture() {
 /// shears and reflections, shared and unlit materials.
 #[test]
 fn generated_scenes_round_trip() {
-    let mut state = 3u64;
-    let mut rnd = move || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = crate::support::Rng(3);
+    let mut rnd = move || rng.f();
     for case in 0..30 {
         let mut s = Scene {
             headlight: case % 2 == 0,
