@@ -723,20 +723,14 @@ impl SphereBvh {
 #[cfg(test)]
 mod tests {
     use super::{chunk_ranges, permute_in_place, MAX_CHUNKS};
-
-    fn lcg(state: &mut u64) -> u64 {
-        *state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        *state
-    }
+    use crate::testing::Rng;
 
     #[test]
     fn chunks_follow_morton_cells_and_cover_everything() {
-        let mut state = 7u64;
+        let mut rng = Rng::new(7);
         // Uniform codes: 8 octants of about n / 8 each, and room for n / 7.5 per chunk.
         let n = 8000;
-        let mut keys: Vec<(u64, u32)> = (0..n).map(|i| (lcg(&mut state) >> 1, i)).collect();
+        let mut keys: Vec<(u64, u32)> = (0..n).map(|i| (rng.u64() >> 1, i)).collect();
         keys.sort_unstable();
         let ranges = chunk_ranges(&keys, n as usize * 2 / 15);
         assert_eq!(ranges.len(), 8);
@@ -755,9 +749,8 @@ mod tests {
             (1000, 1000),
             (5000, 313),
         ] {
-            let mut keys: Vec<(u64, u32)> = (0..n)
-                .map(|i| (lcg(&mut state) >> (1 + i % 50), i))
-                .collect();
+            let mut keys: Vec<(u64, u32)> =
+                (0..n).map(|i| (rng.u64() >> (1 + i % 50), i)).collect();
             keys.sort_unstable();
             let ranges = chunk_ranges(&keys, per);
             assert!(ranges.len() <= MAX_CHUNKS.max(n.div_ceil(per as u32) as usize));
@@ -776,15 +769,12 @@ mod tests {
 
     #[test]
     fn permutation_in_place_matches_a_copy() {
-        let mut state = 12345u64;
+        let mut rng = Rng::new(12345);
         for n in [0usize, 1, 2, 3, 10, 100, 1000] {
             // A random permutation by Fisher-Yates.
             let mut order: Vec<u32> = (0..n as u32).collect();
             for k in (1..n).rev() {
-                state = state
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                order.swap(k, (state >> 33) as usize % (k + 1));
+                order.swap(k, rng.below(k + 1));
             }
             let v: Vec<u64> = (0..n as u64).map(|x| x * 7 + 1).collect();
             let want: Vec<u64> = order.iter().map(|&i| v[i as usize]).collect();

@@ -307,16 +307,10 @@ mod tests {
     #[test]
     fn two_prod_and_two_sum_are_exact_against_i128() {
         // Integers below 2^53 are exact in f64; i128 holds their exact products and sums.
-        let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
+        let mut rng = crate::testing::Rng::new(0x9e37_79b9_7f4a_7c15);
         for _ in 0..10_000 {
-            x = x
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            let a = (x >> 11) as i64 - (1 << 52);
-            x = x
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            let b = (x >> 13) as i64 - (1 << 50);
+            let a = (rng.u64() >> 11) as i64 - (1 << 52);
+            let b = (rng.u64() >> 13) as i64 - (1 << 50);
             let (p, e) = two_prod_split(a as f64, b as f64);
             assert_eq!(two_square(a as f64), two_prod_split(a as f64, a as f64));
             assert_eq!(p as i128 + e as i128, a as i128 * b as i128);

@@ -5,32 +5,28 @@
 //! The PROTO is standard VRML97: browsers that know nothing of gtsphere show ordinary
 //! spheres. A gas particle's density sigma becomes the Material's transparency
 //! `exp(-2 r sigma)` (MODEL.md section 1), so reading the file back gives
-//! `sigma = -ln(transparency) / (2 r)`; written with 17 significant digits, that loses
-//! nothing above optical depths `2 r sigma` of about 1e-16 relative to 1 (a diameter of
-//! optical depth `tau` comes back with relative error about `1e-16 / tau`).
+//! `sigma = -ln(transparency) / (2 r)`; the transparency reads back as the same f64, so that
+//! loses nothing above optical depths `2 r sigma` of about 1e-16 relative to 1 (a diameter
+//! of optical depth `tau` comes back with relative error about `1e-16 / tau`).
 //!
-//! Positions and radii read as numbers are written back as the very text they were read from.
+//! Positions, radii and 0-1 colours read as numbers are written back as the very text they
+//! were read from (when it has no decimal comma); every other number by the one rule of
+//! [`crate::vrml::number`], the same as `convert` of a scene.
 
 use std::io::{self, Write};
 
 use glam::DVec3;
 
 use super::read::{Num, Particle};
+use crate::vrml::number;
 
 /// The PROTO every instance refers to; `radius` defaults to `--radius` when given.
 fn proto(default_radius: f64) -> String {
     let mut buf = ryu::Buffer::new();
     format!(
         "PROTO Particle [\n  field SFVec3f position 0 0 0\n  field SFFloat radius {}\n  field SFColor color 0.8 0.8 0.8\n  field SFColor emission 0 0 0\n  field SFFloat transparency 0\n] {{\n  Transform {{\n    translation IS position\n    children Shape {{\n      appearance Appearance {{\n        material Material {{ diffuseColor IS color emissiveColor IS emission transparency IS transparency }}\n      }}\n      geometry Sphere {{ radius IS radius }}\n    }}\n  }}\n}}\n",
-        short(&mut buf, default_radius)
+        number::format(&mut buf, default_radius)
     )
-}
-
-/// `v` in the fewest digits that read back exactly (ryu), without ryu's trailing `.0`; all
-/// VRML97 floats ("1", "0.5", "1e-7").
-fn short(buf: &mut ryu::Buffer, v: f64) -> &str {
-    let s = buf.format(v);
-    s.strip_suffix(".0").unwrap_or(s)
 }
 
 /// What to add after the particles.
@@ -88,7 +84,7 @@ impl<W: Write> ParticleWriter<W> {
             count: 0,
             buf: ryu::Buffer::new(),
             quotients: (0..=255u32)
-                .map(|k| short(&mut ryu::Buffer::new(), f64::from(k) / 255.0).to_string())
+                .map(|k| number::format(&mut ryu::Buffer::new(), f64::from(k) / 255.0).to_string())
                 .collect(),
         })
     }
@@ -102,10 +98,12 @@ impl<W: Write> ParticleWriter<W> {
 
     fn f64(&mut self, v: f64) -> io::Result<()> {
         let k = (v * 255.0).round();
-        if (0.0..=255.0).contains(&k) && k / 255.0 == v {
+        // Not for -0 (k = -0 passes the other tests), whose sign the rule keeps.
+        if (0.0..=255.0).contains(&k) && k.is_sign_positive() && k / 255.0 == v {
             return self.out.write_all(self.quotients[k as usize].as_bytes());
         }
-        self.out.write_all(short(&mut self.buf, v).as_bytes())
+        self.out
+            .write_all(number::format(&mut self.buf, v).as_bytes())
     }
 
     fn nums(&mut self, v: [Num<'_>; 3]) -> io::Result<()> {

@@ -400,6 +400,7 @@ fn integrate_with(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::testing::Rng;
     use std::cell::Cell;
 
     thread_local! {
@@ -459,33 +460,6 @@ mod tests {
         );
         let want = 1e-12 * 1f64.sin();
         assert!((q.value.x - want).abs() < 1e-8 * want);
-    }
-
-    /// SplitMix64: a small deterministic generator.
-    struct Rng(u64);
-
-    impl Rng {
-        fn next(&mut self) -> u64 {
-            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = self.0;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            z ^ (z >> 31)
-        }
-        /// Uniform in [0, 1).
-        fn unit(&mut self) -> f64 {
-            (self.next() >> 11) as f64 / (1u64 << 53) as f64
-        }
-        fn range(&mut self, lo: f64, hi: f64) -> f64 {
-            lo + (hi - lo) * self.unit()
-        }
-        /// `10^x` with `x` uniform in `[lo, hi)`.
-        fn log10(&mut self, lo: f64, hi: f64) -> f64 {
-            10f64.powf(self.range(lo, hi))
-        }
-        fn below(&mut self, n: usize) -> usize {
-            (self.unit() * n as f64) as usize
-        }
     }
 
     /// Nodes and weights of `n`-point Gauss-Legendre on [-1, 1], by Newton's method on the
@@ -846,7 +820,7 @@ mod tests {
     }
 
     fn measure(est: Estimator, family: Family, tol: f64, n: usize) -> Stats {
-        let mut rng = Rng(0x5EED ^ tol.to_bits());
+        let mut rng = Rng::new(0x5EED ^ tol.to_bits());
         let mut scratch = QuadScratch::default();
         let (mut covered, mut ratios, mut evals) = (0, Vec::new(), 0);
         for _ in 0..n {

@@ -436,13 +436,8 @@ mod tests {
     /// the camera ray, the light ray tested in closed form).
     #[test]
     fn reach_on_ray_contains_every_parameter_whose_light_ray_meets_the_ball() {
-        let mut state = 7u64;
-        let mut rnd = || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1u64 << 53) as f64 * 4.0 - 2.0
-        };
+        let mut rng = crate::testing::Rng::new(7);
+        let mut rnd = || rng.range(-2.0, 2.0);
         let (mut met, mut narrow) = (0, 0);
         for k in 0..400 {
             let o = DVec3::new(rnd(), rnd(), rnd());
@@ -490,13 +485,8 @@ mod tests {
     /// Distances against dense sampling of the regions.
     #[test]
     fn band_and_triangle_distances_against_sampling() {
-        let mut state = 99u64;
-        let mut rnd = || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1u64 << 53) as f64 * 4.0 - 2.0
-        };
+        let mut rng = crate::testing::Rng::new(99);
+        let mut rnd = || rng.range(-2.0, 2.0);
         for k in 0..200 {
             let a = DVec3::new(rnd(), rnd(), rnd());
             let b = DVec3::new(rnd(), rnd(), rnd());

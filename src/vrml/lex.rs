@@ -430,22 +430,17 @@ mod tests {
         assert!(num("7").integer && !num("7.").integer && !num("7e0").integer);
     }
 
-    /// Deterministic pseudo-random integers below `n`, the same sequence every call.
-    fn xorshift() -> impl FnMut(u64) -> u64 {
-        let mut state: u64 = 0x2545_F491_4F6C_DD1D;
-        move |n| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state % n
-        }
+    /// Deterministic pseudo-random integers below `n`, the same sequence for the same seed.
+    fn random_below(seed: u64) -> impl FnMut(u64) -> u64 {
+        let mut rng = crate::testing::Rng::new(seed);
+        move |n| rng.below(n as usize) as u64
     }
 
     #[test]
     fn generated_numbers_agree_with_std_parse() {
         // Every shape the scanner distinguishes: signs, digit counts around the fast path's
         // limits (19 digits, 2^53, exponent ±22), leading and trailing zeros, exponents.
-        let mut next = xorshift();
+        let mut next = random_below(0x2545_F491_4F6C_DD1D);
         let mut checked = 0;
         for _ in 0..200_000 {
             let mut t = String::new();
@@ -492,13 +487,7 @@ mod tests {
     fn short_numbers_in_context_agree_with_the_general_reader() {
         // number() reads the common shape 8 bytes at a time when 8 bytes are there; it must
         // give what number_general gives for the same text, whatever follows.
-        let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
-        let mut next = |n: u64| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state % n
-        };
+        let mut next = random_below(0x9E37_79B9_7F4A_7C15);
         let tails = [
             "",
             " ",
@@ -630,7 +619,7 @@ mod tests {
     fn long_identifiers_agree_with_the_byte_table() {
         // The 8-byte letter and digit scan must stop where the byte table does.
         let alphabet: Vec<char> = "aZz09_-+.{ }\t#\u{e9}AmM".chars().collect();
-        let mut next = xorshift();
+        let mut next = random_below(0x2545_F491_4F6C_DD1D);
         for _ in 0..100_000 {
             let mut t = String::from("x");
             for _ in 0..next(30) {

@@ -352,17 +352,10 @@ mod tests {
 
     #[test]
     fn pseudo_random_picks_match_the_obvious_sharing() {
-        let mut x: u64 = 0x2545_F491_4F6C_DD1D;
+        let mut rng = crate::testing::Rng::new(0x2545_F491_4F6C_DD1D);
         for round in 0..20 {
             let kinds = [3, 50, 5000, 100_000][round % 4];
-            let picks: Vec<usize> = (0..3000)
-                .map(|_| {
-                    x ^= x << 13;
-                    x ^= x >> 7;
-                    x ^= x << 17;
-                    (x % kinds) as usize
-                })
-                .collect();
+            let picks: Vec<usize> = (0..3000).map(|_| rng.below(kinds)).collect();
             check(&picks);
         }
     }

@@ -3,6 +3,7 @@
 pub mod lex;
 pub mod lower;
 mod materials;
+pub mod number;
 pub mod parse;
 pub mod schema;
 pub mod syntax;

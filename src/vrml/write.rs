@@ -3,8 +3,8 @@
 //! viewpoints, headlight and background. Reading the output gives the same IR (spheres,
 //! materials, lights, viewpoints) up to the rounding of rotations written as axis-angle.
 //!
-//! - Numbers are written with Rust's shortest round-trip form, so every f64 reads back
-//!   exactly.
+//! - Numbers are written by [`super::number`]'s rule (the shortest digits that read back as
+//!   the same f64), so every f64 reads back exactly.
 //! - A DirectionalLight's scope (the spheres `scope.0 .. scope.1`) is kept by putting the light
 //!   inside a `Group` around exactly those spheres; scopes come from a tree, so they nest.
 //! - An ellipsoid's affine map `x -> A x + t` is written as a Transform: `A = Q P` (polar
@@ -15,10 +15,11 @@ use std::io::{self, Write};
 
 use glam::{DAffine3, DMat3, DQuat, DVec3};
 
+use super::number::Float;
 use crate::scene::{Light, Material, Scene, Sphere};
 
 fn v3(v: DVec3) -> String {
-    format!("{} {} {}", v.x, v.y, v.z)
+    format!("{} {} {}", Float(v.x), Float(v.y), Float(v.z))
 }
 
 /// `axis angle` of a rotation, the axis normalised; the identity as `0 0 1 0`.
@@ -27,7 +28,7 @@ fn axis_angle(q: DQuat) -> String {
     if angle == 0.0 || !axis.is_finite() || axis.length_squared() == 0.0 {
         "0 0 1 0".to_string()
     } else {
-        format!("{} {angle}", v3(axis.normalize()))
+        format!("{} {}", v3(axis.normalize()), Float(angle))
     }
 }
 
@@ -84,9 +85,9 @@ fn material(m: &Material) -> String {
         v3(m.diffuse),
         v3(m.emissive),
         v3(m.specular),
-        m.shininess,
-        m.ambient_intensity,
-        m.transparency
+        Float(m.shininess),
+        Float(m.ambient_intensity),
+        Float(m.transparency)
     )
 }
 
@@ -185,7 +186,7 @@ pub fn write_scene(scene: &Scene, out: &mut impl Write) -> io::Result<()> {
             "{def}Viewpoint {{ position {} orientation {} fieldOfView {} description {} }}",
             v3(vp.position),
             axis_angle(vp.orientation),
-            vp.field_of_view,
+            Float(vp.field_of_view),
             string(&vp.description)
         )?;
     }
@@ -199,10 +200,10 @@ pub fn write_scene(scene: &Scene, out: &mut impl Write) -> io::Result<()> {
                 "PointLight {{ location {} color {} intensity {} ambientIntensity {} attenuation {} radius {} on {} }}",
                 v3(p.location),
                 v3(p.color),
-                p.intensity,
-                p.ambient_intensity,
+                Float(p.intensity),
+                Float(p.ambient_intensity),
                 v3(p.attenuation),
-                p.radius,
+                Float(p.radius),
                 if p.on { "TRUE" } else { "FALSE" }
             )?,
             Light::Directional(d) if d.scope.covers_all(n as usize) => {
@@ -268,8 +269,8 @@ fn directional(l: &Light) -> String {
             "DirectionalLight {{ direction {} color {} intensity {} ambientIntensity {} on {} }}",
             v3(d.direction),
             v3(d.color),
-            d.intensity,
-            d.ambient_intensity,
+            Float(d.intensity),
+            Float(d.ambient_intensity),
             if d.on { "TRUE" } else { "FALSE" }
         ),
         Light::Point(_) => String::new(),
@@ -300,7 +301,7 @@ fn write_sphere(
             out,
             "Transform {{ translation {} children Shape {{ {appearance}geometry Sphere {{ radius {} }} }} }}",
             v3(s.center),
-            s.radius
+            Float(s.radius)
         ),
         Some(e) => writeln!(
             out,

@@ -2,9 +2,10 @@
 //! replays (at most 200 at once, `MAX_REPLAY_DEPTH` in src/vrml/lower/replay.rs) and nested
 //! Inline files (`LoadOptions::max_inline_depth`, 16 by default). At the bound the scene
 //! loads whole; past it the error names the file, line and column of the USE, instance or
-//! Inline that goes too deep, with no panic and no stack overflow.
+//! Inline that goes too deep, with no panic and no stack overflow. Group nesting has no
+//! bound: 100 000 nested Groups read without recursion.
 
-use super::support::{error_of, load};
+use super::support::{close, error_of, load};
 
 /// The replay depth the reader allows (`MAX_REPLAY_DEPTH`).
 const MAX_REPLAY_DEPTH: usize = 200;
@@ -127,4 +128,20 @@ fn inlines_past_the_depth_limit_are_an_error_at_the_innermost_inline() {
         )
     );
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn hundred_thousand_nested_groups_work() {
+    let n = 100_000;
+    let mut text = String::from("#VRML V2.0 utf8\n");
+    for _ in 0..n {
+        text.push_str("Group { children [\n");
+    }
+    text.push_str("Shape { geometry Sphere { radius 2 } }");
+    for _ in 0..n {
+        text.push_str("] }\n");
+    }
+    let (s, _) = super::support::load(&text);
+    assert_eq!(s.spheres.len(), 1);
+    assert!(close(s.spheres[0].radius, 2.0, 0.0));
 }

@@ -47,17 +47,6 @@ fn ours(prep: &Prepared, o: DVec3, w: DVec3) -> Estimate {
     )
 }
 
-/// A deterministic generator in [0, 1) (a 64-bit LCG's top 53 bits).
-fn lcg(seed: u64) -> impl FnMut() -> f64 {
-    let mut state = seed;
-    move || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 /// `n` rays from `o` to a sunflower of points filling the disc of `radius` about `centre` in
 /// the plane z = centre.z.
 fn sunflower(o: DVec3, centre: DVec3, radius: f64, n: usize) -> Vec<(DVec3, DVec3)> {
@@ -288,7 +277,8 @@ fn judge_all(
 /// `n` barely overlapping gas spheres in [-1, 1]^3, each of optical depth `tau` along a
 /// diameter, under a point light and a directional light.
 fn thick_cloud(n: usize, tau: f64) -> (Vec<Ball>, Vec<Lamp>) {
-    let mut rnd = lcg(2024);
+    let mut rng = support::Rng(2024);
+    let mut rnd = || rng.f();
     let r = 0.6 * (n as f64).powf(-1.0 / 3.0);
     let albedo = DVec3::new(0.9, 0.7, 0.5);
     let balls = (0..n)
@@ -574,7 +564,10 @@ fn small_scenes() -> Vec<(&'static str, Vec<Ball>, Vec<Lamp>, f64)> {
             att: DVec3::new(1.0, 0.0, 0.0),
         },
     ];
-    let mut rnd = lcg(99);
+    // Seed 2 leaves 37 of the 40 rays for the check, which needs 25 (the others hit the
+    // opaque sphere or see no gas); with some seeds (6, 99) fewer are left.
+    let mut rng = support::Rng(2);
+    let mut rnd = || rng.f();
     let mut cloud: Vec<Ball> = (0..12)
         .map(|_| {
             gas(
@@ -635,4 +628,52 @@ fn error_estimate_covers_the_true_error_on_small_scenes() {
 #[test]
 fn error_estimate_is_within_100x_of_the_true_error_on_small_scenes() {
     small_scenes_check(&[Claim::Tight]);
+}
+
+/// The exact integrator's error estimate is honest on gas_scatter's cloud: at a loose
+/// tolerance, the true error (against the reference) is below the estimate on at least 95 % of
+/// rays, and the estimate is within 100x of the true error on most rays where the error is
+/// measurable.
+#[test]
+fn error_estimate_is_honest() {
+    use crate::gas_reference::reference;
+    use crate::gas_scatter::{camera_rays, cloud, ours, prepared};
+    let (balls, lamps) = cloud();
+    let prep = prepared(&balls, &lamps, Integrator::Exact, 1e-3);
+    let (mut n, mut below, mut measurable, mut tight) = (0, 0, 0, 0);
+    for (o, w) in camera_rays(60) {
+        if balls
+            .iter()
+            .any(|b| b.gas.is_none() && roots(o, w, b.c, b.r).is_some())
+        {
+            continue;
+        }
+        let want = reference(&balls, &lamps, o, w, 1).gas;
+        if want == DVec3::ZERO {
+            continue;
+        }
+        let (got, est) = ours(&prep, o, w);
+        let err = (got - want).abs().max_element();
+        // The reference is good to far better than 1e-8 relative (refinement check in the
+        // cloud test); this floor was set for an earlier, coarser one.
+        let floor = 3e-8 * want.abs().max_element();
+        n += 1;
+        below += usize::from(err <= est + floor);
+        if err > 10.0 * floor {
+            measurable += 1;
+            tight += usize::from(est <= 100.0 * err);
+        }
+    }
+    assert!(n >= 30, "{n}");
+    assert!(
+        below * 100 >= 95 * n,
+        "estimate below the true error on {} of {n}",
+        n - below
+    );
+    if measurable > 0 {
+        assert!(
+            tight * 2 > measurable,
+            "within 100x on {tight} of {measurable}"
+        );
+    }
 }

@@ -8,32 +8,17 @@ use exact::{bracket_error, bracket_ulps, Exact};
 use glam::{DAffine3, DMat3, DQuat, DVec3};
 use gtsphere::geom::{ellipsoid_normal, ellipsoid_roots, segment_chord, sphere_roots};
 
+use crate::support::Rng;
+
 /// Unit roundoff, 2^-53.
 const U: f64 = f64::EPSILON / 2.0;
 
-struct Rng(u64);
-
 impl Rng {
-    fn next(&mut self) -> u64 {
-        // SplitMix64.
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-    /// Uniform in [0, 1).
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 * 2f64.powi(-53)
-    }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
     fn log_uniform(&mut self, lo: f64, hi: f64) -> f64 {
         self.range(lo.ln(), hi.ln()).exp()
     }
     fn sign(&mut self) -> f64 {
-        if self.next() & 1 == 0 {
+        if self.u64() & 1 == 0 {
             1.0
         } else {
             -1.0
@@ -98,7 +83,7 @@ fn grazing_ray(rng: &mut Rng, dist: f64, rho: f64, mu: f64) -> (DVec3, DVec3, DV
     let u = rng.dir();
     let c = o + dist * u;
     let mut d = c + rho * rng.perp(u) - o;
-    if rng.next() & 1 == 0 {
+    if rng.u64() & 1 == 0 {
         d = d.normalize();
     }
     let line_distance = Exact::new(o, d, c, 1.0).distance();
@@ -343,10 +328,10 @@ fn near_root_keeps_relative_precision_for_origins_near_the_surface() {
 fn no_nan_for_any_finite_input() {
     /// Zero, +-f64::MAX, subnormals, or any magnitude 10^-e..10^e.
     fn any(rng: &mut Rng, e: f64) -> f64 {
-        match rng.next() % 8 {
+        match rng.u64() % 8 {
             0 => 0.0,
             1 if e > 300.0 => f64::MAX * rng.sign(),
-            2 if e > 300.0 => f64::from_bits(rng.next() % (1 << 52)) * rng.sign(),
+            2 if e > 300.0 => f64::from_bits(rng.u64() % (1 << 52)) * rng.sign(),
             _ => rng.log_uniform(10f64.powf(-e), 10f64.powf(e)) * rng.sign(),
         }
     }
@@ -360,7 +345,7 @@ fn no_nan_for_any_finite_input() {
             let (o, d, c) = (v(), v(), v());
             let r = any(&mut rng, e).abs();
             // Half of the lines aimed at the centre, so that some hit.
-            let d = if rng.next() & 1 == 0 {
+            let d = if rng.u64() & 1 == 0 {
                 (c - o) * rng.log_uniform(10f64.powf(-e), 10f64.powf(e))
             } else {
                 d

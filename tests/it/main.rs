@@ -1,28 +1,28 @@
 //! One integration-test binary of named modules: the library's tests (the `gtsphere`
 //! binary's are in cli/tests/it/).
 
-mod bvh;
-mod convert_csv;
-mod corpus;
-mod corpus_counts;
-mod depth_limits;
-mod errors;
-mod gas_accuracy;
-mod gas_mc;
-mod gas_reference;
-mod gas_scatter;
-mod gas_truncation;
-mod geom;
-mod hard_cases;
-mod lexical;
-mod mesh_spheres;
-mod output;
-mod regression;
-mod render_gas;
-mod render_opaque;
-mod roundtrip;
-mod semantics;
-mod shadow_query;
-mod support;
-mod vmd;
-mod writer;
+mod bvh; // the BVH's closest, any and all hits against a brute-force loop over every sphere
+mod convert_csv; // particle tables to VRML: dialects, columns, bad rows, table -> VRML -> IR
+mod corpus; // every ../shared/corpus file reads or fails with a positioned error
+mod corpus_counts; // the hand-counted expectations of corpus files (data for `corpus`)
+mod depth_limits; // recursion bounds (USE, PROTO, Inline) at the bound and just past it
+mod errors; // each error and warning: message and line:col, exactly
+mod gas_accuracy; // the exact cases of ../shared/cases/gas-accuracy as regression tests
+mod gas_mc; // the Monte Carlo integrator: standard errors honest, agrees with exact
+mod gas_reference; // the brute-force gas reference the gas tests share (and its own checks)
+mod gas_scatter; // exact single scattering against the brute-force reference
+mod gas_truncation; // exact: truncation bounds and error estimates against the reference
+mod geom; // f64 ray/sphere and ray/ellipsoid math against exact and brute-force oracles
+mod hard_cases; // numerical hard cases (issue 5): tiny, huge, far, tangent, coincident
+mod lexical; // VRML97 lexical corners, gzip, invalid UTF-8, items longer than the window
+mod mesh_spheres; // IndexedFaceSets on a sphere become that sphere; other meshes are skipped
+mod output; // PNG, EXR, PFM bytes against independent readers; the atomic write
+mod regression; // inputs that once broke an invariant, named after what they guard
+mod render_gas; // gas emission and absorption against closed forms
+mod render_opaque; // opaque spheres against the VRML97 lighting equation in closed form
+mod roundtrip; // property: random scene trees printed as VRML parse back to their IR
+mod semantics; // what the IR means: transforms, scopes, Switch, LOD, DEF/USE, PROTO
+mod shadow_query; // the shadow-volume query against testing every sphere
+mod support; // helpers: load a scene, errors, scratch directories, `Rng` (SplitMix64)
+mod vmd; // VMD's PROTO VMDMat colours, against a hand-worked fixture
+mod writer; // the VRML writer against the reader; both writers format numbers alike

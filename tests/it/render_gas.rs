@@ -246,13 +246,8 @@ fn surface_shadowed_by_gas_gets_the_transmittance() {
 fn awkward_scenes_give_finite_pixels() {
     use gtsphere::render::tiles::render;
     use gtsphere::render::SamplerKind;
-    let mut state = 77u64;
-    let mut rnd = move || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = crate::support::Rng(77);
+    let mut rnd = move || rng.f();
     for case in 0..12 {
         let mut body = String::from("NavigationInfo { headlight FALSE }\n");
         // The camera sits at the first sphere's centre in half the cases.

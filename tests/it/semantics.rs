@@ -1,4 +1,5 @@
-//! What the IR means: transforms, ellipsoids, light scoping, Switch, LOD, materials, bindables.
+//! What the IR means: transforms, ellipsoids, light scoping, Switch, LOD, materials, bindables,
+//! DEF/USE, PROTO expansion, and what is read but not modelled (EXTERNPROTO, Script, ROUTE).
 //! Expected values are worked out by hand in each test.
 
 use glam::DVec3;
@@ -382,5 +383,127 @@ fn consecutive_proto_instances_keep_their_own_values() {
             ([0.0, 0.0, 0.0], 0.25),
             ([0.0, 0.0, 3.0], 1.0)
         ]
+    );
+}
+
+#[test]
+fn the_same_def_name_defined_again_later_one_wins() {
+    let (s, _) = scene(
+        "DEF M Material { diffuseColor 1 0 0 }\n\
+         Shape { appearance Appearance { material USE M } geometry Sphere {} }\n\
+         DEF M Material { diffuseColor 0 0 1 }\n\
+         Shape { appearance Appearance { material USE M } geometry Sphere {} }",
+    );
+    let m0 = s.materials[s.spheres[0].material as usize];
+    let m1 = s.materials[s.spheres[1].material as usize];
+    assert_eq!(m0.diffuse.to_array(), [1.0, 0.0, 0.0]);
+    assert_eq!(m1.diffuse.to_array(), [0.0, 0.0, 1.0]);
+}
+
+#[test]
+fn use_inside_a_def_keeps_the_meaning_it_had_when_read() {
+    let (s, _) = scene(
+        "DEF M Material { diffuseColor 1 0 0 }\n\
+         DEF S Shape { appearance Appearance { material USE M } geometry Sphere {} }\n\
+         DEF M Material { diffuseColor 0 0 1 }\n\
+         USE S",
+    );
+    assert_eq!(s.spheres.len(), 2);
+    for b in &s.spheres {
+        assert_eq!(s.materials[b.material as usize].diffuse.x, 1.0);
+    }
+}
+
+#[test]
+fn proto_with_is_is_expanded() {
+    let (s, _) = scene(
+        "PROTO Ball [ field SFColor c 1 1 1 field SFFloat r 1 exposedField SFVec3f at 0 0 0 ] {\n\
+           Transform { translation IS at children Shape {\n\
+             appearance Appearance { material Material { diffuseColor IS c } }\n\
+             geometry Sphere { radius IS r } } }\n\
+         }\n\
+         Ball { c 1 0 0 r 0.5 at 1 2 3 }\n\
+         Ball { }",
+    );
+    assert_eq!(s.spheres.len(), 2);
+    let (a, b) = (s.spheres[0], s.spheres[1]);
+    assert_eq!((a.center.to_array(), a.radius), ([1.0, 2.0, 3.0], 0.5));
+    assert_eq!((b.center.to_array(), b.radius), ([0.0, 0.0, 0.0], 1.0));
+    assert_eq!(
+        s.materials[a.material as usize].diffuse.to_array(),
+        [1.0, 0.0, 0.0]
+    );
+    assert_eq!(
+        s.materials[b.material as usize].diffuse.to_array(),
+        [1.0, 1.0, 1.0]
+    );
+}
+
+#[test]
+fn node_valued_proto_fields_and_nested_protos() {
+    let (s, _) = scene(
+        "PROTO Red [] { Material { diffuseColor 1 0 0 } }\n\
+         PROTO Holder [ field MFNode kids [] ] { Group { children IS kids } }\n\
+         Holder { kids [ Shape { appearance Appearance { material Red {} } geometry Sphere {} }\n\
+                         Shape { geometry Sphere { radius 3 } } ] }",
+    );
+    assert_eq!(s.spheres.len(), 2);
+    assert_eq!(
+        s.materials[s.spheres[0].material as usize]
+            .diffuse
+            .to_array(),
+        [1.0, 0.0, 0.0]
+    );
+    assert!(s.materials[s.spheres[1].material as usize].unlit);
+}
+
+#[test]
+fn only_the_first_node_of_a_proto_body_is_rendered() {
+    let (s, _) = scene(&format!("PROTO Two [] {{ {BALL} {BALL} }}\nTwo {{}}"));
+    assert_eq!(s.spheres.len(), 1);
+}
+
+#[test]
+fn externproto_instances_are_skipped_with_a_warning() {
+    let (s, r) = scene(&format!(
+        "EXTERNPROTO Fancy [ field SFFloat x ] [ \"urn:fancy\" \"fancy.wrl#Fancy\" ]\nFancy {{ x 1 }}\n{BALL}"
+    ));
+    assert_eq!(s.spheres.len(), 1);
+    assert_eq!(r.skipped.get("Fancy"), Some(&1));
+    assert!(r
+        .warnings
+        .iter()
+        .any(|w| w.message.contains("EXTERNPROTO Fancy")));
+}
+
+#[test]
+fn route_and_script_are_read_and_ignored() {
+    let (s, r) = scene(&format!(
+        "DEF T TimeSensor {{ loop TRUE }}\n\
+         DEF S Script {{ eventIn SFTime tick field SFNode me USE T url \"javascript: function tick(v) {{ }}\" }}\n\
+         DEF X Transform {{ children {BALL} }}\n\
+         ROUTE T.time TO S.tick\n"
+    ));
+    assert_eq!(s.spheres.len(), 1);
+    assert_eq!(r.skipped.get("Script"), Some(&1));
+    assert!(r.warnings.is_empty(), "{:?}", r.warnings);
+}
+
+#[test]
+fn deeply_nested_transforms_compose() {
+    let n = 1000;
+    let mut text = String::from("#VRML V2.0 utf8\n");
+    for _ in 0..n {
+        text.push_str("Transform { translation 0.001 0 0 children\n");
+    }
+    text.push_str("Shape { geometry Sphere {} }");
+    for _ in 0..n {
+        text.push_str("}\n");
+    }
+    let (s, _) = super::support::load(&text);
+    assert!(
+        close(s.spheres[0].center.x, 1.0, 1e-12),
+        "{}",
+        s.spheres[0].center.x
     );
 }

@@ -1,5 +1,5 @@
-//! `gtsphere convert` as a user runs it: exit codes, gzip input, VRML against tables, named
-//! pipes, and the README's sample table (the reader itself is tested in the library's
+//! `gtsphere convert` as a user runs it: a scene flattened to VRML that reads back the same,
+//! exit codes, gzip input, VRML against tables, named pipes, and the README's sample table (the reader itself is tested in the library's
 //! tests/it/convert_csv.rs).
 
 use std::io::Write;
@@ -193,4 +193,42 @@ fn sample_table_converts() {
     assert_eq!(s.spheres.len(), 252);
     assert_eq!(s.gas_count(), 12);
     assert_eq!(s.viewpoints.len(), 1);
+}
+
+#[test]
+fn convert_writes_vrml_that_reads_back_to_the_same_scene() {
+    let dir = scratch("scene_to_vrml");
+    let out = gtsphere(
+        &[
+            "convert",
+            &crate::support::sample("lattice.wrl"),
+            "-o",
+            "flat.wrl",
+            "--quiet",
+        ],
+        &dir,
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let opts = gtsphere::vrml::LoadOptions::default();
+    let (a, _) =
+        gtsphere::vrml::load_path(Path::new(&crate::support::sample("lattice.wrl")), &opts)
+            .unwrap();
+    let (b, _) = gtsphere::vrml::load_path(&dir.join("flat.wrl"), &opts).unwrap();
+    assert_eq!(a.spheres.len(), 125);
+    for (s, t) in a.spheres.iter().zip(&b.spheres) {
+        assert_eq!((s.center, s.radius), (t.center, t.radius));
+        assert_eq!(
+            a.materials[s.material as usize],
+            b.materials[t.material as usize]
+        );
+    }
+    // A missing input: an error naming it and no output.
+    let out = gtsphere(&["convert", "p.csv", "-o", "p.wrl"], &dir);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("p.csv"));
+    assert!(!dir.join("p.wrl").exists());
 }
