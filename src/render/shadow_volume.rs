@@ -432,6 +432,22 @@ impl BandCache {
 mod tests {
     use super::*;
 
+    /// A directional light towards `l` for even `k`, a point light at `p` for odd `k`.
+    fn light_for(k: usize, l: DVec3, p: DVec3) -> LightKind {
+        if k % 2 == 0 {
+            LightKind::Directional {
+                to_light: l,
+                scope: crate::scene::LightScope::All,
+            }
+        } else {
+            LightKind::Point {
+                position: p,
+                attenuation: DVec3::X,
+                radius: 100.0,
+            }
+        }
+    }
+
     /// The light ray of a point outside `reach_on_ray` never meets the ball (dense sampling of
     /// the camera ray, the light ray tested in closed form).
     #[test]
@@ -446,18 +462,7 @@ mod tests {
             let r = 0.05 + 0.2 * (rnd() + 2.0);
             let p = DVec3::new(rnd(), rnd(), rnd()) * 2.0;
             let l = DVec3::new(rnd(), rnd(), rnd()).normalize();
-            let light = if k % 2 == 0 {
-                LightKind::Directional {
-                    to_light: l,
-                    scope: crate::scene::LightScope::All,
-                }
-            } else {
-                LightKind::Point {
-                    position: p,
-                    attenuation: DVec3::X,
-                    radius: 100.0,
-                }
-            };
+            let light = light_for(k, l, p);
             let (t0, t1) = reach_on_ray(&light, o, d, c, r);
             narrow += usize::from(t1 - t0 < 6.0);
             for i in 0..=4000 {
@@ -494,18 +499,7 @@ mod tests {
             let c = DVec3::new(rnd(), rnd(), rnd());
             let l = DVec3::new(rnd(), rnd(), rnd()).normalize();
             let (f0, f1) = (0.25 * (rnd() + 2.0), 2.0 + rnd() + 2.0);
-            let light = if k % 2 == 0 {
-                LightKind::Directional {
-                    to_light: l,
-                    scope: crate::scene::LightScope::All,
-                }
-            } else {
-                LightKind::Point {
-                    position: c,
-                    attenuation: DVec3::X,
-                    radius: 100.0,
-                }
-            };
+            let light = light_for(k, l, c);
             let (f0, f1) = if k % 2 == 0 {
                 (f0, f1)
             } else {

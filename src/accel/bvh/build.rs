@@ -1,0 +1,307 @@
+//! Building the BVH: the primitives in Morton order, cut into at most [`MAX_CHUNKS`] chunks at
+//! Morton cell boundaries, each chunk's padded f32 boxes built into a CWBVH by obvhs (PLOC,
+//! reinsertion, conversion).
+
+use std::ops::Range;
+use std::time::Instant;
+
+use glam::{DAffine3, DVec3, Vec3A};
+use obvhs::aabb::Aabb;
+use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
+use obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh;
+use obvhs::cwbvh::CwBvh;
+use obvhs::ploc::PlocBuilder;
+use obvhs::BvhBuildParams;
+
+use super::{Chunk, PaddedBox, Prim, SphereBvh, MAX_CHUNKS, MIN_CHUNK, PAD_ULPS};
+
+/// Depth of a CWBVH in nodes (internal children of a node sit contiguously at
+/// `child_base_idx`, one per set bit of `imask`).
+fn cwbvh_depth(bvh: &CwBvh) -> usize {
+    if bvh.nodes.is_empty() {
+        return 0;
+    }
+    let mut deepest = 0;
+    let mut stack = vec![(0u32, 1usize)];
+    while let Some((n, depth)) = stack.pop() {
+        deepest = deepest.max(depth);
+        let node = &bvh.nodes[n as usize];
+        for k in 0..node.imask.count_ones() {
+            stack.push((node.child_base_idx + k, depth + 1));
+        }
+    }
+    deepest
+}
+
+/// Reorders `v` so that `v_new[i] = v_old[order[i]]`, following the permutation's cycles
+/// with one bit of bookkeeping per element.
+fn permute_in_place<T: Copy>(v: &mut [T], order: &[u32]) {
+    debug_assert_eq!(v.len(), order.len());
+    let mut done = vec![0u64; v.len().div_ceil(64)];
+    for start in 0..v.len() {
+        if done[start / 64] >> (start % 64) & 1 != 0 {
+            continue;
+        }
+        // Walk the cycle start -> order[start] -> ..., pulling each element into place.
+        let first = v[start];
+        let mut i = start;
+        loop {
+            done[i / 64] |= 1 << (i % 64);
+            let src = order[i] as usize;
+            if src == start {
+                v[i] = first;
+                break;
+            }
+            v[i] = v[src];
+            i = src;
+        }
+    }
+}
+
+/// Sorts `prims` by the Morton code (21 bits per axis) of their centres in the box `lo..hi`,
+/// and returns the chunks to cut the sorted order into (see [`chunk_ranges`]).
+fn morton_sort(prims: &mut [Prim], lo: DVec3, hi: DVec3, per_chunk: usize) -> Vec<Range<usize>> {
+    fn spread(mut x: u64) -> u64 {
+        x &= 0x1f_ffff;
+        x = (x | x << 32) & 0x1f_0000_0000_ffff;
+        x = (x | x << 16) & 0x1f_0000_ff00_00ff;
+        x = (x | x << 8) & 0x100f_00f0_0f00_f00f;
+        x = (x | x << 4) & 0x10c3_0c30_c30c_30c3;
+        (x | x << 2) & 0x1249_2492_4924_9249
+    }
+    let scale = DVec3::splat(2_097_151.0) / (hi - lo).max(DVec3::splat(f64::MIN_POSITIVE));
+    let mut keys: Vec<(u64, u32)> = prims
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let q = ((p.center - lo) * scale).clamp(DVec3::ZERO, DVec3::splat(2_097_151.0));
+            let code = spread(q.x as u64) | spread(q.y as u64) << 1 | spread(q.z as u64) << 2;
+            (code, i as u32)
+        })
+        .collect();
+    keys.sort_unstable();
+    let ranges = chunk_ranges(&keys, per_chunk);
+    let order: Vec<u32> = keys.iter().map(|k| k.1).collect();
+    drop(keys);
+    permute_in_place(prims, &order);
+    ranges
+}
+
+/// Cuts Morton-sorted `(code, index)` keys into at most [`MAX_CHUNKS`] ranges of at most `per_chunk`.
+///
+/// Cuts fall on Morton cell boundaries where possible: the order is split at its octree
+/// cells (halving one axis per code bit) until each piece fits, and neighbouring pieces are
+/// then merged while they fit. A chunk is then a cell or a few sibling cells, with a compact
+/// box: cutting at fixed counts instead (1M random spheres in chunks of 2^17 against octants
+/// of ~125,000) gives chunks that straddle two cells, whose boxes overlap their neighbours'
+/// and which a ray therefore has to walk for nothing. Falls back to fixed counts if the
+/// cells give too many chunks (very uneven scenes).
+fn chunk_ranges(codes: &[(u64, u32)], per_chunk: usize) -> Vec<Range<usize>> {
+    fn split(
+        codes: &[(u64, u32)],
+        base: usize,
+        bit: i32,
+        per_chunk: usize,
+        out: &mut Vec<Range<usize>>,
+    ) {
+        if codes.len() <= per_chunk {
+            if !codes.is_empty() {
+                out.push(base..base + codes.len());
+            }
+        } else if bit < 0 {
+            // Equal codes (coincident centres): fixed counts.
+            for at in (0..codes.len()).step_by(per_chunk) {
+                out.push(base + at..base + (at + per_chunk).min(codes.len()));
+            }
+        } else {
+            // Within a cell the higher bits are equal, so `bit` is sorted: zeros first.
+            let m = codes.partition_point(|c| c.0 >> bit & 1 == 0);
+            split(&codes[..m], base, bit - 1, per_chunk, out);
+            split(&codes[m..], base + m, bit - 1, per_chunk, out);
+        }
+    }
+    let mut pieces = Vec::new();
+    split(codes, 0, 62, per_chunk, &mut pieces);
+    let mut merged: Vec<Range<usize>> = Vec::new();
+    for p in pieces {
+        match merged.last_mut() {
+            Some(last) if p.end - last.start <= per_chunk => last.end = p.end,
+            _ => merged.push(p),
+        }
+    }
+    if merged.len() > MAX_CHUNKS {
+        let n = codes.len();
+        merged = (0..n)
+            .step_by(per_chunk)
+            .map(|at| at..(at + per_chunk).min(n))
+            .collect();
+    }
+    merged
+}
+
+/// World-space f64 box of a primitive.
+fn prim_box(p: &Prim, to_world: Option<&DAffine3>) -> (DVec3, DVec3) {
+    match to_world {
+        None => (p.center - p.radius, p.center + p.radius),
+        Some(m) => {
+            // The unit sphere under x -> A x + t spans t +- (|row_i(A)|)_i: exact half extents.
+            let a = m.matrix3;
+            let h = DVec3::new(a.row(0).length(), a.row(1).length(), a.row(2).length());
+            (m.translation - h, m.translation + h)
+        }
+    }
+}
+
+impl SphereBvh {
+    /// Builds the BVH. `ellipsoids` are the unit-sphere-to-world maps of `Scene::ellipsoids`.
+    pub fn build(prims: Vec<Prim>, ellipsoids: &[DAffine3]) -> SphereBvh {
+        let per_chunk = MIN_CHUNK.max(prims.len().div_ceil(MAX_CHUNKS));
+        Self::build_chunked(prims, ellipsoids, per_chunk)
+    }
+
+    /// [`SphereBvh::build`] with a chosen chunk size (at least `len / MAX_CHUNKS`); tests use
+    /// it to exercise many chunks on small scenes.
+    pub fn build_chunked(prims: Vec<Prim>, ellipsoids: &[DAffine3], per_chunk: usize) -> SphereBvh {
+        let per_chunk = per_chunk.max(prims.len().div_ceil(MAX_CHUNKS)).max(1);
+        let to_world = |p: &Prim| p.ellipsoid.map(|e| &ellipsoids[e.index()]);
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for p in &prims {
+            let (a, b) = prim_box(p, to_world(p));
+            lo = lo.min(a);
+            hi = hi.max(b);
+        }
+        if prims.is_empty() {
+            (lo, hi) = (DVec3::ZERO, DVec3::ZERO);
+        }
+        let origin = (lo + hi) * 0.5;
+        let half = ((hi - lo) * 0.5).length().max(f64::MIN_POSITIVE);
+        let pad = PAD_ULPS * half * f64::from(f32::EPSILON) * 0.5;
+        let scale = 2f64.powi(20 - half.log2().ceil().clamp(-1000.0, 1000.0) as i32);
+        let pad32 = (pad * scale) as f32;
+        let start = Instant::now();
+        let mut prims = prims;
+        let ranges = morton_sort(&mut prims, lo, hi, per_chunk);
+        let mut chunks = Vec::new();
+        for range in ranges {
+            let base = range.start;
+            let part = &mut prims[range];
+            let (mut clo, mut chi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+            let boxes: Vec<PaddedBox> = part
+                .iter()
+                .map(|p| {
+                    let (a, b) = prim_box(p, to_world(p));
+                    clo = clo.min(a);
+                    chi = chi.max(b);
+                    let a = ((a - origin) * scale).as_vec3a() - Vec3A::splat(pad32);
+                    let b = ((b - origin) * scale).as_vec3a() + Vec3A::splat(pad32);
+                    PaddedBox(Aabb::new(a, b))
+                })
+                .collect();
+            // obvhs's build_cwbvh, step by step: its debug-build validation asserts a depth
+            // below 32, which degenerate sets (concentric spheres) exceed; we handle those
+            // (`Chunk::deep`) instead.
+            let params = BvhBuildParams::fast_build();
+            let mut bvh2 = PlocBuilder::with_capacity(boxes.len()).build(
+                params.ploc_search_distance,
+                &boxes,
+                (0..boxes.len() as u32).collect::<Vec<_>>(),
+                params.sort_precision,
+                params.search_depth_threshold,
+            );
+            ReinsertionOptimizer::default().run(&mut bvh2, params.reinsertion_batch_ratio, None);
+            let mut bvh = bvh2_to_cwbvh(&bvh2, params.max_prims_per_leaf.clamp(1, 3), true, false);
+            drop(bvh2);
+            drop(boxes);
+            // Leaf order: the traversal reports positions in `primitive_indices`, so the
+            // chunk's spheres are permuted into that order in place and the list is freed.
+            permute_in_place(part, &bvh.primitive_indices);
+            bvh.primitive_indices = Vec::new();
+            let deep = cwbvh_depth(&bvh) >= 30;
+            chunks.push(Chunk {
+                deep,
+                bvh,
+                base: base as u32,
+                lo: clo - pad * 2.0,
+                hi: chi + pad * 2.0,
+            });
+        }
+        let build_time = start.elapsed();
+        let to_object = ellipsoids.iter().map(|m| m.inverse()).collect();
+        SphereBvh {
+            prims,
+            to_object,
+            chunks,
+            origin,
+            scale,
+            pad,
+            lo: lo - pad * 2.0,
+            hi: hi + pad * 2.0,
+            build_time,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{chunk_ranges, permute_in_place, MAX_CHUNKS};
+    use crate::testing::Rng;
+
+    #[test]
+    fn chunks_follow_morton_cells_and_cover_everything() {
+        let mut rng = Rng::new(7);
+        // Uniform codes: 8 octants of about n / 8 each, and room for n / 7.5 per chunk.
+        let n = 8000;
+        let mut keys: Vec<(u64, u32)> = (0..n).map(|i| (rng.u64() >> 1, i)).collect();
+        keys.sort_unstable();
+        let ranges = chunk_ranges(&keys, n as usize * 2 / 15);
+        assert_eq!(ranges.len(), 8);
+        for r in &ranges {
+            let top = |k: &(u64, u32)| k.0 >> 60;
+            assert!(keys[r.clone()]
+                .iter()
+                .all(|k| top(k) == top(&keys[r.start])));
+        }
+        // Any sizes: contiguous cover, each within the limit, at most MAX_CHUNKS.
+        for (n, per) in [
+            (0, 1),
+            (1, 1),
+            (100, 7),
+            (1000, 63),
+            (1000, 1000),
+            (5000, 313),
+        ] {
+            let mut keys: Vec<(u64, u32)> =
+                (0..n).map(|i| (rng.u64() >> (1 + i % 50), i)).collect();
+            keys.sort_unstable();
+            let ranges = chunk_ranges(&keys, per);
+            assert!(ranges.len() <= MAX_CHUNKS.max(n.div_ceil(per as u32) as usize));
+            let mut at = 0;
+            for r in ranges {
+                assert_eq!(r.start, at);
+                assert!(r.end > r.start && r.end - r.start <= per);
+                at = r.end;
+            }
+            assert_eq!(at, n as usize);
+        }
+        // Equal codes: fixed counts.
+        let keys = vec![(5u64, 0u32); 100];
+        assert_eq!(chunk_ranges(&keys, 30).len(), 4);
+    }
+
+    #[test]
+    fn permutation_in_place_matches_a_copy() {
+        let mut rng = Rng::new(12345);
+        for n in [0usize, 1, 2, 3, 10, 100, 1000] {
+            // A random permutation by Fisher-Yates.
+            let mut order: Vec<u32> = (0..n as u32).collect();
+            for k in (1..n).rev() {
+                order.swap(k, rng.below(k + 1));
+            }
+            let v: Vec<u64> = (0..n as u64).map(|x| x * 7 + 1).collect();
+            let want: Vec<u64> = order.iter().map(|&i| v[i as usize]).collect();
+            let mut got = v.clone();
+            permute_in_place(&mut got, &order);
+            assert_eq!(got, want);
+        }
+    }
+}

@@ -1,0 +1,152 @@
+//! The sphere BVH: obvhs's compressed wide BVH (CWBVH) over f32 boxes, with every sphere test
+//! done exactly in f64 by the caller's closure (STYLE habit 6: the BVH knows boxes, the caller
+//! knows spheres).
+//!
+//! Why the f32 boxes are safe. Before anything is rounded to f32, coordinates are taken
+//! relative to the centre `O` of the scene's f64 bounding box, whose half-diagonal is `R`, and a
+//! ray is first clipped in f64 to that (padded) box, so its f32 origin lies within about `R` of
+//! `O` and its f32 parameter range is at most about `2R`. Every rounding the traversal makes
+//! (the f32 origin and direction, the node's quantised child boxes, obvhs's slab arithmetic and
+//! its clamping of `1/d` to `1/f32::EPSILON` for near-axis-parallel rays) moves a box face by
+//! at most a few `2^-24 R`. Each primitive box is padded by [`PAD_ULPS`] `* 2^-24 * R`, far
+//! beyond that, so a box the exact ray meets is never culled. Padding only costs extra exact
+//! tests, never a wrong answer; the f64 closure decides every hit.
+//!
+//! Why a scaled frame. obvhs's node test clamps a box's entry to at least `1e-4` (an absolute
+//! epsilon, `cwbvh::node::EPSILON`), so a box the ray leaves within `1e-4` of its origin is
+//! culled: a whole scene smaller than that would vanish, and a shadow ray could miss a thin
+//! sliver of a neighbouring sphere. The f32 frame is therefore scaled by a power of two (exact)
+//! so that `R` becomes about `2^20`, and every f32 ray starts [`BACKUP`] units before its true
+//! start: every box the true segment meets is then left at `t >= BACKUP > 1e-4`.
+//!
+//! Why chunks. obvhs's build needs about 250 bytes per primitive while it runs (binary nodes,
+//! then the CWBVH conversion tables), more than the whole finished structure. The spheres are
+//! therefore sorted in Morton order and cut, at Morton cell boundaries where possible, into
+//! at most [`MAX_CHUNKS`] spatially compact chunks, each with its own CWBVH, so that the
+//! build's peak is paid for one chunk at a time.
+//! A ray visits the chunks its f64 box test reaches, nearest first, and stops at the first
+//! chunk that starts beyond its closest hit.
+//!
+//! Layout: this file holds the types and what both sides use; `build.rs` the Morton chunks
+//! and the obvhs builds, `query.rs` the traversals (closest hit, any hit, a region).
+
+mod build;
+mod query;
+
+use std::time::Duration;
+
+use glam::{DAffine3, DVec3};
+use obvhs::aabb::Aabb;
+use obvhs::cwbvh::CwBvh;
+use obvhs::Boundable;
+
+use crate::geom::{ellipsoid_roots, sphere_roots};
+
+/// How far (in scaled f32 units) each f32 ray starts before its true start.
+const BACKUP: f32 = 4e-4;
+
+/// At most this many chunks; each holds at least [`MIN_CHUNK`] spheres.
+pub const MAX_CHUNKS: usize = 16;
+const MIN_CHUNK: usize = 1 << 17;
+
+/// Box padding in units of `2^-24 R` (see the module comment).
+const PAD_ULPS: f64 = 64.0;
+
+/// One sphere (or ellipsoid) as the renderer sees it, stored in BVH leaf order.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Prim {
+    pub center: DVec3,
+    /// Radius; for an ellipsoid, a bounding radius (the exact shape is in `to_object`).
+    pub radius: f64,
+    /// Index into `Scene::materials`.
+    pub material: u32,
+    /// Index of the sphere in `Scene::spheres` (light scopes and the `id` channel use it).
+    pub sphere: u32,
+    /// Its map in [`SphereBvh::to_object`]; `None` for a true sphere.
+    pub ellipsoid: Option<crate::scene::EllipsoidId>,
+    /// Gas (a participating medium), not an opaque surface.
+    pub gas: bool,
+    /// Extinction of a gas primitive (MODEL.md section 1); 0 for opaque ones.
+    pub sigma: f64,
+}
+
+impl Prim {
+    #[inline]
+    pub fn is_gas(&self) -> bool {
+        self.gas
+    }
+}
+
+/// A closest hit: ray parameter and the primitive's index in [`SphereBvh::prims`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    pub t: f64,
+    pub prim: u32,
+}
+
+/// A primitive's f32 box, as obvhs builds from.
+struct PaddedBox(Aabb);
+
+impl Boundable for PaddedBox {
+    fn aabb(&self) -> Aabb {
+        self.0
+    }
+}
+
+/// One chunk: a CWBVH over `prims[base..base + len]`, and its padded f64 box.
+struct Chunk {
+    bvh: CwBvh,
+    /// Deeper than obvhs's fixed 32-entry traversal stack (which silently overwrites its top
+    /// entry when full): traverse with a growable stack instead. Happens only for degenerate
+    /// sets, such as hundreds of concentric or coincident spheres.
+    deep: bool,
+    base: u32,
+    lo: DVec3,
+    hi: DVec3,
+}
+
+pub struct SphereBvh {
+    chunks: Vec<Chunk>,
+    /// Primitives, chunk after chunk, each chunk in its BVH's leaf order: traversal index `i`
+    /// of chunk `c` is `prims[c.base + i]`.
+    pub prims: Vec<Prim>,
+    /// World-to-object maps of the ellipsoids (object space: the unit sphere).
+    pub to_object: Vec<DAffine3>,
+    /// Centre of the f32 frame.
+    origin: DVec3,
+    /// f32 coordinates are `(x - origin) * scale`, a power of two making `R` about `2^20`.
+    scale: f64,
+    /// The padding of every primitive box (world units).
+    pad: f64,
+    /// The f64 scene box, padded like the primitive boxes, for clipping rays.
+    lo: DVec3,
+    hi: DVec3,
+    /// Wall time of the build (Morton sort, obvhs builds, reordering).
+    pub build_time: Duration,
+}
+
+impl SphereBvh {
+    /// The padded world box of every primitive.
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        (self.lo, self.hi)
+    }
+
+    /// Bytes held by the BVH and the primitive arrays.
+    pub fn heap_bytes(&self) -> usize {
+        self.chunks
+            .iter()
+            .map(|c| c.bvh.nodes.capacity() * std::mem::size_of::<obvhs::cwbvh::node::CwBvhNode>())
+            .sum::<usize>()
+            + self.prims.capacity() * std::mem::size_of::<Prim>()
+            + self.to_object.capacity() * std::mem::size_of::<DAffine3>()
+    }
+
+    /// Both roots of the line `o + t d` against primitive `p` (sphere or ellipsoid), in `t`.
+    #[inline]
+    pub fn roots(&self, p: &Prim, o: DVec3, d: DVec3) -> Option<(f64, f64)> {
+        match p.ellipsoid {
+            None => sphere_roots(o, d, p.center, p.radius),
+            Some(e) => ellipsoid_roots(o, d, &self.to_object[e.index()]),
+        }
+    }
+}

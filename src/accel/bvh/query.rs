@@ -1,0 +1,356 @@
+//! Traversals: the chunks a ray reaches (f64 slab test), each chunk's CWBVH walked with
+//! obvhs's `traverse!` and a stack of our choosing, and the closest-hit, any-hit and
+//! region queries on top (every primitive test in f64 by the caller's closure).
+
+use glam::{DVec3, UVec2, Vec3A};
+use obvhs::ray::Ray as Ray32;
+
+use super::{Chunk, Hit, Prim, SphereBvh, BACKUP, MAX_CHUNKS};
+
+/// The parameter interval where `o + t d` is inside the box `lo..hi`, clipped to
+/// `[tmin, tmax]` (f64 slab test; `inv` is `1 / d` componentwise).
+#[inline(always)]
+fn slab(lo: DVec3, hi: DVec3, o: DVec3, inv: DVec3, tmin: f64, tmax: f64) -> Option<(f64, f64)> {
+    let a = (lo - o) * inv;
+    let b = (hi - o) * inv;
+    let (mut t0, mut t1) = (tmin, tmax);
+    for (a, b) in [(a.x, b.x), (a.y, b.y), (a.z, b.z)] {
+        let (a, b) = if a > b { (b, a) } else { (a, b) };
+        // d[k] == 0 gives +-inf (or NaN when o is on a face; then the axis does not clip).
+        if a > t0 {
+            t0 = a;
+        }
+        if b < t1 {
+            t1 = b;
+        }
+    }
+    (t0 <= t1).then_some((t0, t1))
+}
+
+/// What a leaf visit tells the traversal.
+enum Step {
+    Go,
+    /// Go on, with the ray's f32 `tmax` lowered to this.
+    Shrink(f32),
+    Stop,
+}
+
+/// Traversal state for `obvhs::traverse!` with a stack of our choosing.
+struct Walk<S> {
+    stack: S,
+    current_group: UVec2,
+    primitive_group: UVec2,
+    oct_inv4: u32,
+    primitive_id: u32,
+    hitmask: u32,
+}
+
+impl<S> Walk<S> {
+    /// The state at chunk `c`'s root, children ordered for `direction`. (obvhs's
+    /// `new_traversal` would also build, and zero, a stack of its own that we do not use.)
+    #[inline(always)]
+    fn start(c: &Chunk, direction: Vec3A, stack: S) -> Walk<S> {
+        // obvhs's `ray_get_octant_inv4` (private there).
+        let oct_inv4 = (if direction.x < 0.0 { 0 } else { 0x0404_0404 })
+            | (if direction.y < 0.0 { 0 } else { 0x0202_0202 })
+            | (if direction.z < 0.0 { 0 } else { 0x0101_0101 });
+        Walk {
+            stack,
+            current_group: if c.bvh.nodes.is_empty() {
+                UVec2::ZERO
+            } else {
+                UVec2::new(0, 0x8000_0000)
+            },
+            primitive_group: UVec2::ZERO,
+            oct_inv4,
+            primitive_id: 0,
+            hitmask: 0,
+        }
+    }
+}
+
+/// Walks chunk `c` along `ray`, calling `leaf(primitive index in the chunk)` for every
+/// primitive in a leaf the ray reaches.
+#[inline(always)]
+fn walk_with<S: obvhs::faststack::FastStack<UVec2>>(
+    c: &Chunk,
+    stack: S,
+    mut ray: Ray32,
+    mut leaf: impl FnMut(u32) -> Step,
+) {
+    let mut state = Walk::start(c, ray.direction, stack);
+    let mut node;
+    'done: {
+        obvhs::traverse!(
+            c.bvh,
+            node,
+            state,
+            node.intersect_ray(&ray, state.oct_inv4),
+            {
+                match leaf(state.primitive_id) {
+                    Step::Go => {}
+                    Step::Shrink(t) => ray.tmax = ray.tmax.min(t),
+                    Step::Stop => break 'done,
+                }
+            }
+        );
+    }
+}
+
+#[inline(always)]
+fn walk(c: &Chunk, ray: Ray32, leaf: impl FnMut(u32) -> Step) {
+    if c.deep {
+        walk_with(c, Vec::with_capacity(64), ray, leaf);
+    } else {
+        walk_with(
+            c,
+            obvhs::faststack::StackStack::<UVec2, 32>::default(),
+            ray,
+            leaf,
+        );
+    }
+}
+
+impl SphereBvh {
+    /// The f32 ray for chunk `c` over `[t0, t1]` (already clipped to the chunk's box): it
+    /// starts at the entry point, so its f32 origin lies inside the scene.
+    #[inline]
+    fn ray32(&self, o: DVec3, d: DVec3, t0: f64, t1: f64) -> Ray32 {
+        // `+ 0.0` turns -0.0 into +0.0: obvhs picks a node's near planes from the sign test
+        // `d < 0` but divides by the signed zero, so a -0.0 component would invert the slab.
+        let dir = d.as_vec3a() + Vec3A::ZERO;
+        let start = ((o + t0 * d - self.origin) * self.scale).as_vec3a() - BACKUP * dir;
+        // Widen the f32 range: the f32 exit must not fall short of the f64 one.
+        let len = (((t1 - t0) * self.scale) as f32 + BACKUP) * (1.0 + 4.0 * f32::EPSILON)
+            + f32::MIN_POSITIVE;
+        Ray32::new(start, dir, 0.0, len)
+    }
+
+    /// The f32 ray parameter of world parameter `t` on a ray from [`SphereBvh::ray32`] that
+    /// started at `t0`, rounded up so that no closer box is culled.
+    #[inline]
+    fn t32_above(&self, t: f64, t0: f64) -> f32 {
+        let r = ((t - t0) * self.scale) as f32 + BACKUP;
+        r + r.abs() * 4.0 * f32::EPSILON + f32::MIN_POSITIVE
+    }
+
+    /// The chunks the segment reaches, with their entry and exit parameters, nearest first,
+    /// written to the front of `list`; returns how many. (Filled in place, not returned:
+    /// returning the array copied it on every ray.)
+    #[inline(always)]
+    fn chunks_on(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+        list: &mut [(f64, f64, u32); MAX_CHUNKS],
+    ) -> usize {
+        let inv = d.recip();
+        let Some(whole) = slab(self.lo, self.hi, o, inv, tmin, tmax) else {
+            return 0;
+        };
+        if let [c] = &self.chunks[..] {
+            // One chunk: its box is the scene's box, up to padding.
+            return match slab(c.lo, c.hi, o, inv, whole.0, whole.1) {
+                Some((t0, t1)) => {
+                    list[0] = (t0, t1, 0);
+                    1
+                }
+                None => 0,
+            };
+        }
+        let mut n = 0;
+        for (k, c) in self.chunks.iter().enumerate() {
+            if let Some((t0, t1)) = slab(c.lo, c.hi, o, inv, tmin, tmax) {
+                // Insertion by entry parameter.
+                let mut at = n;
+                while at > 0 && list[at - 1].0 > t0 {
+                    list[at] = list[at - 1];
+                    at -= 1;
+                }
+                list[at] = (t0, t1, k as u32);
+                n += 1;
+            }
+        }
+        n
+    }
+
+    /// The closest primitive whose `test` accepts the ray: `test(index, prim, roots) -> Some(t)` for a
+    /// hit at `t` in `(tmin, tmax]`. Returns the smallest such `t`.
+    #[inline]
+    pub fn closest(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+        mut test: impl FnMut(u32, &Prim, (f64, f64)) -> Option<f64>,
+    ) -> Option<Hit> {
+        let mut best: Option<Hit> = None;
+        let mut list = [(0.0, 0.0, 0u32); MAX_CHUNKS];
+        let n = self.chunks_on(o, d, tmin, tmax, &mut list);
+        for &(t0, t1, k) in &list[..n] {
+            let best_t = best.map_or(tmax, |h| h.t);
+            if t0 > best_t {
+                break;
+            }
+            let c = &self.chunks[k as usize];
+            let ray = self.ray32(o, d, t0, t1.min(best_t));
+            walk(c, ray, |i| {
+                let i = c.base + i;
+                let p = &self.prims[i as usize];
+                if let Some(roots) = self.roots(p, o, d) {
+                    if let Some(t) = test(i, p, roots) {
+                        // Ties (coincident spheres) go to the earlier sphere in the
+                        // scene, whatever the traversal order.
+                        let better = match best {
+                            None => t <= tmax,
+                            Some(b) => {
+                                t < b.t
+                                    || (t == b.t && p.sphere < self.prims[b.prim as usize].sphere)
+                            }
+                        };
+                        if t > tmin && better {
+                            best = Some(Hit { t, prim: i });
+                            return Step::Shrink(self.t32_above(t, t0));
+                        }
+                    }
+                }
+                Step::Go
+            });
+        }
+        best
+    }
+
+    /// Whether any primitive `blocks(prim_index, prim, roots)` along the ray in `[tmin, tmax]`;
+    /// stops at the first.
+    #[inline]
+    pub fn any(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+        blocks: impl FnMut(u32, &Prim, (f64, f64)) -> bool,
+    ) -> bool {
+        self.any_except(o, d, tmin, tmax, None, blocks)
+    }
+
+    /// [`SphereBvh::any`], passing over primitive `skip` without a test: a shadow ray's own
+    /// sphere, which its line always meets (so its roots would always be computed, for
+    /// nothing).
+    #[inline]
+    pub fn any_except(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+        skip: Option<u32>,
+        mut blocks: impl FnMut(u32, &Prim, (f64, f64)) -> bool,
+    ) -> bool {
+        let mut list = [(0.0, 0.0, 0u32); MAX_CHUNKS];
+        let n = self.chunks_on(o, d, tmin, tmax, &mut list);
+        let mut blocked = false;
+        for &(t0, t1, k) in &list[..n] {
+            let c = &self.chunks[k as usize];
+            walk(c, self.ray32(o, d, t0, t1), |i| {
+                let i = c.base + i;
+                if Some(i) == skip {
+                    return Step::Go;
+                }
+                let p = &self.prims[i as usize];
+                match self.roots(p, o, d) {
+                    Some(roots) if blocks(i, p, roots) => {
+                        blocked = true;
+                        Step::Stop
+                    }
+                    _ => Step::Go,
+                }
+            });
+            if blocked {
+                return true;
+            }
+        }
+        false
+    }
+
+    /// Calls `visit(prim_index, prim)` for every primitive whose (padded) box may meet a
+    /// region of space, as judged by `near(lo, hi)`: whether the world box `lo..hi` may meet
+    /// the region (it may answer true for boxes that do not; it must never answer false for
+    /// one that does). Each child box of a node is tested, so only the nodes whose boxes come
+    /// near the region are visited: the cost follows the region, not an enclosing
+    /// axis-aligned box (a diagonal shadow strip, say). `visit` still does the exact test.
+    pub fn near_region(
+        &self,
+        near: impl Fn(DVec3, DVec3) -> bool,
+        mut visit: impl FnMut(u32, &Prim),
+        stack: &mut Vec<UVec2>,
+    ) {
+        let inv = 1.0 / self.scale;
+        let pad = DVec3::splat(2.0 * self.pad);
+        for c in &self.chunks {
+            if c.bvh.nodes.is_empty() || !near(c.lo, c.hi) {
+                continue;
+            }
+            stack.clear();
+            let mut state = Walk::start(c, Vec3A::X, std::mem::take(stack));
+            let mut node: &obvhs::cwbvh::node::CwBvhNode;
+            obvhs::traverse!(
+                c.bvh,
+                node,
+                state,
+                {
+                    let (bits, index) = node.get_child_and_index_bits(state.oct_inv4);
+                    let mut mask = 0u32;
+                    for child in 0..8 {
+                        if node.is_child_empty(child) {
+                            continue;
+                        }
+                        // The child box in world space, padded again for the f32 rounding of
+                        // its decoding.
+                        let b = node.child_aabb(child);
+                        let lo = b.min.as_dvec3() * inv + self.origin - pad;
+                        let hi = b.max.as_dvec3() * inv + self.origin + pad;
+                        if near(lo, hi) {
+                            mask |= obvhs::cwbvh::node::extract_byte64(bits, child)
+                                << obvhs::cwbvh::node::extract_byte64(index, child);
+                        }
+                    }
+                    mask
+                },
+                {
+                    let i = c.base + state.primitive_id;
+                    visit(i, &self.prims[i as usize]);
+                }
+            );
+            *stack = state.stack;
+        }
+    }
+
+    /// Calls `visit(prim_index, prim, roots)` for every primitive the line meets whose box the
+    /// ray segment `[tmin, tmax]` reaches (order unspecified).
+    pub fn all(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+        mut visit: impl FnMut(u32, &Prim, (f64, f64)),
+    ) {
+        let mut list = [(0.0, 0.0, 0u32); MAX_CHUNKS];
+        let n = self.chunks_on(o, d, tmin, tmax, &mut list);
+        for &(t0, t1, k) in &list[..n] {
+            let c = &self.chunks[k as usize];
+            walk(c, self.ray32(o, d, t0, t1), |i| {
+                let i = c.base + i;
+                let p = &self.prims[i as usize];
+                if let Some(roots) = self.roots(p, o, d) {
+                    visit(i, p, roots);
+                }
+                Step::Go
+            });
+        }
+    }
+}
