@@ -1,0 +1,256 @@
+use super::*;
+
+fn num(s: &str) -> Number {
+    number(s).unwrap().1
+}
+
+#[test]
+fn numbers_agree_with_std_parse() {
+    for s in [
+        "0",
+        "-0",
+        ".5",
+        "+2.",
+        "1e-3",
+        "1E+3",
+        "-1.25e-18",
+        "12345678901234567",
+        "0.30000000000000004",
+    ] {
+        let want: f64 = s.parse().unwrap();
+        assert_eq!(num(s).value.to_bits(), want.to_bits(), "{s}");
+    }
+    assert!(num("-0").value.is_sign_negative());
+    assert!(num("7").integer && !num("7.").integer && !num("7e0").integer);
+}
+
+/// Deterministic pseudo-random integers below `n`, the same sequence for the same seed.
+fn random_below(seed: u64) -> impl FnMut(u64) -> u64 {
+    let mut rng = crate::testing::Rng::new(seed);
+    move |n| rng.below(n as usize) as u64
+}
+
+#[test]
+fn generated_numbers_agree_with_std_parse() {
+    // Every shape the scanner distinguishes: signs, digit counts around the fast path's
+    // limits (19 digits, 2^53, exponent ±22), leading and trailing zeros, exponents.
+    let mut next = random_below(0x2545_F491_4F6C_DD1D);
+    let mut checked = 0;
+    for _ in 0..200_000 {
+        let mut t = String::new();
+        t.push_str(["", "+", "-"][next(3) as usize]);
+        let digit = |d: u64| char::from(b'0' + d as u8);
+        for _ in 0..next(24) {
+            let d = if next(4) == 0 { 0 } else { next(10) };
+            t.push(digit(d));
+        }
+        if next(3) != 0 {
+            t.push('.');
+            for _ in 0..next(24) {
+                let d = if next(4) == 0 { 0 } else { next(10) };
+                t.push(digit(d));
+            }
+        }
+        if next(3) == 0 {
+            t.push(if next(2) == 0 { 'e' } else { 'E' });
+            t.push_str(["", "+", "-"][next(3) as usize]);
+            for _ in 0..1 + next(3) {
+                t.push(digit(next(10)));
+            }
+        }
+        let want: Result<f64, _> = t.parse();
+        match number(&t) {
+            Ok((rest, n)) => {
+                assert_eq!(rest, "", "{t}");
+                assert_eq!(n.value.to_bits(), want.unwrap().to_bits(), "{t}");
+                checked += 1;
+            }
+            Err(NumberProblem::OutOfRange) => assert!(want.unwrap().is_infinite(), "{t}"),
+            Err(NumberProblem::NotANumber) => {
+                assert!(
+                    !t.bytes().any(|b| b.is_ascii_digit()) || want.is_err(),
+                    "{t}"
+                )
+            }
+        }
+    }
+    assert!(checked > 100_000);
+}
+
+#[test]
+fn short_numbers_in_context_agree_with_the_general_reader() {
+    // number() reads the common shape 8 bytes at a time when 8 bytes are there; it must
+    // give what number_general gives for the same text, whatever follows.
+    let mut next = random_below(0x9E37_79B9_7F4A_7C15);
+    let tails = [
+        "",
+        " ",
+        "]",
+        "}",
+        ",",
+        " 1 2 3 4 5 6 7 8 9",
+        "x  ",
+        "e5 ",
+        "E-3    ",
+        ".5      ",
+        "-1      ",
+        "\u{e9}       ",
+        "#c      ",
+        "\n       ",
+        "1234567890",
+        "0x10     ",
+    ];
+    let mut fast = 0;
+    for _ in 0..300_000 {
+        let mut t = String::new();
+        t.push_str(["", "+", "-"][next(3) as usize]);
+        for _ in 0..next(10) {
+            t.push(char::from(b'0' + next(10) as u8));
+        }
+        if next(3) != 0 {
+            t.push('.');
+            for _ in 0..next(10) {
+                t.push(char::from(b'0' + next(10) as u8));
+            }
+        }
+        t.push_str(tails[next(tails.len() as u64) as usize]);
+        let got = number(&t).map(|(r, n)| (r, n.value.to_bits(), n.integer));
+        let want = number_general(&t).map(|(r, n)| (r, n.value.to_bits(), n.integer));
+        assert_eq!(got, want, "{t:?}");
+        fast += usize::from(short_decimal(t.as_bytes()).is_some());
+    }
+    assert!(fast > 50_000, "{fast}");
+}
+
+#[test]
+fn hex_integers() {
+    assert_eq!(
+        num("0xFF"),
+        Number {
+            value: 255.0,
+            integer: true
+        }
+    );
+    assert_eq!(num("0Xff").value, 255.0);
+    assert_eq!(num("-0x10").value, -16.0);
+    assert_eq!(num("0xFFFFFFFF").value, 4294967295.0);
+}
+
+#[test]
+fn bad_numbers() {
+    assert_eq!(number("1e400"), Err(NumberProblem::OutOfRange));
+    assert_eq!(number("-1e999"), Err(NumberProblem::OutOfRange));
+    assert_eq!(number("."), Err(NumberProblem::NotANumber));
+    assert_eq!(number("1abc"), Err(NumberProblem::NotANumber));
+    assert_eq!(number("+"), Err(NumberProblem::NotANumber));
+}
+
+#[test]
+fn number_stops_at_delimiters() {
+    assert_eq!(number("1.5]").unwrap().0, "]");
+    assert_eq!(number("3,4").unwrap().0, ",4");
+    assert_eq!(number("2 x").unwrap().0, " x");
+}
+
+#[test]
+fn identifiers() {
+    assert_eq!(identifier("Transform{").unwrap(), ("{", "Transform"));
+    assert_eq!(identifier("FROM-NODE.val").unwrap(), (".val", "FROM-NODE"));
+    assert_eq!(identifier("a+b-1 ").unwrap(), (" ", "a+b-1"));
+    assert!(identifier("1abc").is_err());
+    assert!(identifier("-x").is_err());
+    assert_eq!(identifier("Ünïcode x").unwrap().1, "Ünïcode");
+}
+
+#[test]
+fn identifier_bytes_agree_with_the_grammar_characters() {
+    // Annex A, by characters, as the byte table must implement it.
+    fn first(c: char) -> bool {
+        !(c <= ' '
+            || c.is_ascii_digit()
+            || matches!(
+                c,
+                '"' | '#' | '\'' | '+' | ',' | '-' | '.' | '[' | '\\' | ']' | '{' | '}' | '\x7f'
+            ))
+    }
+    fn rest(c: char) -> bool {
+        !(c <= ' '
+            || matches!(
+                c,
+                '"' | '#' | '\'' | ',' | '.' | '[' | '\\' | ']' | '{' | '}' | '\x7f'
+            ))
+    }
+    let chars: Vec<char> = (0u8..128)
+        .map(char::from)
+        .chain(['\u{80}', '\u{a0}', 'é', 'Ω', '\u{2028}', '😀', '\u{feff}'])
+        .collect();
+    for &a in &chars {
+        for &b in &chars {
+            let t = format!("{a}{b}x {b}");
+            let want = if first(a) {
+                let n = t.char_indices().skip(1).find(|&(_, c)| !rest(c)).unwrap().0;
+                Some(&t[..n])
+            } else {
+                None
+            };
+            assert_eq!(identifier(&t).ok().map(|r| r.1), want, "{t:?}");
+        }
+    }
+}
+
+#[test]
+fn long_identifiers_agree_with_the_byte_table() {
+    // The 8-byte letter and digit scan must stop where the byte table does.
+    let alphabet: Vec<char> = "aZz09_-+.{ }\t#\u{e9}AmM".chars().collect();
+    let mut next = random_below(0x2545_F491_4F6C_DD1D);
+    for _ in 0..100_000 {
+        let mut t = String::from("x");
+        for _ in 0..next(30) {
+            t.push(if next(3) == 0 {
+                alphabet[next(alphabet.len() as u64) as usize]
+            } else {
+                char::from(b'a' + next(26) as u8)
+            });
+        }
+        let n = t
+            .char_indices()
+            .find(|&(_, c)| c.is_ascii() && ID_CLASS[c as usize] & ID_REST == 0)
+            .map_or(t.len(), |(k, _)| k);
+        assert_eq!(identifier(&t).unwrap(), (&t[n..], &t[..n]), "{t:?}");
+    }
+    for b in 0..=255u8 {
+        let chunk = u64::from_le_bytes([b'a', b'Z', b'5', b, b'q', b'q', b'q', b'q']);
+        let want = if b.is_ascii_alphanumeric() { 8 } else { 3 };
+        assert_eq!(alnum_run(chunk), want, "{b}");
+    }
+}
+
+#[test]
+fn strings_with_escapes() {
+    assert_eq!(
+        string(r#""a\"b\\c" x"#).unwrap(),
+        (" x", "a\"b\\c".to_string())
+    );
+    assert_eq!(string("\"two\nlines\"").unwrap().1, "two\nlines");
+    assert!(string("\"unterminated").is_err());
+}
+
+#[test]
+fn white_space_and_comments() {
+    assert_eq!(ws(" ,\t# comment\n ,x"), "x");
+    assert_eq!(ws("# only a comment"), "");
+}
+
+#[test]
+fn header_forms() {
+    assert!(header("#VRML V2.0 utf8").is_ok());
+    assert!(header("#VRML V2.0 utf8 CosmoWorlds V1.0").is_ok());
+    assert!(header("#VRML V1.0 ascii").is_err());
+}
+
+#[test]
+fn route() {
+    let (rest, r) = route_body(" A.b TO C . d rest").unwrap();
+    assert_eq!(r, ("A", "b", "C", "d"));
+    assert_eq!(rest, " rest");
+}
