@@ -83,8 +83,9 @@ pub struct Buffers {
     live: Vec<u32>,
     stack: Vec<UVec2>,
     pieces: Vec<Piece>,
-    /// The camera ray's part that may ask (see [`Buffers::start_ray`]) and, per light, its
-    /// band edges and band searches.
+    /// The camera ray `(o, d)` and its part that may ask (see [`Buffers::start_ray`]) and,
+    /// per light, its band edges and band searches.
+    ray: (DVec3, DVec3),
     range: (f64, f64),
     lights: Vec<LightCache>,
 }
@@ -101,7 +102,8 @@ impl Buffers {
     /// A new camera ray, whose segments will ask [`resolve`] for parts of `[t0, t1]`, front to
     /// back: the band edges are then the same for all its segments, and one BVH descent per
     /// band serves the segments that follow within the band's depth.
-    pub fn start_ray(&mut self, (t0, t1): (f64, f64)) {
+    pub fn start_ray(&mut self, o: DVec3, d: DVec3, (t0, t1): (f64, f64)) {
+        self.ray = (o, d);
         self.range = (t0, t1);
         for l in &mut self.lights {
             l.ready = false;
@@ -169,8 +171,8 @@ pub fn gas_chord(prep: &Prepared, p: &Prim, x: DVec3, dir: DVec3, dist: f64) -> 
 
 /// Cuts light `light`'s integrand over the segment `[ta, tb]` of `o + t d` into pieces; the
 /// lit pieces' active shadowers are appended to `active`. `slot` is the light's index (its
-/// band searches are kept per camera ray, see [`Buffers::start_ray`]). Returns the pieces (in `b`) and the
-/// number of shadowers found. `tau_cut` is the optical depth from which a piece is dark; the
+/// band searches are kept per camera ray, see [`Buffers::start_ray`]). Returns the pieces (in
+/// `b`) and the number of shadowers found. `tau_cut` is the optical depth from which a piece is dark; the
 /// rim breakpoints of dense shadowers go up to `4 tau_cut` (deeper ones could only split dark
 /// pieces).
 #[allow(clippy::too_many_arguments)]
@@ -217,9 +219,9 @@ pub fn resolve<'b>(
         }
     }
     let rim_cap = 4.0 * tau_cut.max(1.0);
-    if !(b.range.0 <= ta && tb <= b.range.1) {
+    if b.ray != (o, d) || !(b.range.0 <= ta && tb <= b.range.1) {
         // Not announced by start_ray: this segment alone.
-        b.start_ray((ta, tb));
+        b.start_ray(o, d, (ta, tb));
     }
     if b.lights.len() <= slot {
         b.lights.resize_with(slot + 1, LightCache::default);

@@ -409,9 +409,12 @@ impl BandCache {
             self.found.clear();
             let region = Region::band(light, o + u0 * d, o + end * d, f.0, f.1);
             gather(bvh, &region, &mut self.found, stack);
+            // The same rounding allowance as the distance tests (the cover's, at least any
+            // span's inside it).
+            let pad = slack(bvh, &region);
             for &i in &self.found {
                 let p = &bvh.prims[i as usize];
-                let (t0, t1) = reach_on_ray(light, o, d, p.center, p.radius);
+                let (t0, t1) = reach_on_ray(light, o, d, p.center, p.radius + pad);
                 self.near.push(Near { prim: i, t0, t1 });
             }
         }

@@ -121,7 +121,7 @@ fn check(prep: &Prepared, rng: &mut Rng, tau_cut: f64, cases: usize) -> (usize, 
         ends.sort_by(f64::total_cmp);
         ends.insert(0, t_first);
         ends.push(t_last);
-        buffers.start_ray((t_first, t_last));
+        buffers.start_ray(o, d, (t_first, t_last));
         for w in ends.windows(2) {
             let (ta, tb) = (w[0], w[1]);
             let (a, b) = (o + ta * d, o + tb * d);

@@ -115,7 +115,7 @@ pub fn radiance(
     }
     let unshadowed: f64 = unshadowed_by_segment.iter().sum();
     if let (Some(first), Some(last)) = (segments.first(), segments.last()) {
-        buffers.start_ray((first.ta, last.tb));
+        buffers.start_ray(o, d, (first.ta, last.tb));
     }
 
     // Front to back: the value so far is a lower bound of the final one (every term is
