@@ -1,11 +1,11 @@
-//! Helpers for the library's unit tests (built only under `cargo test`; the integration tests
-//! have theirs in `tests/it/support.rs`).
+//! Helpers for the library's unit tests (built only under `cargo test`). The integration
+//! tests compile this same file into their `support` module, so both have one generator.
 
-/// SplitMix64: the unit tests' one deterministic generator, the same stream on every run and
-/// the same generator as the integration tests' `support::Rng` (state = seed, then
-/// `state += 0x9E37_79B9_7F4A_7C15` and SplitMix64's output mix per draw).
+/// SplitMix64: the tests' one deterministic generator, `Rng(seed)` or `Rng::new(seed)`, the
+/// same stream on every run (state = seed, then `state += 0x9E37_79B9_7F4A_7C15` and
+/// SplitMix64's output mix per draw).
 #[derive(Clone, Debug)]
-pub struct Rng(u64);
+pub struct Rng(pub u64);
 
 impl Rng {
     pub fn new(seed: u64) -> Rng {

@@ -90,28 +90,11 @@ pub fn scratch(group: &str, name: &str) -> std::path::PathBuf {
     dir
 }
 
-/// SplitMix64: the integration tests' one deterministic generator, `Rng(seed)` (the same
-/// generator as the library's unit tests' `testing::Rng`). Test files add what they need for
-/// their geometry in their own `impl Rng` (unit vectors, points in a box).
-pub struct Rng(pub u64);
-
-impl Rng {
-    /// 64 random bits.
-    pub fn u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `[0, 1)`, 53 random bits.
-    pub fn f(&mut self) -> f64 {
-        (self.u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    /// Uniform in `[lo, hi)`.
-    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.f()
-    }
-}
+/// SplitMix64, the integration tests' one deterministic generator, `Rng(seed)`: the library's
+/// unit-test generator, compiled from the same file (`src/testing.rs`), so the two cannot
+/// drift apart. Test files add what they need for their geometry in their own `impl Rng`
+/// (unit vectors, points in a box).
+#[allow(dead_code)]
+#[path = "../../src/testing.rs"]
+mod testing;
+pub use testing::Rng;
