@@ -9,6 +9,8 @@ use std::sync::Arc;
 pub enum Severity {
     Error,
     Warning,
+    /// Information about a choice made (not a problem).
+    Note,
 }
 
 /// One message with its position in a source file (1-based line and column).
@@ -31,6 +33,7 @@ impl Diagnostic {
         let sev = match self.severity {
             Severity::Error => "",
             Severity::Warning => "warning: ",
+            Severity::Note => "note: ",
         };
         let more = if self.repeats > 0 {
             format!(" (and {} more like it)", self.repeats)

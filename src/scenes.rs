@@ -134,6 +134,7 @@ pub fn random_spheres(n: usize) -> Scene {
         ambient_intensity: 0.0,
         on: true,
         scope: crate::scene::LightScope::All,
+        surface_scope: crate::scene::LightScope::All,
         origin: Origin::default(),
     }));
     scene.viewpoints.push(Viewpoint {
@@ -232,6 +233,7 @@ pub fn gas_cloud(n: usize, lit: bool) -> Scene {
         ambient_intensity: 0.1,
         on: true,
         scope: crate::scene::LightScope::All,
+        surface_scope: crate::scene::LightScope::All,
         origin: Origin::default(),
     }));
     scene.viewpoints.push(bench_view());
@@ -327,6 +329,7 @@ pub fn cloud(n: usize, kind: Cloud) -> Scene {
             ambient_intensity: 0.0,
             on: true,
             scope: crate::scene::LightScope::All,
+            surface_scope: crate::scene::LightScope::All,
             origin: Origin::default(),
         }),
     ];

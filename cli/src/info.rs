@@ -9,12 +9,18 @@ use gtsphere::error::Error;
 use gtsphere::scene::{Light, Scene};
 use gtsphere::vrml::{load_path, LoadOptions, LoadReport};
 
-pub fn run(path: &Path, as_json: bool, strict: bool, no_inline: bool) -> Result<ExitCode, Error> {
-    let opts = LoadOptions {
+pub fn run(
+    path: &Path,
+    as_json: bool,
+    strict: bool,
+    no_inline: bool,
+    geometry: &crate::load_args::GeometryArgs,
+) -> Result<ExitCode, Error> {
+    let opts = geometry.apply(LoadOptions {
         strict,
         inline: !no_inline,
         ..LoadOptions::default()
-    };
+    })?;
     let (scene, report) = load_path(path, &opts)?;
     if as_json {
         println!(
@@ -57,6 +63,7 @@ pub fn to_json(path: &Path, s: &Scene, r: &LoadReport) -> serde_json::Value {
         "opaque": s.spheres.len() - gas,
         "gas": gas,
         "ellipsoids": s.ellipsoid_count(),
+        "surfaces": s.surface_counts(),
         "materials": s.materials.len(),
         "lights": {
             "point": s.point_light_count(),
@@ -67,6 +74,8 @@ pub fn to_json(path: &Path, s: &Scene, r: &LoadReport) -> serde_json::Value {
         "default_camera": s.viewpoints.is_empty(),
         "background": s.background.to_array(),
         "mesh_spheres": r.mesh_spheres,
+        "point_spheres": r.point_spheres,
+        "notes": r.notes.iter().map(|w| w.headline()).collect::<Vec<_>>(),
         "skipped": r.skipped,
         "warnings": r.warnings.iter().map(|w| w.headline()).collect::<Vec<_>>(),
         "bounds": s.bounds(),
@@ -121,10 +130,23 @@ pub fn to_text(path: &Path, s: &Scene, r: &LoadReport) -> String {
     if r.mesh_spheres > 0 {
         let _ = writeln!(
             o,
-            "            IndexedFaceSet recognised as spheres: {}",
+            "            from IndexedFaceSets (tessellated spheres): {}",
             r.mesh_spheres
         );
     }
+    if r.point_spheres > 0 {
+        let _ = writeln!(o, "            from points: {}", r.point_spheres);
+    }
+    let c = s.surface_counts();
+    let _ = writeln!(
+        o,
+        "surfaces:   {} (boxes {}, cylinders {}, cones {}, triangles {})",
+        s.surfaces.len(),
+        c.boxes,
+        c.cylinders,
+        c.cones,
+        c.triangles
+    );
     let _ = writeln!(o, "materials:  {} distinct", s.materials.len());
     let _ = writeln!(
         o,
@@ -187,7 +209,7 @@ pub fn to_text(path: &Path, s: &Scene, r: &LoadReport) -> String {
             );
         }
         None => {
-            let _ = writeln!(o, "bounds:     empty (no spheres)");
+            let _ = writeln!(o, "bounds:     empty (nothing drawn)");
         }
     }
     if r.skipped.is_empty() {
@@ -205,6 +227,9 @@ pub fn to_text(path: &Path, s: &Scene, r: &LoadReport) -> String {
             .map(|p| format!(", peak resident {}", human(p)))
             .unwrap_or_default()
     );
+    for n in &r.notes {
+        let _ = writeln!(o, "{}", n.headline());
+    }
     let _ = writeln!(o, "warnings:   {}", r.warnings.len());
     for w in &r.warnings {
         let _ = writeln!(o, "{w}");

@@ -14,6 +14,7 @@ mod compare;
 mod convert_csv;
 mod convert_vrml;
 mod info;
+mod load_args;
 mod memory;
 mod merge;
 mod render;
@@ -45,6 +46,8 @@ enum Command {
         /// Do not load Inline nodes.
         #[arg(long)]
         no_inline: bool,
+        #[command(flatten)]
+        geometry: load_args::GeometryArgs,
     },
     /// Render a scene to an image (.png, .exr or .pfm).
     Render(render::RenderArgs),
@@ -102,7 +105,8 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             json,
             strict,
             no_inline,
-        } => info::run(&scene, json, strict, no_inline),
+            geometry,
+        } => info::run(&scene, json, strict, no_inline, &geometry),
         Command::Render(args) => render::run(&args),
         Command::Compare {
             image,

@@ -112,6 +112,8 @@ pub struct RenderArgs {
     /// Do not load Inline nodes.
     #[arg(long)]
     pub no_inline: bool,
+    #[command(flatten)]
+    pub geometry: crate::load_args::GeometryArgs,
     /// Render only the pixels x0..x1, y0..y1 (columns x0 to x1-1, rows y0 to y1-1, row 0 at
     /// the top), exactly as the whole render would; the output must be .exr and records where
     /// the part goes (`gtsphere merge` assembles parts).
@@ -322,28 +324,34 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<RenderOptions, Error> {
 pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
     let out = output_path(args);
     let opts = options(args, &out)?;
-    let load = LoadOptions {
+    let load = args.geometry.apply(LoadOptions {
         strict: args.strict,
         inline: !args.no_inline,
         ..LoadOptions::default()
-    };
+    })?;
     let (scene, report) = load_path(&args.scene, &load)?;
     let say = |m: String| {
         if !args.quiet {
             eprintln!("{m}");
         }
     };
-    for w in &report.warnings {
+    for w in report.warnings.iter().chain(&report.notes) {
         say(format!("{w}"));
     }
     let spheres = scene.spheres.len();
+    let surfaces = scene.surfaces.len();
     let headlight = scene.headlight;
     let prep = prepare(scene, &opts)
         .map_err(|m| Error::Other(format!("{}: {m}", args.scene.display())))?;
     say(format!(
-        "{}: {} spheres, {} lights{}; camera: {}",
+        "{}: {} spheres{}, {} lights{}; camera: {}",
         args.scene.display(),
         spheres,
+        if surfaces > 0 {
+            format!(", {surfaces} other surfaces")
+        } else {
+            String::new()
+        },
         prep.lights.len(),
         if headlight {
             " (headlight included)"

@@ -211,6 +211,7 @@ mod tests {
         let light = LightKind::Directional {
             to_light: DVec3::Z,
             scope: crate::scene::LightScope::All,
+            surface_scope: crate::scene::LightScope::All,
         };
         // The camera line y = 0, z = -5 along x: the chord at offset |x| is 2 sqrt(1 - x^2).
         let mut out = Vec::new();

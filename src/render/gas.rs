@@ -1,6 +1,6 @@
 //! What a gas primitive contributes (MODEL.md section 1): emission colour `C = emissiveColor`,
-//! albedo `a = diffuseColor`; a shape without a Material (unlit) glows white and ignores
-//! lights (`C = 1, a = 0`).
+//! albedo `a = diffuseColor`; a shape without a Material (unlit) glows white (or its Color
+//! node's colour) and ignores lights (`C = 1, a = 0`).
 
 use glam::DVec3;
 
@@ -12,7 +12,7 @@ use crate::scene::Material;
 pub fn emission_albedo(materials: &[Material], p: &Prim) -> (DVec3, DVec3) {
     let m = &materials[p.material as usize];
     if m.unlit {
-        (DVec3::ONE, DVec3::ZERO)
+        (m.diffuse, DVec3::ZERO)
     } else {
         (m.emissive, m.diffuse)
     }

@@ -83,6 +83,11 @@ pub struct Buffers {
     live: Vec<u32>,
     stack: Vec<UVec2>,
     pieces: Vec<Piece>,
+    /// Surfaces (not spheres) that may shadow the segment, and the sorted, disjoint parts
+    /// of the segment they block.
+    surface_found: Vec<u32>,
+    blocked: Vec<(f64, f64)>,
+    edges: Vec<f64>,
     /// The camera ray `(o, d)` and its part that may ask (see [`Buffers::start_ray`]) and,
     /// per light, its band edges and band searches.
     ray: (DVec3, DVec3),
@@ -218,6 +223,7 @@ pub fn resolve<'b>(
             }
         }
     }
+    surface_shadows(prep, o, d, (ta, tb), light, b);
     let rim_cap = 4.0 * tau_cut.max(1.0);
     if b.ray != (o, d) || !(b.range.0 <= ta && tb <= b.range.1) {
         // Not announced by start_ray: this segment alone.
@@ -297,6 +303,66 @@ pub fn resolve<'b>(
         }
     }
     (&b.pieces, b.shadowers.len())
+}
+
+/// The parts of `[ta, tb]` that the scene's surfaces (not spheres) block from `light`, into
+/// `b.blocked`, their ends into `b.breaks`. Opaque, they make those parts exactly zero; the
+/// candidates come from one region query over the whole light path of the segment.
+fn surface_shadows(
+    prep: &Prepared,
+    o: DVec3,
+    d: DVec3,
+    (ta, tb): (f64, f64),
+    light: &LightSource,
+    b: &mut Buffers,
+) {
+    b.blocked.clear();
+    if prep.surfaces.is_empty() {
+        return;
+    }
+    let (xa, xb) = (o + ta * d, o + tb * d);
+    // With an infinite first band: the edges are [0, end], end beyond every surface.
+    band_edges(
+        &prep.surfaces.bvh,
+        &light.kind,
+        xa,
+        xb,
+        f64::INFINITY,
+        &mut b.edges,
+    );
+    let end = b.edges.last().copied().unwrap_or(0.0);
+    let region = super::shadow_volume::Region::band(&light.kind, xa, xb, 0.0, end);
+    b.surface_found.clear();
+    super::shadow_volume::gather(
+        &prep.surfaces.bvh,
+        &region,
+        &mut b.surface_found,
+        &mut b.stack,
+    );
+    // The BVH's primitive indices, as surface indices.
+    for i in &mut b.surface_found {
+        *i = prep.surfaces.bvh.prims[*i as usize].sphere;
+    }
+    prep.surfaces.shadowed_parts(
+        &b.surface_found,
+        o,
+        d,
+        &light.kind,
+        (ta, tb),
+        &mut b.own,
+        &mut b.blocked,
+    );
+    for &(lo, hi) in &b.blocked {
+        b.breaks
+            .extend([lo, hi].into_iter().filter(|t| *t > ta && *t < tb));
+    }
+}
+
+/// Whether `t` lies in one of the sorted, disjoint intervals `blocked`.
+#[inline]
+fn in_blocked(blocked: &[(f64, f64)], t: f64) -> bool {
+    let k = blocked.partition_point(|iv| iv.1 <= t);
+    blocked.get(k).is_some_and(|iv| iv.0 <= t)
 }
 
 /// Shadower `p`'s breakpoints in `(ta, tb)` (into `own`, sorted) and the part of the segment it
@@ -385,6 +451,15 @@ fn classify(
         let sh = &b.shadowers;
         b.live.retain(|&k| sh[k as usize].hi > t0);
         let xm = o + (0.5 * (t0 + t1)) * d;
+        if in_blocked(&b.blocked, 0.5 * (t0 + t1)) {
+            // Behind a surface: exactly zero.
+            b.pieces.push(Piece {
+                t0,
+                t1,
+                class: Class::Zero,
+            });
+            continue;
+        }
         let Some((dm, distm, _)) = towards(light, xm) else {
             b.pieces.push(Piece {
                 t0,

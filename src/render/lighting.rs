@@ -7,61 +7,71 @@
 
 use glam::DVec3;
 
-use super::lights::{in_scope, towards, LightSource};
+use super::integrators::surface::Opaque;
+use super::lights::{in_scope, in_surface_scope, towards, LightSource};
 use super::visibility::visible;
-use super::Counters;
-use crate::accel::SphereBvh;
+use super::{Counters, Prepared};
 use crate::scene::Material;
 
 /// Where and what was hit.
 #[derive(Clone, Copy, Debug)]
 pub struct SurfacePoint {
     pub x: DVec3,
-    /// Outward unit normal.
+    /// Unit shading normal, on the side the viewer sees.
     pub n: DVec3,
+    /// Unit geometric normal on the same side (equal to `n` on spheres).
+    pub geometric: DVec3,
     /// Unit vector towards the viewer.
     pub v: DVec3,
-    /// Primitive index in the BVH (skipped by its own shadow rays).
-    pub prim: u32,
-    /// Sphere index in the scene (light scopes).
-    pub sphere: u32,
+    /// What was hit (skipped by its own shadow rays).
+    pub on: Opaque,
+    /// Its index in the scene: a sphere's in `Scene::spheres`, a surface's in
+    /// `Scene::surfaces` (light scopes, the `id` channel).
+    pub id: u32,
+    /// A mesh's Color there: replaces the Material's diffuseColor.
+    pub color: Option<DVec3>,
+}
+
+/// Whether light `l` may light the point (VRML scoping of DirectionalLights).
+#[inline]
+fn lights(l: &LightSource, sp: &SurfacePoint) -> bool {
+    match sp.on {
+        Opaque::Sphere(_) => in_scope(l, sp.id),
+        Opaque::Surface(_) => in_surface_scope(l, sp.id),
+    }
 }
 
 /// Radiance leaving `sp` towards the viewer.
-pub fn shade(
-    bvh: &SphereBvh,
-    lights: &[LightSource],
-    m: &Material,
-    sp: &SurfacePoint,
-    counters: &mut Counters,
-) -> DVec3 {
+pub fn shade(prep: &Prepared, m: &Material, sp: &SurfacePoint, counters: &mut Counters) -> DVec3 {
+    let diffuse = sp.color.unwrap_or(m.diffuse);
     if m.unlit {
-        // VRML 4.14.2: no Material means unlit white, lights ignored.
-        return DVec3::ONE;
+        // VRML 4.14.2: no Material means unlit, lights ignored: white, or the Color node's.
+        return diffuse;
     }
     let mut sum = m.emissive;
-    for l in lights {
-        if !in_scope(l, sp.sphere) {
+    for l in &prep.lights {
+        if !lights(l, sp) {
             continue;
         }
         let Some((dir, dist, att)) = towards(l, sp.x) else {
             continue;
         };
-        sum += att * l.ambient * m.ambient_intensity * m.diffuse;
+        sum += att * l.ambient * m.ambient_intensity * diffuse;
         // A convex surface shadows itself exactly where N.L <= 0; then V_i = 0 and the whole
-        // direct term (diffuse and specular) vanishes.
+        // direct term (diffuse and specular) vanishes. A face lit from behind its geometric
+        // normal is in its own shadow, whatever its shading normal says.
         let ndotl = sp.n.dot(dir);
-        if ndotl <= 0.0 || l.direct == DVec3::ZERO {
+        if ndotl <= 0.0 || sp.geometric.dot(dir) <= 0.0 || l.direct == DVec3::ZERO {
             continue;
         }
         counters.shadow_rays += 1;
-        let vis = visible(bvh, sp.x, dir, dist, Some(sp.prim));
+        let vis = visible(prep, sp.x, dir, dist, Some(sp.on));
         if vis == 0.0 {
             continue;
         }
         let h = (dir + sp.v).normalize_or_zero();
         let spec = sp.n.dot(h).max(0.0).powf(128.0 * m.shininess);
-        sum += att * vis * l.direct * (m.diffuse * ndotl + m.specular * spec);
+        sum += att * vis * l.direct * (diffuse * ndotl + m.specular * spec);
     }
     sum
 }

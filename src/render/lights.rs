@@ -15,8 +15,12 @@ pub enum LightKind {
         radius: f64,
     },
     /// Unit vector towards the light (opposite to VRML's `direction`); lights the spheres
-    /// `scope.0 .. scope.1` of `Scene::spheres`.
-    Directional { to_light: DVec3, scope: LightScope },
+    /// of `scope` and the surfaces of `surface_scope`.
+    Directional {
+        to_light: DVec3,
+        scope: LightScope,
+        surface_scope: LightScope,
+    },
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -65,6 +69,15 @@ pub fn in_scope(l: &LightSource, sphere: u32) -> bool {
     }
 }
 
+/// Whether light `l` may light surface `surface` (an index into `Scene::surfaces`).
+#[inline]
+pub fn in_surface_scope(l: &LightSource, surface: u32) -> bool {
+    match l.kind {
+        LightKind::Directional { surface_scope, .. } => surface_scope.contains(surface),
+        LightKind::Point { .. } => true,
+    }
+}
+
 /// The scene's lights that are on, plus the headlight (a DirectionalLight along `view`,
 /// intensity 1, ambientIntensity 0, white) when `scene.headlight` is set.
 pub fn collect(scene: &Scene, view: DVec3) -> Vec<LightSource> {
@@ -90,6 +103,11 @@ pub fn collect(scene: &Scene, view: DVec3) -> Vec<LightSource> {
                     } else {
                         d.scope
                     },
+                    surface_scope: if d.surface_scope.covers_all(scene.surfaces.len()) {
+                        LightScope::All
+                    } else {
+                        d.surface_scope
+                    },
                 },
                 direct: d.color * d.intensity,
                 ambient: d.color * d.ambient_intensity,
@@ -102,6 +120,7 @@ pub fn collect(scene: &Scene, view: DVec3) -> Vec<LightSource> {
             kind: LightKind::Directional {
                 to_light: -view,
                 scope: LightScope::All,
+                surface_scope: LightScope::All,
             },
             direct: DVec3::ONE,
             ambient: DVec3::ZERO,

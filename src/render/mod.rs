@@ -12,6 +12,7 @@ pub mod quadrature;
 pub mod sampler;
 pub mod segments;
 pub mod shadow_volume;
+pub mod surfaces;
 pub mod tiles;
 pub mod visibility;
 
@@ -130,6 +131,10 @@ impl std::ops::AddAssign for Counters {
 /// A scene ready to trace.
 pub struct Prepared {
     pub bvh: SphereBvh,
+    /// The opaque surfaces other than spheres.
+    pub surfaces: surfaces::Surfaces,
+    /// Spheres in the scene (the `id` channel numbers surfaces after them).
+    pub spheres: usize,
     pub materials: Vec<Material>,
     pub lights: Vec<LightSource>,
     pub camera: CameraSetup,
@@ -178,6 +183,7 @@ pub fn prepare(scene: Scene, opts: &RenderOptions) -> Result<Prepared, String> {
     let Scene {
         spheres,
         ellipsoids,
+        surfaces,
         materials,
         background,
         ..
@@ -218,10 +224,15 @@ pub fn prepare(scene: Scene, opts: &RenderOptions) -> Result<Prepared, String> {
         })
         .collect();
     let typical_radius = median_radius(&prims);
-    let rest_bound = rest_bound(&materials, &lights, background);
+    let surface_colors = surface_color_bound(&surfaces);
+    let rest_bound = rest_bound(&materials, &lights, background, surface_colors);
+    let sphere_count = prims.len();
     let bvh = SphereBvh::build(prims, &ellipsoids);
+    let surfaces = surfaces::Surfaces::build(surfaces);
     Ok(Prepared {
         bvh,
+        surfaces,
+        spheres: sphere_count,
         materials,
         lights,
         camera,
@@ -233,6 +244,18 @@ pub fn prepare(scene: Scene, opts: &RenderOptions) -> Result<Prepared, String> {
         rest_bound,
         prepare_time: start.elapsed(),
     })
+}
+
+/// The largest channel of any Color a triangle carries (it replaces a diffuse colour).
+fn surface_color_bound(surfaces: &[crate::scene::Surface]) -> f64 {
+    surfaces
+        .iter()
+        .filter_map(|s| match &s.shape {
+            crate::scene::SurfaceShape::Triangle(t) => t.color,
+            _ => None,
+        })
+        .flat_map(|c| c.map(|v| v.max_element()))
+        .fold(0.0, f64::max)
 }
 
 /// The median radius of (up to about a thousand evenly spread) primitives; 0 for none.
@@ -250,19 +273,24 @@ fn median_radius(prims: &[Prim]) -> f64 {
 /// (emission, ambient and direct terms of every light at full strength, or 1 when unlit) and
 /// any material's gas source `C + p a sum_i C_i I_i` (attenuation and visibility are at most
 /// 1), each channel bounded by its largest.
-fn rest_bound(materials: &[Material], lights: &[LightSource], background: DVec3) -> f64 {
+fn rest_bound(
+    materials: &[Material],
+    lights: &[LightSource],
+    background: DVec3,
+    surface_colors: f64,
+) -> f64 {
     let direct: f64 = lights.iter().map(|l| l.direct.max_element()).sum();
     let ambient: f64 = lights.iter().map(|l| l.ambient.max_element()).sum();
     let mut bound = background.max_element();
     for m in materials {
         let (e, a, s) = (
             m.emissive.max_element(),
-            m.diffuse.max_element(),
+            m.diffuse.max_element().max(surface_colors),
             m.specular.max_element(),
         );
         let gas = e + integrators::PHASE * a * direct;
         let surface = if m.unlit {
-            1.0
+            a
         } else {
             e + ambient * m.ambient_intensity * a + direct * (a + s)
         };

@@ -5,8 +5,8 @@
 use glam::DVec3;
 
 use super::gas::emission_albedo;
+use super::integrators::surface::{nearer_surface, Opaque, OpaqueHit};
 use super::Prepared;
-use crate::accel::Hit;
 
 /// One gas sphere's interval along the ray, clipped to `t >= 0`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -30,11 +30,12 @@ pub struct Segment {
     pub scatter: DVec3,
 }
 
-/// The first opaque hit along `o + t d` (`t > 0`, spheres seen from outside) and, in the same
-/// traversal, every gas interval in front of it. Intervals are not yet clipped at the hit.
-pub fn gather(prep: &Prepared, o: DVec3, d: DVec3, out: &mut Vec<Interval>) -> Option<Hit> {
+/// The first opaque hit along `o + t d` (`t > 0`, spheres seen from outside, or a surface in
+/// front of them) and, in the same traversal, every gas interval in front of the spheres. Intervals are not yet clipped at the hit.
+pub fn gather(prep: &Prepared, o: DVec3, d: DVec3, out: &mut Vec<Interval>) -> Option<OpaqueHit> {
     out.clear();
-    prep.bvh
+    let sphere = prep
+        .bvh
         .closest(o, d, 0.0, f64::INFINITY, |i, p, (t0, t1)| {
             if p.is_gas() {
                 if t1 > 0.0 && t1 > t0 {
@@ -49,6 +50,11 @@ pub fn gather(prep: &Prepared, o: DVec3, d: DVec3, out: &mut Vec<Interval>) -> O
                 (t0 > 0.0).then_some(t0)
             }
         })
+        .map(|h| OpaqueHit {
+            t: h.t,
+            on: Opaque::Sphere(h.prim),
+        });
+    nearer_surface(prep, o, d, 0.0, sphere)
 }
 
 /// Cuts the intervals (clipped to `[0, t_end]`) into segments. The sums are recomputed from

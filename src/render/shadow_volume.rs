@@ -441,6 +441,7 @@ mod tests {
             LightKind::Directional {
                 to_light: l,
                 scope: crate::scene::LightScope::All,
+                surface_scope: crate::scene::LightScope::All,
             }
         } else {
             LightKind::Point {

@@ -113,7 +113,12 @@ fn render_pixel(
             Some(hit) => {
                 let sp = surface::surface_point(prep, o, d, hit);
                 let n = sp.n.as_vec3();
-                [hit.t as f32, n.x, n.y, n.z, sp.sphere as f32]
+                // Spheres are numbered first, then the other surfaces.
+                let id = match hit.on {
+                    surface::Opaque::Sphere(_) => f64::from(sp.id),
+                    surface::Opaque::Surface(i) => (prep.spheres + i as usize) as f64,
+                };
+                [hit.t as f32, n.x, n.y, n.z, id as f32]
             }
             None => [f32::INFINITY, 0.0, 0.0, 0.0, -1.0],
         });

@@ -1,15 +1,17 @@
-//! Light visibility `V_i(x)` (MODEL.md sections 2 and 3): 0 if an opaque sphere lies between
-//! `x` and the light, otherwise the transmittance `exp(-sum_j sigma_j chord_j)` of every gas
+//! Light visibility `V_i(x)` (MODEL.md sections 2 and 3): 0 if an opaque sphere or another
+//! opaque surface lies between `x` and the light, otherwise the transmittance `exp(-sum_j sigma_j chord_j)` of every gas
 //! sphere the light ray crosses.
 
 use glam::DVec3;
 
+use super::integrators::surface::Opaque;
+use super::Prepared;
 use crate::accel::SphereBvh;
 
 /// Visibility from `x` towards a light at unit direction `l`, distance `dist` (infinite for a
-/// directional light). `own` is the opaque primitive `x` lies on, if any: its own
-/// shadow is exact from the sign of `N.L` (a sphere is convex), so the caller decides it and
-/// it is skipped here. The ray stops at the first opaque blocker, or once the optical depth
+/// directional light). `own` is what `x` lies on, if anything: its own shadow is exact
+/// from the sign of `N.L` (a sphere, a solid or a triangle is convex), so the caller decides
+/// it and it is skipped here. The ray stops at the first opaque blocker, or once the optical depth
 /// makes the transmittance underflow to 0.
 ///
 /// Spheres are solid (one-sided, MODEL.md section 2): an opaque sphere blocks when the light
@@ -17,7 +19,33 @@ use crate::accel::SphereBvh;
 /// opaque sphere and leaves it is not blocked by it, as a camera inside a sphere does not see
 /// it. A gas sphere attenuates over the part of `[0, dist]` inside it.
 #[inline]
-pub fn visible(bvh: &SphereBvh, x: DVec3, l: DVec3, dist: f64, own: Option<u32>) -> f64 {
+pub fn visible(prep: &Prepared, x: DVec3, l: DVec3, dist: f64, own: Option<Opaque>) -> f64 {
+    let own_surface = match own {
+        Some(Opaque::Surface(i)) => Some(i),
+        _ => None,
+    };
+    // Rounding of the hit point cannot make a neighbouring triangle (a shared edge) block
+    // its own point's light ray further than this.
+    let tmin = 256.0 * f64::EPSILON * x.abs().max_element();
+    if prep.surfaces.blocks(x, l, tmin, dist, own_surface) {
+        return 0.0;
+    }
+    let own_sphere = match own {
+        Some(Opaque::Sphere(p)) => Some(p),
+        _ => None,
+    };
+    visible_through_spheres(&prep.bvh, x, l, dist, own_sphere)
+}
+
+/// [`visible`] against the spheres alone.
+#[inline]
+pub fn visible_through_spheres(
+    bvh: &SphereBvh,
+    x: DVec3,
+    l: DVec3,
+    dist: f64,
+    own: Option<u32>,
+) -> f64 {
     let mut tau = 0.0;
     let blocked = bvh.any_except(x, l, 0.0, dist, own, |_, p, (t0, t1)| {
         if p.is_gas() {

@@ -1,6 +1,10 @@
 //! The scene IR: only what a picture needs (MODEL.md section 1). Knows nothing of VRML.
 
+mod surface;
+
 use glam::{DAffine3, DQuat, DVec3};
+
+pub use surface::{Surface, SurfaceCounts, SurfaceShape, Triangle};
 
 /// Index of an ellipsoid's map in [`Scene::ellipsoids`] (and in the BVH's copy of them),
 /// stored plus one so that `Option<EllipsoidId>`, "a true sphere" when `None`, is 4 bytes.
@@ -100,8 +104,11 @@ impl Default for Material {
 }
 
 impl Material {
+    /// Unlit white. An unlit material glows its `diffuse` colour (white unless a mesh's
+    /// Color node gives its colours, VRML 4.14.2).
     pub fn unlit() -> Self {
         Material {
+            diffuse: DVec3::ONE,
             unlit: true,
             ..Material::default()
         }
@@ -138,17 +145,19 @@ pub struct DirectionalLight {
     pub on: bool,
     /// The spheres it lights (VRML scoping).
     pub scope: LightScope,
+    /// The surfaces it lights (indices into [`Scene::surfaces`]).
+    pub surface_scope: LightScope,
     pub origin: Origin,
 }
 
-/// The spheres a DirectionalLight lights (VRML97 4.6.7: its siblings in the enclosing
-/// grouping node and their descendants, one range of the IR).
+/// What a DirectionalLight lights (VRML97 4.6.7: its siblings in the enclosing grouping node
+/// and their descendants): one range of the IR's spheres, and one of its surfaces.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LightScope {
-    /// Every sphere of the scene (a light built in code, the headlight).
+    /// Everything of the scene (a light built in code, the headlight).
     All,
-    /// `Scene::spheres[start..end]`.
-    Spheres { start: u32, end: u32 },
+    /// `Scene::spheres[start..end]` (or `Scene::surfaces[start..end]`).
+    Range { start: u32, end: u32 },
 }
 
 impl LightScope {
@@ -157,7 +166,7 @@ impl LightScope {
     pub fn contains(self, sphere: u32) -> bool {
         match self {
             LightScope::All => true,
-            LightScope::Spheres { start, end } => start <= sphere && sphere < end,
+            LightScope::Range { start, end } => start <= sphere && sphere < end,
         }
     }
 
@@ -165,7 +174,7 @@ impl LightScope {
     pub fn range(self, n: usize) -> (u32, u32) {
         match self {
             LightScope::All => (0, u32::try_from(n).unwrap_or(u32::MAX)),
-            LightScope::Spheres { start, end } => (start, end),
+            LightScope::Range { start, end } => (start, end),
         }
     }
 
@@ -198,6 +207,8 @@ pub struct Viewpoint {
 pub struct Scene {
     pub spheres: Vec<Sphere>,
     pub ellipsoids: Vec<DAffine3>,
+    /// Opaque surfaces other than spheres: Box, Cylinder, Cone, triangles.
+    pub surfaces: Vec<Surface>,
     pub materials: Vec<Material>,
     pub lights: Vec<Light>,
     pub viewpoints: Vec<Viewpoint>,
@@ -214,6 +225,7 @@ impl Default for Scene {
         Scene {
             spheres: Vec::new(),
             ellipsoids: Vec::new(),
+            surfaces: Vec::new(),
             materials: Vec::new(),
             lights: Vec::new(),
             viewpoints: Vec::new(),
@@ -253,8 +265,23 @@ impl Scene {
     pub fn directional_light_count(&self) -> usize {
         self.lights.len() - self.point_light_count()
     }
+    /// The surfaces by kind.
+    pub fn surface_counts(&self) -> SurfaceCounts {
+        SurfaceCounts::of(&self.surfaces)
+    }
+    /// Drops every surface that is not a sphere (`--spheres-only`); light scopes of surfaces
+    /// become empty.
+    pub fn drop_surfaces(&mut self) {
+        self.surfaces = Vec::new();
+        for l in &mut self.lights {
+            if let Light::Directional(d) = l {
+                d.surface_scope = LightScope::Range { start: 0, end: 0 };
+            }
+        }
+    }
 
-    /// World bounds of all spheres (exact for ellipsoids), or None for an empty scene.
+    /// World bounds of all spheres (exact for ellipsoids) and surfaces, or None for an empty
+    /// scene.
     pub fn bounds(&self) -> Option<Bounds> {
         let mut lo = DVec3::splat(f64::INFINITY);
         let mut hi = DVec3::splat(f64::NEG_INFINITY);
@@ -269,6 +296,11 @@ impl Scene {
             };
             lo = lo.min(s.center - half);
             hi = hi.max(s.center + half);
+        }
+        for s in &self.surfaces {
+            let (a, b) = s.bounds();
+            lo = lo.min(a);
+            hi = hi.max(b);
         }
         (lo.x <= hi.x).then(|| Bounds {
             min: lo.to_array(),
@@ -285,6 +317,10 @@ impl Scene {
             .spheres
             .iter()
             .map(|s| (s.center - c).length() + s.radius)
+            .chain(self.surfaces.iter().map(|s| {
+                let (centre, radius) = s.bounding_ball();
+                (centre - c).length() + radius
+            }))
             .fold(0.0, f64::max);
         Some((c, r))
     }
@@ -309,6 +345,15 @@ impl Scene {
         use std::mem::size_of;
         self.spheres.capacity() * size_of::<Sphere>()
             + self.ellipsoids.capacity() * size_of::<DAffine3>()
+            + self.surfaces.capacity() * size_of::<Surface>()
+            + self
+                .surfaces
+                .iter()
+                .map(|s| match s.shape {
+                    SurfaceShape::Triangle(_) => size_of::<Triangle>(),
+                    _ => 0,
+                })
+                .sum::<usize>()
             + self.materials.capacity() * size_of::<Material>()
             + self.lights.capacity() * size_of::<Light>()
             + self.viewpoints.capacity() * size_of::<Viewpoint>()

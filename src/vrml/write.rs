@@ -80,6 +80,14 @@ fn is_id(s: &str) -> bool {
 }
 
 fn material(m: &Material) -> String {
+    if m.unlit {
+        // An unlit colour other than white (a mesh's Color without a Material): the same
+        // picture as a Material that only emits it.
+        return format!(
+            "Material {{ diffuseColor 0 0 0 emissiveColor {} specularColor 0 0 0 ambientIntensity 0 }}",
+            v3(m.diffuse)
+        );
+    }
     format!(
         "Material {{ diffuseColor {} emissiveColor {} specularColor {} shininess {} ambientIntensity {} transparency {} }}",
         v3(m.diffuse),
@@ -284,7 +292,7 @@ fn write_sphere(
     out: &mut impl Write,
 ) -> io::Result<()> {
     let m = &scene.materials[s.material as usize];
-    let appearance = if m.unlit {
+    let appearance = if m.unlit && m.diffuse == glam::DVec3::ONE {
         String::new()
     } else if defined[s.material as usize] {
         format!("appearance USE M{} ", s.material)

@@ -207,10 +207,10 @@ fn benchmark_scene_shadows_match_brute_force() {
                 continue;
             };
             let sp = surface_point(&prep, o, d, h);
-            let own = prep.bvh.prims[h.prim as usize].sphere as usize;
+            let own = sp.id as usize;
             for l in &prep.lights {
                 let (dir, dist, _) = towards(l, sp.x).unwrap();
-                let got = visible(&prep.bvh, sp.x, dir, dist, Some(sp.prim)) > 0.0;
+                let got = visible(&prep, sp.x, dir, dist, Some(sp.on)) > 0.0;
                 let want = spheres.iter().enumerate().all(|(k, &(c, r))| {
                     k == own
                         || !sphere_roots(sp.x, dir, c, r)

@@ -138,6 +138,13 @@ fn hand_counted_files_match() {
             "{}: (spheres, gas, point, directional, viewpoints)",
             e.path
         );
+        let sc = s.surface_counts();
+        assert_eq!(
+            (sc.boxes, sc.cylinders, sc.cones, sc.triangles),
+            (e.boxes, e.cylinders, e.cones, e.triangles),
+            "{}: surfaces (boxes, cylinders, cones, triangles)",
+            e.path
+        );
         let want_skipped: BTreeMap<String, u64> = e
             .skipped
             .iter()

@@ -1,12 +1,22 @@
 //! Hand-counted expectations for corpus files (see the comment on each entry for how it was counted).
 //!
 //! Every number below was derived by reading the VRML text (grep counts, reading the
-//! files, and a throwaway Python walker written independently of gtsphere to double-check
-//! the sums); no gtsphere code was run. Counting rules: see the task brief (a renderer's
-//! walk of the scene graph: USE = another instance, PROTO instances expanded to their
-//! first body node, Switch -> whichChoice only, Collision proxy / LOD levels > 0 not
-//! walked, local relative Inlines walked, non-sphere geometry and unmodelled nodes go to
-//! `skipped`, nodes inside an Appearance other than Material go to `skipped`).
+//! files, and a throwaway Python walker/mesh analyser kept in /tmp, written independently of
+//! gtsphere, to double-check the sums); no gtsphere code was run. Counting rules: see the task
+//! brief (a renderer's walk of the scene graph: USE = another instance, PROTO instances
+//! expanded to their first body node, Switch -> whichChoice only, Collision proxy / LOD levels
+//! past the first not walked, local relative Inlines walked, unmodelled nodes go to `skipped`, nodes
+//! inside an Appearance other than Material go to `skipped`).
+//!
+//! Geometry of a Shape: `Sphere` -> a sphere; `Box`, `Cylinder`, `Cone` -> one surface of
+//! that kind per instance; `PointSet` -> one sphere per point; `IndexedFaceSet` -> its faces
+//! (coordIndex split at -1, faces with an out-of-range index dropped) grouped into connected
+//! components (shared point index or bit-identical point); a component whose distinct
+//! vertices (>= 12) lie on a sphere (within 0.2 % of the radius, covering the whole sphere)
+//! with one colour at every corner is one sphere, any other component gives n - 2 triangles
+//! per n-gon (0 for a zero-area face); an IFS with points but no faces gives one sphere per
+//! point; an IFS without points or with non-integer indices stays skipped. Other geometry
+//! (IndexedLineSet, Text, Extrusion, ...) and IFS/PointSet outside a Shape go to `skipped`.
 pub struct Expected {
     pub path: &'static str, // relative to shared/corpus
     pub spheres: usize,     // all sphere instances (opaque + gas)
@@ -14,13 +24,17 @@ pub struct Expected {
     pub point_lights: usize,
     pub directional_lights: usize,
     pub viewpoints: usize,
+    pub boxes: usize,                              // Box surfaces
+    pub cylinders: usize,                          // Cylinder surfaces
+    pub cones: usize,                              // Cone surfaces
+    pub triangles: usize, // triangles from IndexedFaceSet components that are not spheres
     pub skipped: &'static [(&'static str, usize)], // node type -> instance count, sorted by type name
 }
 
 pub const EXPECTED: &[Expected] = &[
     // ------------------------------------------------------------------ tools/jmol
     // Jmol writes spheres as a unit-sphere IndexedFaceSet, never as `Sphere`; gtsphere lowers
-    // an IFS whose vertices lie on a sphere as that sphere (geom::sphere_through).
+    // an IFS component whose vertices lie on a sphere as that sphere.
     // WorldInfo, NavigationInfo, Background, Viewpoint at top level; then
     // Transform{Transform{ 1217 x Transform{Shape{...}} }}.
     // Geometry DEF/USE multiplies: `geometry DEF _0 IndexedFaceSet` once + 643 `geometry USE _0`
@@ -30,8 +44,11 @@ pub const EXPECTED: &[Expected] = &[
     // scales .35/.356/.391/.253/.414 = 29+29+107+157+2, plus 320 bond-end caps at scale
     // .152, counted with `grep -o 'scale [0-9.]* [0-9.]* [0-9.]* children\[ Shape{geometry
     // [A-Z]* _0' | sort | uniq -c`). _6 and _7 are Jmol's bond cylinders (`1 .5 0`, `.985 .5
-    // .174`, ...: two rims at y = +-0.5, equidistant from the centre but not a sphere) and stay
-    // skipped: 486 + 87 = 573.
+    // .174`, ...: two rims at y = +-0.5, equidistant from the centre but covering only two
+    // circles, not the whole sphere) -> triangles. Both have 74 points and 144 faces, all
+    // triangles (`coordIndex` runs of 3 between -1s, counted by the /tmp script; one connected
+    // component each, no zero-area face): (486 + 87) x 144 = 573 x 144 = 82512 triangles; no
+    // IFS left skipped.
     // The 5 Appearances (DEF _1.._5, USEd 1212 times) hold only Materials with transparency 0.
     Expected {
         path: "tools/jmol/jmol_peptide20_ballstick.wrl",
@@ -40,11 +57,22 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 1,
-        skipped: &[("IndexedFaceSet", 573), ("WorldInfo", 1)],
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 82512,
+        skipped: &[("WorldInfo", 1)],
     },
     // 20 `Shape{` each with its own inline `geometry IndexedFaceSet` (no geometry DEF/USE;
     // only the 2 Appearances DEF _0/_1 are reused 18 times). WorldInfo 1, Viewpoint 1.
-    // The IFS are cartoon ribbons, not spheres: all 20 stay skipped.
+    // The IFS are cartoon ribbons (one connected component each, no Color node; the sphere fit
+    // misses by 25-83 % of the radius), so all become triangles. Every face is a triangle
+    // (/tmp script: coordIndex split at -1, run lengths all 3); faces per IFS in file order:
+    // 248, 236, 16 x 224, 236, 248 = 4552. The 19th IFS (arrow head, 140 points) repeats its
+    // tip point `23.398 8.251 -17.083` as points 112..125, so 14 of its faces
+    // (`98 113 112`, `99 114 113`, ... `98 112 125`) have two bit-identical corners: zero
+    // area, 0 triangles -> 4552 - 14 = 4538. No other face of the file has a zero or
+    // near-zero area (checked: area / longest edge^2 >= 1e-3 elsewhere).
     Expected {
         path: "tools/jmol/jmol_peptide20_cartoon.wrl",
         spheres: 0,
@@ -52,7 +80,11 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 1,
-        skipped: &[("IndexedFaceSet", 20), ("WorldInfo", 1)],
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 4538,
+        skipped: &[("WorldInfo", 1)],
     },
     // 324 atoms: `geometry DEF _0 IndexedFaceSet` once + 323 `geometry USE _0` (`grep -c
     // 'USE _0'` = 323) = 324 IFS instances (= 324 `Shape{`), all of the one unit-sphere mesh
@@ -65,19 +97,30 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 1,
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 0,
         skipped: &[("WorldInfo", 1)],
     },
     // ------------------------------------------------------------------ tools/meshlab
-    // NavigationInfo + Transform{Shape{geometry IndexedFaceSet (empty coordIndex)}}; no
-    // Viewpoint, no lights, no DEF/USE.
+    // NavigationInfo + Transform{Shape{geometry IndexedFaceSet (empty `coordIndex [ ]`)}}; no
+    // Viewpoint, no lights, no DEF/USE. An IFS with points but no faces -> one sphere per
+    // point: `point [...]` holds 1500 numbers = 500 points (all finite), so 500 spheres. The
+    // Shape's Material has no transparency (`grep -c transparency` = 0) -> 0 gas. The Color
+    // node (500 colours) does not change the count.
     Expected {
         path: "tools/meshlab/meshlab_pointcloud500.wrl",
-        spheres: 0,
+        spheres: 500,
         gas: 0,
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 0,
-        skipped: &[("IndexedFaceSet", 1)],
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 0,
+        skipped: &[],
     },
     // NavigationInfo + Transform{Shape{geometry IndexedFaceSet}}: a sphere mesh (pymeshlab
     // `create_sphere(radius=1.0, subdiv=2)`, an icosphere: 162 points on the unit sphere, all
@@ -89,10 +132,16 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 0,
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 0,
         skipped: &[],
     },
-    // Same as subdiv2 plus a Color node inside the IFS (not walked). Per-vertex colours are
-    // not a Material's, so this mesh is not lowered as a sphere.
+    // Same as subdiv2 plus a Color node inside the IFS (not walked). The colours differ from
+    // corner to corner (per-vertex, no colorIndex: 162 different colour triples over the 162
+    // points), so the one component is not a sphere: its 320 faces are all triangles (every
+    // coordIndex run has 3 entries) -> 320 triangles; no IFS left skipped.
     Expected {
         path: "tools/meshlab/meshlab_sphere_vertexcolor.wrl",
         spheres: 0,
@@ -100,7 +149,11 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 0,
-        skipped: &[("IndexedFaceSet", 1)],
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 320,
+        skipped: &[],
     },
     // ------------------------------------------------------------------ tools/pymol
     // `grep -c Sphere` = 744 = `Shape {` = `Transform {` = `Material {` count; each top-level
@@ -113,10 +166,15 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 1,
         viewpoints: 1,
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 0,
         skipped: &[],
     },
     // 958 top-level Transforms/Shapes: `grep -c Sphere` = 324, `Cylinder {` = 634
     // (324 + 634 = 958); no DEF/USE, no transparency. Viewpoint 1, DirectionalLight 1.
+    // The 634 Cylinders (bonds) are now Cylinder surfaces; nothing skipped.
     Expected {
         path: "tools/pymol/pymol_peptide20_ballstick.wrl",
         spheres: 324,
@@ -124,9 +182,17 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 1,
         viewpoints: 1,
-        skipped: &[("Cylinder", 634)],
+        boxes: 0,
+        cylinders: 634,
+        cones: 0,
+        triangles: 0,
+        skipped: &[],
     },
     // One top-level Shape with an IndexedFaceSet (cartoon mesh). Viewpoint 1, DirectionalLight 1.
+    // The IFS has 4824 points (3 per face, shared only through bit-identical coordinates:
+    // 806 distinct) and 1608 coordIndex runs, all of length 3; the /tmp script finds one
+    // connected component, one colour (`0.2000 1.0000 0.2000` at every corner) but far from a
+    // sphere (fit misses by 98 % of the radius) -> 1608 triangles, none of zero area.
     Expected {
         path: "tools/pymol/pymol_peptide20_cartoon.wrl",
         spheres: 0,
@@ -134,7 +200,11 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 1,
         viewpoints: 1,
-        skipped: &[("IndexedFaceSet", 1)],
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 1608,
+        skipped: &[],
     },
     // `grep -c Sphere` = 324 = `Shape {` = `Transform {`; no DEF/USE, no transparency.
     Expected {
@@ -144,6 +214,10 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 1,
         viewpoints: 1,
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 0,
         skipped: &[],
     },
     // `grep -c Sphere` = 12960 = `Shape {` = `Transform {` = `Material {` (12,960 atoms);
@@ -155,6 +229,10 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 1,
         viewpoints: 1,
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 0,
         skipped: &[],
     },
     // `grep -c Sphere` = 200 = `Shape {` = `Transform {` (200 pseudoatoms); no transparency.
@@ -165,6 +243,10 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 1,
         viewpoints: 1,
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 0,
         skipped: &[],
     },
     // ------------------------------------------------------------------ tools/vtk
@@ -175,7 +257,10 @@ pub const EXPECTED: &[Expected] = &[
     // has transparency 0.5 (`grep -c 'transparency 0.5'` = 1) -> 1 gas.
     // Header: Background, Viewpoint 1, NavigationInfo, DirectionalLight 1 (ambient),
     // SpotLight 1 (the positional vtkLight) -> skipped. DEF VTKcoordinates/VTKnormals are
-    // inside the IFS, never USEd.
+    // inside the IFS, never USEd. /tmp script: each IFS = 162 points, 320 triangular faces,
+    // one component, local-coordinate sphere fit within 5e-8 of the radius (0.3 .. 0.7),
+    // no Color -> 1 sphere each, 0 triangles (the sphere test is on the IFS's own points; the
+    // Transform's non-uniform scale is applied afterwards).
     Expected {
         path: "tools/vtk/vtk_5sphere_actors_light.wrl",
         spheres: 5,
@@ -183,29 +268,48 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 1,
         viewpoints: 1,
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 0,
         skipped: &[("SpotLight", 1)],
     },
-    // 300 glyph spheres merged into ONE IndexedFaceSet in one Transform/Shape (its points lie
-    // on 300 spheres, not one, and it carries per-vertex colours): stays skipped.
+    // 300 glyph spheres merged into ONE IndexedFaceSet in one Transform/Shape: 10200 points,
+    // 19200 coordIndex runs (all of length 3), 10200 per-vertex colours (no colorIndex).
+    // /tmp script: glyph k uses exactly points 34k..34k+33 and faces 64k..64k+63, no point is
+    // bit-identical to one of another glyph -> 300 components of 34 points / 64 faces; each
+    // fits a sphere of radius 0.04 within 1.3e-6 of the radius, its points reach >= 0.95 r
+    // along each of +-x, +-y, +-z (whole sphere), and its 34 corners carry one colour -> 300
+    // spheres, 0 triangles. Material transparency 0 -> 0 gas; no IFS left skipped.
     // Background, Viewpoint 1, NavigationInfo, DirectionalLight 1.
     Expected {
         path: "tools/vtk/vtk_glyph300_spheres.wrl",
-        spheres: 0,
+        spheres: 300,
         gas: 0,
         point_lights: 0,
         directional_lights: 1,
         viewpoints: 1,
-        skipped: &[("IndexedFaceSet", 1)],
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 0,
+        skipped: &[],
     },
-    // One Transform/Shape with `geometry PointSet`. Viewpoint 1, DirectionalLight 1.
+    // One Transform/Shape with `geometry PointSet`: `point [...]` spans 300 lines of one
+    // `x y z,` triple each (lines 38-337) -> 300 points -> 300 spheres; its Material has
+    // `transparency 0` -> 0 gas. Viewpoint 1, DirectionalLight 1.
     Expected {
         path: "tools/vtk/vtk_points300.wrl",
-        spheres: 0,
+        spheres: 300,
         gas: 0,
         point_lights: 0,
         directional_lights: 1,
         viewpoints: 1,
-        skipped: &[("PointSet", 1)],
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 0,
+        skipped: &[],
     },
     // ------------------------------------------------------------------ conformance
     // PROTO with SFNode IS fields: 6 instances (MaterialSphere x2, MaterialSphereDefaultRed x2,
@@ -220,6 +324,10 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 0,
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 0,
         skipped: &[("Text", 6)],
     },
     // `MySphere { }` (1) + plain Shape radius 4 (1) + `MySphere { whatever 456.0 }` (1;
@@ -235,11 +343,16 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 0,
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 0,
         skipped: &[],
     },
     // Top level: DEF MySphere Shape{Sphere} (1) + USE MySphere (1); SomeSpheres{} expands to
     // its first body node only: Group{ DEF MySphere (1) + Transform{USE MySphere} (1) } (the
-    // trailing Box Shape / USE / Material in the PROTO body are not part of the scene); then
+    // trailing Box Shape / USE / Material in the PROTO body are not part of the scene, so
+    // boxes 0 although `grep -c Box` = 1); then
     // `USE MySphere` at top level (outer, blue one) (1) -> 5. ProtoEventsIsTest never
     // instanced.
     Expected {
@@ -249,6 +362,10 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 0,
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 0,
         skipped: &[],
     },
     // `T813blatnikZ { }` -> first body node `MatLib { matrose Material{...} }` -> nested
@@ -261,6 +378,10 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 0,
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 0,
         skipped: &[("Text", 1)],
     },
     // The Switch has no whichChoice (default -1) -> none of its 4 choices drawn. The three
@@ -273,6 +394,10 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 0,
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 0,
         skipped: &[],
     },
     // Group children: Viewpoint (1); Transform{DEF SNormal sphere} (1); DEF STransp sphere
@@ -286,6 +411,10 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 2,
         viewpoints: 1,
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 0,
         skipped: &[],
     },
     // 3 top-level Viewpoints; Group with 3 Transforms each holding `Icon {}` -> PROTO body
@@ -297,11 +426,16 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 3,
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 0,
         skipped: &[],
     },
     // Group: 3 Transforms each with an Anchor (children walked): Box (DEF A1 Appearance),
     // Sphere (appearance USE A1), Cone (USE A1); then DEF DefaultView Viewpoint and
-    // DEF NiceView Viewpoint -> Viewpoints 2.
+    // DEF NiceView Viewpoint -> Viewpoints 2. Box 1 and Cone 1 (`grep -c` 1 each, no USE of
+    // a geometry) are now surfaces; nothing skipped.
     Expected {
         path: "conformance/openvrml/models/Anchor.wrl",
         spheres: 1,
@@ -309,13 +443,18 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 2,
-        skipped: &[("Box", 1), ("Cone", 1)],
+        boxes: 1,
+        cylinders: 0,
+        cones: 1,
+        triangles: 0,
+        skipped: &[],
     },
     // Spheres: DEF Ball (1) + USE Ball in Middle (1) + USE Ball in head (1) + DEF Eye (1) +
-    // USE Eye (1) = 5 (the `# transparency .2` is a comment -> opaque). Skipped:
-    // VisibilitySensor 1 (DEF See, a Transform child), Cone 1 (nose), Cylinder 2 (hat,
-    // second via appearance USE Felt), Extrusion 2 (DEF Arm, DEF Tipper), TimeSensor 1,
-    // CoordinateInterpolator 1, PositionInterpolator 1, WorldInfo 2 (first and last node).
+    // USE Eye (1) = 5 (the `# transparency .2` is a comment -> opaque). Surfaces: Cone 1
+    // (nose), Cylinder 2 (hat, second via appearance USE Felt; `grep -c Cylinder` = 2, no
+    // geometry USE). Skipped: VisibilitySensor 1 (DEF See, a Transform child), Extrusion 2
+    // (DEF Arm, DEF Tipper), TimeSensor 1, CoordinateInterpolator 1, PositionInterpolator 1,
+    // WorldInfo 2 (first and last node).
     // Background/NavigationInfo modelled; Viewpoint 1; 5 ROUTEs ignored.
     Expected {
         path: "conformance/openvrml/models/snoman.wrl",
@@ -324,10 +463,12 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 1,
+        boxes: 0,
+        cylinders: 2,
+        cones: 1,
+        triangles: 0,
         skipped: &[
-            ("Cone", 1),
             ("CoordinateInterpolator", 1),
-            ("Cylinder", 2),
             ("Extrusion", 2),
             ("PositionInterpolator", 1),
             ("TimeSensor", 1),
@@ -338,28 +479,30 @@ pub const EXPECTED: &[Expected] = &[
     // gzip file (zcat to read). DEF RenderBefore Group = ILS (1) + Transform{DEF Krzyzyk
     // Group{ILS, PointSet}} + Transform{USE Krzyzyk (ILS, PointSet), Shape{Text}} -> per
     // instance ILS 3, PointSet 2, Text 1. RenderBefore is DEF'd once and USEd 3 times -> 4
-    // instances: ILS 12, PointSet 8, Text 4. Plus Cylinder 2 (DEF cyl1, last one),
-    // Cone 2 (DEF cone1, one inline) and WorldInfo 1. No Sphere/light/Viewpoint (the
-    // trailing Viewpoint is commented out).
+    // instances: ILS 12, PointSet 8, Text 4. Each PointSet is `coord USE KrzyzykCoord`, the
+    // 4 points `-2 0 0, 2 0 0, 0 0 -2, 0 0 2` -> 8 x 4 = 32 spheres (Material emissiveColor
+    // only, no transparency -> 0 gas). Plus Cylinder 2 (DEF cyl1, the `side FALSE` last one),
+    // Cone 2 (DEF cone1 `side FALSE`, one inline) as surfaces and WorldInfo 1. No
+    // Sphere/light/Viewpoint (the trailing Viewpoint is commented out).
     Expected {
         path: "conformance/castle-demo-models/vrml_2/cones_gzipped_but_with_normal_extension.wrl",
-        spheres: 0,
+        spheres: 32,
         gas: 0,
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 0,
-        skipped: &[
-            ("Cone", 2),
-            ("Cylinder", 2),
-            ("IndexedLineSet", 12),
-            ("PointSet", 8),
-            ("Text", 4),
-            ("WorldInfo", 1),
-        ],
+        boxes: 0,
+        cylinders: 2,
+        cones: 2,
+        triangles: 0,
+        skipped: &[("IndexedLineSet", 12), ("Text", 4), ("WorldInfo", 1)],
     },
     // `Inline { url "groundPlane.wrl" }` (exists next to it): Transform{DirectionalLight,
-    // 3 Shapes with IndexedFaceSet} -> DirectionalLight 1, IFS 3. Own content: Viewpoint 1,
-    // Box 1, Cone 1, Sphere 1.
+    // 3 Shapes with IndexedFaceSet} -> DirectionalLight 1 and, read by hand: ground plane
+    // `coordIndex [ 0 1 2 3 -1 ]` (1 quad -> 2 triangles), flag pole `[ 0 1 4 3 -1 1 2 5 4 -1
+    // 2 0 3 5 -1 3 4 5 -1 ]` (3 quads + 1 triangle -> 7), flag `[ 0 1 2 3 -1 ]` (-> 2): all
+    // have < 12 points, so no sphere -> 11 triangles. Own content: Viewpoint 1, Box 1,
+    // Cone 1, Sphere 1. Nothing skipped.
     Expected {
         path: "conformance/openvrml/models/Inline.wrl",
         spheres: 1,
@@ -367,12 +510,17 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 1,
         viewpoints: 1,
-        skipped: &[("Box", 1), ("Cone", 1), ("IndexedFaceSet", 3)],
+        boxes: 1,
+        cylinders: 0,
+        cones: 1,
+        triangles: 11,
+        skipped: &[],
     },
     // WorldInfo 1, Viewpoint 1, PointLight 3 (top level); Transform{Shape{IndexedLineSet}};
     // DEF myBox Transform{Box}; 3 axis Transforms each with a DEF mySphereX/Y/Z Transform{Sphere}
     // and a PlaneSensor (X, Y beside the sphere Transform, Z inside it) -> 3 spheres,
-    // PlaneSensor 3; DEF myMoverScript Script 1; 7 ROUTEs ignored.
+    // PlaneSensor 3; DEF myMoverScript Script 1; 7 ROUTEs ignored. `grep -c Box` = 1, never
+    // USEd (`USE myBox` absent) -> boxes 1.
     Expected {
         path: "conformance/freewrl/freewrl/tests/48.wrl",
         spheres: 3,
@@ -380,15 +528,19 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 3,
         directional_lights: 0,
         viewpoints: 1,
+        boxes: 1,
+        cylinders: 0,
+        cones: 0,
+        triangles: 0,
         skipped: &[
-            ("Box", 1),
             ("IndexedLineSet", 1),
             ("PlaneSensor", 3),
             ("Script", 1),
             ("WorldInfo", 1),
         ],
     },
-    // Shape{Box} at top level; Transform{Shape{Sphere}, Transform{scale 1 3 1, Shape{Sphere}}}.
+    // Shape{Box} at top level (-> boxes 1); Transform{Shape{Sphere}, Transform{scale 1 3 1,
+    // Shape{Sphere}}}. Nothing skipped.
     Expected {
         path:
             "conformance/castle-demo-models/vrml_engine_doc_simple_examples/transform_accum_1.wrl",
@@ -397,26 +549,36 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 0,
-        skipped: &[("Box", 1)],
+        boxes: 1,
+        cylinders: 0,
+        cones: 0,
+        triangles: 0,
+        skipped: &[],
     },
     // Transform{Transform{PointLight, Shape{PointSet}}} (the transparent radius Sphere is
     // commented out); Viewpoint 1; DEF Row Group of 3 sphere Shapes (DEF App / USE App
-    // appearances) instanced once by DEF and twice by `USE Row` -> 3 x 3 = 9 spheres.
+    // appearances) instanced once by DEF and twice by `USE Row` -> 3 x 3 = 9 spheres. The
+    // PointSet (`coord Coordinate { point 0 0 0 }`, a single point, no appearance -> unlit,
+    // opaque) adds 1 sphere -> 10; nothing skipped.
     Expected {
         path: "conformance/castle-demo-models/castle-anim-frames/simple/specular_demo_1.wrl",
-        spheres: 9,
+        spheres: 10,
         gas: 0,
         point_lights: 1,
         directional_lights: 0,
         viewpoints: 1,
-        skipped: &[("PointSet", 1)],
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 0,
+        skipped: &[],
     },
     // 3 `Button` PROTO instances (geom Box / Sphere / Cone). Each expands to Group{
     // DEF TOS TouchSensor, DEF Toggle Script, DEF SW Switch{whichChoice 0, choice[Shape{
     // geometry IS geom}, ...]}} -> per instance TouchSensor 1, Script 1 and the geom once.
     // Plus DEF ThreeButtons Script (1) and DEF T Transform{Shape{Sphere, no appearance},
-    // PositionInterpolator, TimeSensor, NavigationInfo}. Spheres: B2 + T = 2; Box 1, Cone 1;
-    // Script 3 + 1 = 4; TouchSensor 3.
+    // PositionInterpolator, TimeSensor, NavigationInfo}. Spheres: B2 + T = 2; surfaces Box 1
+    // (B1's geom), Cone 1 (B3's geom); Script 3 + 1 = 4; TouchSensor 3.
     Expected {
         path: "conformance/freewrl/freewrl/tests/SAIClick/testscript.wrl",
         spheres: 2,
@@ -424,9 +586,11 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 0,
+        boxes: 1,
+        cylinders: 0,
+        cones: 1,
+        triangles: 0,
         skipped: &[
-            ("Box", 1),
-            ("Cone", 1),
             ("PositionInterpolator", 1),
             ("Script", 4),
             ("TimeSensor", 1),
@@ -434,8 +598,8 @@ pub const EXPECTED: &[Expected] = &[
         ],
     },
     // Two Switches with `whichChoice 1` over [Box, Cone, Sphere, Cylinder] -> only the Cone
-    // in each (the Spheres are choice 2, not drawn) -> Cone 2. DEF Clock TimeSensor 1,
-    // DEF SCRIPT Script 1.
+    // in each (the Spheres are choice 2, not drawn) -> cones 2 (Box/Cylinder choices not
+    // drawn -> 0). DEF Clock TimeSensor 1, DEF SCRIPT Script 1.
     Expected {
         path: "conformance/freewrl/freewrl/tests/Javascript_tests/SFInt32.wrl",
         spheres: 0,
@@ -443,14 +607,19 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 0,
-        skipped: &[("Cone", 2), ("Script", 1), ("TimeSensor", 1)],
+        boxes: 0,
+        cylinders: 0,
+        cones: 2,
+        triangles: 0,
+        skipped: &[("Script", 1), ("TimeSensor", 1)],
     },
     // DEF V1 Viewpoint (1). Group: Shape whose geometry is `DEF CURSOR_1 Cursor {...}`, a
     // PROTO declared in the file whose first body node is IndexedLineSet -> expanded ->
     // IndexedLineSet 1 (reading: PROTO expansion applies to geometry nodes too; a reader
     // that did not expand would report "Cursor" instead); Shape{Sphere} with
     // `material DEF mat Material{transparency 0.05}` -> 1 sphere, gas; Cylinder 1 (transparency
-    // 0.0); Transform{Box} 1; Billboard{Transform{Shape{Text}}} -> Text 1. Top level:
+    // 0.0) and Transform{Box} 1 -> surfaces; Billboard{Transform{Shape{Text}}} -> Text 1.
+    // Top level:
     // DEF O1 OSC_Sensor (non-standard node) 1, DEF joystickController Script 1.
     Expected {
         path: "conformance/freewrl/freewrl/tests/18-OSC-jZoom-4.wrl",
@@ -459,9 +628,11 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 1,
+        boxes: 1,
+        cylinders: 1,
+        cones: 0,
+        triangles: 0,
         skipped: &[
-            ("Box", 1),
-            ("Cylinder", 1),
             ("IndexedLineSet", 1),
             ("OSC_Sensor", 1),
             ("Script", 1),
@@ -473,8 +644,8 @@ pub const EXPECTED: &[Expected] = &[
     // dirigible{}}} }; dirigible expands to Group{ hull Sphere 1, DEF horizontalFins Cone 1
     // + USE horizontalFins Cone 1, DEF pilotView Viewpoint 1, `Inline { url ["can.wrl"] }`
     // resolved relative to helpers/ } ; can.wrl: 3 Shapes with Cylinder + ImageTexture each.
-    // Totals: spheres 2, Viewpoints 4, Box 1, Cone 2, Cylinder 3, ImageTexture 3,
-    // OrientationInterpolator 1, TimeSensor 1.
+    // Totals: spheres 2, Viewpoints 4; surfaces Box 1, Cone 2, Cylinder 3; skipped
+    // ImageTexture 3, OrientationInterpolator 1, TimeSensor 1.
     Expected {
         path: "conformance/freewrl/freewrl/tests/16.wrl",
         spheres: 2,
@@ -482,10 +653,11 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 4,
+        boxes: 1,
+        cylinders: 3,
+        cones: 2,
+        triangles: 0,
         skipped: &[
-            ("Box", 1),
-            ("Cone", 2),
-            ("Cylinder", 3),
             ("ImageTexture", 3),
             ("OrientationInterpolator", 1),
             ("TimeSensor", 1),
@@ -495,7 +667,9 @@ pub const EXPECTED: &[Expected] = &[
     // subdir2/texture_test.wrl. texture_test: Cone, Cylinder, Sphere share DEF TexApp
     // Appearance (ImageTexture DEF TexTest) -> ImageTexture 3; Box Shape with TextureTransform
     // + USE TexTest -> TextureTransform 1, ImageTexture 1; IFS Shape with USE TexTest ->
-    // ImageTexture 1; last Shape Sphere. Spheres 2; ImageTexture 5.
+    // ImageTexture 1; last Shape Sphere. Spheres 2; ImageTexture 5. Surfaces: Cone 1,
+    // Cylinder 1, Box 1; the IFS has 5 points and `coordIndex [0, 1, 2, 3, 4]` (one convex
+    // pentagon, no trailing -1) -> 5 - 2 = 3 triangles.
     Expected {
         path: "conformance/castle-demo-models/vrml_2/relative_names.wrl",
         spheres: 2,
@@ -503,14 +677,11 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 0,
-        skipped: &[
-            ("Box", 1),
-            ("Cone", 1),
-            ("Cylinder", 1),
-            ("ImageTexture", 5),
-            ("IndexedFaceSet", 1),
-            ("TextureTransform", 1),
-        ],
+        boxes: 1,
+        cylinders: 1,
+        cones: 1,
+        triangles: 3,
+        skipped: &[("ImageTexture", 5), ("TextureTransform", 1)],
     },
     // One Shape{geometry Sphere, appearance Appearance{material RefractiveMaterial{...}}}
     // where RefractiveMaterial is an EXTERNPROTO -> it is "another node inside an
@@ -523,6 +694,10 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 0,
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 0,
         skipped: &[("RefractiveMaterial", 1)],
     },
     // `BouncingShape { appearance ..., geometry Sphere{} }` -> PROTO body DEF bounceTrans
@@ -535,12 +710,16 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 0,
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 0,
         skipped: &[("PositionInterpolator", 1), ("TimeSensor", 1)],
     },
     // WorldInfo 1, DEF SENSOR ProximitySensor 1 (top level). Transform{DirectionalLight,
     // Cone, Cylinder, Collision{children Sphere}, Box}; DEF HUDVIEW Viewpoint 1;
     // DEF HUD Transform{Collision{children DirectionalLight, Transform{Box}}}.
-    // -> Sphere 1, DirectionalLight 2, Box 2, Cone 1, Cylinder 1.
+    // -> Sphere 1, DirectionalLight 2; surfaces Box 2, Cone 1, Cylinder 1.
     Expected {
         path: "conformance/freewrl/freewrl/tests/collision.wrl",
         spheres: 1,
@@ -548,17 +727,15 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 2,
         viewpoints: 1,
-        skipped: &[
-            ("Box", 2),
-            ("Cone", 1),
-            ("Cylinder", 1),
-            ("ProximitySensor", 1),
-            ("WorldInfo", 1),
-        ],
+        boxes: 2,
+        cylinders: 1,
+        cones: 1,
+        triangles: 0,
+        skipped: &[("ProximitySensor", 1), ("WorldInfo", 1)],
     },
     // `DEF MyInline Inline { url "reuse_cone.wrl" }` + 4 nested Transforms each with
     // `USE MyInline` -> 5 Inline instances; reuse_cone.wrl has 2 Shapes with Cone
-    // (DEF NamedCone + USE NamedCone) -> Cone 10.
+    // (DEF NamedCone + USE NamedCone) -> 5 x 2 = 10 Cone surfaces; nothing skipped.
     Expected {
         path: "conformance/castle-demo-models/vrml_engine_doc_simple_examples/inline.wrl",
         spheres: 0,
@@ -566,7 +743,11 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 0,
-        skipped: &[("Cone", 10)],
+        boxes: 0,
+        cylinders: 0,
+        cones: 10,
+        triangles: 0,
+        skipped: &[],
     },
     // `EXTERNPROTO UnrecognizedNode [...] ["urn:unrecognized"]` + one top-level instance
     // -> skipped under the EXTERNPROTO's declared name.
@@ -577,6 +758,10 @@ pub const EXPECTED: &[Expected] = &[
         point_lights: 0,
         directional_lights: 0,
         viewpoints: 0,
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 0,
         skipped: &[("UnrecognizedNode", 1)],
     },
 ];

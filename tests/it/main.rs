@@ -15,14 +15,18 @@ mod gas_truncation; // exact: truncation bounds and error estimates against the 
 mod geom; // f64 ray/sphere and ray/ellipsoid math against exact and brute-force oracles
 mod hard_cases; // numerical hard cases (issue 5): tiny, huge, far, tangent, coincident
 mod lexical; // VRML97 lexical corners, gzip, invalid UTF-8, items longer than the window
+mod mesh_glyphs; // merged sphere glyphs, points as particles, Box/Cylinder/Cone as surfaces
 mod mesh_spheres; // IndexedFaceSets on a sphere become that sphere; other meshes are skipped
 mod output; // PNG, EXR, PFM bytes against independent readers; the atomic write
 mod regression; // inputs that once broke an invariant, named after what they guard
 mod render_gas; // gas emission and absorption against closed forms
 mod render_opaque; // opaque spheres against the VRML97 lighting equation in closed form
+mod render_surfaces; // cylinders, cones, boxes, triangles against the lighting equation, shadows both ways
 mod roundtrip; // property: random scene trees printed as VRML parse back to their IR
 mod semantics; // what the IR means: transforms, scopes, Switch, LOD, DEF/USE, PROTO
 mod shadow_query; // the shadow-volume query against testing every sphere
 mod support; // helpers: load a scene, errors, scratch directories, `Rng` (SplitMix64)
+mod surface_bvh; // closest and any hit over mixed primitives against testing every one
+mod surface_reference; // the tests' own ray/cylinder, cone, box and triangle
 mod vmd; // VMD's PROTO VMDMat colours, against a hand-worked fixture
 mod writer; // the VRML writer against the reader; both writers format numbers alike

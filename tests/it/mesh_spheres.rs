@@ -1,5 +1,5 @@
 //! IndexedFaceSets whose vertices lie on a sphere (Jmol's atoms) are lowered as that sphere;
-//! other meshes stay skipped. Expected centres and radii are computed here from the points
+//! other meshes become triangles. Expected centres and radii are computed here from the points
 //! the test writes and the Transforms around them.
 
 use glam::DVec3;
@@ -56,8 +56,8 @@ fn points(pts: &[DVec3], c: DVec3, r: f64) -> String {
     format!("point [ {} ]", p.join(", "))
 }
 
-/// Triangles that use every one of `n` points (not a closed surface: recognition reads only
-/// which points the faces use).
+/// `n` triangles that use every one of `n` points (not a closed surface: recognition reads
+/// only which points the faces use).
 fn index_all(n: usize) -> String {
     let f: Vec<String> = (0..n)
         .map(|i| format!("{} {} {} -1", i, (i + 1) % n, (i + 2) % n))
@@ -163,9 +163,16 @@ fn sphere_mesh_points_from_a_proto_interface() {
         index_all(pts.len()),
         points(&pts, DVec3::ZERO, 0.5).replacen("point", "pts", 1),
     ));
+    // The second Ball has one point for faces that name twelve: its faces are left out.
     assert_eq!(
-        (s.spheres.len(), r.mesh_spheres, skipped_ifs(&r)),
-        (1, 1, 1)
+        (s.spheres.len(), r.mesh_spheres, s.surfaces.len()),
+        (1, 1, 0)
+    );
+    assert_eq!(r.warnings.len(), 1);
+    assert!(
+        r.warnings[0].message.contains("is not one of its 1 points"),
+        "{}",
+        r.warnings[0]
     );
     assert!((s.spheres[0].center - DVec3::new(0.0, 0.0, -3.0)).length() < 1e-12);
     assert!(close(s.spheres[0].radius, 0.5, 1e-12));
@@ -186,7 +193,7 @@ fn non_uniform_scale_makes_an_ellipsoid() {
 }
 
 #[test]
-fn cube_disk_and_half_sphere_meshes_are_not_spheres() {
+fn cube_disk_and_half_sphere_meshes_are_triangles() {
     let cube: Vec<DVec3> = (0..8)
         .map(|i| DVec3::new((i & 1) as f64, (i >> 1 & 1) as f64, (i >> 2 & 1) as f64))
         .collect();
@@ -200,7 +207,9 @@ fn cube_disk_and_half_sphere_meshes_are_not_spheres() {
         let mesh = ifs(&pts, DVec3::ZERO, 1.0);
         let (s, r) = scene(&format!("Shape {{ geometry {mesh} }}"));
         assert_eq!(s.spheres.len(), 0, "{name}");
-        assert_eq!((r.mesh_spheres, skipped_ifs(&r)), (0, 1), "{name}");
+        assert_eq!((r.mesh_spheres, skipped_ifs(&r)), (0, 0), "{name}");
+        // `index_all` writes n triangles.
+        assert_eq!(s.surface_counts().triangles, pts.len(), "{name}");
         assert!(r.warnings.is_empty(), "{name}: {:?}", r.warnings);
     }
 }
@@ -210,37 +219,73 @@ fn colored_partial_or_malformed_sphere_meshes_are_not_spheres() {
     let pts = icosahedron();
     let p = points(&pts, DVec3::ZERO, 1.0);
     let all = index_all(pts.len());
-    for (name, body) in [
-        // Per-vertex colours are not the Material's colour.
+    let twelve = pts.len();
+    // (case, IndexedFaceSet body, spheres, triangles, skipped, warning).
+    for (name, body, spheres, triangles, skipped, warning) in [
+        // One colour for twelve points: not one colour over the sphere, so triangles, and the
+        // corners past the colour list say so.
         (
-            "color",
+            "short color",
             format!("coord Coordinate {{ {p} }} {all} color Color {{ color [1 0 0] }}"),
+            0,
+            twelve,
+            0,
+            Some("some corners have no colour"),
         ),
-        // Faces over only some of the points: a piece of the sphere.
+        // Faces over only some of the points: a piece of the sphere, drawn as triangles.
         (
             "unused point",
             format!("coord Coordinate {{ {p} }} {}", index_all(11)),
+            0,
+            11,
+            0,
+            None,
         ),
         (
             "bad index",
             format!("coord Coordinate {{ {p} }} {all} coordIndex [0 1 12 -1]"),
+            0,
+            0,
+            0,
+            Some("coordIndex[2] = 12 is not one of its 12 points"),
         ),
-        ("no coordIndex", format!("coord Coordinate {{ {p} }}")),
+        // No faces: a point cloud of 12 particles.
+        (
+            "no coordIndex",
+            format!("coord Coordinate {{ {p} }}"),
+            12,
+            0,
+            0,
+            None,
+        ),
         // Not integers: skipped as before, not an error.
         (
             "float index",
             format!("coord Coordinate {{ {p} }} coordIndex [0.5 1 2]"),
+            0,
+            0,
+            1,
+            None,
         ),
-        ("no coord", all.clone()),
+        ("no coord", all.clone(), 0, 0, 1, None),
     ] {
         let (s, r) = scene(&format!(
             "Shape {{ geometry IndexedFaceSet {{ {body} normal Normal {{ vector [0 0 1] }} }} }}"
         ));
-        assert_eq!(s.spheres.len(), 0, "{name}");
+        assert_eq!(s.spheres.len(), spheres, "{name}");
+        assert_eq!(s.surface_counts().triangles, triangles, "{name}");
         // Nodes inside the IndexedFaceSet (Color, Normal) are not counted on their own.
-        assert_eq!(r.skipped.len(), 1, "{name}: {:?}", r.skipped);
-        assert_eq!(skipped_ifs(&r), 1, "{name}");
-        assert!(r.warnings.is_empty(), "{name}: {:?}", r.warnings);
+        assert_eq!(skipped_ifs(&r), skipped, "{name}: {:?}", r.skipped);
+        assert_eq!(r.skipped.len() as u64, skipped, "{name}: {:?}", r.skipped);
+        // The one Normal (for every corner, normalPerVertex) is short too, where faces are.
+        let warned: Vec<String> = r.warnings.iter().map(|w| w.message.clone()).collect();
+        match warning {
+            Some(w) => assert!(warned.iter().any(|m| m.contains(w)), "{name}: {warned:?}"),
+            None => assert!(
+                warned.iter().all(|m| m.contains("no normal")),
+                "{name}: {warned:?}"
+            ),
+        }
     }
 }
 
@@ -261,7 +306,8 @@ fn coordinate_outside_an_indexed_face_set_is_still_skipped() {
          Shape { geometry PointSet { coord Coordinate { point [0 0 0] } } }",
     );
     assert_eq!(r.skipped.get("IndexedLineSet"), Some(&1));
-    assert_eq!(r.skipped.get("PointSet"), Some(&1));
+    // A PointSet is drawn: its point is a particle.
+    assert_eq!((r.skipped.get("PointSet"), r.point_spheres), (None, 1));
     assert_eq!(r.skipped.get("Coordinate"), None);
 }
 

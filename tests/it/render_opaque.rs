@@ -18,17 +18,17 @@ use crate::support;
 
 /// Material as the test sees it.
 #[derive(Clone, Copy)]
-struct Mat {
-    diffuse: DVec3,
-    emissive: DVec3,
-    specular: DVec3,
-    shininess: f64,
-    ambient: f64,
+pub(crate) struct Mat {
+    pub(crate) diffuse: DVec3,
+    pub(crate) emissive: DVec3,
+    pub(crate) specular: DVec3,
+    pub(crate) shininess: f64,
+    pub(crate) ambient: f64,
 }
 
 /// One light's contribution per the VRML equation, given the geometry and the visibility.
 #[allow(clippy::too_many_arguments)]
-fn vrml_term(
+pub(crate) fn vrml_term(
     m: &Mat,
     n: DVec3,
     v: DVec3,
@@ -60,7 +60,7 @@ fn hit(o: DVec3, d: DVec3, c: DVec3, r: f64) -> Option<f64> {
 
 /// Perspective ray through pixel (i, j)'s centre for a camera at `p` looking down -z with
 /// `fov` on the smaller side.
-fn pixel_ray(p: DVec3, fov: f64, w: u32, h: u32, i: u32, j: u32) -> (DVec3, DVec3) {
+pub(crate) fn pixel_ray(p: DVec3, fov: f64, w: u32, h: u32, i: u32, j: u32) -> (DVec3, DVec3) {
     let (u, v) = ((i as f64 + 0.5) / w as f64, (j as f64 + 0.5) / h as f64);
     let t = (fov / 2.0).tan();
     let (sx, sy) = if w >= h {
@@ -72,7 +72,7 @@ fn pixel_ray(p: DVec3, fov: f64, w: u32, h: u32, i: u32, j: u32) -> (DVec3, DVec
     (p, d)
 }
 
-fn center_opts(w: u32, h: u32) -> RenderOptions {
+pub(crate) fn center_opts(w: u32, h: u32) -> RenderOptions {
     RenderOptions {
         width: w,
         height: h,

@@ -248,10 +248,11 @@ fn generated_scenes_round_trip() {
                 intensity: rnd(),
                 ambient_intensity: rnd(),
                 on: rnd() < 0.8,
-                scope: LightScope::Spheres {
+                scope: LightScope::Range {
                     start: scope.0,
                     end: scope.1,
                 },
+                surface_scope: LightScope::All,
                 origin: Origin::default(),
             }));
         }

@@ -75,7 +75,7 @@ fn one_run(n: usize, size: u32, threads: usize) -> Result<Run, Error> {
             for (k, l) in prep.lights.iter().enumerate() {
                 if let Some((dir, dist, _)) = towards(l, sp.x) {
                     shadow_rays += 1;
-                    let v = visible(&prep.bvh, sp.x, dir, dist, Some(sp.prim));
+                    let v = visible(&prep, sp.x, dir, dist, Some(sp.on));
                     lit[k] += u64::from(v > 0.0 && sp.n.dot(dir) > 0.0);
                 }
             }

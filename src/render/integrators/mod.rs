@@ -19,7 +19,7 @@ use super::lighting::shade;
 use super::sampler::Rng;
 use super::segments::{Interval, Segment};
 use super::{Counters, Integrator, Prepared};
-use crate::accel::Hit;
+use surface::OpaqueHit;
 
 /// What one camera ray returns.
 #[derive(Clone, Copy, Debug, Default)]
@@ -80,7 +80,7 @@ pub fn gas_along(
     d: DVec3,
     s: &mut Scratch,
     counters: &mut Counters,
-) -> Option<Hit> {
+) -> Option<OpaqueHit> {
     counters.camera_rays += 1;
     let hit = super::segments::gather(prep, o, d, &mut s.intervals);
     let t_end = hit.map_or(f64::INFINITY, |h| h.t);
@@ -97,13 +97,18 @@ pub fn gas_along(
 }
 
 /// Radiance of the opaque surface `hit` (or the background), as seen along `d`.
-pub fn behind(prep: &Prepared, o: DVec3, d: DVec3, hit: Option<Hit>, c: &mut Counters) -> DVec3 {
+pub fn behind(
+    prep: &Prepared,
+    o: DVec3,
+    d: DVec3,
+    hit: Option<OpaqueHit>,
+    c: &mut Counters,
+) -> DVec3 {
     match hit {
         None => prep.background,
         Some(h) => {
             let sp = surface::surface_point(prep, o, d, h);
-            let m = &prep.materials[prep.bvh.prims[h.prim as usize].material as usize];
-            shade(&prep.bvh, &prep.lights, m, &sp, c)
+            shade(prep, surface::material_of(prep, h.on), &sp, c)
         }
     }
 }
@@ -130,7 +135,7 @@ pub fn lights_at(
             continue;
         }
         c.shadow_rays += 1;
-        let v = super::visibility::visible(&prep.bvh, x, dir, dist, None);
+        let v = super::visibility::visible(prep, x, dir, dist, None);
         sum += a * l.direct * (att * v);
     }
     sum * PHASE
@@ -145,7 +150,7 @@ pub fn scatter_for(prep: &Prepared, seg: &Segment, members: &[u32], i: usize) ->
     let l = &prep.lights[i];
     match l.kind {
         super::lights::LightKind::Directional {
-            scope: crate::scene::LightScope::Spheres { .. },
+            scope: crate::scene::LightScope::Range { .. },
             ..
         } => {
             let ms = &members[seg.members.0 as usize..(seg.members.0 + seg.members.1) as usize];

@@ -1,42 +1,115 @@
-//! Opaque spheres: closest hit, then the VRML97 lighting equation with hard shadows
-//! (MODEL.md section 2). Exact up to rounding, so the error estimate is 0.
+//! Opaque surfaces: closest hit among spheres and the other surfaces, then the VRML97
+//! lighting equation with hard shadows (MODEL.md section 2). Exact up to rounding, so the
+//! error estimate is 0.
 
 use glam::DVec3;
 
 use super::Estimate;
-use crate::accel::Hit;
 use crate::geom::ellipsoid_normal;
 use crate::render::lighting::{shade, SurfacePoint};
 use crate::render::{Counters, Prepared};
 
-/// The first opaque surface along `o + t d` (`t > tmin`), seen from outside: a sphere whose
+/// What an opaque hit is on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Opaque {
+    /// A primitive of the sphere BVH (an index into `Prepared::bvh.prims`).
+    Sphere(u32),
+    /// A surface (an index into `Prepared::surfaces.items`, the same as into `Scene::surfaces`).
+    Surface(u32),
+}
+
+/// An opaque hit: ray parameter and what was hit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OpaqueHit {
+    pub t: f64,
+    pub on: Opaque,
+}
+
+/// The first opaque sphere along `o + t d` (`t > tmin`), seen from outside: a sphere whose
 /// first root is behind the origin is culled (MODEL.md: spheres are solid).
 #[inline]
-pub fn first_hit(prep: &Prepared, o: DVec3, d: DVec3, tmin: f64) -> Option<Hit> {
+fn first_sphere(prep: &Prepared, o: DVec3, d: DVec3, tmin: f64) -> Option<crate::accel::Hit> {
     prep.bvh
         .closest(o, d, tmin, f64::INFINITY, |_, p, (t0, _)| {
             (!p.is_gas() && t0 > tmin).then_some(t0)
         })
 }
 
+/// The first opaque surface along `o + t d` (`t > tmin`): a sphere, or a surface in front of it.
+#[inline]
+pub fn first_hit(prep: &Prepared, o: DVec3, d: DVec3, tmin: f64) -> Option<OpaqueHit> {
+    let sphere = first_sphere(prep, o, d, tmin).map(|h| OpaqueHit {
+        t: h.t,
+        on: Opaque::Sphere(h.prim),
+    });
+    nearer_surface(prep, o, d, tmin, sphere)
+}
+
+/// `hit`, or the first surface in front of it.
+#[inline]
+pub fn nearer_surface(
+    prep: &Prepared,
+    o: DVec3,
+    d: DVec3,
+    tmin: f64,
+    hit: Option<OpaqueHit>,
+) -> Option<OpaqueHit> {
+    let tmax = hit.map_or(f64::INFINITY, |h| h.t);
+    match prep.surfaces.closest(o, d, tmin, tmax) {
+        Some((t, i)) if t < tmax => Some(OpaqueHit {
+            t,
+            on: Opaque::Surface(i),
+        }),
+        _ => hit,
+    }
+}
+
 /// The surface point of a hit.
 #[inline]
-pub fn surface_point(prep: &Prepared, o: DVec3, d: DVec3, hit: Hit) -> SurfacePoint {
-    let p = &prep.bvh.prims[hit.prim as usize];
+pub fn surface_point(prep: &Prepared, o: DVec3, d: DVec3, hit: OpaqueHit) -> SurfacePoint {
     let x = o + hit.t * d;
-    let n = match p.ellipsoid {
-        // o - c first: for a small sphere far from the origin this keeps the normal's
-        // direction to the precision of the hit parameter.
-        None => ((o - p.center) + hit.t * d).normalize(),
-        Some(e) => ellipsoid_normal(x, &prep.bvh.to_object[e.index()]),
-    };
-    SurfacePoint {
-        x,
-        n,
-        v: -d,
-        prim: hit.prim,
-        sphere: p.sphere,
+    match hit.on {
+        Opaque::Sphere(prim) => {
+            let p = &prep.bvh.prims[prim as usize];
+            let n = match p.ellipsoid {
+                // o - c first: for a small sphere far from the origin this keeps the normal's
+                // direction to the precision of the hit parameter.
+                None => ((o - p.center) + hit.t * d).normalize(),
+                Some(e) => ellipsoid_normal(x, &prep.bvh.to_object[e.index()]),
+            };
+            SurfacePoint {
+                x,
+                n,
+                geometric: n,
+                v: -d,
+                on: hit.on,
+                id: p.sphere,
+                color: None,
+            }
+        }
+        Opaque::Surface(i) => {
+            let h = prep.surfaces.hit_point(i, o, d, hit.t);
+            SurfacePoint {
+                x,
+                n: h.shading,
+                geometric: h.geometric,
+                v: -d,
+                on: hit.on,
+                id: i,
+                color: h.color,
+            }
+        }
     }
+}
+
+/// The material of what a hit is on.
+#[inline]
+pub fn material_of(prep: &Prepared, on: Opaque) -> &crate::scene::Material {
+    let m = match on {
+        Opaque::Sphere(prim) => prep.bvh.prims[prim as usize].material,
+        Opaque::Surface(i) => prep.surfaces.materials[i as usize],
+    };
+    &prep.materials[m as usize]
 }
 
 pub fn radiance(prep: &Prepared, o: DVec3, d: DVec3, counters: &mut Counters) -> Estimate {
@@ -49,9 +122,8 @@ pub fn radiance(prep: &Prepared, o: DVec3, d: DVec3, counters: &mut Counters) ->
         },
         Some(hit) => {
             let sp = surface_point(prep, o, d, hit);
-            let m = &prep.materials[prep.bvh.prims[hit.prim as usize].material as usize];
             Estimate {
-                value: shade(&prep.bvh, &prep.lights, m, &sp, counters),
+                value: shade(prep, material_of(prep, hit.on), &sp, counters),
                 error: 0.0,
                 covered: true,
             }

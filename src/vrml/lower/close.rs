@@ -6,14 +6,15 @@
 //! was lowered inside them; and a closed node hands its result ([`Result_`]) to the field it
 //! stands in.
 
-use glam::DVec3;
+use glam::{DAffine3, DVec3};
 
 use super::open::{Frame, Geom, Kind, Leaf, Result_};
 use super::record::{Done, Rec, RecKind};
 use super::scope::DefEntry;
 use super::Lowerer;
 use crate::error::Error;
-use crate::scene::Sphere;
+use crate::geom::shapes::Solid;
+use crate::scene::{Sphere, Surface, SurfaceShape};
 use crate::source::SourceWindow;
 use crate::vrml::syntax::OwnedEvent;
 
@@ -111,7 +112,9 @@ impl Lowerer {
                 *material = Some(m)
             }
             // (Coordinate frames open only in an IndexedFaceSet's `coord`.)
-            (Kind::Mesh(m), _, Result_::Coord(c)) => m.coord = Some(c),
+            (Kind::Mesh(m), _, Result_::MeshArray(which, slot)) => {
+                Lowerer::take_array(m, which, slot)
+            }
             _ => {}
         }
     }
@@ -137,12 +140,13 @@ impl Lowerer {
                 appearance,
                 geometry,
             } => {
-                self.shape_sphere(appearance, geometry);
+                self.shape_geometry(appearance, geometry);
                 Result_::Nothing
             }
             Leaf::Appearance { material } => Result_::Appearance(material),
             Leaf::Material => Result_::Material(self.close_material()),
             Leaf::Sphere { radius } => Result_::Geometry(Geom::Sphere(radius, at)),
+            Leaf::Solid(s) => Result_::Geometry(Geom::Solid(s, at)),
         }
     }
 
@@ -183,8 +187,8 @@ impl Lowerer {
                 Result_::Nothing
             }
             Kind::Leaf(leaf) => self.close_leaf(leaf, at),
-            Kind::Mesh(m) => self.close_mesh(&m, at),
-            Kind::Coord(c) => Result_::Coord(c),
+            Kind::Mesh(m) => self.close_mesh(src, &m, at)?,
+            Kind::MeshArray(which, slot) => Result_::MeshArray(which, slot),
             Kind::PointLight(l) => {
                 self.close_point_light(*l);
                 Result_::Nothing
@@ -249,18 +253,16 @@ impl Lowerer {
 
     /// A closed Shape: a sphere if its geometry is one, in the object space of its Transforms.
     #[inline(always)]
-    fn shape_sphere(&mut self, appearance: Option<Option<u32>>, geometry: Option<Geom>) {
-        let (center, radius, sat) = match geometry {
-            Some(Geom::Sphere(radius, sat)) => (DVec3::ZERO, radius, sat),
-            Some(Geom::Mesh(i, sat)) => {
-                let (c, r) = self.meshes.fits[i as usize];
-                (c, r, sat)
-            }
-            _ => return,
-        };
+    fn shape_geometry(&mut self, appearance: Option<Option<u32>>, geometry: Option<Geom>) {
         let material = match appearance {
             Some(Some(m)) => m,
             _ => super::material::UNLIT,
+        };
+        let (center, radius, sat) = match geometry {
+            Some(Geom::Sphere(radius, sat)) => (DVec3::ZERO, radius, sat),
+            Some(Geom::Solid(solid, sat)) => return self.shape_solid(solid, material, sat),
+            Some(Geom::Mesh(i, sat)) => return self.shape_mesh(i, material, sat),
+            _ => return,
         };
         self.scene.spheres.push(Sphere {
             center,
@@ -269,5 +271,65 @@ impl Lowerer {
             ellipsoid: None,
             origin: self.origin(sat),
         });
+    }
+
+    /// A Shape whose geometry is a Box, Cylinder or Cone.
+    #[cold]
+    #[inline(never)]
+    fn shape_solid(&mut self, i: u32, material: u32, at: u64) {
+        let Some(&solid) = self.meshes.solids.get(i as usize) else {
+            return;
+        };
+        if i as usize + 1 == self.meshes.solids.len() {
+            // Read and drawn: the common case keeps the list short.
+            self.meshes.solids.pop();
+        }
+        if self.meshes.spheres_only {
+            self.diags.skip(match solid {
+                Solid::Cuboid { .. } => "Box",
+                Solid::Cylinder { .. } => "Cylinder",
+                Solid::Cone { .. } => "Cone",
+            });
+            return;
+        }
+        self.scene.surfaces.push(Surface {
+            shape: SurfaceShape::Solid {
+                solid,
+                to_world: DAffine3::IDENTITY,
+            },
+            material,
+            origin: self.origin(at),
+        });
+    }
+
+    /// A Shape whose geometry is a mesh: its spheres (coloured by the mesh where it gives
+    /// colours) and its triangles.
+    #[cold]
+    #[inline(never)]
+    fn shape_mesh(&mut self, i: u32, material: u32, at: u64) {
+        let Some(parts) = self.mesh_parts_for_shape(i) else {
+            return;
+        };
+        let origin = self.origin(at);
+        for &(center, radius, colour) in &parts.spheres {
+            let material = match colour {
+                Some(c) => self.recolored(material, c),
+                None => material,
+            };
+            self.scene.spheres.push(Sphere {
+                center,
+                radius,
+                material,
+                ellipsoid: None,
+                origin,
+            });
+        }
+        self.scene
+            .surfaces
+            .extend(parts.triangles.into_iter().map(|t| Surface {
+                shape: SurfaceShape::Triangle(Box::new(t)),
+                material,
+                origin,
+            }));
     }
 }

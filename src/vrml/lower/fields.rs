@@ -14,6 +14,7 @@ use super::open::{FieldCtx, Frame, Kind, Leaf, Name};
 use super::transform::quat;
 use super::{error, Diags, Lowerer};
 use crate::error::Error;
+use crate::geom::shapes::Solid;
 use crate::source::SourceWindow;
 use crate::vrml::schema::{self, Access};
 use crate::vrml::syntax::Value;
@@ -63,6 +64,45 @@ fn rot4(v: &Value) -> [f64; 4] {
     [n[0], n[1], n[2], n[3]]
 }
 
+/// A field of a Box, Cylinder or Cone (VRML97 6.4, 6.12, 6.17): sizes must be positive.
+fn solid_field(s: &mut Solid, name: &str, v: &Value) -> Result<(), String> {
+    let positive = |what: &str, x: f64| {
+        if x > 0.0 && x.is_finite() {
+            Ok(x)
+        } else {
+            Err(format!("{what} must be positive, found {x}"))
+        }
+    };
+    match (s, name) {
+        (Solid::Cuboid { half }, "size") => {
+            let size = vec3(v);
+            for x in size.to_array() {
+                positive("Box size", x)?;
+            }
+            *half = 0.5 * size;
+        }
+        (Solid::Cylinder { radius, .. }, "radius") => {
+            *radius = positive("Cylinder radius", num1(v))?
+        }
+        (Solid::Cylinder { half_height, .. }, "height") => {
+            *half_height = 0.5 * positive("Cylinder height", num1(v))?
+        }
+        (Solid::Cylinder { bottom, .. }, "bottom") => *bottom = bool1(v),
+        (Solid::Cylinder { side, .. }, "side") => *side = bool1(v),
+        (Solid::Cylinder { top, .. }, "top") => *top = bool1(v),
+        (Solid::Cone { radius, .. }, "bottomRadius") => {
+            *radius = positive("Cone bottomRadius", num1(v))?
+        }
+        (Solid::Cone { half_height, .. }, "height") => {
+            *half_height = 0.5 * positive("Cone height", num1(v))?
+        }
+        (Solid::Cone { side, .. }, "side") => *side = bool1(v),
+        (Solid::Cone { bottom, .. }, "bottom") => *bottom = bool1(v),
+        _ => {}
+    }
+    Ok(())
+}
+
 impl Lowerer {
     /// A non-node field value of the innermost open node.
     pub(super) fn field(
@@ -78,11 +118,11 @@ impl Lowerer {
         let Some((f, access)) = self.field_spec(src, name, at) else {
             // (IndexedFaceSet and Coordinate frames have no table: their fields come here.)
             if let Some(Frame {
-                kind: k @ (Kind::Mesh(_) | Kind::Coord(_)),
+                kind: k @ (Kind::Mesh(_) | Kind::MeshArray(..)),
                 ..
             }) = self.open.frames.last_mut()
             {
-                mesh_field(k, name, &value, &mut self.meshes.fits);
+                mesh_field(k, name, &value, &mut self.meshes);
             }
             return Ok(());
         };
@@ -238,6 +278,11 @@ impl Lowerer {
                     ));
                 }
                 *radius = r;
+            }
+            Kind::Leaf(Leaf::Solid(i)) => {
+                if let Err(e) = solid_field(&mut self.meshes.solids[*i as usize], name, v) {
+                    return Err(error(src, at, e));
+                }
             }
             Kind::PointLight(l) => match name {
                 "location" => l.location = vec3(v),

@@ -53,11 +53,16 @@ impl Lowerer {
     /// lowered inside it.
     pub(super) fn scope_lights(&mut self, marks: Marks, dirlights: DirLights) {
         let end = self.scene.spheres.len() as u32;
+        let surfaces_end = self.scene.surfaces.len() as u32;
         for i in dirlights.into_iter().flat_map(|d| *d) {
             if let Light::Directional(l) = &mut self.scene.lights[i] {
-                l.scope = LightScope::Spheres {
+                l.scope = LightScope::Range {
                     start: marks.spheres as u32,
                     end,
+                };
+                l.surface_scope = LightScope::Range {
+                    start: marks.surfaces as u32,
+                    end: surfaces_end,
                 };
             }
         }

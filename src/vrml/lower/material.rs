@@ -5,6 +5,8 @@
 //! duplicates, every index held so far is renumbered: the spheres' and the open
 //! Appearances' and Shapes'.
 
+use glam::DVec3;
+
 use super::open::{Kind, Leaf};
 use super::Lowerer;
 use crate::scene::Material;
@@ -36,6 +38,21 @@ impl Lowerer {
         i
     }
 
+    /// The index of material `base` with its diffuseColor replaced by `colour` (a mesh's
+    /// Color node; for an unlit material, its colour), shared like any other material.
+    pub(super) fn recolored(&mut self, base: u32, colour: DVec3) -> u32 {
+        let mut m = self.scene.materials[base as usize];
+        if m.diffuse == colour {
+            return base;
+        }
+        m.diffuse = colour;
+        let i = self.materials.recent.index(&m, &mut self.scene.materials);
+        if self.materials.recent.wants_merge(&self.scene.materials) {
+            return self.merge_materials(i);
+        }
+        i
+    }
+
     /// Merges the duplicate materials stored so far and renumbers every material index held:
     /// the spheres', the open Appearances' and Shapes', and `i` (returned).
     #[cold]
@@ -47,6 +64,10 @@ impl Lowerer {
         let renumber = |m: &mut u32| *m = new_index[*m as usize];
         self.scene
             .spheres
+            .iter_mut()
+            .for_each(|s| renumber(&mut s.material));
+        self.scene
+            .surfaces
             .iter_mut()
             .for_each(|s| renumber(&mut s.material));
         for f in &mut self.open.frames {

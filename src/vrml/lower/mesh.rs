@@ -1,15 +1,14 @@
-//! Tessellated spheres: an IndexedFaceSet lowered as the sphere through its vertices (see
-//! "Tessellated spheres" in the module documentation). Its fields are read leniently and
-//! without a table, as for a skipped node: only `coordIndex`, the `coord` Coordinate's
-//! `point`s and whether a `color` node is given decide. The sphere through the points is
-//! fitted when the Coordinate's `point` is read ([`Meshes::fits`]); when the IndexedFaceSet
-//! closes as a Shape's geometry and its index uses every point, it is that sphere. What a
-//! DEF'd IndexedFaceSet lowered to is cached at its first USE ([`Meshes::cache`]), so later
-//! USEs of a Jmol atom cost a lookup, not a replay of its events.
+//! IndexedFaceSet and PointSet while they are read: their fields are gathered leniently and
+//! without a table (a value of another type is ignored, as for a skipped node), with the
+//! `coord`, `color` and `normal` arrays of their Coordinate, Color and Normal children. What
+//! a closed one becomes (spheres, triangles, particles) is decided in `mesh_shape`. What a
+//! DEF'd one lowered to is cached at its first USE ([`Meshes::cache`]), so later USEs of a
+//! Jmol atom or bond cost a lookup, not a replay of its events.
 
 use glam::DVec3;
-use hashbrown::HashMap;
+use hashbrown::{HashMap, HashSet};
 
+use super::mesh_shape::MeshParts;
 use super::open::{Geom, Kind, Name, Result_};
 use super::record::Rec;
 use super::Lowerer;
@@ -17,170 +16,247 @@ use crate::error::Error;
 use crate::source::SourceWindow;
 use crate::vrml::syntax::{OwnedEvent, Value};
 
-/// An open IndexedFaceSet (rare: boxed in [`Kind::Mesh`]).
-#[derive(Debug, Default)]
+/// Which array a child node of a mesh fills.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Array {
+    Coord,
+    Color,
+    Normal,
+}
+
+/// An open IndexedFaceSet or PointSet (rare: boxed in [`Kind::Mesh`]). Arrays are slots of
+/// [`Meshes::arrays`].
+#[derive(Debug)]
 pub(super) struct MeshState {
-    /// From the `coord` Coordinate: point count and the sphere through the points, if any.
-    pub(super) coord: Option<CoordFit>,
-    /// `coordIndex`, if given as integers.
-    index: Option<Vec<f64>>,
-    /// A `color` node was given.
-    colored: bool,
+    /// A PointSet (no faces), not an IndexedFaceSet.
+    pub(super) points_only: bool,
+    pub(super) coord: Option<u32>,
+    pub(super) color: Option<u32>,
+    pub(super) normal: Option<u32>,
+    pub(super) coord_index: Vec<i64>,
+    pub(super) color_index: Vec<i64>,
+    pub(super) normal_index: Vec<i64>,
+    pub(super) ccw: bool,
+    pub(super) solid: bool,
+    pub(super) color_per_vertex: bool,
+    pub(super) normal_per_vertex: bool,
+    pub(super) crease_angle: f64,
+    /// An index field was given values that are not integers: nothing is drawn.
+    pub(super) malformed: bool,
     /// `Lowerer::nodes` before this node started (to cache the node count of a DEF).
     nodes_before: u64,
 }
 
-/// A Coordinate's point count and the sphere through its points (index into
-/// [`Meshes::fits`]), if any. Small and `Copy`, so [`Result_`] needs no drop.
-#[derive(Clone, Copy, Debug, Default)]
-pub(super) struct CoordFit {
-    points: usize,
-    sphere: Option<u32>,
-}
-
-/// What a DEF'd IndexedFaceSet lowered to, replayed for each USE without its events.
+/// What a DEF'd mesh lowered to, replayed for each USE without its events.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct MeshCache {
     geom: Geom,
-    /// Nodes its events lower (the IndexedFaceSet and the nodes inside).
+    /// Nodes its events lower (the mesh and the nodes inside).
     nodes: u64,
 }
 
-/// The tessellated spheres found so far.
+/// The meshes met so far.
 #[derive(Default)]
 pub(super) struct Meshes {
-    /// Spheres through the points of Coordinates in IndexedFaceSets ([`CoordFit`] and
-    /// [`Geom::Mesh`] index this).
-    pub(super) fits: Vec<(DVec3, f64)>,
-    /// IndexedFaceSet instances lowered as spheres (USEs included).
+    /// The arrays of the Coordinate, Color and Normal nodes of the open mesh.
+    arrays: Vec<Vec<DVec3>>,
+    /// What closed meshes lowered to ([`Geom::Mesh`] indexes this); taken by the Shape that
+    /// draws it unless cached for later USEs.
+    pub(super) parts: Vec<Option<MeshParts>>,
+    /// Entries of `parts` that the cache refers to (kept after their Shape).
+    kept: HashSet<u32>,
+    /// The Box, Cylinder and Cone nodes read and not yet drawn ([`Geom::Solid`] and
+    /// `Leaf::Solid` index this).
+    pub(super) solids: Vec<crate::geom::shapes::Solid>,
+    /// Spheres found in meshes (tessellated spheres, USEs included).
     pub(super) spheres: u64,
-    /// What each DEF'd IndexedFaceSet lowered to, by the start of its recording.
+    /// Spheres made of points (PointSets and face-less IndexedFaceSets).
+    pub(super) point_spheres: u64,
+    /// `--point-radius`, if given.
+    pub(super) point_radius: Option<f64>,
+    /// Don't lower triangles (`--spheres-only`): their components are skipped.
+    pub(super) spheres_only: bool,
+    /// What each DEF'd mesh lowered to, by the start of its recording.
     cache: HashMap<usize, MeshCache>,
-    /// The last IndexedFaceSet closed (for `cache`).
+    /// The last mesh closed (for `cache`).
     last: Option<MeshCache>,
 }
 
-/// Reads the fields of an IndexedFaceSet or its Coordinate that decide whether it is a sphere.
-/// Leniently: a value of another type makes it no sphere rather than an error (the node was
-/// skipped whole before it could be one).
-pub(super) fn mesh_field(kind: &mut Kind, name: &str, value: &Value, fits: &mut Vec<(DVec3, f64)>) {
-    match (kind, name, value) {
+impl Meshes {
+    /// The array in `slot`, or an empty one.
+    pub(super) fn array(&self, slot: Option<u32>) -> &[DVec3] {
+        slot.and_then(|s| self.arrays.get(s as usize))
+            .map_or(&[], Vec::as_slice)
+    }
+}
+
+fn triples(values: &[f64]) -> Vec<DVec3> {
+    values
+        .chunks_exact(3)
+        .map(|c| DVec3::new(c[0], c[1], c[2]))
+        .collect()
+}
+
+fn integers(values: &[f64]) -> Vec<i64> {
+    values.iter().map(|&v| v as i64).collect()
+}
+
+/// Reads a field of a mesh or of one of its arrays, leniently: a value of another type is
+/// ignored (the node was skipped whole before it was modelled).
+pub(super) fn mesh_field(kind: &mut Kind, name: &str, value: &Value, meshes: &mut Meshes) {
+    match (kind, value) {
+        (Kind::MeshArray(which, slot), Value::Numbers { values, .. }) => {
+            let wanted = match which {
+                Array::Coord => "point",
+                Array::Color => "color",
+                Array::Normal => "vector",
+            };
+            if name == wanted {
+                meshes.arrays[*slot as usize] = triples(values);
+            }
+        }
         (
             Kind::Mesh(m),
-            "coordIndex",
             Value::Numbers {
                 values,
                 integer: true,
                 ..
             },
-        ) => m.index = Some(values.to_vec()),
-        (Kind::Coord(c), "point", Value::Numbers { values, .. }) => {
-            let sphere = crate::geom::sphere_through(values).map(|f| {
-                fits.push(f);
-                fits.len() as u32 - 1
-            });
-            *c = CoordFit {
-                points: values.len() / 3,
-                sphere,
+        ) => match name {
+            "coordIndex" => m.coord_index = integers(values),
+            "colorIndex" => m.color_index = integers(values),
+            "normalIndex" => m.normal_index = integers(values),
+            "creaseAngle" => m.crease_angle = values.first().copied().unwrap_or(0.0),
+            _ => {}
+        },
+        (Kind::Mesh(m), Value::Numbers { values, .. }) => match name {
+            "creaseAngle" => m.crease_angle = values.first().copied().unwrap_or(0.0),
+            "coordIndex" | "colorIndex" | "normalIndex" => m.malformed = true,
+            _ => {}
+        },
+        (Kind::Mesh(m), Value::Bools { values, .. }) => {
+            let b = values.first().copied().unwrap_or(true);
+            match name {
+                "ccw" => m.ccw = b,
+                "solid" => m.solid = b,
+                "colorPerVertex" => m.color_per_vertex = b,
+                "normalPerVertex" => m.normal_per_vertex = b,
+                _ => {}
             }
         }
         _ => {}
     }
 }
 
-/// Whether `coordIndex` refers only to existing points (or is -1, the face separator) and
-/// uses every one of them: a mesh over all its vertices, not a piece of the sphere.
-fn uses_all(index: &[f64], points: usize) -> bool {
-    let mut seen = vec![false; points];
-    for &i in index {
-        if i == -1.0 {
-            continue;
-        }
-        if !(i >= 0.0 && i < points as f64) {
-            return false;
-        }
-        seen[i as usize] = true;
-    }
-    seen.iter().all(|&s| s)
-}
-
 impl Lowerer {
-    /// An IndexedFaceSet: its fields are read leniently (see `field`), with no table: as for a
-    /// skipped node, none of them is checked or warned about.
+    /// An IndexedFaceSet or PointSet: its fields are read leniently (see `mesh_field`), with
+    /// no table: as for a skipped node, none of them is checked or warned about.
     #[cold]
     #[inline(never)]
-    pub(super) fn open_mesh(&mut self, ty: Name, at: u64) {
+    pub(super) fn open_mesh(&mut self, ty: Name, at: u64, points_only: bool) {
         let kind = Kind::Mesh(Box::new(MeshState {
+            points_only,
+            coord: None,
+            color: None,
+            normal: None,
+            coord_index: Vec::new(),
+            color_index: Vec::new(),
+            normal_index: Vec::new(),
+            ccw: true,
+            solid: true,
+            color_per_vertex: true,
+            normal_per_vertex: true,
+            crease_angle: 0.0,
+            malformed: false,
             nodes_before: self.nodes - 1,
-            ..MeshState::default()
         }));
         self.open.push(ty, None, kind, at);
     }
 
-    /// A node inside an IndexedFaceSet: only the `coord` Coordinate is read; other nodes are
-    /// neither lowered nor counted (as when the IndexedFaceSet was skipped whole).
+    /// A node inside a mesh: its Coordinate, Color and Normal are read; other nodes are
+    /// neither lowered nor counted (as when the mesh was skipped whole).
     #[cold]
     #[inline(never)]
     pub(super) fn mesh_child(&mut self, ty: Name, at: u64) {
         let Some(ctx) = self.open.fields.last() else {
             return;
         };
-        let coord = &*ctx.name == "coord" && &*ty == "Coordinate";
-        if let Kind::Mesh(m) = &mut self.open.frames[ctx.frame].kind {
-            m.colored |= &*ctx.name == "color";
-        }
-        if coord {
-            self.open
-                .push(ty, None, Kind::Coord(CoordFit::default()), at);
-        } else {
-            self.open.push_quiet(ty, at);
+        let which = match (&*ctx.name, &*ty) {
+            ("coord", "Coordinate") => Some(Array::Coord),
+            ("color", "Color") => Some(Array::Color),
+            ("normal", "Normal") => Some(Array::Normal),
+            _ => None,
+        };
+        match which {
+            Some(which) => {
+                let slot = self.meshes.arrays.len() as u32;
+                self.meshes.arrays.push(Vec::new());
+                self.open.push(ty, None, Kind::MeshArray(which, slot), at);
+            }
+            None => self.open.push_quiet(ty, at),
         }
     }
 
-    /// A closed IndexedFaceSet: a sphere (see "Tessellated spheres") or other geometry.
-    pub(super) fn close_mesh(&mut self, m: &MeshState, at: u64) -> Result_ {
-        let geom = self.mesh_geom(m, at);
+    /// An array node closed inside a mesh: the mesh takes it.
+    pub(super) fn take_array(m: &mut MeshState, which: Array, slot: u32) {
+        match which {
+            Array::Coord => m.coord = Some(slot),
+            Array::Color => m.color = Some(slot),
+            Array::Normal => m.normal = Some(slot),
+        }
+    }
+
+    /// A closed mesh: what it lowers to (see `mesh_shape`), kept for the Shape that draws it.
+    pub(super) fn close_mesh(
+        &mut self,
+        src: &SourceWindow,
+        m: &MeshState,
+        at: u64,
+    ) -> Result<Result_, Error> {
+        // (Only a Shape's geometry is drawn: elsewhere it counts as skipped.)
+        let drawable = !m.malformed && !self.meshes.array(m.coord).is_empty();
+        let geom = if self.open.in_shape_geometry() && drawable {
+            let parts = self.mesh_parts(src, m, at)?;
+            let i = self.meshes.parts.len() as u32;
+            self.meshes.parts.push(Some(parts));
+            Geom::Mesh(i, at)
+        } else {
+            self.diags.skip(if m.points_only {
+                "PointSet"
+            } else {
+                "IndexedFaceSet"
+            });
+            Geom::Other
+        };
+        self.meshes.arrays.clear();
         self.meshes.last = Some(MeshCache {
             geom,
             nodes: self.nodes - m.nodes_before,
         });
-        Result_::Geometry(geom)
+        Ok(Result_::Geometry(geom))
     }
 
-    /// What a closed IndexedFaceSet is: a sphere (see "Tessellated spheres") or other geometry.
-    fn mesh_geom(&mut self, m: &MeshState, at: u64) -> Geom {
-        // (Only a Shape's geometry is drawn: elsewhere it counts as skipped.)
-        let shape = self.open.in_shape_geometry();
-        let fit = m.coord.and_then(|c| {
-            let used = m.index.as_deref().is_some_and(|ix| uses_all(ix, c.points));
-            c.sphere.filter(|_| shape && used && !m.colored)
-        });
-        let geom = match fit {
-            Some(i) => Geom::Mesh(i, at),
-            None => Geom::Other,
-        };
-        self.count_mesh(geom);
-        geom
-    }
-
-    fn count_mesh(&mut self, geom: Geom) {
-        if let Geom::Mesh(..) = geom {
-            self.meshes.spheres += 1;
+    /// The parts of mesh `i` for a Shape: taken, unless the cache still needs them.
+    pub(super) fn mesh_parts_for_shape(&mut self, i: u32) -> Option<MeshParts> {
+        let slot = self.meshes.parts.get_mut(i as usize)?;
+        if self.meshes.kept.contains(&i) {
+            slot.clone()
         } else {
-            self.diags.skip("IndexedFaceSet");
+            slot.take()
         }
     }
 
-    /// Whether a USE of the recording at `start` is of an IndexedFaceSet as a Shape's
-    /// geometry (lowered once, then looked up).
+    /// Whether a USE of the recording at `start` is of a mesh as a Shape's geometry (lowered
+    /// once, then looked up).
     pub(super) fn is_mesh_use(&self, start: usize) -> bool {
         self.open.in_shape_geometry()
             && matches!(&self.rec.arena[start],
-                Rec::Ev(OwnedEvent::NodeStart { ty, .. }) if &**ty == "IndexedFaceSet")
+                Rec::Ev(OwnedEvent::NodeStart { ty, .. })
+                    if &**ty == "IndexedFaceSet" || &**ty == "PointSet")
     }
 
-    /// A USE of the IndexedFaceSet recorded at `start`, if what it lowers to is known: counted
-    /// and delivered without replaying it. Says whether it was.
+    /// A USE of the mesh recorded at `start`, if what it lowers to is known: counted and
+    /// delivered without replaying it. Says whether it was.
     pub(super) fn reuse_mesh(
         &mut self,
         src: &SourceWindow,
@@ -189,7 +265,12 @@ impl Lowerer {
     ) -> Result<bool, Error> {
         if let Some(c) = self.meshes.cache.get(&start).copied() {
             self.add_nodes(c.nodes, src, at)?;
-            self.count_mesh(c.geom);
+            if let Geom::Mesh(i, _) = c.geom {
+                if let Some(Some(p)) = self.meshes.parts.get(i as usize) {
+                    self.meshes.spheres += p.mesh_spheres();
+                    self.meshes.point_spheres += p.point_spheres();
+                }
+            }
             self.deliver(Result_::Geometry(c.geom));
             return Ok(true);
         }
@@ -197,10 +278,13 @@ impl Lowerer {
         Ok(false)
     }
 
-    /// After the first USE of the IndexedFaceSet recorded at `start` was replayed: keeps
-    /// what it lowered to for the next USEs.
+    /// After the first USE of the mesh recorded at `start` was replayed: keeps what it lowered
+    /// to for the next USEs.
     pub(super) fn remember_mesh(&mut self, start: usize) {
         if let Some(c) = self.meshes.last.take() {
+            if let Geom::Mesh(i, _) = c.geom {
+                self.meshes.kept.insert(i);
+            }
             self.meshes.cache.insert(start, c);
         }
     }

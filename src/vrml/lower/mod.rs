@@ -19,23 +19,30 @@
 //! | Inline | `url`: local relative VRML97 files only, never a network URL; depth limit 16, cycles refused |
 //! | Shape, Appearance, Material | `appearance material geometry`; Material: all six fields |
 //! | Sphere | `radius` (default 1, must be > 0) |
-//! | IndexedFaceSet | a sphere when its `coord` Coordinate's `point`s lie on one and `coordIndex` uses them all (see below); otherwise skipped |
+//! | Box, Cylinder, Cone | `size`; `radius height bottom side top`; `bottomRadius height side bottom` (sizes must be > 0): exact opaque surfaces |
+//! | IndexedFaceSet | `coord coordIndex color colorIndex colorPerVertex normal normalIndex normalPerVertex ccw solid creaseAngle`: spheres, triangles or points (see below); `texCoord`, `convex` not read |
+//! | PointSet | `coord color`: one sphere per point (see below) |
 //! | PointLight | `ambientIntensity attenuation color intensity location on radius` |
 //! | DirectionalLight | `ambientIntensity color direction intensity on` |
 //! | Viewpoint | `position orientation fieldOfView description` |
 //! | NavigationInfo | `headlight` (first one wins) |
 //! | Background | `skyColor[0]` (first one wins) |
 //!
-//! **Tessellated spheres.** Jmol writes every atom as a unit-sphere `IndexedFaceSet` reused
-//! under scaled Transforms. An IndexedFaceSet is lowered as the sphere through its vertices
-//! when [`crate::geom::sphere_through`] finds one (at least 12 points, all at one distance
-//! from their bounding-box centre within 0.2 %, spread over the whole sphere), every point is
-//! used by `coordIndex` (all indices valid) and it has no `color` node (per-vertex or
-//! per-face colours are not a Material's). The Shape's Material applies as for a Sphere, and
-//! Transforms apply as for a Sphere (a non-uniform scale gives an ellipsoid). Other fields
-//! (normals, texture coordinates, `ccw`, `solid`, ...) are not read or checked, as for
-//! skipped nodes. What a DEF'd IndexedFaceSet lowers to is kept at its first USE, so
-//! later USEs cost a lookup, not a replay of its events.
+//! **Meshes** (see `mesh_shape`). Exporters write particles as tessellated spheres: Jmol
+//! one unit-sphere IndexedFaceSet per atom, reused under scaled Transforms; VTK and
+//! ParaView all the glyphs of a dataset merged into one IndexedFaceSet. Every connected
+//! component of an IndexedFaceSet's faces (faces sharing a point, or a point's coordinates)
+//! whose vertices lie on one sphere ([`crate::geom::mesh::sphere_fit`]: at least 12 points,
+//! all at one distance from the fitted centre within 0.2 %, spread over the whole sphere)
+//! and whose Color is the same at every corner is lowered as that sphere, with that colour
+//! as its diffuseColor (the Material's otherwise); Transforms apply as for a Sphere (a
+//! non-uniform scale gives an ellipsoid). Every other component is lowered as triangles
+//! (polygons triangulated, concave ones too). Points without faces (a PointSet, or an
+//! IndexedFaceSet with no `coordIndex`, as MeshLab writes point clouds) become spheres of
+//! radius `point_radius`, by default half the median distance to the nearest other point,
+//! said in a note. `LoadOptions::spheres_only` leaves out everything but spheres. What a
+//! DEF'd mesh lowers to is kept at its first USE, so later USEs cost a lookup, not a
+//! replay of its events.
 //!
 //! **Layout.** [`Lowerer`] holds the scene being built and one part per concern, each owned
 //! by the file that works on it: `dispatch` (the one fast path for common events, and the
@@ -44,7 +51,8 @@
 //! `declare` (PROTO declarations), `expand` (PROTO instances and `IS`), `open` (the stack of
 //! open nodes), `start` (the node table and `node_start`), `close` (closing nodes), `fields`
 //! (field values), `transform` (the Transform matrix and what it moves), `lights` (light
-//! scopes), `material` (open Materials and sharing), `mesh` (tessellated spheres), `inline`
+//! scopes), `material` (open Materials and sharing), `mesh` (meshes while they are read),
+//! `mesh_shape` (what a closed mesh becomes), `inline`
 //! (files and Inline) and `route` (ROUTE checks).
 
 mod close;
@@ -56,6 +64,7 @@ mod inline;
 mod lights;
 mod material;
 mod mesh;
+mod mesh_shape;
 mod open;
 mod record;
 mod replay;
@@ -100,6 +109,13 @@ pub struct LoadOptions {
     pub inline: bool,
     /// How deep Inline files may nest.
     pub max_inline_depth: usize,
+    /// The radius of the spheres that points of a PointSet (or of an IndexedFaceSet without
+    /// faces) become; `None`: half the median distance to the nearest other point of the set,
+    /// said in a note.
+    pub point_radius: Option<f64>,
+    /// Lower only spheres (Spheres, tessellated spheres, points): Box, Cylinder, Cone and the
+    /// other faces of IndexedFaceSets are skipped, as before they were drawn.
+    pub spheres_only: bool,
 }
 
 impl Default for LoadOptions {
@@ -109,6 +125,8 @@ impl Default for LoadOptions {
             max_nodes: 500_000_000,
             inline: true,
             max_inline_depth: 16,
+            point_radius: None,
+            spheres_only: false,
         }
     }
 }
@@ -129,9 +147,13 @@ pub struct LoadReport {
     pub files: Vec<String>,
     /// Bytes held by the recorded DEF/PROTO events at the end.
     pub recorded_bytes: usize,
-    /// IndexedFaceSet instances (USEs included) lowered as spheres: tessellated spheres such
-    /// as Jmol's atoms. Those not recognised are counted in `skipped`.
+    /// Spheres found in IndexedFaceSets (USEs included): tessellated spheres such as Jmol's
+    /// atoms or the particles of a VTK glyph mesh.
     pub mesh_spheres: u64,
+    /// Spheres made of the points of PointSets and face-less IndexedFaceSets.
+    pub point_spheres: u64,
+    /// What loading chose for the user to know (the radius given to points).
+    pub notes: Vec<Diagnostic>,
 }
 
 /// Loads a scene file (plain or gzip-compressed).
@@ -204,9 +226,16 @@ struct Diags {
     /// Where each (file, message) is in `warnings`.
     index: HashMap<(Arc<str>, String), usize>,
     skipped: BTreeMap<String, u64>,
+    notes: Vec<Diagnostic>,
 }
 
 impl Diags {
+    /// A note: not a problem (`--strict` does not refuse it), a choice the user should see.
+    fn note(&mut self, src: &SourceWindow, at: u64, msg: impl Into<String>) {
+        self.notes
+            .push(src.diagnostic(Severity::Note, at, msg.into()));
+    }
+
     /// A warning; repeats of the same message in the same file are folded into the first.
     fn warn(&mut self, src: &SourceWindow, at: u64, msg: impl Into<String>) {
         let msg = msg.into();
@@ -254,6 +283,8 @@ impl Lowerer {
             .recent
             .index(&Material::unlit(), &mut low.scene.materials);
         debug_assert_eq!(unlit, material::UNLIT);
+        low.meshes.point_radius = low.opts.point_radius;
+        low.meshes.spheres_only = low.opts.spheres_only;
         low
     }
 
@@ -272,6 +303,7 @@ impl Lowerer {
         }
         std::mem::take(&mut self.materials.recent).finish(&mut self.scene);
         self.scene.spheres.shrink_to_fit();
+        self.scene.surfaces.shrink_to_fit();
         self.scene.materials.shrink_to_fit();
         let report = LoadReport {
             warnings: self.diags.warnings,
@@ -282,6 +314,8 @@ impl Lowerer {
             files: self.scene.files.clone(),
             recorded_bytes: self.rec.arena.capacity() * std::mem::size_of::<Rec>(),
             mesh_spheres: self.meshes.spheres,
+            point_spheres: self.meshes.point_spheres,
+            notes: self.diags.notes,
         };
         Ok((self.scene, report))
     }

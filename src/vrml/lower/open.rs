@@ -13,7 +13,7 @@ use glam::DVec3;
 
 use super::declare::ProtoDecl;
 use super::lights::DirLights;
-use super::mesh::{CoordFit, MeshState};
+use super::mesh::{Array, MeshState};
 use super::transform::TransformFields;
 use crate::scene::{DirectionalLight, PointLight, Scene, Viewpoint};
 use crate::vrml::schema;
@@ -22,6 +22,7 @@ use crate::vrml::schema;
 #[derive(Clone, Copy, Debug, Default)]
 pub(super) struct Marks {
     pub(super) spheres: usize,
+    pub(super) surfaces: usize,
     pub(super) lights: usize,
     pub(super) views: usize,
 }
@@ -30,6 +31,7 @@ impl Marks {
     pub(super) fn of(scene: &Scene) -> Marks {
         Marks {
             spheres: scene.spheres.len(),
+            surfaces: scene.surfaces.len(),
             lights: scene.lights.len(),
             views: scene.viewpoints.len(),
         }
@@ -40,7 +42,9 @@ impl Marks {
 #[derive(Clone, Copy, Debug)]
 pub(super) enum Geom {
     Sphere(f64, u64),
-    /// An IndexedFaceSet recognised as a sphere: index into `Meshes::fits`, node offset.
+    /// A Box, Cylinder or Cone: index into `Meshes::solids`, node offset.
+    Solid(u32, u64),
+    /// An IndexedFaceSet or PointSet: index into `Meshes::parts`, node offset.
     Mesh(u32, u64),
     Other,
 }
@@ -61,6 +65,8 @@ pub(super) enum Leaf {
     Sphere {
         radius: f64,
     },
+    /// Box, Cylinder, Cone: its fields are `Meshes::solids[i]` (frames stay small).
+    Solid(u32),
 }
 
 /// What an open node is lowered to. Large, rare payloads are boxed and a Material's fields
@@ -87,10 +93,10 @@ pub(super) enum Kind {
     },
     /// Shape, Appearance, Material, Sphere.
     Leaf(Leaf),
-    /// An IndexedFaceSet (see "Tessellated spheres" in the module documentation).
+    /// An IndexedFaceSet or PointSet (see `mesh_shape`).
     Mesh(Box<MeshState>),
-    /// A Coordinate in an IndexedFaceSet's `coord` field.
-    Coord(CoordFit),
+    /// A Coordinate, Color or Normal in a mesh's field: the slot of `Meshes::arrays` it fills.
+    MeshArray(Array, u32),
     PointLight(Box<PointLight>),
     DirectionalLight(Box<DirectionalLight>),
     Viewpoint(Box<Viewpoint>),
@@ -150,7 +156,7 @@ pub(super) enum Result_ {
     Material(u32),
     Appearance(Option<u32>),
     Geometry(Geom),
-    Coord(CoordFit),
+    MeshArray(Array, u32),
 }
 
 /// The node-valued field being filled, with the frame index that owns it.

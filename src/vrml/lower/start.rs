@@ -11,6 +11,7 @@ use super::open::{Frame, Kind, Leaf, Marks, Name};
 use super::record::RecKind;
 use super::Lowerer;
 use crate::error::Error;
+use crate::geom::shapes::Solid;
 use crate::scene::{DirectionalLight, LightScope, Material, PointLight, Viewpoint};
 use crate::source::SourceWindow;
 use crate::vrml::schema;
@@ -27,7 +28,11 @@ enum Lowered {
     Appearance,
     Material,
     Sphere,
+    Cuboid,
+    Cylinder,
+    Cone,
     IndexedFaceSet,
+    PointSet,
     Coordinate,
     PointLight,
     DirectionalLight,
@@ -54,7 +59,7 @@ const fn same_str(a: &str, b: &str) -> bool {
 }
 
 const fn lowered_as(name: &str) -> Lowered {
-    const MODELLED: [(&str, Lowered); 19] = [
+    const MODELLED: [(&str, Lowered); 23] = [
         ("Group", Lowered::Group),
         ("Anchor", Lowered::Group),
         ("Billboard", Lowered::Group),
@@ -67,7 +72,11 @@ const fn lowered_as(name: &str) -> Lowered {
         ("Appearance", Lowered::Appearance),
         ("Material", Lowered::Material),
         ("Sphere", Lowered::Sphere),
+        ("Box", Lowered::Cuboid),
+        ("Cylinder", Lowered::Cylinder),
+        ("Cone", Lowered::Cone),
         ("IndexedFaceSet", Lowered::IndexedFaceSet),
+        ("PointSet", Lowered::PointSet),
         ("Coordinate", Lowered::Coordinate),
         ("PointLight", Lowered::PointLight),
         ("DirectionalLight", Lowered::DirectionalLight),
@@ -218,8 +227,22 @@ impl Lowerer {
                 Kind::Leaf(Leaf::Material)
             }
             Lowered::Sphere => Kind::Leaf(Leaf::Sphere { radius: 1.0 }),
-            Lowered::IndexedFaceSet => {
-                self.open_mesh(ty_rc, at);
+            Lowered::Cuboid => self.open_solid(Solid::Cuboid { half: DVec3::ONE }),
+            Lowered::Cylinder => self.open_solid(Solid::Cylinder {
+                radius: 1.0,
+                half_height: 1.0,
+                bottom: true,
+                side: true,
+                top: true,
+            }),
+            Lowered::Cone => self.open_solid(Solid::Cone {
+                radius: 1.0,
+                half_height: 1.0,
+                side: true,
+                bottom: true,
+            }),
+            Lowered::IndexedFaceSet | Lowered::PointSet => {
+                self.open_mesh(ty_rc, at, lowered == Lowered::PointSet);
                 return Ok(());
             }
             Lowered::PointLight => Kind::PointLight(Box::new(PointLight {
@@ -238,7 +261,8 @@ impl Lowerer {
                 intensity: 1.0,
                 ambient_intensity: 0.0,
                 on: true,
-                scope: LightScope::Spheres { start: 0, end: 0 },
+                scope: LightScope::Range { start: 0, end: 0 },
+                surface_scope: LightScope::Range { start: 0, end: 0 },
                 origin: self.origin(at),
             })),
             Lowered::Viewpoint => Kind::Viewpoint(Box::new(Viewpoint {
@@ -275,6 +299,14 @@ impl Lowerer {
         Ok(())
     }
 
+    /// A Box, Cylinder or Cone with VRML's defaults: its fields live in `Meshes::solids`.
+    #[cold]
+    #[inline(never)]
+    fn open_solid(&mut self, s: Solid) -> Kind {
+        self.meshes.solids.push(s);
+        Kind::Leaf(Leaf::Solid(self.meshes.solids.len() as u32 - 1))
+    }
+
     /// Warns when a node type does not belong in the field it stands in.
     #[inline(always)]
     pub(super) fn check_child(&mut self, src: &SourceWindow, ty: &str, at: u64) {
@@ -309,10 +341,11 @@ mod tests {
             .filter(|(_, l)| *l != Lowered::Skipped)
             .map(|(n, _)| n.name)
             .collect();
-        assert_eq!(modelled.len(), 19, "{modelled:?}");
+        assert_eq!(modelled.len(), 23, "{modelled:?}");
         assert_eq!(LOWERED[schema::node_index("LOD").unwrap()], Lowered::Lod);
+        assert_eq!(LOWERED[schema::node_index("Box").unwrap()], Lowered::Cuboid);
         assert_eq!(
-            LOWERED[schema::node_index("Box").unwrap()],
+            LOWERED[schema::node_index("Text").unwrap()],
             Lowered::Skipped
         );
     }

@@ -192,6 +192,7 @@ impl Lowerer {
                 "a Transform with a zero or non-finite scale hides its contents",
             );
             self.scene.spheres.truncate(marks.spheres);
+            self.scene.surfaces.truncate(marks.surfaces);
             self.scene.lights.truncate(marks.lights);
             self.scene.viewpoints.truncate(marks.views);
             return Ok(());
@@ -206,6 +207,7 @@ impl Lowerer {
 fn only_plain_spheres_since(scene: &Scene, marks: Marks) -> bool {
     scene.lights.len() == marks.lights
         && scene.viewpoints.len() == marks.views
+        && scene.surfaces.len() == marks.surfaces
         && scene.spheres[marks.spheres..]
             .iter()
             .all(|s| s.ellipsoid.is_none())
@@ -272,6 +274,12 @@ fn apply(scene: &mut Scene, m: &DAffine3, translation: bool, marks: Marks) -> Re
         // Rays are intersected in the ellipsoid's object space: the map must be invertible.
         if !e.is_finite() || l.determinant() == 0.0 || !l.determinant().is_finite() {
             return Err("an ellipsoid too thin or too large to represent in f64".into());
+        }
+    }
+    for s in &mut scene.surfaces[marks.surfaces..] {
+        s.transform(m);
+        if !s.is_sound() {
+            return Err("a surface too thin or too large to represent in f64".into());
         }
     }
     for l in &mut scene.lights[marks.lights..] {

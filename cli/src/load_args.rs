@@ -1,0 +1,37 @@
+//! Options of `info` and `render` that decide what geometry a scene lowers to.
+
+use clap::Args;
+
+use gtsphere::error::Error;
+use gtsphere::vrml::LoadOptions;
+
+#[derive(Debug, Args, Clone, Default)]
+pub struct GeometryArgs {
+    /// Radius of the spheres that the points of a PointSet (or of an IndexedFaceSet without
+    /// faces) become. Default: half the median distance to the nearest other point of the
+    /// set, printed as a note.
+    #[arg(long, value_name = "R")]
+    pub point_radius: Option<f64>,
+    /// Draw only spheres (Spheres, tessellated spheres, points): leave out Box, Cylinder,
+    /// Cone and the other faces of IndexedFaceSets (counted under `skipped`).
+    #[arg(long)]
+    pub spheres_only: bool,
+}
+
+impl GeometryArgs {
+    /// `opts` with these options applied.
+    pub fn apply(&self, opts: LoadOptions) -> Result<LoadOptions, Error> {
+        if let Some(r) = self.point_radius {
+            if !(r > 0.0 && r.is_finite()) {
+                return Err(Error::Other(format!(
+                    "--point-radius must be a positive number, found {r}"
+                )));
+            }
+        }
+        Ok(LoadOptions {
+            point_radius: self.point_radius,
+            spheres_only: self.spheres_only,
+            ..opts
+        })
+    }
+}

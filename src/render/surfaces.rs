@@ -1,0 +1,303 @@
+//! The opaque surfaces other than spheres, ready to trace: a second [`SphereBvh`] over their
+//! bounding balls (each primitive's `sphere` is the surface's index), whose closures do the
+//! exact f64 test of the surface itself (`geom::shapes`). Two structures rather than one:
+//! a scene of spheres only then pays nothing but one emptiness test per query, and the
+//! sphere BVH's hot loop keeps its one kind of primitive.
+//!
+//! Visibility rules (MODEL.md section 2): Box, Cylinder and Cone are solid (seen from
+//! inside, culled); a triangle is seen from both sides unless its IndexedFaceSet is `solid`.
+//! Any crossing of a surface, from either side, blocks a light ray.
+
+use glam::{DAffine3, DMat3, DVec3};
+
+use crate::accel::{Prim, SphereBvh};
+use crate::geom::shapes::{shadow_breaks, shadowed, triangle_hit, ShadowLight, Shape, Solid};
+use crate::scene::{Surface, SurfaceShape, Triangle};
+
+use super::lights::LightKind;
+
+/// A surface as the renderer sees it.
+#[derive(Clone, Debug)]
+pub enum Traced {
+    Solid {
+        solid: Solid,
+        to_object: DAffine3,
+        /// Object-space normals to world-space ones: the inverse transpose of `to_world`.
+        normal_to_world: DMat3,
+    },
+    Triangle(Triangle),
+}
+
+/// The surfaces of a scene and their BVH.
+pub struct Surfaces {
+    pub bvh: SphereBvh,
+    pub items: Vec<Traced>,
+    /// Index into `Scene::materials`, per item.
+    pub materials: Vec<u32>,
+}
+
+/// Where a ray meets a surface, as shading needs it.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceHitPoint {
+    /// Unit geometric normal on the side the ray came from.
+    pub geometric: DVec3,
+    /// Unit shading normal on the same side.
+    pub shading: DVec3,
+    /// The Color node's colour there, if any.
+    pub color: Option<DVec3>,
+}
+
+impl Surfaces {
+    pub fn build(surfaces: Vec<Surface>) -> Surfaces {
+        let mut items = Vec::with_capacity(surfaces.len());
+        let mut materials = Vec::with_capacity(surfaces.len());
+        let mut prims = Vec::with_capacity(surfaces.len());
+        for (i, s) in surfaces.into_iter().enumerate() {
+            let (center, radius) = s.bounding_ball();
+            prims.push(Prim {
+                center,
+                // Never zero: a degenerate triangle still needs a box.
+                radius: radius.max(f64::MIN_POSITIVE) * (1.0 + 1e-12),
+                material: s.material,
+                sphere: i as u32,
+                ellipsoid: None,
+                gas: false,
+                sigma: 0.0,
+            });
+            materials.push(s.material);
+            items.push(match s.shape {
+                SurfaceShape::Solid { solid, to_world } => Traced::Solid {
+                    solid,
+                    to_object: to_world.inverse(),
+                    normal_to_world: to_world.matrix3.inverse().transpose(),
+                },
+                SurfaceShape::Triangle(t) => Traced::Triangle(*t),
+            });
+        }
+        Surfaces {
+            bvh: SphereBvh::build(prims, &[]),
+            items,
+            materials,
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.items.is_empty()
+    }
+
+    /// The first surface seen along `o + t d` in `(tmin, tmax)`: its parameter and index.
+    #[inline]
+    pub fn closest(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Option<(f64, u32)> {
+        if self.is_empty() {
+            return None;
+        }
+        self.bvh
+            .closest(o, d, tmin, tmax, |_, p, _| {
+                self.items[p.sphere as usize].seen_at(o, d, tmin, tmax)
+            })
+            .map(|h| (h.t, self.bvh.prims[h.prim as usize].sphere))
+    }
+
+    /// Whether a surface other than `own` crosses `o + t d` for `t` in `(tmin, tmax)`.
+    #[inline]
+    pub fn blocks(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64, own: Option<u32>) -> bool {
+        if self.is_empty() {
+            return false;
+        }
+        self.bvh.any(o, d, tmin, tmax, |_, p, _| {
+            Some(p.sphere) != own && self.items[p.sphere as usize].crosses(o, d, tmin, tmax)
+        })
+    }
+
+    /// Normals and colour of surface `i` at `o + t d`, a hit found by [`Surfaces::closest`].
+    pub fn hit_point(&self, i: u32, o: DVec3, d: DVec3, t: f64) -> SurfaceHitPoint {
+        match &self.items[i as usize] {
+            Traced::Solid {
+                solid,
+                to_object,
+                normal_to_world,
+            } => {
+                let (oo, dd) = (
+                    to_object.transform_point3(o),
+                    to_object.transform_vector3(d),
+                );
+                // The crossing nearest to t (the one that was hit).
+                let mut out = [crate::geom::shapes::Crossing {
+                    t: 0.0,
+                    normal: DVec3::Y,
+                }; 4];
+                let n = solid.crossings(oo, dd, f64::NEG_INFINITY, f64::INFINITY, &mut out);
+                let c = out[..n]
+                    .iter()
+                    .min_by(|a, b| (a.t - t).abs().total_cmp(&(b.t - t).abs()))
+                    .copied()
+                    .unwrap_or(out[0]);
+                let mut g = (*normal_to_world * c.normal).normalize_or_zero();
+                if g.dot(d) > 0.0 {
+                    g = -g;
+                }
+                SurfaceHitPoint {
+                    geometric: g,
+                    shading: g,
+                    color: None,
+                }
+            }
+            Traced::Triangle(tri) => {
+                let (b1, b2) = match triangle_hit(&tri.p, o, d, f64::NEG_INFINITY, f64::INFINITY) {
+                    Some(h) => (h.b1, h.b2),
+                    None => (1.0 / 3.0, 1.0 / 3.0),
+                };
+                let b0 = 1.0 - b1 - b2;
+                let mut g = tri.face_normal().normalize_or_zero();
+                let mut s = match tri.n {
+                    Some(n) => (b0 * n[0] + b1 * n[1] + b2 * n[2]).normalize_or_zero(),
+                    None => g,
+                };
+                if s == DVec3::ZERO || s.dot(g) < 0.0 {
+                    // A shading normal on the other side than the face's own: the face's.
+                    s = g;
+                }
+                if g.dot(d) > 0.0 {
+                    // Seen from behind (not solid): both normals face the viewer.
+                    g = -g;
+                    s = -s;
+                }
+                SurfaceHitPoint {
+                    geometric: g,
+                    shading: s,
+                    color: tri.color.map(|c| b0 * c[0] + b1 * c[1] + b2 * c[2]),
+                }
+            }
+        }
+    }
+
+    /// The parts of `[ta, tb]` of `o + t d` where some surface blocks `light` (merged, sorted,
+    /// appended to `out`): exact up to rounding, from each candidate surface's own shadow
+    /// breakpoints and a test between consecutive ones. `candidates` are the surfaces that
+    /// may shadow the segment (a superset).
+    #[allow(clippy::too_many_arguments)]
+    pub fn shadowed_parts(
+        &self,
+        candidates: &[u32],
+        o: DVec3,
+        d: DVec3,
+        light: &LightKind,
+        (ta, tb): (f64, f64),
+        breaks: &mut Vec<f64>,
+        out: &mut Vec<(f64, f64)>,
+    ) {
+        let start = out.len();
+        for &i in candidates {
+            breaks.clear();
+            let item = &self.items[i as usize];
+            let (oo, dd, l) = in_object_space(item, o, d, light);
+            let shape = shape_of(item);
+            shadow_breaks(&shape, oo, dd, &l, (ta, tb), breaks);
+            breaks.retain(|t| *t > ta && *t < tb);
+            breaks.push(ta);
+            breaks.push(tb);
+            breaks.sort_unstable_by(f64::total_cmp);
+            breaks.dedup();
+            for w in breaks.windows(2) {
+                let (t0, t1) = (w[0], w[1]);
+                if t1 <= t0 {
+                    continue;
+                }
+                if shadowed(&shape, oo + (0.5 * (t0 + t1)) * dd, &l) {
+                    match out[start..].last_mut() {
+                        Some(last) if last.1 == t0 => last.1 = t1,
+                        _ => out.push((t0, t1)),
+                    }
+                }
+            }
+        }
+        // Merge the surfaces' intervals.
+        out[start..].sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+        let mut w = start;
+        for r in start..out.len() {
+            let iv = out[r];
+            if w > start && iv.0 <= out[w - 1].1 {
+                out[w - 1].1 = out[w - 1].1.max(iv.1);
+            } else {
+                out[w] = iv;
+                w += 1;
+            }
+        }
+        out.truncate(w);
+    }
+}
+
+fn shape_of(item: &Traced) -> Shape<'_> {
+    match item {
+        Traced::Solid { solid, .. } => Shape::Solid(solid),
+        Traced::Triangle(t) => Shape::Triangle(&t.p),
+    }
+}
+
+/// The camera ray and the light in the item's own space (object space for a solid).
+fn in_object_space(
+    item: &Traced,
+    o: DVec3,
+    d: DVec3,
+    light: &LightKind,
+) -> (DVec3, DVec3, ShadowLight) {
+    let world = |l: &LightKind| match *l {
+        LightKind::Directional { to_light, .. } => ShadowLight::Directional { to_light },
+        LightKind::Point { position, .. } => ShadowLight::Point { position },
+    };
+    match item {
+        Traced::Solid { to_object, .. } => (
+            to_object.transform_point3(o),
+            to_object.transform_vector3(d),
+            match *light {
+                LightKind::Directional { to_light, .. } => ShadowLight::Directional {
+                    to_light: to_object.transform_vector3(to_light),
+                },
+                LightKind::Point { position, .. } => ShadowLight::Point {
+                    position: to_object.transform_point3(position),
+                },
+            },
+        ),
+        Traced::Triangle(_) => (o, d, world(light)),
+    }
+}
+
+impl Traced {
+    /// Where a camera ray sees it in `(tmin, tmax)` (culling back faces of solid ones).
+    #[inline]
+    pub fn seen_at(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> Option<f64> {
+        match self {
+            Traced::Solid {
+                solid, to_object, ..
+            } => solid
+                .first_crossing(
+                    to_object.transform_point3(o),
+                    to_object.transform_vector3(d),
+                    tmin,
+                    tmax,
+                    true,
+                )
+                .map(|c| c.t),
+            Traced::Triangle(tri) => {
+                let h = triangle_hit(&tri.p, o, d, tmin, tmax)?;
+                (!tri.solid || tri.face_normal().dot(d) < 0.0).then_some(h.t)
+            }
+        }
+    }
+
+    /// Whether it crosses `o + t d` for `t` in `(tmin, tmax)`, from either side.
+    #[inline]
+    pub fn crosses(&self, o: DVec3, d: DVec3, tmin: f64, tmax: f64) -> bool {
+        match self {
+            Traced::Solid {
+                solid, to_object, ..
+            } => solid.blocks(
+                to_object.transform_point3(o),
+                to_object.transform_vector3(d),
+                tmin,
+                tmax,
+            ),
+            Traced::Triangle(tri) => triangle_hit(&tri.p, o, d, tmin, tmax).is_some(),
+        }
+    }
+}

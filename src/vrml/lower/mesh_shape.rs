@@ -1,0 +1,309 @@
+//! What a closed IndexedFaceSet or PointSet becomes ([`MeshParts`], in its own coordinates;
+//! the Shape that draws it applies its Material and the Transforms apply as to anything
+//! else):
+//! - **tessellated spheres**: every connected component of faces whose vertices lie on a
+//!   sphere ([`crate::geom::mesh::sphere_fit`]) and whose colour is constant over it is that
+//!   sphere, exactly: a Jmol atom, or one of the particles of a VTK/ParaView glyph mesh,
+//!   which merges them all into one IndexedFaceSet;
+//! - **triangles**: every other component, its polygons triangulated (concave ones too),
+//!   `ccw` and `solid` applied, normals from the Normal node or by `creaseAngle`, colours
+//!   from the Color node per vertex or per face;
+//! - **particles**: the points of a PointSet, or of an IndexedFaceSet with no faces (as
+//!   MeshLab writes point clouds), become spheres of radius `--point-radius`, or half the
+//!   median nearest-neighbour distance of the points (said in a note).
+
+use glam::DVec3;
+
+use super::mesh::{MeshState, Meshes};
+use super::{Diags, Lowerer};
+use crate::error::Error;
+use crate::geom::mesh::{components, crease_normals, faces, first_bad_index, triangulate};
+use crate::geom::sphere_fit;
+use crate::scene::Triangle;
+use crate::source::SourceWindow;
+
+/// One sphere of a mesh: centre, radius and its colour if the mesh gave one.
+pub(super) type MeshSphere = (DVec3, f64, Option<DVec3>);
+
+/// What a mesh lowers to, in its own coordinates.
+#[derive(Clone, Debug, Default)]
+pub(super) struct MeshParts {
+    pub(super) spheres: Vec<MeshSphere>,
+    pub(super) triangles: Vec<Triangle>,
+    /// The spheres are particles made of points.
+    pub(super) points: bool,
+}
+
+impl MeshParts {
+    pub(super) fn mesh_spheres(&self) -> u64 {
+        if self.points {
+            0
+        } else {
+            self.spheres.len() as u64
+        }
+    }
+    pub(super) fn point_spheres(&self) -> u64 {
+        if self.points {
+            self.spheres.len() as u64
+        } else {
+            0
+        }
+    }
+}
+
+/// The colour (or normal) of the corner at position `pos` of `coord_index`, in face `face`,
+/// by VRML97's rules for `colorIndex`/`colorPerVertex` (and the same for normals).
+fn corner_value(
+    values: &[DVec3],
+    index: &[i64],
+    coord_index: &[i64],
+    per_vertex: bool,
+    face: usize,
+    pos: usize,
+) -> Option<DVec3> {
+    if values.is_empty() {
+        return None;
+    }
+    let i = match (per_vertex, index.is_empty()) {
+        (true, false) => *index.get(pos)?,
+        (true, true) => coord_index[pos],
+        (false, false) => *index.get(face)?,
+        (false, true) => face as i64,
+    };
+    usize::try_from(i).ok().and_then(|i| values.get(i)).copied()
+}
+
+impl Lowerer {
+    /// What mesh `m` lowers to (see the module documentation).
+    pub(super) fn mesh_parts(
+        &mut self,
+        src: &SourceWindow,
+        m: &MeshState,
+        at: u64,
+    ) -> Result<MeshParts, Error> {
+        let meshes = &self.meshes;
+        let diags = &mut self.diags;
+        let points = meshes.array(m.coord);
+        let parts = if m.points_only || m.coord_index.iter().all(|&i| i == -1) {
+            let ty = if m.points_only {
+                "PointSet"
+            } else {
+                "IndexedFaceSet"
+            };
+            point_cloud(meshes, m, points, diags, src, at, ty)
+        } else {
+            faces_to_parts(meshes, m, points, diags, src, at)
+        };
+        self.meshes.spheres += parts.mesh_spheres();
+        self.meshes.point_spheres += parts.point_spheres();
+        Ok(parts)
+    }
+}
+
+/// Points as particles.
+fn point_cloud(
+    meshes: &Meshes,
+    m: &MeshState,
+    points: &[DVec3],
+    diags: &mut Diags,
+    src: &SourceWindow,
+    at: u64,
+    ty: &str,
+) -> MeshParts {
+    let colors = meshes.array(m.color);
+    let finite: Vec<DVec3> = points.iter().copied().filter(|p| p.is_finite()).collect();
+    if finite.len() < points.len() {
+        diags.warn(
+            src,
+            at,
+            format!(
+                "{ty}: {} points that are not finite are left out",
+                points.len() - finite.len()
+            ),
+        );
+    }
+    if finite.is_empty() {
+        return MeshParts::default();
+    }
+    let radius = match meshes.point_radius {
+        Some(r) => r,
+        None => {
+            let derived = crate::geom::nearest::median_nearest_distance(&finite).map(|d| 0.5 * d);
+            let r = derived.unwrap_or(1.0);
+            let how = if derived.is_some() {
+                "half the median distance to the nearest other point"
+            } else {
+                "a single position: the default Sphere radius"
+            };
+            diags.note(
+                src,
+                at,
+                format!(
+                    "{ty}: {} points drawn as spheres of radius {} ({how}; --point-radius sets it)",
+                    finite.len(),
+                    crate::vrml::number::format(&mut ryu::Buffer::new(), r)
+                ),
+            );
+            r
+        }
+    };
+    let spheres = points
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.is_finite())
+        .map(|(i, &p)| (p, radius, colors.get(i).copied()))
+        .collect();
+    MeshParts {
+        spheres,
+        triangles: Vec::new(),
+        points: true,
+    }
+}
+
+/// Faces as spheres and triangles.
+fn faces_to_parts(
+    meshes: &Meshes,
+    m: &MeshState,
+    points: &[DVec3],
+    diags: &mut Diags,
+    src: &SourceWindow,
+    at: u64,
+) -> MeshParts {
+    let ci = &m.coord_index;
+    let mut face_list = faces(ci);
+    if let Some(k) = first_bad_index(ci, points.len()) {
+        diags.warn(
+            src,
+            at,
+            format!(
+                "IndexedFaceSet coordIndex[{k}] = {} is not one of its {} points: the faces using it are left out",
+                ci[k],
+                points.len()
+            ),
+        );
+        face_list.retain(|f| {
+            ci[f.clone()]
+                .iter()
+                .all(|&i| i >= 0 && (i as usize) < points.len())
+        });
+    }
+    let colors = meshes.array(m.color);
+    let normals = meshes.array(m.normal);
+    let color_of = |face: usize, pos: usize| {
+        corner_value(colors, &m.color_index, ci, m.color_per_vertex, face, pos)
+    };
+    let mut parts = MeshParts::default();
+    let comps = components(points, ci, &face_list);
+    let mut rest: Vec<u32> = Vec::new();
+    for c in &comps {
+        let verts: Vec<DVec3> = c.vertices.iter().map(|&v| points[v as usize]).collect();
+        let fit = sphere_fit(&verts);
+        // The component's colour: one for all its corners, or none given.
+        let mut colour: Option<Option<DVec3>> = None;
+        let mut uniform = true;
+        'faces: for &f in &c.faces {
+            for pos in face_list[f as usize].clone() {
+                let k = color_of(f as usize, pos);
+                match colour {
+                    None => colour = Some(k),
+                    Some(prev) if prev != k => {
+                        uniform = false;
+                        break 'faces;
+                    }
+                    _ => {}
+                }
+            }
+        }
+        match fit {
+            Some((centre, r)) if uniform => parts.spheres.push((centre, r, colour.flatten())),
+            _ => rest.extend(c.faces.iter().copied()),
+        }
+    }
+    if rest.is_empty() {
+        return parts;
+    }
+    if meshes.spheres_only {
+        diags.skip("IndexedFaceSet (faces other than spheres)");
+        return parts;
+    }
+    rest.sort_unstable();
+    let polygons: Vec<Vec<u32>> = face_list
+        .iter()
+        .map(|f| ci[f.clone()].iter().map(|&i| i as u32).collect())
+        .collect();
+    // Normals by creaseAngle when the file gives none (0: flat faces, the geometric normal).
+    let creased = (normals.is_empty() && m.crease_angle > 0.0).then(|| {
+        let refs: Vec<&[u32]> = polygons.iter().map(Vec::as_slice).collect();
+        crease_normals(points, &refs, m.crease_angle)
+    });
+    let mut tris = Vec::new();
+    let mut short = (false, false);
+    for &f in &rest {
+        let f = f as usize;
+        let poly = &polygons[f];
+        let start = face_list[f].start;
+        tris.clear();
+        triangulate(points, poly, &mut tris);
+        for t in &tris {
+            let corner = |k: usize| t[k] as usize;
+            let p = [0, 1, 2].map(|k| points[poly[corner(k)] as usize]);
+            let given = |k: usize| {
+                corner_value(
+                    normals,
+                    &m.normal_index,
+                    ci,
+                    m.normal_per_vertex,
+                    f,
+                    start + corner(k),
+                )
+            };
+            let n = if !normals.is_empty() {
+                match [given(0), given(1), given(2)] {
+                    [Some(a), Some(b), Some(c)] => Some([a, b, c].map(|v| v.normalize_or_zero())),
+                    _ => None,
+                }
+            } else {
+                creased.as_ref().map(|cn| {
+                    let sign = if m.ccw { 1.0 } else { -1.0 };
+                    [0, 1, 2].map(|k| sign * cn[f][corner(k)])
+                })
+            };
+            let c = [0, 1, 2].map(|k| color_of(f, start + corner(k)));
+            let color = match c {
+                [Some(a), Some(b), Some(c)] => Some([a, b, c]),
+                _ => None,
+            };
+            short.0 |= !colors.is_empty() && color.is_none();
+            short.1 |= !normals.is_empty() && n.is_none();
+            let mut tri = Triangle {
+                p,
+                n,
+                color,
+                solid: m.solid,
+            };
+            if !m.ccw {
+                tri.p.swap(1, 2);
+                if let Some(n) = &mut tri.n {
+                    n.swap(1, 2);
+                }
+                if let Some(c) = &mut tri.color {
+                    c.swap(1, 2);
+                }
+            }
+            parts.triangles.push(tri);
+        }
+    }
+    for (missing, what, instead) in [
+        (short.0, "colour", "the Material's colour"),
+        (short.1, "normal", "the face's own normal"),
+    ] {
+        if missing {
+            diags.warn(
+                src,
+                at,
+                format!("IndexedFaceSet: some corners have no {what} (their index is past the end of the node): {instead} is used there"),
+            );
+        }
+    }
+    parts
+}
