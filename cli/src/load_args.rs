@@ -10,7 +10,7 @@ pub struct GeometryArgs {
     /// Radius of the spheres that the points of a PointSet (or of an IndexedFaceSet without
     /// faces) become. Default: half the median distance to the nearest other point of the
     /// set, printed as a note.
-    #[arg(long, value_name = "R")]
+    #[arg(long, value_name = "R", allow_negative_numbers = true)]
     pub point_radius: Option<f64>,
     /// Draw only spheres (Spheres, tessellated spheres, points): leave out Box, Cylinder,
     /// Cone and the other faces of IndexedFaceSets (counted under `skipped`).

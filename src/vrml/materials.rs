@@ -155,6 +155,9 @@ impl RecentMaterials {
             for s in &mut scene.spheres {
                 s.material = new_index[s.material as usize];
             }
+            for s in &mut scene.surfaces {
+                s.material = new_index[s.material as usize];
+            }
         }
     }
 }

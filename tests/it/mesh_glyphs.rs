@@ -375,3 +375,38 @@ fn a_directional_light_lights_the_surfaces_of_its_group_only() {
     };
     assert!(l.surface_scope.contains(0) && !l.surface_scope.contains(1));
 }
+
+/// What a new user does first: every tool export of the corpus renders with no options
+/// (small, centre samples), and draws something (PyMOL's 800-residue chain is thin in its
+/// own Viewpoint: a few hundred pixels of 160 x 120).
+#[test]
+fn every_tool_export_renders_with_no_options() {
+    use gtsphere::render::tiles::render;
+    use gtsphere::render::{prepare, RenderOptions, SamplerKind};
+    let Some(dir) = shared("corpus") else {
+        return;
+    };
+    let mut files: Vec<_> = std::fs::read_dir(dir.join("tools"))
+        .unwrap()
+        .flat_map(|d| std::fs::read_dir(d.unwrap().path()).unwrap())
+        .map(|f| f.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "wrl"))
+        .collect();
+    files.sort();
+    assert_eq!(files.len(), 15, "{files:?}");
+    for path in files {
+        let (scene, _) = load_path(&path, &LoadOptions::default()).unwrap();
+        let opts = RenderOptions {
+            width: 160,
+            height: 120,
+            sampler: SamplerKind::Center,
+            spp: 1,
+            ..RenderOptions::default()
+        };
+        let prep = prepare(scene, &opts).unwrap();
+        let img = render(&prep, &opts).image;
+        let covered = img.alpha.iter().filter(|a| **a > 0.0).count();
+        assert!(covered > 20, "{}: {covered} pixels drawn", path.display());
+        assert!(img.rgb.iter().flatten().all(|v| v.is_finite()));
+    }
+}

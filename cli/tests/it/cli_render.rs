@@ -362,3 +362,80 @@ fn merged_parts_equal_the_whole_render() {
 fn sample_gas() -> String {
     sample("gas.wrl")
 }
+
+/// A scene with a Box, a Cylinder, a triangle and a point cloud: `info` counts each kind and
+/// says the radius given to the points; `render` draws them and says it too; `--spheres-only`
+/// and `--point-radius` change what is drawn; a bad `--point-radius` is an error.
+#[test]
+fn surfaces_and_points_are_counted_drawn_and_optional() {
+    let dir = scratch("surfaces");
+    std::fs::write(
+        dir.join("s.wrl"),
+        "#VRML V2.0 utf8\nNavigationInfo { headlight TRUE }\nViewpoint { position 0 0 8 }\n\
+         Shape { appearance Appearance { material Material { } } geometry Box { size 1 1 1 } }\n\
+         Transform { translation 2 0 0 children Shape { appearance Appearance { material Material { } } geometry Cylinder { radius 0.3 } } }\n\
+         Shape { geometry IndexedFaceSet { coord Coordinate { point [ -3 -1 0, -2 -1 0, -2.5 0 0 ] } coordIndex [ 0 1 2 ] } }\n\
+         Shape { appearance Appearance { material Material { } } geometry PointSet { coord Coordinate { point [ 0 2 0, 0.5 2 0, 1 2 0 ] } } }\n",
+    )
+    .unwrap();
+    let info = gtsphere(&["info", "s.wrl"], &dir);
+    let text = String::from_utf8_lossy(&info.stdout);
+    assert!(info.status.success(), "{text}");
+    assert!(
+        text.contains("surfaces:   3 (boxes 1, cylinders 1, cones 0, triangles 1)"),
+        "{text}"
+    );
+    assert!(text.contains("from points: 3"), "{text}");
+    assert!(
+        text.contains("s.wrl:7:66: note: PointSet: 3 points drawn as spheres of radius 0.25"),
+        "{text}"
+    );
+    let json = gtsphere(&["info", "s.wrl", "--json", "--spheres-only"], &dir);
+    let v: serde_json::Value = serde_json::from_slice(&json.stdout).expect("json");
+    assert_eq!(v["surfaces"]["boxes"], 0);
+    assert_eq!(v["spheres"], 3);
+    assert_eq!(v["skipped"]["Box"], 1);
+    // Drawn: the Box in the middle of the default framing is lit.
+    let render = gtsphere(
+        &[
+            "render", "s.wrl", "--width", "64", "--height", "48", "-o", "s.exr",
+        ],
+        &dir,
+    );
+    let err = String::from_utf8_lossy(&render.stderr);
+    assert!(render.status.success(), "{err}");
+    assert!(
+        err.contains("3 other surfaces") && err.contains("note:"),
+        "{err}"
+    );
+    let img = read_image(&dir.join("s.exr")).expect("s.exr");
+    let lit = img.alpha.iter().filter(|a| **a > 0.0).count();
+    let only = gtsphere(
+        &[
+            "render",
+            "s.wrl",
+            "--width",
+            "64",
+            "--height",
+            "48",
+            "--spheres-only",
+            "--point-radius",
+            "0.1",
+            "-o",
+            "o.exr",
+        ],
+        &dir,
+    );
+    assert!(only.status.success());
+    let img = read_image(&dir.join("o.exr")).expect("o.exr");
+    let fewer = img.alpha.iter().filter(|a| **a > 0.0).count();
+    assert!(
+        fewer * 4 < lit,
+        "{fewer} pixels drawn with spheres only, {lit} with everything"
+    );
+    let bad = gtsphere(&["render", "s.wrl", "--point-radius", "-1"], &dir);
+    assert_eq!(bad.status.code(), Some(1));
+    assert!(
+        String::from_utf8_lossy(&bad.stderr).contains("--point-radius must be a positive number")
+    );
+}

@@ -1,7 +1,7 @@
 //! Integrators, one per file, each answering `radiance(ray) -> Estimate`. The set is closed and
 //! chosen by name (an enum, not trait objects in the hot loop).
 //!
-//! - [`surface`]: opaque spheres only (the whole answer when the scene has no gas).
+//! - [`surface`]: opaque spheres and surfaces only (the whole answer when the scene has no gas).
 //! - [`exact`]: gas emission and absorption in closed form, single scattering by adaptive
 //!   quadrature between breakpoints, to `--tol` (the default).
 //! - [`march`]: fixed-step ray marching with midpoint samples (an approximation, by name only).
