@@ -19,23 +19,13 @@ pub fn run(input: &Path, output: &Path, strict: bool, quiet: bool) -> Result<Exi
             eprintln!("{w}");
         }
     }
-    if !quiet && !scene.surfaces.is_empty() {
-        let c = scene.surface_counts();
-        eprintln!(
-            "warning: {} surfaces (boxes {}, cylinders {}, cones {}, triangles {}) are not written: the VRML writer writes spheres and lights only",
-            scene.surfaces.len(),
-            c.boxes,
-            c.cylinders,
-            c.cones,
-            c.triangles
-        );
-    }
     write_scene_file(output, &scene)?;
     if !quiet {
         eprintln!(
-            "wrote {} ({} spheres, {} materials, {} lights, {} viewpoints)",
+            "wrote {} ({} spheres, {} other surfaces, {} materials, {} lights, {} viewpoints)",
             output.display(),
             scene.spheres.len(),
+            scene.surfaces.len(),
             scene.materials.len(),
             scene.lights.len(),
             scene.viewpoints.len()

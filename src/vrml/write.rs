@@ -10,13 +10,17 @@
 //! - An ellipsoid's affine map `x -> A x + t` is written as a Transform: `A = Q P` (polar
 //!   decomposition, `Q` a rotation, `P = V diag(s) V^T` symmetric positive definite) gives
 //!   `rotation` from `Q`, `scale` from `s` and `scaleOrientation` from `V`, around a unit Sphere.
+//!   A Box, Cylinder or Cone is written the same way; a triangle as a one-face
+//!   IndexedFaceSet (with its corner normals and colours, so it reads back as the same
+//!   triangle: a lone triangle is never a sphere).
 
 use std::io::{self, Write};
 
 use glam::{DAffine3, DMat3, DQuat, DVec3};
 
 use super::number::Float;
-use crate::scene::{Light, Material, Scene, Sphere};
+use crate::geom::shapes::Solid;
+use crate::scene::{Light, Material, Scene, Sphere, Surface, SurfaceShape};
 
 fn v3(v: DVec3) -> String {
     format!("{} {} {}", Float(v.x), Float(v.y), Float(v.z))
@@ -173,9 +177,10 @@ pub fn write_scene(scene: &Scene, out: &mut impl Write) -> io::Result<()> {
     writeln!(out, "#VRML V2.0 utf8")?;
     writeln!(
         out,
-        "# Written by gtsphere {}: {} spheres, flattened to world coordinates.",
+        "# Written by gtsphere {}: {} spheres and {} other surfaces, flattened to world coordinates.",
         env!("CARGO_PKG_VERSION"),
-        scene.spheres.len()
+        scene.spheres.len(),
+        scene.surfaces.len()
     )?;
     writeln!(
         out,
@@ -198,9 +203,12 @@ pub fn write_scene(scene: &Scene, out: &mut impl Write) -> io::Result<()> {
             string(&vp.description)
         )?;
     }
-    // Directional lights scoped to part of the spheres open a Group around that part.
-    let n = scene.spheres.len() as u32;
+    // A DirectionalLight scoped to part of the scene opens a Group around that part: one
+    // around its spheres, one around its surfaces (the IR keeps the two ranges apart, so such
+    // a light is written once for each; it lights the same things when read back).
+    let (n, ns) = (scene.spheres.len(), scene.surfaces.len());
     let mut scoped: Vec<(u32, u32, usize)> = Vec::new();
+    let mut scoped_surfaces: Vec<(u32, u32, usize)> = Vec::new();
     for (k, l) in scene.lights.iter().enumerate() {
         match l {
             Light::Point(p) => writeln!(
@@ -214,31 +222,58 @@ pub fn write_scene(scene: &Scene, out: &mut impl Write) -> io::Result<()> {
                 Float(p.radius),
                 if p.on { "TRUE" } else { "FALSE" }
             )?,
-            Light::Directional(d) if d.scope.covers_all(n as usize) => {
+            Light::Directional(d)
+                if d.scope.covers_all(n) && d.surface_scope.covers_all(ns) =>
+            {
                 writeln!(out, "{}", directional(l))?
             }
             Light::Directional(d) => {
-                let (start, end) = d.scope.range(n as usize);
-                scoped.push((start, end, k))
+                let (start, end) = d.scope.range(n);
+                let (s0, s1) = d.surface_scope.range(ns);
+                // (A light that lights nothing is kept, in an empty Group, by the first list.)
+                if start < end || s0 >= s1 {
+                    scoped.push((start, end, k));
+                }
+                if s0 < s1 {
+                    scoped_surfaces.push((s0, s1, k));
+                }
             }
         }
     }
+    let mut defined = vec![false; scene.materials.len()];
+    write_scoped(scene, n, scoped, out, |i, out| {
+        write_sphere(scene, &scene.spheres[i], &mut defined, out)
+    })?;
+    let mut defined_surfaces = vec![false; scene.materials.len()];
+    write_scoped(scene, ns, scoped_surfaces, out, |i, out| {
+        write_surface(scene, &scene.surfaces[i], &mut defined_surfaces, out)
+    })
+}
+
+/// Writes items `0..n` by `item`, each range `start..end` of `scoped` inside a Group that
+/// holds the DirectionalLight `k` (ranges nest, as the grouping nodes they came from did).
+fn write_scoped<W: Write>(
+    scene: &Scene,
+    n: usize,
+    mut scoped: Vec<(u32, u32, usize)>,
+    out: &mut W,
+    mut item: impl FnMut(usize, &mut W) -> io::Result<()>,
+) -> io::Result<()> {
     // Outer scopes first: by start, then by end descending.
     scoped.sort_by(|a, b| a.0.cmp(&b.0).then(b.1.cmp(&a.1)));
     let mut open: Vec<u32> = Vec::new(); // ends of open Groups
     let mut next_scope = 0;
-    let mut defined = vec![false; scene.materials.len()];
-    for (i, s) in scene.spheres.iter().enumerate() {
-        let i = i as u32;
-        while open.last().is_some_and(|&end| end <= i) {
+    for i in 0..n {
+        let i32_ = i as u32;
+        while open.last().is_some_and(|&end| end <= i32_) {
             open.pop();
             writeln!(out, "] }}")?;
         }
-        while next_scope < scoped.len() && scoped[next_scope].0 <= i {
+        while next_scope < scoped.len() && scoped[next_scope].0 <= i32_ {
             let (start, end, k) = scoped[next_scope];
             next_scope += 1;
             if end <= start {
-                // A light that lights no sphere: an empty Group keeps it.
+                // A light that lights nothing here: an empty Group keeps it.
                 writeln!(
                     out,
                     "Group {{ children [ {} ] }}",
@@ -255,12 +290,12 @@ pub fn write_scene(scene: &Scene, out: &mut impl Write) -> io::Result<()> {
             writeln!(out, "Group {{ children [ {}", directional(&scene.lights[k]))?;
             open.push(end);
         }
-        write_sphere(scene, s, &mut defined, out)?;
+        item(i, out)?;
     }
     for _ in open {
         writeln!(out, "] }}")?;
     }
-    // Lights whose scope starts after the last sphere light nothing: empty Groups.
+    // Lights whose scope starts after the last item light nothing: empty Groups.
     for &(_, _, k) in &scoped[next_scope..] {
         writeln!(
             out,
@@ -285,25 +320,30 @@ fn directional(l: &Light) -> String {
     }
 }
 
+/// The `appearance` field of a Shape of material `i`: DEF'd at its first use, USE'd after
+/// (`prefix` keeps the DEF names of the sphere and surface passes apart); none for unlit white.
+fn appearance(scene: &Scene, i: u32, prefix: &str, defined: &mut [bool]) -> String {
+    let m = &scene.materials[i as usize];
+    if m.unlit && m.diffuse == DVec3::ONE {
+        String::new()
+    } else if defined[i as usize] {
+        format!("appearance USE {prefix}{i} ")
+    } else {
+        defined[i as usize] = true;
+        format!(
+            "appearance DEF {prefix}{i} Appearance {{ material {} }} ",
+            material(m)
+        )
+    }
+}
+
 fn write_sphere(
     scene: &Scene,
     s: &Sphere,
     defined: &mut [bool],
     out: &mut impl Write,
 ) -> io::Result<()> {
-    let m = &scene.materials[s.material as usize];
-    let appearance = if m.unlit && m.diffuse == glam::DVec3::ONE {
-        String::new()
-    } else if defined[s.material as usize] {
-        format!("appearance USE M{} ", s.material)
-    } else {
-        defined[s.material as usize] = true;
-        format!(
-            "appearance DEF M{} Appearance {{ material {} }} ",
-            s.material,
-            material(m)
-        )
-    };
+    let appearance = appearance(scene, s.material, "M", defined);
     match s.ellipsoid {
         None => writeln!(
             out,
@@ -316,6 +356,73 @@ fn write_sphere(
             "Transform {{ {} children Shape {{ {appearance}geometry Sphere {{ radius 1 }} }} }}",
             ellipsoid_transform(&scene.ellipsoids[e.index()])
         ),
+    }
+}
+
+/// A surface: a Box, Cylinder or Cone under the Transform of its map (a mirroring map is
+/// written as the mirror image about the object's x = 0 plane, which all three are symmetric
+/// about), or a triangle as a one-face IndexedFaceSet with its normals and colours.
+fn write_surface(
+    scene: &Scene,
+    s: &Surface,
+    defined: &mut [bool],
+    out: &mut impl Write,
+) -> io::Result<()> {
+    let appearance = appearance(scene, s.material, "S", defined);
+    let on = |b: bool| if b { "TRUE" } else { "FALSE" };
+    match &s.shape {
+        SurfaceShape::Solid { solid, to_world } => {
+            let geometry = match *solid {
+                Solid::Cuboid { half } => format!("Box {{ size {} }}", v3(2.0 * half)),
+                Solid::Cylinder {
+                    radius,
+                    half_height,
+                    bottom,
+                    side,
+                    top,
+                } => format!(
+                    "Cylinder {{ radius {} height {} bottom {} side {} top {} }}",
+                    Float(radius),
+                    Float(2.0 * half_height),
+                    on(bottom),
+                    on(side),
+                    on(top)
+                ),
+                Solid::Cone {
+                    radius,
+                    half_height,
+                    side,
+                    bottom,
+                } => format!(
+                    "Cone {{ bottomRadius {} height {} side {} bottom {} }}",
+                    Float(radius),
+                    Float(2.0 * half_height),
+                    on(side),
+                    on(bottom)
+                ),
+            };
+            writeln!(
+                out,
+                "Transform {{ {} children Shape {{ {appearance}geometry {geometry} }} }}",
+                ellipsoid_transform(to_world)
+            )
+        }
+        SurfaceShape::Triangle(t) => {
+            let list = |v: &[DVec3; 3]| v.iter().map(|p| v3(*p)).collect::<Vec<_>>().join(", ");
+            let normal =
+                t.n.map(|n| format!(" normal Normal {{ vector [ {} ] }}", list(&n)))
+                    .unwrap_or_default();
+            let color = t
+                .color
+                .map(|c| format!(" color Color {{ color [ {} ] }}", list(&c)))
+                .unwrap_or_default();
+            writeln!(
+                out,
+                "Shape {{ {appearance}geometry IndexedFaceSet {{ solid {} coord Coordinate {{ point [ {} ] }} coordIndex [ 0 1 2 -1 ]{normal}{color} }} }}",
+                on(t.solid),
+                list(&t.p)
+            )
+        }
     }
 }
 

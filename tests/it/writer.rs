@@ -65,6 +65,7 @@ fn assert_same(a: &Scene, b: &Scene) {
             assert_eq!((s.center, s.radius), (t.center, t.radius), "sphere {k}");
         }
     }
+    assert_same_surfaces(a, b);
     // Scoped DirectionalLights are written inside the Group of their spheres, so the order of
     // lights may change: compare them sorted.
     let key = |l: &&Light| match l {
@@ -128,6 +129,61 @@ fn assert_same(a: &Scene, b: &Scene) {
     assert_eq!((a.headlight, a.background), (b.headlight, b.background));
 }
 
+/// The same surfaces: kinds, parts and materials equal, triangles exact (normals to 1e-15),
+/// and each solid's map equal to 1e-12 of its size, or equal after the mirror about its
+/// x = 0 plane that the writer uses for mirroring maps (the three solids are symmetric
+/// about it).
+fn assert_same_surfaces(a: &Scene, b: &Scene) {
+    use gtsphere::scene::SurfaceShape;
+    assert_eq!(a.surfaces.len(), b.surfaces.len());
+    for (k, (s, t)) in a.surfaces.iter().zip(&b.surfaces).enumerate() {
+        assert_eq!(
+            a.materials[s.material as usize], b.materials[t.material as usize],
+            "material of surface {k}"
+        );
+        match (&s.shape, &t.shape) {
+            (
+                SurfaceShape::Solid { solid, to_world },
+                SurfaceShape::Solid {
+                    solid: solid2,
+                    to_world: w2,
+                },
+            ) => {
+                assert_eq!(solid, solid2, "surface {k}");
+                let size = to_world
+                    .matrix3
+                    .to_cols_array()
+                    .iter()
+                    .fold(0.0f64, |x, y| x.max(y.abs()));
+                let near = |m: glam::DMat3| {
+                    m.to_cols_array()
+                        .iter()
+                        .zip(to_world.matrix3.to_cols_array())
+                        .all(|(x, y)| (x - y).abs() <= 1e-12 * size)
+                };
+                let mirror = glam::DMat3::from_diagonal(DVec3::new(-1.0, 1.0, 1.0));
+                assert!(
+                    near(w2.matrix3) || near(w2.matrix3 * mirror),
+                    "surface {k}: {to_world} vs {w2}"
+                );
+                assert!(close3(to_world.translation, w2.translation, 1e-15));
+            }
+            (SurfaceShape::Triangle(x), SurfaceShape::Triangle(y)) => {
+                assert_eq!(
+                    (x.p, x.color, x.solid),
+                    (y.p, y.color, y.solid),
+                    "surface {k}"
+                );
+                assert_eq!(x.n.is_some(), y.n.is_some(), "surface {k}");
+                if let (Some(n), Some(m)) = (x.n, y.n) {
+                    assert!((0..3).all(|c| close3(n[c], m[c], 1e-15)), "surface {k}");
+                }
+            }
+            _ => panic!("surface {k}: kinds differ"),
+        }
+    }
+}
+
 fn files() -> Vec<String> {
     let mut v: Vec<String> = ["cluster", "cloud", "lattice", "ellipsoids", "gas"]
         .iter()
@@ -182,6 +238,52 @@ fn written_file_renders_the_same_picture() {
             .fold(0.0f32, f32::max);
         assert!(max < 1e-5, "{s}: max pixel difference {max:e}");
     }
+}
+
+/// Surfaces under rotations, non-uniform scales and a mirror, triangles with normals and
+/// colours, and a DirectionalLight lighting one Group's sphere and surfaces only: the written
+/// file renders to the same picture (the scoped light is written once per kind of thing it
+/// lights).
+#[test]
+fn surfaces_round_trip_and_render_the_same() {
+    let text = "#VRML V2.0 utf8\nNavigationInfo { headlight FALSE }\nViewpoint { position 0 0 9 }\n\
+        PointLight { location 4 5 6 intensity 0.7 }\n\
+        Group { children [ DirectionalLight { direction -1 -1 -2 intensity 0.6 }\n\
+          Transform { rotation 1 2 3 0.7 scale 1 2 0.5 children Shape { appearance Appearance { material Material { diffuseColor 0.9 0.4 0.2 } } geometry Cylinder { radius 0.5 height 2 top FALSE } } }\n\
+          Transform { translation 2 0 0 children Shape { appearance Appearance { material Material { } } geometry Sphere { radius 0.6 } } } ] }\n\
+        Transform { translation -2 1 0 scale -1 1 1 rotation 0 1 0 0.4 children Shape { appearance Appearance { material Material { diffuseColor 0.2 0.8 0.3 } } geometry Cone { } } }\n\
+        Transform { translation 0 -2 0 rotation 1 0 0 0.3 children Shape { appearance Appearance { material Material { } } geometry Box { size 3 0.4 2 } } }\n\
+        Shape { appearance Appearance { material Material { } } geometry IndexedFaceSet { solid FALSE creaseAngle 3 coord Coordinate { point [ -3 2 0, -1 2 -1, -2 3 0, -1 3 1 ] } color Color { color [ 1 0 0, 0 1 0, 0 0 1, 1 1 0 ] } coordIndex [ 0 1 2 -1 1 3 2 -1 ] } }";
+    let (a, r) = load_str("s.wrl", text, &LoadOptions::default()).unwrap();
+    assert!(r.warnings.is_empty(), "{:?}", r.warnings);
+    assert_eq!(a.surfaces.len(), 5);
+    let b = reread(&a);
+    assert_same_surfaces(&a, &b);
+    assert_eq!(
+        b.lights.len(),
+        3,
+        "the scoped light is written for its sphere and for its surface"
+    );
+    let opts = RenderOptions {
+        width: 64,
+        height: 48,
+        spp: 1,
+        sampler: SamplerKind::Center,
+        film_f64: true,
+        ..RenderOptions::default()
+    };
+    let (x, y) = (
+        render(&prepare(a, &opts).unwrap(), &opts).rgb64,
+        render(&prepare(b, &opts).unwrap(), &opts).rgb64,
+    );
+    let lit = x.iter().filter(|p| p[0] > 0.05).count();
+    assert!(lit > 300, "{lit} pixels lit");
+    let max = x
+        .iter()
+        .zip(&y)
+        .flat_map(|(p, q)| (0..3).map(move |k| (p[k] - q[k]).abs()))
+        .fold(0.0f64, f64::max);
+    assert!(max < 1e-9, "max pixel difference {max:e}");
 }
 
 /// Generated scenes: nested and disjoint DirectionalLight scopes, ellipsoids with rotations,
