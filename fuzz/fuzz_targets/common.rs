@@ -1,6 +1,5 @@
 // Shared by the fuzz targets: load bytes and check the scene's invariants.
 
-use gtsphere::scene::NO_ELLIPSOID;
 use gtsphere::vrml::{load_bytes, LoadOptions};
 
 pub fn check(bytes: Vec<u8>) {
@@ -28,15 +27,28 @@ pub fn check(bytes: Vec<u8>) {
             scene.materials.len()
         );
         assert!(
-            s.ellipsoid == NO_ELLIPSOID || (s.ellipsoid as usize) < scene.ellipsoids.len(),
-            "sphere {i}: ellipsoid index {} out of range ({})",
+            s.ellipsoid.is_none_or(|e| e.index() < scene.ellipsoids.len()),
+            "sphere {i}: ellipsoid index {:?} out of range ({})",
             s.ellipsoid,
             scene.ellipsoids.len()
         );
     }
+    for (i, s) in scene.surfaces.iter().enumerate() {
+        assert!(s.is_sound(), "surface {i}: not finite or not invertible: {s:?}");
+        assert!(
+            (s.material as usize) < scene.materials.len(),
+            "surface {i}: material index {} out of range ({})",
+            s.material,
+            scene.materials.len()
+        );
+    }
     // Touch the derived values.
     let b = scene.bounds();
-    assert_eq!(b.is_some(), !scene.spheres.is_empty());
+    assert_eq!(
+        b.is_some(),
+        !scene.spheres.is_empty() || !scene.surfaces.is_empty()
+    );
+    let _ = scene.surface_counts();
     let _ = scene.gas_count();
     let _ = scene.ellipsoid_count();
     let _ = scene.point_light_count();

@@ -20,15 +20,17 @@ use crate::accel::SphereBvh;
 /// it. A gas sphere attenuates over the part of `[0, dist]` inside it.
 #[inline]
 pub fn visible(prep: &Prepared, x: DVec3, l: DVec3, dist: f64, own: Option<Opaque>) -> f64 {
-    let own_surface = match own {
-        Some(Opaque::Surface(i)) => Some(i),
-        _ => None,
-    };
-    // Rounding of the hit point cannot make a neighbouring triangle (a shared edge) block
-    // its own point's light ray further than this.
-    let tmin = 256.0 * f64::EPSILON * x.abs().max_element();
-    if prep.surfaces.blocks(x, l, tmin, dist, own_surface) {
-        return 0.0;
+    if !prep.surfaces.is_empty() {
+        let own_surface = match own {
+            Some(Opaque::Surface(i)) => Some(i),
+            _ => None,
+        };
+        // Rounding of the hit point cannot make a neighbouring triangle (a shared edge) block
+        // its own point's light ray further than this.
+        let tmin = 256.0 * f64::EPSILON * x.abs().max_element();
+        if prep.surfaces.blocks(x, l, tmin, dist, own_surface) {
+            return 0.0;
+        }
     }
     let own_sphere = match own {
         Some(Opaque::Sphere(p)) => Some(p),
