@@ -109,7 +109,7 @@ pub fn to_text(path: &Path, s: &Scene, r: &LoadReport) -> String {
     let gas = s.gas_count();
     let _ = writeln!(o, "scene:      {}", path.display());
     if r.files.len() > 1 {
-        let _ = writeln!(o, "inlined:    {}", r.files[1..].join(", "));
+        let _ = writeln!(o, "also read:  {}", r.files[1..].join(", "));
     }
     let _ = writeln!(
         o,

@@ -43,7 +43,7 @@ enum Command {
         /// Turn every warning into an error.
         #[arg(long)]
         strict: bool,
-        /// Do not load Inline nodes.
+        /// Do not read other files (Inline nodes, EXTERNPROTO files).
         #[arg(long)]
         no_inline: bool,
         #[command(flatten)]

@@ -109,7 +109,7 @@ pub struct RenderArgs {
     /// Turn every warning of the reader into an error.
     #[arg(long)]
     pub strict: bool,
-    /// Do not load Inline nodes.
+    /// Do not read other files (Inline nodes, EXTERNPROTO files).
     #[arg(long)]
     pub no_inline: bool,
     #[command(flatten)]

@@ -684,9 +684,12 @@ pub const EXPECTED: &[Expected] = &[
         skipped: &[("ImageTexture", 5), ("TextureTransform", 1)],
     },
     // One Shape{geometry Sphere, appearance Appearance{material RefractiveMaterial{...}}}
-    // where RefractiveMaterial is an EXTERNPROTO -> it is "another node inside an
-    // Appearance" and counts as skipped under the EXTERNPROTO name; no Material, so the
-    // sphere is opaque (no transparency given anyway).
+    // where RefractiveMaterial is an EXTERNPROTO: its urls are "urn:inet:foo.com:..." (not
+    // local: skipped) and "RefractiveMaterial.wrl", which is beside it and declares PROTO
+    // RefractiveMaterial (the first PROTO of that file) with a body of one Material. So the
+    // instance is that Material (modelled, not counted) and nothing is skipped; the
+    // EXTERNPROTO's seven exposedFields match the PROTO's; the instance's `transparency` is
+    // not given and the default is 0 -> opaque. RefractiveMaterial.wrl has no top-level node.
     Expected {
         path: "conformance/openvrml/models/ExternPROTO.wrl",
         spheres: 1,
@@ -698,7 +701,43 @@ pub const EXPECTED: &[Expected] = &[
         cylinders: 0,
         cones: 0,
         triangles: 0,
-        skipped: &[("RefractiveMaterial", 1)],
+        skipped: &[],
+    },
+    // Three EXTERNPROTOs naming proto_nodes.wrl (beside it): "proto_nodes.wrl" (its first
+    // PROTO, MaterialSphere), "#MaterialSphereDefaultRed" and "#MaterialSphereDefaultYellow";
+    // 2 instances of each at top level, each body a Shape{Sphere} -> 6 spheres. The Text
+    // labels of proto_nodes.wrl are its top-level nodes: not drawn here. No transparency
+    // anywhere (the DefaultYellow default `material USE YellowMat` is a DEF of
+    // proto_nodes.wrl, diffuseColor 1 1 0). No lights or viewpoints in either file.
+    Expected {
+        path: "conformance/castle-demo-models/prototypes/proto_nodes_by_external.wrl",
+        spheres: 6,
+        gas: 0,
+        point_lights: 0,
+        directional_lights: 0,
+        viewpoints: 0,
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 0,
+        skipped: &[],
+    },
+    // EXTERNPROTO StrawberryGroup: "not_existing.wrl" (no such file) and two urns (not
+    // local); EXTERNPROTO CherryShape: one urn. Neither loads, and the whole scene is one
+    // top-level StrawberryGroup instance -> skipped once; what is inside it (the CherryShape
+    // instances, the Switch, the Transforms) is not walked. Nothing drawn.
+    Expected {
+        path: "conformance/castle-demo-models/prototypes/extern_proto_built_in_kings_head.wrl",
+        spheres: 0,
+        gas: 0,
+        point_lights: 0,
+        directional_lights: 0,
+        viewpoints: 0,
+        boxes: 0,
+        cylinders: 0,
+        cones: 0,
+        triangles: 0,
+        skipped: &[("StrawberryGroup", 1)],
     },
     // `BouncingShape { appearance ..., geometry Sphere{} }` -> PROTO body DEF bounceTrans
     // Transform{ Shape{appearance IS, geometry IS} (Sphere 1), PositionInterpolator 1,

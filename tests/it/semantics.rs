@@ -1,5 +1,6 @@
 //! What the IR means: transforms, ellipsoids, light scoping, Switch, LOD, materials, bindables,
-//! DEF/USE, PROTO expansion, and what is read but not modelled (EXTERNPROTO, Script, ROUTE).
+//! DEF/USE, PROTO expansion, and what is read but not modelled (an EXTERNPROTO whose urls do
+//! not load, Script, ROUTE).
 //! Expected values are worked out by hand in each test.
 
 use glam::DVec3;

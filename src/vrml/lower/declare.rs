@@ -4,7 +4,9 @@
 //! resolved), and for a PROTO the body's events, checked so that every `IS` names an
 //! interface field of the same type and a compatible access (VRML97 4.8.3, Table 4.4). The
 //! body is kept in a form that expands fast: a copy of its events up to the end of its first
-//! node, and for each `field IS target` the index of `target` in the interface.
+//! node, and for each `field IS target` the index of `target` in the interface. An
+//! EXTERNPROTO becomes the PROTO it names in a local file (see `extern_proto`) when one of
+//! its urls can be read, and stays a declaration without a body otherwise.
 
 use std::ops::Range;
 use std::rc::Rc;
@@ -13,24 +15,27 @@ use hashbrown::HashMap;
 
 use super::fields::warn_if_event;
 use super::record::{value_end, Rec};
-use super::{error, Lowerer};
+use super::scope::Protos;
+use super::Lowerer;
 use crate::error::Error;
 use crate::source::SourceWindow;
 use crate::vrml::schema::{self, Access, FieldType};
 use crate::vrml::syntax::{OwnedEvent, OwnedValue};
 
 /// One member of a PROTO's interface.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub(super) struct InterfaceField {
     pub(super) access: Access,
     pub(super) ty: FieldType,
     pub(super) name: Rc<str>,
     /// The default value's events (one Field event, or NodesStart .. NodesEnd).
     pub(super) default: Option<Range<usize>>,
+    /// Where it is declared (for the EXTERNPROTO interface checks).
+    pub(super) at: u64,
 }
 
 /// A declared PROTO or EXTERNPROTO.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub(super) struct ProtoDecl {
     pub(super) name: Rc<str>,
     pub(super) fields: Vec<InterfaceField>,
@@ -41,29 +46,44 @@ pub(super) struct ProtoDecl {
     pub(super) body_events: Rc<[Rec]>,
     /// For each body event `field IS target` outside nested PROTO declarations, the index of
     /// `target` among `fields` (`u32::MAX` for other events), so that instances do not look IS
-    /// targets up by name.
-    pub(super) body_is: Box<[u32]>,
+    /// targets up by name (shared with the EXTERNPROTOs that name this PROTO).
+    pub(super) body_is: Rc<[u32]>,
     /// How many body events an instance replays: up to the end of the body's first node
     /// (earlier PROTO declarations included).
     pub(super) first_end: usize,
+    /// A PROTO reached through an EXTERNPROTO: which of `fields` an instance may set (those
+    /// the EXTERNPROTO declares with the same access and type); `None`: all of them.
+    pub(super) public: Option<Rc<[bool]>>,
+    /// A PROTO reached through an EXTERNPROTO: the PROTOs of the file it was declared in,
+    /// which its body sees instead of those around the instance (VRML97 4.9).
+    pub(super) home: Option<Rc<Protos>>,
 }
 
 impl ProtoDecl {
     pub(super) fn field(&self, name: &str) -> Option<&InterfaceField> {
         self.fields.iter().find(|f| &*f.name == name)
     }
-    /// The index of the first interface field of this name.
+    /// The index of the first interface field of this name (what `IS` in the body names).
     pub(super) fn field_index(&self, name: &str) -> Option<usize> {
         self.fields.iter().position(|f| &*f.name == name)
     }
+    /// [`Self::field_index`] if an instance may set that field (see [`Self::public`]).
+    pub(super) fn public_index(&self, name: &str) -> Option<usize> {
+        self.field_index(name)
+            .filter(|&i| self.public.as_ref().is_none_or(|p| p[i]))
+    }
+    /// The interface field an instance (or a ROUTE) may use by this name.
+    fn public_field(&self, name: &str) -> Option<&InterfaceField> {
+        self.public_index(name).map(|i| &self.fields[i])
+    }
     /// Resolves `set_x` and `x_changed` of an exposedField `x`, like the standard tables do.
     pub(super) fn event(&self, name: &str) -> Option<(&InterfaceField, Access)> {
-        if let Some(f) = self.field(name) {
+        if let Some(f) = self.public_field(name) {
             return Some((f, f.access));
         }
         if let Some(base) = name.strip_prefix("set_") {
             if let Some(f) = self
-                .field(base)
+                .public_field(base)
                 .filter(|f| f.access == Access::ExposedField)
             {
                 return Some((f, Access::EventIn));
@@ -71,7 +91,7 @@ impl ProtoDecl {
         }
         if let Some(base) = name.strip_suffix("_changed") {
             if let Some(f) = self
-                .field(base)
+                .public_field(base)
                 .filter(|f| f.access == Access::ExposedField)
             {
                 return Some((f, Access::EventOut));
@@ -113,10 +133,13 @@ impl Lowerer {
                     at,
                 }) => {
                     let access_k = Access::from_keyword(access).ok_or_else(|| {
-                        error(src, *at, format!("unknown access type '{access}'"))
+                        self.diags
+                            .error(src, *at, format!("unknown access type '{access}'"))
                     })?;
-                    let fty = FieldType::from_name(ty)
-                        .ok_or_else(|| error(src, *at, format!("unknown field type '{ty}'")))?;
+                    let fty = FieldType::from_name(ty).ok_or_else(|| {
+                        self.diags
+                            .error(src, *at, format!("unknown field type '{ty}'"))
+                    })?;
                     let fname = fname.clone();
                     let dat = *at;
                     if fields.iter().any(|f| f.name == fname) {
@@ -132,7 +155,11 @@ impl Lowerer {
                             self.rec.arena.get(vstart)
                         {
                             if let Err(e) = schema::check_value(fty, &value.as_value()) {
-                                return Err(error(src, *vat, format!("default of '{fname}' {e}")));
+                                return Err(self.diags.error(
+                                    src,
+                                    *vat,
+                                    format!("default of '{fname}' {e}"),
+                                ));
                             }
                         }
                         self.resolve_default_uses(src, vstart..vend)?;
@@ -144,6 +171,7 @@ impl Lowerer {
                         ty: fty,
                         name: fname,
                         default,
+                        at: dat,
                     });
                 }
                 Rec::Ev(OwnedEvent::ProtoBody { .. }) => {
@@ -183,8 +211,10 @@ impl Lowerer {
             fields,
             body,
             body_events: Rc::from([]),
-            body_is: Box::default(),
+            body_is: Rc::from([]),
             first_end: 0,
+            public: None,
+            home: None,
         };
         if let Some(b) = decl.body.clone() {
             self.check_body(src, &decl, b.clone())?;
@@ -223,6 +253,18 @@ impl Lowerer {
                 }
             }
             decl.body_is = is.into();
+        }
+        if external {
+            // The PROTO it names in a local file, if one of its urls leads to one.
+            let urls = match self.rec.arena.get(range.end - 1) {
+                Some(Rec::Ev(OwnedEvent::ProtoEnd { urls, .. })) => urls.clone(),
+                _ => Rc::from([]),
+            };
+            if let Some(imported) = self.import_proto(src, &name, &decl.fields, &urls, at)? {
+                decl = imported;
+            }
+        } else {
+            self.externs.declared(&name);
         }
         let decl = Rc::new(decl);
         self.rec.pinned = self.rec.pinned.max(range.end);
@@ -267,7 +309,7 @@ impl Lowerer {
                         None => {
                             let msg =
                                 format!("USE of undefined name '{name}' in a PROTO field default");
-                            return Err(error(src, at, msg));
+                            return Err(self.diags.error(src, at, msg));
                         }
                     }
                 }
@@ -305,7 +347,7 @@ impl Lowerer {
                     value: OwnedValue::Is(target),
                 } => {
                     let Some(iface) = decl.field(target) else {
-                        return Err(error(
+                        return Err(self.diags.error(
                             src,
                             *at,
                             format!(
@@ -324,7 +366,7 @@ impl Lowerer {
                         continue;
                     };
                     if f.ty != iface.ty {
-                        return Err(error(
+                        return Err(self.diags.error(
                             src,
                             *at,
                             format!(

@@ -8,7 +8,7 @@
 //! the same for those events.
 
 use super::record::{Rec, RecKind};
-use super::{error, Lowerer};
+use super::Lowerer;
 use crate::error::Error;
 use crate::source::SourceWindow;
 use crate::vrml::schema::{Access, FieldType};
@@ -139,10 +139,18 @@ impl Lowerer {
             Event::Decl { access, ty, at, .. } => {
                 if self.rec.proto_decls == 0 {
                     if Access::from_keyword(access).is_none() {
-                        return Err(error(src, at, format!("unknown access type '{access}'")));
+                        return Err(self.diags.error(
+                            src,
+                            at,
+                            format!("unknown access type '{access}'"),
+                        ));
                     }
                     if FieldType::from_name(ty).is_none() {
-                        return Err(error(src, at, format!("unknown field type '{ty}'")));
+                        return Err(self.diags.error(
+                            src,
+                            at,
+                            format!("unknown field type '{ty}'"),
+                        ));
                     }
                     if let Some(f) = self.open.frames.last() {
                         if &*f.ty == "Script" && access == "exposedField" {
@@ -210,7 +218,7 @@ impl Lowerer {
             } else {
                 format!("USE of undefined name '{name}'")
             };
-            return Err(error(src, at, msg));
+            return Err(self.diags.error(src, at, msg));
         };
         let range = d.range.clone();
         let ty = d.ty.clone();

@@ -4,6 +4,9 @@
 //! drawn: VRML97 4.8.3), in a namespace of its own. A body field `name IS target` is
 //! replaced by the instance's value of `target`, or by the interface default; that value is
 //! emitted in the instance's own scope, with the substitutions of the next expansion out.
+//! A PROTO read from another file for an EXTERNPROTO expands the same way, its body under
+//! the PROTOs of its own file (its home); an instance may set only the fields its
+//! EXTERNPROTO declares alike ([`ProtoDecl::public_index`]).
 
 use std::ops::Range;
 use std::rc::Rc;
@@ -11,7 +14,7 @@ use std::rc::Rc;
 use super::declare::ProtoDecl;
 use super::fields::is_event;
 use super::record::{value_end, Rec};
-use super::{error, Lowerer};
+use super::Lowerer;
 use crate::error::Error;
 use crate::source::SourceWindow;
 use crate::vrml::schema;
@@ -23,6 +26,8 @@ pub(super) struct Subst {
     proto: Rc<ProtoDecl>,
     /// By interface field index (the first field of a name, as [`ProtoDecl::field`] finds).
     values: Vec<Option<Range<usize>>>,
+    /// How many namespaces were in effect around the instance (see `Scopes::take_above`).
+    scope_depth: usize,
 }
 
 /// The PROTO expansions under way.
@@ -44,7 +49,7 @@ impl Lowerer {
         at: u64,
     ) -> Result<(), Error> {
         let Some(sub) = self.expansions.substs.last() else {
-            return Err(error(
+            return Err(self.diags.error(
                 src,
                 at,
                 format!("'{name} IS {target}' outside a PROTO body"),
@@ -55,7 +60,7 @@ impl Lowerer {
                 "'IS {target}': PROTO {} has no interface field '{target}'",
                 sub.proto.name
             );
-            return Err(error(src, at, msg));
+            return Err(self.diags.error(src, at, msg));
         };
         self.substitute_field(src, name, fi, at)
     }
@@ -73,9 +78,11 @@ impl Lowerer {
                 "internal: IS outside a PROTO expansion".into(),
             ));
         };
-        let range = sub.values[fi]
-            .clone()
-            .or_else(|| sub.proto.fields[fi].default.clone());
+        let given = sub.values[fi].clone();
+        // An external PROTO's body sees its own file's PROTOs; the instance's value is read
+        // among those around the instance (a local PROTO's body namespace lets both through).
+        let around = (given.is_some() && sub.proto.home.is_some()).then_some(sub.scope_depth);
+        let range = given.or_else(|| sub.proto.fields[fi].default.clone());
         let Some(range) = range else {
             // An event (eventIn/eventOut) has no value to substitute.
             return Ok(());
@@ -92,6 +99,7 @@ impl Lowerer {
         let Some(sub) = self.expansions.substs.pop() else {
             return Ok(());
         };
+        let body_scopes = around.map(|depth| self.scopes.take_above(depth));
         // Emit the value under this field's own name.
         let r = match &self.rec.arena[range.start] {
             Rec::Ev(OwnedEvent::Field { value, at: vat, .. }) => {
@@ -113,6 +121,9 @@ impl Lowerer {
             }
             _ => Ok(()),
         };
+        if let Some(scopes) = body_scopes {
+            self.scopes.restore(scopes);
+        }
         self.expansions.substs.push(sub);
         r
     }
@@ -139,7 +150,7 @@ impl Lowerer {
                     continue;
                 }
             };
-            match proto.field_index(&fname) {
+            match proto.public_index(&fname) {
                 None => self.diags.warn(
                     src,
                     fat,
@@ -150,7 +161,7 @@ impl Lowerer {
                     if let Rec::Ev(OwnedEvent::Field { value, .. }) = &self.rec.arena[i] {
                         if f.ty.is_node() {
                             if *value != OwnedValue::Empty {
-                                return Err(error(
+                                return Err(self.diags.error(
                                     src,
                                     fat,
                                     format!(
@@ -161,14 +172,14 @@ impl Lowerer {
                                 ));
                             }
                         } else if let Err(e) = schema::check_value(f.ty, &value.as_value()) {
-                            return Err(error(
+                            return Err(self.diags.error(
                                 src,
                                 fat,
                                 format!("field '{fname}' of PROTO {} {e}", proto.name),
                             ));
                         }
                     } else if !f.ty.is_node() {
-                        return Err(error(
+                        return Err(self.diags.error(
                             src,
                             fat,
                             format!(
@@ -195,11 +206,17 @@ impl Lowerer {
             }
             i = end;
         }
-        // The body runs in a namespace of its own, with this instance's substitutions.
+        // The body runs in a namespace of its own (under its file's PROTOs if it came from
+        // another file), with this instance's substitutions.
+        let scope_depth = self.scopes.depth();
+        if let Some(home) = &proto.home {
+            self.scopes.push_home(home.clone());
+        }
         self.scopes.push_body();
         self.expansions.substs.push(Subst {
             proto: proto.clone(),
             values,
+            scope_depth,
         });
         let saved = std::mem::take(&mut self.rec.recorders);
         let reusing = std::mem::replace(&mut self.replay.reusing, 0);
@@ -211,7 +228,7 @@ impl Lowerer {
             sub.values.clear();
             self.expansions.spare_values.push(sub.values);
         }
-        self.scopes.pop();
+        self.scopes.leave_to(scope_depth);
         r
     }
 

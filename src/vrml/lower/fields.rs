@@ -12,7 +12,7 @@ use glam::DVec3;
 use super::mesh::mesh_field;
 use super::open::{FieldCtx, Frame, Kind, Leaf, Name};
 use super::transform::quat;
-use super::{error, Diags, Lowerer};
+use super::{Diags, Lowerer};
 use crate::error::Error;
 use crate::geom::shapes::Solid;
 use crate::source::SourceWindow;
@@ -136,7 +136,7 @@ impl Lowerer {
                 return Ok(());
             }
             let ty = self.open.open_type();
-            return Err(error(
+            return Err(self.diags.error(
                 src,
                 at,
                 format!(
@@ -148,7 +148,9 @@ impl Lowerer {
         }
         if let Err(e) = schema::check_value(f.ty, &value) {
             let ty = self.open.open_type();
-            return Err(error(src, at, format!("field '{name}' of {ty} {e}")));
+            return Err(self
+                .diags
+                .error(src, at, format!("field '{name}' of {ty} {e}")));
         }
         self.apply_field(src, f.name, at, &value)
     }
@@ -187,7 +189,7 @@ impl Lowerer {
                 known = Some(f.name);
                 if !f.ty.is_node() {
                     let ty = self.open.open_type();
-                    return Err(error(
+                    return Err(self.diags.error(
                         src,
                         at,
                         format!(
@@ -271,7 +273,7 @@ impl Lowerer {
             Kind::Leaf(Leaf::Sphere { radius }) if name == "radius" => {
                 let r = num1(v);
                 if r <= 0.0 || !r.is_finite() {
-                    return Err(error(
+                    return Err(self.diags.error(
                         src,
                         at,
                         format!("Sphere radius must be positive, found {r}"),
@@ -281,7 +283,7 @@ impl Lowerer {
             }
             Kind::Leaf(Leaf::Solid(i)) => {
                 if let Err(e) = solid_field(&mut self.meshes.solids[*i as usize], name, v) {
-                    return Err(error(src, at, e));
+                    return Err(self.diags.error(src, at, e));
                 }
             }
             Kind::PointLight(l) => match name {

@@ -4,11 +4,12 @@
 //! the Inline closes, inside the Inline's group, so its Transforms apply. Only local relative
 //! paths to VRML97 files are read (never a network URL); an Inline that includes itself is an
 //! error, and so is one nested deeper than [`super::LoadOptions::max_inline_depth`] files.
+//! The files EXTERNPROTOs name follow the same rules ([`local_path`], [`Lowerer::admit`]).
 
 use std::path::{Path, PathBuf};
 
 use super::open::{Frame, Kind, Marks, Name};
-use super::{error, Lowerer};
+use super::Lowerer;
 use crate::error::Error;
 use crate::source::SourceWindow;
 use crate::vrml::parse::Parser;
@@ -18,13 +19,14 @@ use crate::vrml::parse::Parser;
 pub(super) struct Files {
     /// The index in `Scene::files` of the file being read.
     pub(super) current: u32,
-    /// The path of the scene file, then of each Inline'd file being read, innermost last.
-    stack: Vec<PathBuf>,
+    /// The path of the scene file, then of each Inline'd file (or file read for its
+    /// PROTOs) being read, innermost last.
+    pub(super) stack: Vec<PathBuf>,
     /// Source bytes read (decompressed), over all files.
     pub(super) bytes: u64,
 }
 
-/// Whether an Inline's url names a local file relative to the including one.
+/// Whether an Inline's (or EXTERNPROTO's) url names a local file relative to the including one.
 fn is_local_relative(url: &str) -> bool {
     let lower = url.to_ascii_lowercase();
     let has_scheme = lower.find(':').is_some_and(|k| {
@@ -34,6 +36,31 @@ fn is_local_relative(url: &str) -> bool {
                 .all(|c| c.is_ascii_alphanumeric() || "+-.".contains(c))
     });
     !has_scheme && !url.starts_with('/') && !url.starts_with('\\') && !url.is_empty()
+}
+
+/// The local file `url` names in the folder `base`, and its canonical path; otherwise why
+/// not (for the warning that lists the urls tried).
+pub(super) fn local_path(base: &Path, url: &str) -> Result<(PathBuf, PathBuf), &'static str> {
+    if !is_local_relative(url) {
+        return Err("not a local relative path");
+    }
+    let path = base.join(url);
+    if !path.is_file() {
+        return Err("no such file");
+    }
+    let canon = path.canonicalize().unwrap_or(path.clone());
+    Ok((path, canon))
+}
+
+/// Whether a local file may be read now (the same rules for Inline and EXTERNPROTO).
+pub(super) enum Admit {
+    Yes,
+    /// It is being read: reading it again would never end.
+    Cycle,
+    /// It would nest deeper than [`super::LoadOptions::max_inline_depth`] files.
+    TooDeep,
+    /// It is not VRML97 (X3D, 3DS, VRML 1.0): reported, not fatal.
+    NotVrml97,
 }
 
 impl Lowerer {
@@ -98,70 +125,78 @@ impl Lowerer {
         self.close_group_like(src, frame.kind, at)
     }
 
+    /// The folder the relative urls of a node at `at` are resolved in: that of the file it
+    /// was written in (the file being read, or the file an external PROTO's body came from).
+    pub(super) fn base_dir(&self, at: u64) -> PathBuf {
+        let file = match super::extern_proto::tag_of(at) {
+            Some(tag) => self.externs.path_of(tag),
+            None => self.files.stack.last().map(PathBuf::as_path),
+        };
+        file.and_then(Path::parent)
+            .map(Path::to_path_buf)
+            .unwrap_or_default()
+    }
+
+    /// Whether the local file at `path` (canonically `canon`) may be read now.
+    pub(super) fn admit(&self, path: &Path, canon: &Path) -> Admit {
+        if self
+            .files
+            .stack
+            .iter()
+            .any(|p| p.canonicalize().is_ok_and(|c| c == canon))
+        {
+            return Admit::Cycle;
+        }
+        // The stack holds the scene file and the files being read inside it: this one
+        // would be number `stack.len()` down from the scene file.
+        if self.files.stack.len() > self.opts.max_inline_depth {
+            return Admit::TooDeep;
+        }
+        let mut head = [0u8; 16];
+        let n = crate::input::open(path)
+            .ok()
+            .map(|mut w| {
+                let _ = w.fill(16);
+                let b = w.rest().as_bytes();
+                let k = b.len().min(16);
+                head[..k].copy_from_slice(&b[..k]);
+                k
+            })
+            .unwrap_or(0);
+        if !head[..n].starts_with(b"#VRML V2.0") {
+            return Admit::NotVrml97;
+        }
+        Admit::Yes
+    }
+
     /// Loads the first of `urls` that is a local VRML97 file; a warning if none is.
     fn load_inline(&mut self, src: &SourceWindow, at: u64, urls: &[String]) -> Result<(), Error> {
         if !self.opts.inline {
             return Ok(());
         }
-        let base = self
-            .files
-            .stack
-            .last()
-            .and_then(|p| p.parent().map(Path::to_path_buf))
-            .unwrap_or_default();
+        let base = self.base_dir(at);
         let mut tried = Vec::new();
         for url in urls {
-            if !is_local_relative(url) {
-                tried.push(format!("'{url}' (not a local relative path)"));
-                continue;
+            let (path, canon) = match local_path(&base, url) {
+                Ok(p) => p,
+                Err(why) => {
+                    tried.push(format!("'{url}' ({why})"));
+                    continue;
+                }
+            };
+            match self.admit(&path, &canon) {
+                Admit::Yes => return self.load_file(&path),
+                Admit::Cycle => {
+                    let msg = format!("Inline '{url}' includes itself (a cycle)");
+                    return Err(self.diags.error(src, at, msg));
+                }
+                Admit::TooDeep => {
+                    let max = self.opts.max_inline_depth;
+                    let msg = format!("Inline '{url}' nests deeper than {max} files");
+                    return Err(self.diags.error(src, at, msg));
+                }
+                Admit::NotVrml97 => tried.push(format!("'{url}' (not a VRML97 file)")),
             }
-            let path = base.join(url);
-            if !path.is_file() {
-                tried.push(format!("'{url}' (no such file)"));
-                continue;
-            }
-            let canon = path.canonicalize().unwrap_or(path.clone());
-            if self
-                .files
-                .stack
-                .iter()
-                .any(|p| p.canonicalize().map(|c| c == canon).unwrap_or(false))
-            {
-                return Err(error(
-                    src,
-                    at,
-                    format!("Inline '{url}' includes itself (a cycle)"),
-                ));
-            }
-            // The stack holds the scene file and the Inline'd files being read: this one
-            // would be Inline number `stack.len()` down from the scene file.
-            if self.files.stack.len() > self.opts.max_inline_depth {
-                return Err(error(
-                    src,
-                    at,
-                    format!(
-                        "Inline '{url}' nests deeper than {} files",
-                        self.opts.max_inline_depth
-                    ),
-                ));
-            }
-            // Only VRML97 is read; other formats (X3D, 3DS, VRML 1.0) are reported, not fatal.
-            let mut head = [0u8; 16];
-            let n = crate::input::open(&path)
-                .ok()
-                .map(|mut w| {
-                    let _ = w.fill(16);
-                    let b = w.rest().as_bytes();
-                    let k = b.len().min(16);
-                    head[..k].copy_from_slice(&b[..k]);
-                    k
-                })
-                .unwrap_or(0);
-            if !head[..n].starts_with(b"#VRML V2.0") {
-                tried.push(format!("'{url}' (not a VRML97 file)"));
-                continue;
-            }
-            return self.load_file(&path);
         }
         let what = if tried.is_empty() {
             "no url".to_string()

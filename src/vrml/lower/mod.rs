@@ -17,6 +17,7 @@
 //! | Switch | `choice whichChoice` (default -1: nothing) |
 //! | LOD | `level` (the first level only) |
 //! | Inline | `url`: local relative VRML97 files only, never a network URL; depth limit 16, cycles refused |
+//! | PROTO, EXTERNPROTO | instances expand to the body's first node, `IS` replaced; an EXTERNPROTO is the PROTO its first readable `url` names (`file.wrl#Name`, or the first PROTO of `file.wrl`) in a local file, by the Inline rules, read once and for its PROTOs only; instances set only the fields its interface declares alike; none readable: skipped |
 //! | Shape, Appearance, Material | `appearance material geometry`; Material: all six fields |
 //! | Sphere | `radius` (default 1, must be > 0) |
 //! | Box, Cylinder, Cone | `size`; `radius height bottom side top`; `bottomRadius height side bottom` (sizes must be > 0): exact opaque surfaces |
@@ -52,13 +53,15 @@
 //! open nodes), `start` (the node table and `node_start`), `close` (closing nodes), `fields`
 //! (field values), `transform` (the Transform matrix and what it moves), `lights` (light
 //! scopes), `material` (open Materials and sharing), `mesh` (meshes while they are read),
-//! `mesh_shape` (what a closed mesh becomes), `inline`
-//! (files and Inline) and `route` (ROUTE checks).
+//! `mesh_shape` (what a closed mesh becomes), `inline` (files and Inline), `extern_proto`
+//! (the files EXTERNPROTOs name, and positions tagged with the file they are in) and
+//! `route` (ROUTE checks).
 
 mod close;
 mod declare;
 mod dispatch;
 mod expand;
+mod extern_proto;
 mod fields;
 mod inline;
 mod lights;
@@ -79,6 +82,7 @@ use std::collections::BTreeMap;
 // offsets from the scene text, hashed once per node or field of each PROTO instance.
 use hashbrown::HashMap;
 use std::path::Path;
+use std::rc::Rc;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -89,6 +93,7 @@ use crate::source::SourceWindow;
 
 use close::Bound;
 use expand::Expansions;
+use extern_proto::Externs;
 use inline::Files;
 use material::Materials;
 use mesh::Meshes;
@@ -105,9 +110,10 @@ pub struct LoadOptions {
     pub strict: bool,
     /// Refuse scenes that expand (through USE and PROTO instances) to more nodes than this.
     pub max_nodes: u64,
-    /// Load `Inline` nodes (local relative files only).
+    /// Read other files: load `Inline` nodes, and the PROTOs `EXTERNPROTO`s name (local
+    /// relative files only).
     pub inline: bool,
-    /// How deep Inline files may nest.
+    /// How deep Inline files (and files read for EXTERNPROTOs) may nest.
     pub max_inline_depth: usize,
     /// The radius of the spheres that points of a PointSet (or of an IndexedFaceSet without
     /// faces) become; `None`: half the median distance to the nearest other point of the set,
@@ -143,7 +149,7 @@ pub struct LoadReport {
     pub seconds: f64,
     /// Nodes lowered (USE and PROTO expansions included).
     pub nodes: u64,
-    /// Files read (the scene and its Inlines).
+    /// Files read (the scene, its Inlines and the files its EXTERNPROTOs name).
     pub files: Vec<String>,
     /// Bytes held by the recorded DEF/PROTO events at the end.
     pub recorded_bytes: usize,
@@ -213,6 +219,8 @@ struct Lowerer {
     meshes: Meshes,
     /// The file being read and the chain of Inlines to it (`inline`).
     files: Files,
+    /// The files read for their PROTOs (`extern_proto`).
+    externs: Externs,
     /// The first NavigationInfo and Background are bound (`close`).
     bound: Bound,
     /// Warnings and skipped node types.
@@ -227,17 +235,35 @@ struct Diags {
     index: HashMap<(Arc<str>, String), usize>,
     skipped: BTreeMap<String, u64>,
     notes: Vec<Diagnostic>,
+    /// The files read for their PROTOs (EXTERNPROTO), by index in `Scene::files`: positions
+    /// tagged with one of them point into it, not into the file being read (see
+    /// `extern_proto::tag`).
+    sources: HashMap<u32, Rc<SourceWindow>>,
 }
 
 impl Diags {
+    /// The source that position `at` is in, and its offset there: `src` (the file being read)
+    /// unless `at` is tagged with a file read for its PROTOs.
+    fn locate<'a>(&'a self, src: &'a SourceWindow, at: u64) -> (&'a SourceWindow, u64) {
+        match extern_proto::tag_of(at) {
+            Some(file) => (
+                self.sources.get(&file).map_or(src, |s| &**s),
+                extern_proto::offset_of(at),
+            ),
+            None => (src, at),
+        }
+    }
+
     /// A note: not a problem (`--strict` does not refuse it), a choice the user should see.
     fn note(&mut self, src: &SourceWindow, at: u64, msg: impl Into<String>) {
-        self.notes
-            .push(src.diagnostic(Severity::Note, at, msg.into()));
+        let (src, at) = self.locate(src, at);
+        let d = src.diagnostic(Severity::Note, at, msg.into());
+        self.notes.push(d);
     }
 
     /// A warning; repeats of the same message in the same file are folded into the first.
     fn warn(&mut self, src: &SourceWindow, at: u64, msg: impl Into<String>) {
+        let (src, at) = self.locate(src, at);
         let msg = msg.into();
         let key = (src.name.clone(), msg);
         if let Some(&i) = self.index.get(&key) {
@@ -249,15 +275,16 @@ impl Diags {
         self.warnings.push(d);
     }
 
+    /// An error at `at` (in `src`, or in the file `at` is tagged with).
+    fn error(&self, src: &SourceWindow, at: u64, msg: impl Into<String>) -> Error {
+        let (src, at) = self.locate(src, at);
+        Error::Diag(Box::new(src.diagnostic(Severity::Error, at, msg.into())))
+    }
+
     /// Counts one more instance of a node type that is not lowered.
     fn skip(&mut self, ty: &str) {
         *self.skipped.entry(ty.to_string()).or_default() += 1;
     }
-}
-
-/// An error at `at` in `src`.
-fn error(src: &SourceWindow, at: u64, msg: impl Into<String>) -> Error {
-    Error::Diag(Box::new(src.diagnostic(Severity::Error, at, msg.into())))
 }
 
 impl Lowerer {
@@ -275,6 +302,7 @@ impl Lowerer {
             transforms: Transforms::default(),
             meshes: Meshes::default(),
             files: Files::default(),
+            externs: Externs::default(),
             bound: Bound::default(),
             diags: Diags::default(),
         };
@@ -320,8 +348,13 @@ impl Lowerer {
         Ok((self.scene, report))
     }
 
+    /// Where an IR item made at `at` comes from: the file being read, or the file a PROTO
+    /// body was read from (a tagged position, see `extern_proto::tag`).
     fn origin(&self, at: u64) -> Origin {
-        Origin::new(self.files.current, at)
+        match extern_proto::tag_of(at) {
+            Some(file) => Origin::new(file, extern_proto::offset_of(at)),
+            None => Origin::new(self.files.current, at),
+        }
     }
 
     /// Counts `n` more lowered nodes; an error past `max_nodes`.
@@ -329,7 +362,7 @@ impl Lowerer {
     fn add_nodes(&mut self, n: u64, src: &SourceWindow, at: u64) -> Result<(), Error> {
         self.nodes += n;
         if self.nodes > self.opts.max_nodes {
-            return Err(error(
+            return Err(self.diags.error(
                 src,
                 at,
                 format!(

@@ -4,7 +4,9 @@
 //! way started and how many nodes are open inside it, and it ends when that returns to zero.
 //! Names in recorded events are shared through an [`Interner`], so recording a PROTO
 //! instance allocates no string per event. Entries below [`Recording::pinned`] belong to
-//! DEFs and PROTOs and stay; the rest is released once an instance or choice is done.
+//! DEFs and PROTOs and stay; the rest is released once an instance or choice is done. A file
+//! read for its PROTOs while something is recorded is kept out of that recording
+//! ([`Recording::set_aside`], [`Recording::resume`]).
 
 use std::ops::Range;
 use std::rc::Rc;
@@ -42,6 +44,13 @@ pub(super) struct Recorder {
     /// Open nodes (or PROTOs for a ProtoDecl) inside the recording; it ends when this returns to 0.
     pub(super) depth: u32,
     pub(super) kind: RecKind,
+}
+
+/// Recordings set aside while another file is read (see [`Recording::set_aside`]).
+pub(super) struct SetAside {
+    recorders: Vec<Recorder>,
+    /// The arena's length when they were set aside.
+    from: usize,
 }
 
 /// Recordings that ended at one event, with the arena range each recorded.
@@ -251,6 +260,33 @@ impl Recording {
         if self.recorders.len() == 1 {
             self.arena.push(Rec::Ev(ev.to_owned_event()));
         }
+    }
+
+    /// Sets the recordings under way aside while another file is read inside them (an
+    /// external PROTO's file): its events are its own, not theirs.
+    pub(super) fn set_aside(&mut self) -> SetAside {
+        SetAside {
+            recorders: std::mem::take(&mut self.recorders),
+            from: self.arena.len(),
+        }
+    }
+
+    /// Resumes the recordings [`Self::set_aside`] set aside. What the other file left in the
+    /// arena meanwhile is not theirs, and each recording must stay one range: the part they
+    /// had recorded is copied after it, and they go on from the copy (the earlier copy stays,
+    /// for what already refers into it).
+    pub(super) fn resume(&mut self, aside: SetAside) {
+        let mut recorders = aside.recorders;
+        if let Some(first) = recorders.iter().map(|r| r.start).min() {
+            if self.arena.len() > aside.from {
+                let to = self.arena.len();
+                self.arena.extend_from_within(first..aside.from);
+                for r in &mut recorders {
+                    r.start = to + (r.start - first);
+                }
+            }
+        }
+        self.recorders = recorders;
     }
 
     /// Whether a Switch choice is being recorded (a node inside it is part of that choice).

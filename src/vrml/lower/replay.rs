@@ -9,7 +9,7 @@ use std::ops::Range;
 
 use super::open::{Frame, Kind};
 use super::record::Rec;
-use super::{error, Lowerer};
+use super::Lowerer;
 use crate::error::Error;
 use crate::source::SourceWindow;
 
@@ -37,7 +37,7 @@ impl Lowerer {
         what: &str,
     ) -> Result<(), Error> {
         if self.replay.depth >= MAX_REPLAY_DEPTH {
-            return Err(error(
+            return Err(self.diags.error(
                 src,
                 at,
                 format!("{what} nest deeper than {MAX_REPLAY_DEPTH}"),

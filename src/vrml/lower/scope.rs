@@ -2,8 +2,11 @@
 //! 4.6.3 and 4.8.3); a [`Scope`] maps DEF names to their recorded events and PROTO names to
 //! their declarations. DEF lookups see only the innermost scope; PROTO lookups go outwards
 //! through enclosing PROTO bodies but stop at the file (an Inline'd file does not see the
-//! PROTOs of the file that includes it). [`Scopes`] also remembers whether a PROTO was given
-//! a standard node type's name, since standard types must then be looked up among PROTOs too.
+//! PROTOs of the file that includes it). The body of a PROTO read from another file for an
+//! EXTERNPROTO is expanded under a file scope holding that file's PROTOs (its home), so it
+//! sees those and not the ones around the instance. [`Scopes`] also remembers whether a PROTO
+//! was given a standard node type's name, since standard types must then be looked up among
+//! PROTOs too.
 
 use std::ops::Range;
 use std::rc::Rc;
@@ -19,11 +22,16 @@ pub(super) struct DefEntry {
     pub(super) ty: Rc<str>,
 }
 
+/// PROTO names and their declarations.
+pub(super) type Protos = HashMap<Rc<str>, Rc<ProtoDecl>>;
+
 /// A DEF and PROTO namespace: one per file, one per PROTO body expansion.
 #[derive(Default)]
 pub(super) struct Scope {
     defs: HashMap<Rc<str>, DefEntry>,
-    protos: HashMap<Rc<str>, Rc<ProtoDecl>>,
+    protos: Protos,
+    /// The PROTOs of another file, shared: the home of an external PROTO's body.
+    home: Option<Rc<Protos>>,
     /// Names whose DEF'd node is still open (a Script may USE itself).
     open_defs: Vec<Rc<str>>,
     /// File scopes stop PROTO lookups from reaching the including file.
@@ -53,8 +61,45 @@ impl Scopes {
         self.stack.push(Scope::default());
     }
 
+    /// Enters the file scope of an external PROTO's body: the PROTOs of its file, and none
+    /// of those around the instance.
+    pub(super) fn push_home(&mut self, home: Rc<Protos>) {
+        self.stack.push(Scope {
+            file_root: true,
+            home: Some(home),
+            ..Scope::default()
+        });
+    }
+
     pub(super) fn pop(&mut self) {
         self.stack.pop();
+    }
+
+    /// Leaves a file's namespace, keeping the PROTOs it declared.
+    pub(super) fn pop_protos(&mut self) -> Protos {
+        self.stack.pop().map(|s| s.protos).unwrap_or_default()
+    }
+
+    /// How many namespaces are in effect (for [`Self::take_above`]).
+    pub(super) fn depth(&self) -> usize {
+        self.stack.len()
+    }
+
+    /// Takes away the namespaces entered since there were `depth` (to be put back by
+    /// [`Self::restore`]): an instance's value is read in the instance's namespace, not in
+    /// the namespaces of the body it is substituted into.
+    pub(super) fn take_above(&mut self, depth: usize) -> Vec<Scope> {
+        self.stack.split_off(depth.min(self.stack.len()))
+    }
+
+    /// Leaves the namespaces entered since there were `depth`.
+    pub(super) fn leave_to(&mut self, depth: usize) {
+        self.stack.truncate(depth);
+    }
+
+    /// Puts back the namespaces [`Self::take_above`] took.
+    pub(super) fn restore(&mut self, scopes: Vec<Scope>) {
+        self.stack.extend(scopes);
     }
 
     pub(super) fn def(&self, name: &str) -> Option<&DefEntry> {
@@ -64,6 +109,9 @@ impl Scopes {
     pub(super) fn proto(&self, name: &str) -> Option<Rc<ProtoDecl>> {
         for s in self.stack.iter().rev() {
             if let Some(p) = s.protos.get(name) {
+                return Some(p.clone());
+            }
+            if let Some(p) = s.home.as_ref().and_then(|h| h.get(name)) {
                 return Some(p.clone());
             }
             if s.file_root {

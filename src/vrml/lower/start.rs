@@ -176,7 +176,9 @@ impl Lowerer {
                 self.diags.warn(
                     src,
                     at,
-                    format!("EXTERNPROTO {ty} is not available (external prototypes are not loaded): skipped"),
+                    format!(
+                        "EXTERNPROTO {ty} is not available (none of its urls was loaded): skipped"
+                    ),
                 );
             }
             self.open.push_suppressing(Frame {

@@ -9,7 +9,7 @@
 use glam::{DAffine3, DMat3, DQuat, DVec3};
 
 use super::open::Marks;
-use super::{error, Lowerer};
+use super::Lowerer;
 use crate::error::Error;
 use crate::scene::{EllipsoidId, Light, Scene};
 use crate::source::SourceWindow;
@@ -169,7 +169,11 @@ impl Lowerer {
                 for s in &mut self.scene.spheres[marks.spheres..] {
                     s.center += d;
                     if let Err(what) = check_sphere(s.center, s.radius) {
-                        return Err(error(src, at, format!("this Transform makes {what}")));
+                        return Err(self.diags.error(
+                            src,
+                            at,
+                            format!("this Transform makes {what}"),
+                        ));
                     }
                 }
                 return Ok(());
@@ -198,8 +202,10 @@ impl Lowerer {
             return Ok(());
         }
         // Each matrix is finite, but their product may not be: check what the contents became.
-        apply(&mut self.scene, &m, shift.is_some(), marks)
-            .map_err(|what| error(src, at, format!("this Transform makes {what}")))
+        apply(&mut self.scene, &m, shift.is_some(), marks).map_err(|what| {
+            self.diags
+                .error(src, at, format!("this Transform makes {what}"))
+        })
     }
 }
 

@@ -1,0 +1,395 @@
+//! EXTERNPROTO (VRML97 4.9): the PROTO an EXTERNPROTO names is read from a local file, by
+//! the rules of Inline (see `inline`: local paths relative to the declaring file only, never
+//! a network URL or an absolute path; at most [`super::LoadOptions::max_inline_depth`] files
+//! deep; a file that is being read is a cycle, an error). `"file.wrl#Name"` names the PROTO
+//! `Name` declared at the top level of that file, `"file.wrl"` the first PROTO declared
+//! there. The urls are tried in order; when none leads to a PROTO, the EXTERNPROTO stays a
+//! declaration without a body (its instances are counted and skipped), with one warning
+//! that says what was tried.
+//!
+//! A file is read once per scene (by canonical path) and only for its PROTO declarations: it
+//! is parsed into the lowering under a quiet root frame, in a file namespace of its own, so
+//! its top-level nodes are read (their DEFs serve its PROTOs' defaults) but not lowered, and
+//! none of its DEFs or PROTOs leaks into the including file. The EXTERNPROTO then becomes
+//! that PROTO (its body, its interface and defaults), expanded like a local one under the
+//! PROTOs of its own file ([`ProtoDecl::home`]); the EXTERNPROTO's interface says which
+//! fields instances may set ([`ProtoDecl::public`]): a field it declares that the PROTO lacks,
+//! or declares with another access or type, is a warning at that declaration and cannot be
+//! set.
+//!
+//! **Positions.** A PROTO read from another file is expanded while some other file is being
+//! read. So that its messages, and the IR items it makes, still point into its own file,
+//! every position recorded from that file is *tagged* with the file's index in
+//! `Scene::files`, in the top bits, as [`crate::scene::Origin`] packs them ([`tag`],
+//! [`tag_of`], [`offset_of`]); `Diags` keeps the file's line index to turn tagged positions
+//! into `file:line:col`, and `Lowerer::origin` turns them into origins in that file.
+
+use std::path::{Path, PathBuf};
+use std::rc::Rc;
+
+use hashbrown::HashMap;
+
+use super::declare::{InterfaceField, ProtoDecl};
+use super::inline::{local_path, Admit};
+use super::open::Name;
+use super::record::Rec;
+use super::scope::Protos;
+use super::Lowerer;
+use crate::error::Error;
+use crate::source::SourceWindow;
+use crate::vrml::parse::Parser;
+use crate::vrml::syntax::OwnedEvent;
+
+/// How many low bits of a position are its byte offset; the bits above say which file read
+/// for its PROTOs it is in (0: the file being read). The layout of [`crate::scene::Origin`].
+const OFFSET_BITS: u32 = 44;
+const OFFSET_MASK: u64 = (1 << OFFSET_BITS) - 1;
+const MAX_TAG: u32 = (1 << (64 - OFFSET_BITS)) - 1;
+
+/// Position `at` of file `file` (its index in `Scene::files`, never 0), tagged with that
+/// file; a position already tagged keeps its file (it came from yet another file).
+pub(super) fn tag(at: u64, file: u32) -> u64 {
+    if tag_of(at).is_some() {
+        return at;
+    }
+    u64::from(file.min(MAX_TAG)) << OFFSET_BITS | at.min(OFFSET_MASK)
+}
+
+/// The file a tagged position is in (its index in `Scene::files`); `None`: the file being read.
+#[inline(always)]
+pub(super) fn tag_of(at: u64) -> Option<u32> {
+    let file = (at >> OFFSET_BITS) as u32;
+    (file != 0).then_some(file)
+}
+
+/// The byte offset of a position in its file, tagged or not.
+#[inline(always)]
+pub(super) fn offset_of(at: u64) -> u64 {
+    at & OFFSET_MASK
+}
+
+/// The position a recorded event stands at.
+fn position_mut(rec: &mut Rec) -> &mut u64 {
+    match rec {
+        Rec::Used { at, .. } => at,
+        Rec::Ev(ev) => match ev {
+            OwnedEvent::NodeStart { at, .. }
+            | OwnedEvent::NodeEnd { at }
+            | OwnedEvent::Field { at, .. }
+            | OwnedEvent::NodesStart { at, .. }
+            | OwnedEvent::NodesEnd { at }
+            | OwnedEvent::Use { at, .. }
+            | OwnedEvent::Null { at }
+            | OwnedEvent::Decl { at, .. }
+            | OwnedEvent::ProtoStart { at, .. }
+            | OwnedEvent::ProtoBody { at }
+            | OwnedEvent::ProtoEnd { at, .. }
+            | OwnedEvent::Route { at, .. } => at,
+        },
+    }
+}
+
+/// Tags the positions of recorded events with the file they were read from.
+fn tag_all(recs: &mut [Rec], file: u32) {
+    for r in recs {
+        let at = position_mut(r);
+        *at = tag(*at, file);
+    }
+}
+
+/// A PROTO declared in file `file`, with its positions tagged (its interface defaults are in
+/// the arena, tagged there).
+fn tagged(decl: &ProtoDecl, file: u32) -> ProtoDecl {
+    let mut events = decl.body_events.to_vec();
+    tag_all(&mut events, file);
+    let mut d = decl.clone();
+    d.body_events = events.into();
+    for f in &mut d.fields {
+        f.at = tag(f.at, file);
+    }
+    d
+}
+
+/// What is kept of a file read for its PROTOs, to place its positions: its name, its line
+/// index and its last window (the line shown under a message), not its reader.
+fn kept(src: SourceWindow) -> SourceWindow {
+    let mut k = SourceWindow::new(src.name.clone(), Box::new(std::io::empty()));
+    k.lines = src.lines;
+    k.buf = src.buf;
+    k.base = src.base;
+    k.eof = true;
+    k
+}
+
+/// A file read for its PROTOs.
+struct Library {
+    /// Its top-level PROTOs and EXTERNPROTOs, positions tagged.
+    protos: Rc<Protos>,
+    /// The first PROTO (not EXTERNPROTO) declared at its top level: what a url without
+    /// `#Name` names.
+    first: Option<Rc<str>>,
+}
+
+/// The files read for their PROTOs.
+#[derive(Default)]
+pub(super) struct Externs {
+    /// By canonical path: each file is read once per scene.
+    libraries: HashMap<PathBuf, Rc<Library>>,
+    /// The path of each, by its index in `Scene::files` (the folder of its relative urls).
+    paths: HashMap<u32, PathBuf>,
+    /// For each file being read for its PROTOs (innermost last), the first PROTO declared.
+    reading: Vec<Option<Rc<str>>>,
+}
+
+impl Externs {
+    /// The path of the file read for its PROTOs that has index `file` in `Scene::files`.
+    pub(super) fn path_of(&self, file: u32) -> Option<&Path> {
+        self.paths.get(&file).map(PathBuf::as_path)
+    }
+
+    /// A PROTO was declared: the first one at the top level of a file read for its PROTOs
+    /// is what a url without `#Name` names. (While such a file is read nothing is expanded,
+    /// so every declaration then is at its top level.)
+    pub(super) fn declared(&mut self, name: &Rc<str>) {
+        if let Some(first @ None) = self.reading.last_mut() {
+            *first = Some(name.clone());
+        }
+    }
+}
+
+/// A url with the PROTO it names split off: `file.wrl#Name` -> (`file.wrl`, `Some("Name")`).
+fn split_url(url: &str) -> (&str, Option<&str>) {
+    match url.split_once('#') {
+        Some((file, name)) if !name.is_empty() => (file, Some(name)),
+        Some((file, _)) => (file, None),
+        None => (url, None),
+    }
+}
+
+impl Lowerer {
+    /// What the EXTERNPROTO `name` (interface `iface`, declared at `at`) becomes: the PROTO
+    /// named by the first of `urls` that leads to one; `None` (and a warning that lists what
+    /// was tried) if none does, or when other files are not read (`LoadOptions::inline`).
+    pub(super) fn import_proto(
+        &mut self,
+        src: &SourceWindow,
+        name: &Rc<str>,
+        iface: &[InterfaceField],
+        urls: &[String],
+        at: u64,
+    ) -> Result<Option<ProtoDecl>, Error> {
+        if !self.opts.inline {
+            return Ok(None);
+        }
+        let base = self.base_dir(at);
+        let mut tried = Vec::new();
+        for url in urls {
+            let (file, wanted) = split_url(url);
+            let lib = match self.library(src, name, at, &base, url, file)? {
+                Ok(lib) => lib,
+                Err(why) => {
+                    tried.push(why);
+                    continue;
+                }
+            };
+            let found = match wanted {
+                Some(n) => lib.protos.get(n),
+                None => lib.first.as_ref().and_then(|n| lib.protos.get(n)),
+            };
+            match found {
+                Some(ext) if ext.body.is_some() => {
+                    let ext = ext.clone();
+                    return Ok(Some(self.adopt(src, name, iface, &ext, &lib, url)));
+                }
+                Some(ext) => tried.push(format!(
+                    "'{url}' (its {} is an EXTERNPROTO that was not loaded)",
+                    ext.name
+                )),
+                None => tried.push(match wanted {
+                    Some(n) => format!("'{url}' (no PROTO {n} at its top level)"),
+                    None => format!("'{url}' (no PROTO at its top level)"),
+                }),
+            }
+        }
+        let what = if tried.is_empty() {
+            "no url".to_string()
+        } else {
+            tried.join(", ")
+        };
+        self.diags
+            .warn(src, at, format!("EXTERNPROTO {name} not loaded: {what}"));
+        Ok(None)
+    }
+
+    /// The file `file` (of `url`) read for its PROTOs: from the cache, or read now. Why not
+    /// if it cannot be read (not a local relative path, no such file, not VRML97); an error
+    /// at `at` if it is being read (a cycle) or would nest too deep.
+    fn library(
+        &mut self,
+        src: &SourceWindow,
+        name: &str,
+        at: u64,
+        base: &Path,
+        url: &str,
+        file: &str,
+    ) -> Result<Result<Rc<Library>, String>, Error> {
+        let (path, canon) = match local_path(base, file) {
+            Ok(p) => p,
+            Err(why) => return Ok(Err(format!("'{url}' ({why})"))),
+        };
+        if let Some(lib) = self.externs.libraries.get(&canon) {
+            return Ok(Ok(lib.clone()));
+        }
+        match self.admit(&path, &canon) {
+            Admit::Yes => {}
+            Admit::Cycle => {
+                let msg = format!("EXTERNPROTO {name}: '{url}' names a file being read (a cycle)");
+                return Err(self.diags.error(src, at, msg));
+            }
+            Admit::TooDeep => {
+                let max = self.opts.max_inline_depth;
+                let msg = format!("EXTERNPROTO {name}: '{url}' nests deeper than {max} files");
+                return Err(self.diags.error(src, at, msg));
+            }
+            Admit::NotVrml97 => return Ok(Err(format!("'{url}' (not a VRML97 file)"))),
+        }
+        let lib = Rc::new(self.read_library(&path)?);
+        self.externs.libraries.insert(canon, lib.clone());
+        Ok(Ok(lib))
+    }
+
+    /// Reads the file at `path` for its PROTO declarations: parsed into the lowering like any
+    /// file, in a namespace of its own, but under a quiet root (its nodes are read, not
+    /// lowered nor counted) and apart from whatever is under way around it (recordings,
+    /// expansions, open node-valued fields).
+    fn read_library(&mut self, path: &Path) -> Result<Library, Error> {
+        let src = crate::input::open(path)?;
+        let file = u32::try_from(self.scene.files.len()).unwrap_or(u32::MAX);
+        self.scene.files.push(src.name.to_string());
+        self.externs.paths.insert(file, path.to_path_buf());
+        self.files.stack.push(path.to_path_buf());
+        let current = std::mem::replace(&mut self.files.current, file);
+        let aside = self.rec.set_aside();
+        let fields = std::mem::take(&mut self.open.fields);
+        let substs = std::mem::take(&mut self.expansions.substs);
+        let reusing = std::mem::replace(&mut self.replay.reusing, 0);
+        let nodes = self.nodes;
+        let from = self.rec.arena.len();
+        self.scopes.push_file();
+        self.open.push_quiet(Name::Static("<file>"), 0);
+        let depth = self.open.frames.len();
+        self.externs.reading.push(None);
+        let mut parser = Parser::new(src);
+        let r = parser.run(self);
+        let first = self.externs.reading.pop().flatten();
+        debug_assert!(r.is_err() || self.open.frames.len() == depth);
+        self.open.frames.truncate(depth - 1);
+        self.open.quiet -= 1;
+        let protos = self.scopes.pop_protos();
+        // Its positions point into it from now on.
+        tag_all(&mut self.rec.arena[from..], file);
+        self.nodes = nodes;
+        self.replay.reusing = reusing;
+        self.expansions.substs = substs;
+        self.open.fields = fields;
+        self.rec.resume(aside);
+        self.files.current = current;
+        self.files.stack.pop();
+        r?;
+        let src = parser.src;
+        if let Some(at) = src.bad_utf8 {
+            self.diags
+                .warn(&src, at, "invalid UTF-8 (bytes replaced by '?')");
+        }
+        self.files.bytes += src.bytes_read;
+        self.diags.sources.insert(file, Rc::new(kept(src)));
+        // Its own PROTOs get tagged positions; its EXTERNPROTOs already point elsewhere.
+        let protos = protos
+            .into_iter()
+            .map(|(n, d)| match d.home {
+                Some(_) => (n, d),
+                None => (n, Rc::new(tagged(&d, file))),
+            })
+            .collect();
+        Ok(Library {
+            protos: Rc::new(protos),
+            first,
+        })
+    }
+
+    /// The EXTERNPROTO `name` as the PROTO `ext` of `lib` that `url` names: its body, its
+    /// interface and defaults, expanded under its file's PROTOs; an instance may set the
+    /// fields `iface` declares with the same access and type as `ext` (warnings for others).
+    fn adopt(
+        &mut self,
+        src: &SourceWindow,
+        name: &Rc<str>,
+        iface: &[InterfaceField],
+        ext: &ProtoDecl,
+        lib: &Library,
+        url: &str,
+    ) -> ProtoDecl {
+        let mut public = vec![false; ext.fields.len()];
+        for f in iface {
+            // (A field `ext`'s own EXTERNPROTO hides is not there for this one either.)
+            let Some(i) = ext.public_index(&f.name) else {
+                let msg = format!(
+                    "EXTERNPROTO {name} declares '{}', which PROTO {} in '{url}' does not have: it cannot be set",
+                    f.name, ext.name
+                );
+                self.diags.warn(src, f.at, msg);
+                continue;
+            };
+            let e = &ext.fields[i];
+            if e.access == f.access && e.ty == f.ty {
+                public[i] = true;
+                continue;
+            }
+            let msg = format!(
+                "EXTERNPROTO {name} declares {} {} {}, but PROTO {} in '{url}' has {} {} {}: it cannot be set",
+                f.access.keyword(),
+                f.ty.name(),
+                f.name,
+                ext.name,
+                e.access.keyword(),
+                e.ty.name(),
+                e.name
+            );
+            self.diags.warn(src, f.at, msg);
+        }
+        ProtoDecl {
+            name: name.clone(),
+            public: Some(public.into()),
+            // A PROTO that file has through an EXTERNPROTO of its own lives in yet another.
+            home: Some(ext.home.clone().unwrap_or_else(|| lib.protos.clone())),
+            ..ext.clone()
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Origin;
+
+    #[test]
+    fn tagged_positions_have_the_layout_of_origins() {
+        for (file, offset) in [(1, 0), (3, 123_456_789), (MAX_TAG, OFFSET_MASK)] {
+            let at = tag(offset, file);
+            assert_eq!((tag_of(at), offset_of(at)), (Some(file), offset));
+            let o = Origin::new(file, offset);
+            assert_eq!((o.file(), o.offset()), (file, offset));
+        }
+        // Untagged positions are in the file being read; a tag is not replaced.
+        assert_eq!(tag_of(12), None);
+        assert_eq!(tag_of(tag(tag(5, 2), 7)), Some(2));
+    }
+
+    #[test]
+    fn urls_name_a_file_and_maybe_a_proto() {
+        assert_eq!(split_url("a.wrl#Ball"), ("a.wrl", Some("Ball")));
+        assert_eq!(split_url("a.wrl"), ("a.wrl", None));
+        assert_eq!(split_url("a.wrl#"), ("a.wrl", None));
+        assert_eq!(split_url("#Ball"), ("", Some("Ball")));
+    }
+}
