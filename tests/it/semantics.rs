@@ -297,6 +297,29 @@ fn inline_of_a_local_file_and_refusal_of_urls() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A DEF'd Group holding an Inline, USE'd once more: the file is drawn twice, once per
+/// instance (it was drawn three times: the USE replayed the file's events and read it again).
+#[test]
+fn a_used_inline_draws_its_file_once_per_instance() {
+    let dir = std::env::temp_dir().join(format!("gtsphere-inline-use-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("tmp");
+    std::fs::write(
+        dir.join("b.wrl"),
+        "#VRML V2.0 utf8\nDEF S Shape { geometry Sphere { } }\nTransform { translation 0 1 0 children USE S }\n",
+    )
+    .expect("write");
+    std::fs::write(
+        dir.join("a.wrl"),
+        "#VRML V2.0 utf8\nDEF G Group { children Inline { url \"b.wrl\" } }\nTransform { translation 3 0 0 children USE G }\n",
+    )
+    .expect("write");
+    let (s, _) = gtsphere::vrml::load_path(&dir.join("a.wrl"), &Default::default()).expect("load");
+    let mut at: Vec<(f64, f64)> = s.spheres.iter().map(|b| (b.center.x, b.center.y)).collect();
+    at.sort_by(|p, q| p.partial_cmp(q).unwrap());
+    assert_eq!(at, vec![(0.0, 0.0), (0.0, 1.0), (3.0, 0.0), (3.0, 1.0)]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn inline_cycles_are_refused() {
     let dir = std::env::temp_dir().join(format!("gtsphere-cycle-{}", std::process::id()));

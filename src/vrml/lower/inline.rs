@@ -88,8 +88,12 @@ impl Lowerer {
         // A new file is a new namespace, even when reached again through a USE'd Inline.
         let reusing = std::mem::replace(&mut self.replay.reusing, 0);
         let substs = std::mem::take(&mut self.expansions.substs);
+        // A DEF being recorded around the Inline records the Inline node, not the file's
+        // events: a USE of it reads the file again (replaying them too drew it twice).
+        let aside = self.rec.set_aside();
         let mut parser = Parser::new(src);
         let r = parser.run(self);
+        self.rec.resume(aside);
         self.replay.reusing = reusing;
         self.expansions.substs = substs;
         r?;
