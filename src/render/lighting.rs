@@ -13,44 +13,57 @@ use super::visibility::visible;
 use super::{Counters, Prepared};
 use crate::scene::Material;
 
-/// Where and what was hit.
+/// Where and what was hit. As small as a sphere hit needs (the bench's and the AOVs' lists
+/// of hits hold it): what only a triangle has, its geometric normal and its colours, is
+/// looked up from `on` and `x` when shading.
 #[derive(Clone, Copy, Debug)]
 pub struct SurfacePoint {
     pub x: DVec3,
     /// Unit shading normal, on the side the viewer sees.
     pub n: DVec3,
-    /// Unit geometric normal on the same side (equal to `n` on spheres).
-    pub geometric: DVec3,
     /// Unit vector towards the viewer.
     pub v: DVec3,
     /// What was hit (skipped by its own shadow rays).
     pub on: Opaque,
-    /// Its index in the scene: a sphere's in `Scene::spheres`, a surface's in
-    /// `Scene::surfaces` (light scopes, the `id` channel).
-    pub id: u32,
-    /// A mesh's Color there: replaces the Material's diffuseColor.
-    pub color: Option<DVec3>,
 }
 
-/// Whether light `l` may light the point (VRML scoping of DirectionalLights).
+impl SurfacePoint {
+    /// Its index in the scene: a sphere's in `Scene::spheres`, a surface's in
+    /// `Scene::surfaces` (light scopes, the `id` channel).
+    #[inline]
+    pub fn scene_index(&self, prep: &Prepared) -> u32 {
+        match self.on {
+            Opaque::Sphere(p) => prep.bvh.prims[p as usize].sphere,
+            Opaque::Surface(i) => i,
+        }
+    }
+}
+
+/// Whether light `l` may light what the point is on (VRML scoping of DirectionalLights).
 #[inline]
-fn lights(l: &LightSource, sp: &SurfacePoint) -> bool {
-    match sp.on {
-        Opaque::Sphere(_) => in_scope(l, sp.id),
-        Opaque::Surface(_) => in_surface_scope(l, sp.id),
+fn lights(l: &LightSource, on: Opaque, index: u32) -> bool {
+    match on {
+        Opaque::Sphere(_) => in_scope(l, index),
+        Opaque::Surface(_) => in_surface_scope(l, index),
     }
 }
 
 /// Radiance leaving `sp` towards the viewer.
 pub fn shade(prep: &Prepared, m: &Material, sp: &SurfacePoint, counters: &mut Counters) -> DVec3 {
-    let diffuse = sp.color.unwrap_or(m.diffuse);
+    // A triangle's geometric normal and Color there; a sphere's or a solid's normal is both.
+    let (geometric, color) = match sp.on {
+        Opaque::Sphere(_) => (sp.n, None),
+        Opaque::Surface(i) => prep.surfaces.look(i, sp.x, sp.v, sp.n),
+    };
+    let index = sp.scene_index(prep);
+    let diffuse = color.unwrap_or(m.diffuse);
     if m.unlit {
         // VRML 4.14.2: no Material means unlit, lights ignored: white, or the Color node's.
         return diffuse;
     }
     let mut sum = m.emissive;
     for l in &prep.lights {
-        if !lights(l, sp) {
+        if !lights(l, sp.on, index) {
             continue;
         }
         let Some((dir, dist, att)) = towards(l, sp.x) else {
@@ -61,7 +74,7 @@ pub fn shade(prep: &Prepared, m: &Material, sp: &SurfacePoint, counters: &mut Co
         // direct term (diffuse and specular) vanishes. A face lit from behind its geometric
         // normal is in its own shadow, whatever its shading normal says.
         let ndotl = sp.n.dot(dir);
-        if ndotl <= 0.0 || sp.geometric.dot(dir) <= 0.0 || l.direct == DVec3::ZERO {
+        if ndotl <= 0.0 || geometric.dot(dir) <= 0.0 || l.direct == DVec3::ZERO {
             continue;
         }
         counters.shadow_rays += 1;

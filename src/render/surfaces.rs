@@ -36,17 +36,6 @@ pub struct Surfaces {
     pub materials: Vec<u32>,
 }
 
-/// Where a ray meets a surface, as shading needs it.
-#[derive(Clone, Copy, Debug)]
-pub struct SurfaceHitPoint {
-    /// Unit geometric normal on the side the ray came from.
-    pub geometric: DVec3,
-    /// Unit shading normal on the same side.
-    pub shading: DVec3,
-    /// The Color node's colour there, if any.
-    pub color: Option<DVec3>,
-}
-
 impl Surfaces {
     pub fn build(surfaces: Vec<Surface>) -> Surfaces {
         let mut items = Vec::with_capacity(surfaces.len());
@@ -109,8 +98,9 @@ impl Surfaces {
         })
     }
 
-    /// Normals and colour of surface `i` at `o + t d`, a hit found by [`Surfaces::closest`].
-    pub fn hit_point(&self, i: u32, o: DVec3, d: DVec3, t: f64) -> SurfaceHitPoint {
+    /// The unit shading normal of surface `i` at `o + t d` (a hit found by
+    /// [`Surfaces::closest`]), on the side the ray came from.
+    pub fn shading_normal(&self, i: u32, o: DVec3, d: DVec3, t: f64) -> DVec3 {
         match &self.items[i as usize] {
             Traced::Solid {
                 solid,
@@ -132,41 +122,49 @@ impl Surfaces {
                     .min_by(|a, b| (a.t - t).abs().total_cmp(&(b.t - t).abs()))
                     .copied()
                     .unwrap_or(out[0]);
-                let mut g = (*normal_to_world * c.normal).normalize_or_zero();
+                let g = (*normal_to_world * c.normal).normalize_or_zero();
                 if g.dot(d) > 0.0 {
-                    g = -g;
-                }
-                SurfaceHitPoint {
-                    geometric: g,
-                    shading: g,
-                    color: None,
+                    -g
+                } else {
+                    g
                 }
             }
             Traced::Triangle(tri) => {
-                let (b1, b2) = match triangle_hit(&tri.p, o, d, f64::NEG_INFINITY, f64::INFINITY) {
-                    Some(h) => (h.b1, h.b2),
-                    None => (1.0 / 3.0, 1.0 / 3.0),
-                };
-                let b0 = 1.0 - b1 - b2;
-                let mut g = tri.face_normal().normalize_or_zero();
+                let (b1, b2) = barycentric(&tri.p, o + t * d);
+                let g = tri.face_normal().normalize_or_zero();
                 let mut s = match tri.n {
-                    Some(n) => (b0 * n[0] + b1 * n[1] + b2 * n[2]).normalize_or_zero(),
+                    Some(n) => ((1.0 - b1 - b2) * n[0] + b1 * n[1] + b2 * n[2]).normalize_or_zero(),
                     None => g,
                 };
                 if s == DVec3::ZERO || s.dot(g) < 0.0 {
                     // A shading normal on the other side than the face's own: the face's.
                     s = g;
                 }
+                // Seen from behind (not solid): the normal faces the viewer.
                 if g.dot(d) > 0.0 {
-                    // Seen from behind (not solid): both normals face the viewer.
-                    g = -g;
-                    s = -s;
+                    -s
+                } else {
+                    s
                 }
-                SurfaceHitPoint {
-                    geometric: g,
-                    shading: s,
-                    color: tri.color.map(|c| b0 * c[0] + b1 * c[1] + b2 * c[2]),
-                }
+            }
+        }
+    }
+
+    /// What shading needs of surface `i` at `x` beyond the shading normal `n` (seen from
+    /// `v`): the unit geometric normal on the viewer's side, and the Color there, if any.
+    /// A solid's geometric normal is `n`.
+    #[inline]
+    pub fn look(&self, i: u32, x: DVec3, v: DVec3, n: DVec3) -> (DVec3, Option<DVec3>) {
+        match &self.items[i as usize] {
+            Traced::Solid { .. } => (n, None),
+            Traced::Triangle(tri) => {
+                let g = tri.face_normal().normalize_or_zero();
+                let g = if g.dot(v) < 0.0 { -g } else { g };
+                let color = tri.color.map(|c| {
+                    let (b1, b2) = barycentric(&tri.p, x);
+                    (1.0 - b1 - b2) * c[0] + b1 * c[1] + b2 * c[2]
+                });
+                (g, color)
             }
         }
     }
@@ -225,6 +223,19 @@ impl Surfaces {
         }
         out.truncate(w);
     }
+}
+
+/// Barycentric weights of corners 1 and 2 of the triangle `p` at the point `x` of its plane.
+#[inline]
+fn barycentric(p: &[DVec3; 3], x: DVec3) -> (f64, f64) {
+    let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
+    let n = e1.cross(e2);
+    let nn = n.length_squared();
+    if nn == 0.0 {
+        return (1.0 / 3.0, 1.0 / 3.0);
+    }
+    let q = x - p[0];
+    (q.cross(e2).dot(n) / nn, e1.cross(q).dot(n) / nn)
 }
 
 fn shape_of(item: &Traced) -> Shape<'_> {

@@ -115,7 +115,7 @@ fn render_pixel(
                 let n = sp.n.as_vec3();
                 // Spheres are numbered first, then the other surfaces.
                 let id = match hit.on {
-                    surface::Opaque::Sphere(_) => f64::from(sp.id),
+                    surface::Opaque::Sphere(_) => f64::from(sp.scene_index(prep)),
                     surface::Opaque::Surface(i) => (prep.spheres + i as usize) as f64,
                 };
                 [hit.t as f32, n.x, n.y, n.z, id as f32]

@@ -207,7 +207,7 @@ fn benchmark_scene_shadows_match_brute_force() {
                 continue;
             };
             let sp = surface_point(&prep, o, d, h);
-            let own = sp.id as usize;
+            let own = sp.scene_index(&prep) as usize;
             for l in &prep.lights {
                 let (dir, dist, _) = towards(l, sp.x).unwrap();
                 let got = visible(&prep, sp.x, dir, dist, Some(sp.on)) > 0.0;

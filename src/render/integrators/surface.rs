@@ -80,25 +80,16 @@ pub fn surface_point(prep: &Prepared, o: DVec3, d: DVec3, hit: OpaqueHit) -> Sur
             SurfacePoint {
                 x,
                 n,
-                geometric: n,
                 v: -d,
                 on: hit.on,
-                id: p.sphere,
-                color: None,
             }
         }
-        Opaque::Surface(i) => {
-            let h = prep.surfaces.hit_point(i, o, d, hit.t);
-            SurfacePoint {
-                x,
-                n: h.shading,
-                geometric: h.geometric,
-                v: -d,
-                on: hit.on,
-                id: i,
-                color: h.color,
-            }
-        }
+        Opaque::Surface(i) => SurfacePoint {
+            x,
+            n: prep.surfaces.shading_normal(i, o, d, hit.t),
+            v: -d,
+            on: hit.on,
+        },
     }
 }
 
