@@ -410,3 +410,61 @@ fn every_tool_export_renders_with_no_options() {
         assert!(img.rgb.iter().flatten().all(|v| v.is_finite()));
     }
 }
+
+#[test]
+fn an_elevation_grid_is_its_quads_as_triangles_facing_up() {
+    // 4 x 3 heights, spacings 0.5 and 2, one colour per quad in row order (i fastest).
+    let heights = "0 0.1 0.2 0.3  1 1.1 1.2 1.3  2 2.1 2.2 2.3";
+    let colours = "1 0 0, 0 1 0, 0 0 1, 1 1 0, 0 1 1, 1 0 1";
+    let (s, r) = scene(&format!(
+        "Shape {{ geometry ElevationGrid {{ xDimension 4 zDimension 3 xSpacing 0.5 zSpacing 2 \
+         height [ {heights} ] colorPerVertex FALSE color Color {{ color [ {colours} ] }} }} }}"
+    ));
+    assert!(
+        r.warnings.is_empty() && r.skipped.is_empty(),
+        "{:?} {:?}",
+        r.warnings,
+        r.skipped
+    );
+    assert_eq!(s.surface_counts().triangles, 2 * 3 * 2);
+    let want_colour = [
+        DVec3::new(1.0, 0.0, 0.0),
+        DVec3::new(0.0, 1.0, 0.0),
+        DVec3::new(0.0, 0.0, 1.0),
+        DVec3::new(1.0, 1.0, 0.0),
+        DVec3::new(0.0, 1.0, 1.0),
+        DVec3::new(1.0, 0.0, 1.0),
+    ];
+    let mut area_xz = 0.0;
+    for sf in &s.surfaces {
+        let SurfaceShape::Triangle(t) = &sf.shape else {
+            panic!("a triangle");
+        };
+        let n = t.face_normal();
+        assert!(n.y > 0.0, "the front faces +y: {n}");
+        area_xz += 0.5 * n.y;
+        // Each triangle lies in one quad: its centroid says which (i along x, j along z).
+        let c = (t.p[0] + t.p[1] + t.p[2]) / 3.0;
+        let (i, j) = ((c.x / 0.5) as usize, (c.z / 2.0) as usize);
+        assert_eq!(
+            t.color,
+            Some([want_colour[i + 3 * j]; 3]),
+            "quad ({i}, {j})"
+        );
+        // Heights: y = height[i + 4 j] at each corner.
+        for p in t.p {
+            let (pi, pj) = ((p.x / 0.5).round() as usize, (p.z / 2.0).round() as usize);
+            assert!((p.y - (pj as f64 + 0.1 * pi as f64)).abs() < 1e-12, "{p}");
+        }
+    }
+    // The triangles cover the grid's 1.5 x 4 extent once, seen from above.
+    assert!((area_xz - 1.5 * 4.0).abs() < 1e-12, "{area_xz}");
+    let (s, r) =
+        scene("Shape { geometry ElevationGrid { xDimension 3 zDimension 3 height [ 0 0 0 ] } }");
+    assert!(s.surfaces.is_empty());
+    assert!(
+        r.warnings[0].message.contains("3 heights for a 3 x 3 grid"),
+        "{:?}",
+        r.warnings
+    );
+}

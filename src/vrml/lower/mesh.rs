@@ -24,12 +24,41 @@ pub(super) enum Array {
     Normal,
 }
 
-/// An open IndexedFaceSet or PointSet (rare: boxed in [`Kind::Mesh`]). Arrays are slots of
-/// [`Meshes::arrays`].
-#[derive(Debug)]
+/// Which node a mesh is.
+#[derive(Clone, Debug)]
+pub(super) enum MeshKind {
+    IndexedFaceSet,
+    PointSet,
+    /// An ElevationGrid: its points and faces are made from these when it closes.
+    ElevationGrid(Grid),
+}
+
+/// An ElevationGrid's own fields (VRML97 6.18, with its defaults).
+#[derive(Clone, Debug, Default)]
+pub(super) struct Grid {
+    pub(super) x_dimension: f64,
+    pub(super) z_dimension: f64,
+    pub(super) x_spacing: f64,
+    pub(super) z_spacing: f64,
+    pub(super) height: Vec<f64>,
+}
+
+impl MeshKind {
+    /// The node type, for messages and counts.
+    pub(super) fn name(&self) -> &'static str {
+        match self {
+            MeshKind::IndexedFaceSet => "IndexedFaceSet",
+            MeshKind::PointSet => "PointSet",
+            MeshKind::ElevationGrid(_) => "ElevationGrid",
+        }
+    }
+}
+
+/// An open IndexedFaceSet, PointSet or ElevationGrid (rare: boxed in [`Kind::Mesh`]). Arrays
+/// are slots of [`Meshes::arrays`].
+#[derive(Clone, Debug)]
 pub(super) struct MeshState {
-    /// A PointSet (no faces), not an IndexedFaceSet.
-    pub(super) points_only: bool,
+    pub(super) kind: MeshKind,
     pub(super) coord: Option<u32>,
     pub(super) color: Option<u32>,
     pub(super) normal: Option<u32>,
@@ -104,6 +133,19 @@ fn integers(values: &[f64]) -> Vec<i64> {
 /// Reads a field of a mesh or of one of its arrays, leniently: a value of another type is
 /// ignored (the node was skipped whole before it was modelled).
 pub(super) fn mesh_field(kind: &mut Kind, name: &str, value: &Value, meshes: &mut Meshes) {
+    if let (Kind::Mesh(m), Value::Numbers { values, .. }) = (&mut *kind, value) {
+        if let MeshKind::ElevationGrid(g) = &mut m.kind {
+            let first = values.first().copied().unwrap_or(0.0);
+            match name {
+                "xDimension" => return g.x_dimension = first,
+                "zDimension" => return g.z_dimension = first,
+                "xSpacing" => return g.x_spacing = first,
+                "zSpacing" => return g.z_spacing = first,
+                "height" => return g.height = values.to_vec(),
+                _ => {}
+            }
+        }
+    }
     match (kind, value) {
         (Kind::MeshArray(which, slot), Value::Numbers { values, .. }) => {
             let wanted = match which {
@@ -153,9 +195,9 @@ impl Lowerer {
     /// no table: as for a skipped node, none of them is checked or warned about.
     #[cold]
     #[inline(never)]
-    pub(super) fn open_mesh(&mut self, ty: Name, at: u64, points_only: bool) {
+    pub(super) fn open_mesh(&mut self, ty: Name, at: u64, kind: MeshKind) {
         let kind = Kind::Mesh(Box::new(MeshState {
-            points_only,
+            kind,
             coord: None,
             color: None,
             normal: None,
@@ -214,18 +256,18 @@ impl Lowerer {
         at: u64,
     ) -> Result<Result_, Error> {
         // (Only a Shape's geometry is drawn: elsewhere it counts as skipped.)
-        let drawable = !m.malformed && !self.meshes.array(m.coord).is_empty();
+        let drawable = !m.malformed
+            && match &m.kind {
+                MeshKind::ElevationGrid(g) => g.x_dimension >= 2.0 && g.z_dimension >= 2.0,
+                _ => !self.meshes.array(m.coord).is_empty(),
+            };
         let geom = if self.open.in_shape_geometry() && drawable {
             let parts = self.mesh_parts(src, m, at)?;
             let i = self.meshes.parts.len() as u32;
             self.meshes.parts.push(Some(parts));
             Geom::Mesh(i, at)
         } else {
-            self.diags.skip(if m.points_only {
-                "PointSet"
-            } else {
-                "IndexedFaceSet"
-            });
+            self.diags.skip(m.kind.name());
             Geom::Other
         };
         self.meshes.arrays.clear();
@@ -252,7 +294,7 @@ impl Lowerer {
         self.open.in_shape_geometry()
             && matches!(&self.rec.arena[start],
                 Rec::Ev(OwnedEvent::NodeStart { ty, .. })
-                    if &**ty == "IndexedFaceSet" || &**ty == "PointSet")
+                    if matches!(&**ty, "IndexedFaceSet" | "PointSet" | "ElevationGrid"))
     }
 
     /// A USE of the mesh recorded at `start`, if what it lowers to is known: counted and

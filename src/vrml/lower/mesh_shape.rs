@@ -14,7 +14,7 @@
 
 use glam::DVec3;
 
-use super::mesh::{MeshState, Meshes};
+use super::mesh::{Grid, MeshKind, MeshState, Meshes};
 use super::{Diags, Lowerer};
 use crate::error::Error;
 use crate::geom::mesh::{components, crease_normals, faces, first_bad_index, triangulate};
@@ -84,20 +84,69 @@ impl Lowerer {
         let meshes = &self.meshes;
         let diags = &mut self.diags;
         let points = meshes.array(m.coord);
-        let parts = if m.points_only || m.coord_index.iter().all(|&i| i == -1) {
-            let ty = if m.points_only {
-                "PointSet"
-            } else {
-                "IndexedFaceSet"
-            };
-            point_cloud(meshes, m, points, diags, src, at, ty)
-        } else {
-            faces_to_parts(meshes, m, points, diags, src, at)
+        let parts = match &m.kind {
+            MeshKind::ElevationGrid(g) => match grid_mesh(g) {
+                Some((points, coord_index)) => {
+                    let mut m = m.clone();
+                    m.coord_index = coord_index;
+                    faces_to_parts(meshes, &m, &points, diags, src, at)
+                }
+                None => {
+                    diags.warn(
+                        src,
+                        at,
+                        format!(
+                            "ElevationGrid: {} heights for a {} x {} grid, or a size or spacing that is not finite: not drawn",
+                            g.height.len(),
+                            g.x_dimension,
+                            g.z_dimension
+                        ),
+                    );
+                    MeshParts::default()
+                }
+            },
+            k @ MeshKind::PointSet => point_cloud(meshes, m, points, diags, src, at, k.name()),
+            k if m.coord_index.iter().all(|&i| i == -1) => {
+                point_cloud(meshes, m, points, diags, src, at, k.name())
+            }
+            _ => faces_to_parts(meshes, m, points, diags, src, at),
         };
         self.meshes.spheres += parts.mesh_spheres();
         self.meshes.point_spheres += parts.point_spheres();
         Ok(parts)
     }
+}
+
+/// An ElevationGrid's points (`x = i xSpacing`, `y = height[i + j xDimension]`,
+/// `z = j zSpacing`) and its quads, row by row (`i` fastest, as its per-face colours and
+/// normals are given), each `(i, j), (i, j+1), (i+1, j+1), (i+1, j)`: counter-clockwise seen
+/// from +y, the side VRML97 6.18's default `ccw` faces. `None` when the heights are too few
+/// or a size or spacing is not finite.
+fn grid_mesh(g: &Grid) -> Option<(Vec<DVec3>, Vec<i64>)> {
+    let (nx, nz) = (g.x_dimension as usize, g.z_dimension as usize);
+    let n = nx.checked_mul(nz)?;
+    if g.height.len() < n || !(g.x_spacing.is_finite() && g.z_spacing.is_finite()) {
+        return None;
+    }
+    let mut points = Vec::with_capacity(n);
+    for j in 0..nz {
+        for i in 0..nx {
+            let y = g.height[i + j * nx];
+            points.push(DVec3::new(
+                i as f64 * g.x_spacing,
+                y,
+                j as f64 * g.z_spacing,
+            ));
+        }
+    }
+    let at = |i: usize, j: usize| (i + j * nx) as i64;
+    let mut index = Vec::with_capacity(5 * (nx - 1) * (nz - 1));
+    for j in 0..nz - 1 {
+        for i in 0..nx - 1 {
+            index.extend([at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j), -1]);
+        }
+    }
+    Some((points, index))
 }
 
 /// Points as particles.

@@ -23,6 +23,7 @@
 //! | Box, Cylinder, Cone | `size`; `radius height bottom side top`; `bottomRadius height side bottom` (sizes must be > 0): exact opaque surfaces |
 //! | IndexedFaceSet | `coord coordIndex color colorIndex colorPerVertex normal normalIndex normalPerVertex ccw solid creaseAngle`: spheres, triangles or points (see below); `texCoord`, `convex` not read |
 //! | PointSet | `coord color`: one sphere per point (see below) |
+//! | ElevationGrid | `xDimension zDimension xSpacing zSpacing height color colorPerVertex normal normalPerVertex ccw solid creaseAngle`: its quads, as an IndexedFaceSet's faces |
 //! | PointLight | `ambientIntensity attenuation color intensity location on radius` |
 //! | DirectionalLight | `ambientIntensity color direction intensity on` |
 //! | Viewpoint | `position orientation fieldOfView description` |

@@ -7,6 +7,7 @@
 
 use glam::{DQuat, DVec3};
 
+use super::mesh::{Grid, MeshKind};
 use super::open::{Frame, Kind, Leaf, Marks, Name};
 use super::record::RecKind;
 use super::Lowerer;
@@ -33,6 +34,7 @@ enum Lowered {
     Cone,
     IndexedFaceSet,
     PointSet,
+    ElevationGrid,
     Coordinate,
     PointLight,
     DirectionalLight,
@@ -59,7 +61,7 @@ const fn same_str(a: &str, b: &str) -> bool {
 }
 
 const fn lowered_as(name: &str) -> Lowered {
-    const MODELLED: [(&str, Lowered); 23] = [
+    const MODELLED: [(&str, Lowered); 24] = [
         ("Group", Lowered::Group),
         ("Anchor", Lowered::Group),
         ("Billboard", Lowered::Group),
@@ -77,6 +79,7 @@ const fn lowered_as(name: &str) -> Lowered {
         ("Cone", Lowered::Cone),
         ("IndexedFaceSet", Lowered::IndexedFaceSet),
         ("PointSet", Lowered::PointSet),
+        ("ElevationGrid", Lowered::ElevationGrid),
         ("Coordinate", Lowered::Coordinate),
         ("PointLight", Lowered::PointLight),
         ("DirectionalLight", Lowered::DirectionalLight),
@@ -243,8 +246,17 @@ impl Lowerer {
                 side: true,
                 bottom: true,
             }),
-            Lowered::IndexedFaceSet | Lowered::PointSet => {
-                self.open_mesh(ty_rc, at, lowered == Lowered::PointSet);
+            Lowered::IndexedFaceSet | Lowered::PointSet | Lowered::ElevationGrid => {
+                let kind = match lowered {
+                    Lowered::PointSet => MeshKind::PointSet,
+                    Lowered::ElevationGrid => MeshKind::ElevationGrid(Grid {
+                        x_spacing: 1.0,
+                        z_spacing: 1.0,
+                        ..Grid::default()
+                    }),
+                    _ => MeshKind::IndexedFaceSet,
+                };
+                self.open_mesh(ty_rc, at, kind);
                 return Ok(());
             }
             Lowered::PointLight => Kind::PointLight(Box::new(PointLight {
@@ -343,7 +355,7 @@ mod tests {
             .filter(|(_, l)| *l != Lowered::Skipped)
             .map(|(n, _)| n.name)
             .collect();
-        assert_eq!(modelled.len(), 23, "{modelled:?}");
+        assert_eq!(modelled.len(), 24, "{modelled:?}");
         assert_eq!(LOWERED[schema::node_index("LOD").unwrap()], Lowered::Lod);
         assert_eq!(LOWERED[schema::node_index("Box").unwrap()], Lowered::Cuboid);
         assert_eq!(
