@@ -468,3 +468,27 @@ fn an_elevation_grid_is_its_quads_as_triangles_facing_up() {
         r.warnings
     );
 }
+
+#[test]
+fn the_point_radius_note_is_said_once_and_a_bad_radius_is_refused() {
+    let body = "PROTO Cloud [ ] { Shape { geometry PointSet { coord Coordinate { point [ 0 0 0, 1 0 0 ] } } } }\n\
+                Cloud { } Cloud { } Cloud { }";
+    let (s, r) = points_scene(body, None);
+    assert_eq!(s.spheres.len(), 6);
+    assert_eq!(r.notes.len(), 1, "{:?}", r.notes);
+    assert_eq!(r.notes[0].repeats, 2);
+    for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        let opts = LoadOptions {
+            point_radius: Some(bad),
+            ..LoadOptions::default()
+        };
+        let e = load_str("t.wrl", &format!("#VRML V2.0 utf8\n{body}"), &opts)
+            .err()
+            .unwrap_or_else(|| panic!("point radius {bad} must be refused"));
+        assert!(
+            e.to_string()
+                .contains("point radius must be a positive number"),
+            "{e}"
+        );
+    }
+}

@@ -163,9 +163,20 @@ pub struct LoadReport {
     pub notes: Vec<Diagnostic>,
 }
 
+/// Refuses options no scene can be lowered with.
+fn check_options(opts: &LoadOptions) -> Result<(), Error> {
+    match opts.point_radius {
+        Some(r) if !(r > 0.0 && r.is_finite()) => Err(Error::Other(format!(
+            "the point radius must be a positive number, found {r}"
+        ))),
+        _ => Ok(()),
+    }
+}
+
 /// Loads a scene file (plain or gzip-compressed).
 pub fn load_path(path: &Path, opts: &LoadOptions) -> Result<(Scene, LoadReport), Error> {
     let t0 = Instant::now();
+    check_options(opts)?;
     let mut low = Lowerer::new(opts.clone());
     low.load_file(path)?;
     low.finish(t0)
@@ -179,6 +190,7 @@ pub fn load_bytes(
     opts: &LoadOptions,
 ) -> Result<(Scene, LoadReport), Error> {
     let t0 = Instant::now();
+    check_options(opts)?;
     let mut low = Lowerer::new(opts.clone());
     let reader = crate::input::sniff(std::io::Cursor::new(bytes)).map_err(|e| Error::Io {
         path: name.to_string(),
@@ -259,6 +271,15 @@ impl Diags {
     fn note(&mut self, src: &SourceWindow, at: u64, msg: impl Into<String>) {
         let (src, at) = self.locate(src, at);
         let d = src.diagnostic(Severity::Note, at, msg.into());
+        // Repeats (a PROTO of points instanced many times) are folded, as warnings are.
+        if let Some(first) = self
+            .notes
+            .iter_mut()
+            .find(|n| n.message == d.message && n.file == d.file)
+        {
+            first.repeats += 1;
+            return;
+        }
         self.notes.push(d);
     }
 
