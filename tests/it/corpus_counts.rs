@@ -15,8 +15,9 @@
 //! vertices (>= 12) lie on a sphere (within 0.2 % of the radius, covering the whole sphere)
 //! with one colour at every corner is one sphere, any other component gives n - 2 triangles
 //! per n-gon (0 for a zero-area face); an IFS with points but no faces gives one sphere per
-//! point; an IFS without points or with non-integer indices stays skipped. Other geometry
-//! (IndexedLineSet, Text, Extrusion, ...) and IFS/PointSet outside a Shape go to `skipped`.
+//! point; an IFS without points or with non-integer indices stays skipped. ElevationGrid and
+//! Extrusion give their quads (and an Extrusion's caps) as faces. Other geometry
+//! (IndexedLineSet, Text, ...) and IFS/PointSet outside a Shape go to `skipped`.
 pub struct Expected {
     pub path: &'static str, // relative to shared/corpus
     pub spheres: usize,     // all sphere instances (opaque + gas)
@@ -452,9 +453,12 @@ pub const EXPECTED: &[Expected] = &[
     // Spheres: DEF Ball (1) + USE Ball in Middle (1) + USE Ball in head (1) + DEF Eye (1) +
     // USE Eye (1) = 5 (the `# transparency .2` is a comment -> opaque). Surfaces: Cone 1
     // (nose), Cylinder 2 (hat, second via appearance USE Felt; `grep -c Cylinder` = 2, no
-    // geometry USE). Skipped: VisibilitySensor 1 (DEF See, a Transform child), Extrusion 2
-    // (DEF Arm, DEF Tipper), TimeSensor 1, CoordinateInterpolator 1, PositionInterpolator 1,
-    // WorldInfo 2 (first and last node).
+    // geometry USE). Triangles: the 2 Extrusions (the arm, DEF Tipper; read from lines 163 and
+    // 183) each have a closed 9-point crossSection (8 distinct points, an octagon) and 3 spine
+    // points: 2 x 8 side quads = 32 triangles, plus the two default caps, octagons of 6
+    // triangles each: 44 each, 88 in all. Skipped: VisibilitySensor 1 (DEF See, a Transform
+    // child), TimeSensor 1, CoordinateInterpolator 1, PositionInterpolator 1, WorldInfo 2
+    // (first and last node).
     // Background/NavigationInfo modelled; Viewpoint 1; 5 ROUTEs ignored.
     Expected {
         path: "conformance/openvrml/models/snoman.wrl",
@@ -466,10 +470,9 @@ pub const EXPECTED: &[Expected] = &[
         boxes: 0,
         cylinders: 2,
         cones: 1,
-        triangles: 0,
+        triangles: 88,
         skipped: &[
             ("CoordinateInterpolator", 1),
-            ("Extrusion", 2),
             ("PositionInterpolator", 1),
             ("TimeSensor", 1),
             ("VisibilitySensor", 1),

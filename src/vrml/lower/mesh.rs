@@ -31,6 +31,8 @@ pub(super) enum MeshKind {
     PointSet,
     /// An ElevationGrid: its points and faces are made from these when it closes.
     ElevationGrid(Grid),
+    /// An Extrusion: likewise.
+    Extrusion(Box<crate::geom::mesh::Extrusion>),
 }
 
 /// An ElevationGrid's own fields (VRML97 6.18, with its defaults).
@@ -50,6 +52,7 @@ impl MeshKind {
             MeshKind::IndexedFaceSet => "IndexedFaceSet",
             MeshKind::PointSet => "PointSet",
             MeshKind::ElevationGrid(_) => "ElevationGrid",
+            MeshKind::Extrusion(_) => "Extrusion",
         }
     }
 }
@@ -134,6 +137,26 @@ fn integers(values: &[f64]) -> Vec<i64> {
 /// ignored (the node was skipped whole before it was modelled).
 pub(super) fn mesh_field(kind: &mut Kind, name: &str, value: &Value, meshes: &mut Meshes) {
     if let (Kind::Mesh(m), Value::Numbers { values, .. }) = (&mut *kind, value) {
+        if let MeshKind::Extrusion(e) = &mut m.kind {
+            let pairs = || {
+                values
+                    .chunks_exact(2)
+                    .map(|c| glam::DVec2::new(c[0], c[1]))
+                    .collect()
+            };
+            match name {
+                "crossSection" => return e.cross_section = pairs(),
+                "scale" => return e.scale = pairs(),
+                "spine" => return e.spine = triples(values),
+                "orientation" => {
+                    return e.orientation = values
+                        .chunks_exact(4)
+                        .map(|c| super::transform::quat([c[0], c[1], c[2], c[3]]))
+                        .collect()
+                }
+                _ => {}
+            }
+        }
         if let MeshKind::ElevationGrid(g) = &mut m.kind {
             let first = values.first().copied().unwrap_or(0.0);
             match name {
@@ -178,6 +201,13 @@ pub(super) fn mesh_field(kind: &mut Kind, name: &str, value: &Value, meshes: &mu
         },
         (Kind::Mesh(m), Value::Bools { values, .. }) => {
             let b = values.first().copied().unwrap_or(true);
+            if let MeshKind::Extrusion(e) = &mut m.kind {
+                match name {
+                    "beginCap" => e.begin_cap = b,
+                    "endCap" => e.end_cap = b,
+                    _ => {}
+                }
+            }
             match name {
                 "ccw" => m.ccw = b,
                 "solid" => m.solid = b,
@@ -259,6 +289,7 @@ impl Lowerer {
         let drawable = !m.malformed
             && match &m.kind {
                 MeshKind::ElevationGrid(g) => g.x_dimension >= 2.0 && g.z_dimension >= 2.0,
+                MeshKind::Extrusion(_) => true,
                 _ => !self.meshes.array(m.coord).is_empty(),
             };
         let geom = if self.open.in_shape_geometry() && drawable {
@@ -294,7 +325,7 @@ impl Lowerer {
         self.open.in_shape_geometry()
             && matches!(&self.rec.arena[start],
                 Rec::Ev(OwnedEvent::NodeStart { ty, .. })
-                    if matches!(&**ty, "IndexedFaceSet" | "PointSet" | "ElevationGrid"))
+                    if matches!(&**ty, "IndexedFaceSet" | "PointSet" | "ElevationGrid" | "Extrusion"))
     }
 
     /// A USE of the mesh recorded at `start`, if what it lowers to is known: counted and

@@ -105,6 +105,21 @@ impl Lowerer {
                     MeshParts::default()
                 }
             },
+            MeshKind::Extrusion(e) => match crate::geom::mesh::extrusion_mesh(e) {
+                Some((points, coord_index)) => {
+                    let mut m = m.clone();
+                    m.coord_index = coord_index;
+                    faces_to_parts(meshes, &m, &points, diags, src, at)
+                }
+                None => {
+                    diags.warn(
+                        src,
+                        at,
+                        "Extrusion: fewer than two spine or cross-section points, or points that are not finite: not drawn",
+                    );
+                    MeshParts::default()
+                }
+            },
             k @ MeshKind::PointSet => point_cloud(meshes, m, points, diags, src, at, k.name()),
             k if m.coord_index.iter().all(|&i| i == -1) => {
                 point_cloud(meshes, m, points, diags, src, at, k.name())

@@ -24,6 +24,7 @@
 //! | IndexedFaceSet | `coord coordIndex color colorIndex colorPerVertex normal normalIndex normalPerVertex ccw solid creaseAngle`: spheres, triangles or points (see below); `texCoord`, `convex` not read |
 //! | PointSet | `coord color`: one sphere per point (see below) |
 //! | ElevationGrid | `xDimension zDimension xSpacing zSpacing height color colorPerVertex normal normalPerVertex ccw solid creaseAngle`: its quads, as an IndexedFaceSet's faces |
+//! | Extrusion | `crossSection spine scale orientation beginCap endCap ccw solid creaseAngle`: its side quads and caps, likewise (`convex` not read: caps are triangulated as they are) |
 //! | PointLight | `ambientIntensity attenuation color intensity location on radius` |
 //! | DirectionalLight | `ambientIntensity color direction intensity on` |
 //! | Viewpoint | `position orientation fieldOfView description` |

@@ -35,6 +35,7 @@ enum Lowered {
     IndexedFaceSet,
     PointSet,
     ElevationGrid,
+    Extrusion,
     Coordinate,
     PointLight,
     DirectionalLight,
@@ -61,7 +62,7 @@ const fn same_str(a: &str, b: &str) -> bool {
 }
 
 const fn lowered_as(name: &str) -> Lowered {
-    const MODELLED: [(&str, Lowered); 24] = [
+    const MODELLED: [(&str, Lowered); 25] = [
         ("Group", Lowered::Group),
         ("Anchor", Lowered::Group),
         ("Billboard", Lowered::Group),
@@ -80,6 +81,7 @@ const fn lowered_as(name: &str) -> Lowered {
         ("IndexedFaceSet", Lowered::IndexedFaceSet),
         ("PointSet", Lowered::PointSet),
         ("ElevationGrid", Lowered::ElevationGrid),
+        ("Extrusion", Lowered::Extrusion),
         ("Coordinate", Lowered::Coordinate),
         ("PointLight", Lowered::PointLight),
         ("DirectionalLight", Lowered::DirectionalLight),
@@ -246,7 +248,10 @@ impl Lowerer {
                 side: true,
                 bottom: true,
             }),
-            Lowered::IndexedFaceSet | Lowered::PointSet | Lowered::ElevationGrid => {
+            Lowered::IndexedFaceSet
+            | Lowered::PointSet
+            | Lowered::ElevationGrid
+            | Lowered::Extrusion => {
                 let kind = match lowered {
                     Lowered::PointSet => MeshKind::PointSet,
                     Lowered::ElevationGrid => MeshKind::ElevationGrid(Grid {
@@ -254,6 +259,7 @@ impl Lowerer {
                         z_spacing: 1.0,
                         ..Grid::default()
                     }),
+                    Lowered::Extrusion => MeshKind::Extrusion(Box::default()),
                     _ => MeshKind::IndexedFaceSet,
                 };
                 self.open_mesh(ty_rc, at, kind);
@@ -355,7 +361,7 @@ mod tests {
             .filter(|(_, l)| *l != Lowered::Skipped)
             .map(|(n, _)| n.name)
             .collect();
-        assert_eq!(modelled.len(), 24, "{modelled:?}");
+        assert_eq!(modelled.len(), 25, "{modelled:?}");
         assert_eq!(LOWERED[schema::node_index("LOD").unwrap()], Lowered::Lod);
         assert_eq!(LOWERED[schema::node_index("Box").unwrap()], Lowered::Cuboid);
         assert_eq!(
