@@ -8,7 +8,7 @@ use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use gtsphere::error::Error;
-use gtsphere::output::{format_for, write_image, write_part, Format, Placement};
+use gtsphere::output::{format_for, write_image, write_npy, write_part, Format, Placement};
 use gtsphere::render::{
     prepare, tiles::render_with_progress, tiles::Progress, Aovs, CameraChoice, Integrator,
     Projection, RenderOptions, SamplerKind,
@@ -54,7 +54,8 @@ pub enum IntegratorArg {
 pub struct RenderArgs {
     /// Scene file (.wrl, .wrz, .wrl.gz; gzip is detected by content).
     pub scene: PathBuf,
-    /// Output image: .png (sRGB, 8-bit), .exr (linear float RGBA + AOVs) or .pfm (linear RGB).
+    /// Output image: .png (sRGB, 8-bit), .exr (linear float RGBA + AOVs), .pfm (linear RGB) or
+    /// .npy (linear RGB as a float64 H x W x 3 NumPy array: every digit of the film).
     /// Default: the scene's name with .png, in the current directory.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
@@ -317,7 +318,8 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<RenderOptions, Error> {
         as_gas: args.as_gas,
         integrator,
         tol: args.tol,
-        film_f64: false,
+        // .npy holds the f64 film itself.
+        film_f64: format == Format::Npy,
     })
 }
 
@@ -388,6 +390,9 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
                 full_height: opts.height as usize,
             },
         )?,
+        None if opts.film_f64 => {
+            write_npy(&out, opts.width as usize, opts.height as usize, &done.rgb64)?
+        }
         None => write_image(&out, &done.image)?,
     }
     say(format!(

@@ -1,11 +1,13 @@
 //! Finished pictures to files and back: PNG (8-bit sRGB preview), EXR (linear f32 with alpha and
-//! AOV layers) and PFM (linear f32 RGB), chosen by the file extension.
+//! AOV layers), PFM (linear f32 RGB) and NPY (linear f64 RGB, for NumPy), chosen by the file
+//! extension.
 //!
 //! Writing never leaves a half-written file at the destination: the bytes go to a hidden
 //! sibling `.NAME.tmp.PID`, which is synced and then renamed over `NAME` (atomic within one
 //! directory); on any failure, or a panic, the temporary file is removed.
 
 mod exr;
+mod npy;
 mod pfm;
 mod png;
 
@@ -45,6 +47,9 @@ pub enum Format {
     Exr,
     /// Linear f32 RGB, little-endian, rows bottom to top; no alpha, no layers.
     Pfm,
+    /// NumPy `.npy`: an `H x W x 3` float64 array, row 0 at the top; no alpha, no layers
+    /// ([`write_npy`] writes the f64 film itself; from an [`Image`], its f32 values).
+    Npy,
 }
 
 /// Format from the file extension (case-insensitive `.png`/`.exr`/`.pfm`); an error naming
@@ -58,6 +63,7 @@ pub fn format_for(path: &Path) -> Result<Format, Error> {
         Some("png") => Ok(Format::Png),
         Some("exr") => Ok(Format::Exr),
         Some("pfm") => Ok(Format::Pfm),
+        Some("npy") => Ok(Format::Npy),
         _ => {
             let found = match path.extension() {
                 Some(e) => format!("extension '.{}'", e.to_string_lossy()),
@@ -65,7 +71,7 @@ pub fn format_for(path: &Path) -> Result<Format, Error> {
             };
             Err(image_error(
                 path,
-                format!("unsupported image file name ({found}); expected .png, .exr or .pfm"),
+                format!("unsupported image file name ({found}); expected .png, .exr, .pfm or .npy"),
             ))
         }
     }
@@ -79,6 +85,19 @@ pub fn format_for(path: &Path) -> Result<Format, Error> {
 /// not carried over, and a symlink at `path` is replaced rather than followed.
 pub fn write_image(path: &Path, img: &Image) -> Result<(), Error> {
     write_placed(path, img, None)
+}
+
+/// Writes the f64 pixels `rgb` (`width * height`, row 0 at the top, as
+/// `Rendered::rgb64`) as a float64 `.npy` array, the way images are written (temporary file,
+/// then rename).
+pub fn write_npy(path: &Path, width: usize, height: usize, rgb: &[[f64; 3]]) -> Result<(), Error> {
+    if width.checked_mul(height) != Some(rgb.len()) || rgb.is_empty() {
+        return Err(image_error(
+            path,
+            format!("{} pixels for a {width}x{height} image", rgb.len()),
+        ));
+    }
+    write_file_atomically(path, |out| npy::write_f64(out, width, height, rgb))
 }
 
 /// Writes any file the way images are written: into a hidden temporary sibling, synced, then
@@ -169,6 +188,7 @@ fn write_placed(path: &Path, img: &Image, at: Option<Placement>) -> Result<(), E
             Format::Png => png::write(out, img)?,
             Format::Exr => exr::write(out, img, at)?,
             Format::Pfm => pfm::write(out, img)?,
+            Format::Npy => npy::write(out, img)?,
         }
         out.flush()?;
         Ok(())
@@ -209,6 +229,7 @@ pub fn read_image(path: &Path) -> Result<Image, Error> {
         let img = match format {
             Format::Png => png::read(&fs::read(path)?)?,
             Format::Pfm => pfm::read(&fs::read(path)?)?,
+            Format::Npy => npy::read(&fs::read(path)?)?,
             Format::Exr => exr::read(path)?,
         };
         // The decoders build consistent images; check anyway, callers index by these lengths.

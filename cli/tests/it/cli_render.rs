@@ -439,3 +439,41 @@ fn surfaces_and_points_are_counted_drawn_and_optional() {
         String::from_utf8_lossy(&bad.stderr).contains("--point-radius must be a positive number")
     );
 }
+
+/// `-o x.npy` writes the f64 film as a NumPy array: read here with a parser of the test's
+/// own, its pixels rounded to f32 are the PFM's of the same render, and they carry more
+/// digits than f32 holds.
+#[test]
+fn npy_output_is_the_f64_film() {
+    let dir = scratch("npy");
+    let scene = sample("cluster.wrl");
+    let common = ["--width", "40", "--height", "30", "--sampler", "center"];
+    for out in ["c.npy", "c.pfm"] {
+        let mut args = vec!["render", scene.as_str(), "-o", out, "-q"];
+        args.extend(common);
+        let r = gtsphere(&args, &dir);
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    }
+    let bytes = std::fs::read(dir.join("c.npy")).unwrap();
+    assert_eq!(&bytes[..8], b"\x93NUMPY\x01\x00");
+    let len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    assert_eq!((10 + len) % 64, 0);
+    let header = std::str::from_utf8(&bytes[10..10 + len]).unwrap();
+    assert!(
+        header.starts_with("{'descr': '<f8', 'fortran_order': False, 'shape': (30, 40, 3), }"),
+        "{header}"
+    );
+    let data: Vec<f64> = bytes[10 + len..]
+        .chunks_exact(8)
+        .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
+        .collect();
+    assert_eq!(data.len(), 30 * 40 * 3);
+    let pfm = read_image(&dir.join("c.pfm")).unwrap();
+    let mut wider = 0;
+    for (k, v) in data.iter().enumerate() {
+        let (px, c) = (k / 3, k % 3);
+        assert_eq!(*v as f32, pfm.rgb[px][c], "pixel {px} channel {c}");
+        wider += usize::from(f64::from(*v as f32) != *v);
+    }
+    assert!(wider > 100, "only {wider} values need f64");
+}
