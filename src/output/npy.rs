@@ -63,7 +63,10 @@ pub(super) fn read(bytes: &[u8]) -> Result<Image, Fault> {
     if bytes.get(..8) != Some(b"\x93NUMPY\x01\x00") {
         return Err(bad("not a version 1.0 .npy file"));
     }
-    let len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    let len = match bytes.get(8..10) {
+        Some(&[a, b]) => u16::from_le_bytes([a, b]) as usize,
+        _ => return Err(bad("truncated header")),
+    };
     let dict = bytes
         .get(10..10 + len)
         .and_then(|d| std::str::from_utf8(d).ok())
@@ -85,11 +88,11 @@ pub(super) fn read(bytes: &[u8]) -> Result<Image, Fault> {
     let [height, width, 3] = dims[..] else {
         return Err(bad("shape is not (height, width, 3)"));
     };
-    let data = &bytes[10 + len..];
+    let data = bytes.get(10 + len..).unwrap_or_default();
     let n = width
         .checked_mul(height)
         .ok_or_else(|| bad("shape overflows"))?;
-    if data.len() != n * 24 {
+    if Some(data.len()) != n.checked_mul(24) || n == 0 {
         return Err(bad("data length does not match the shape"));
     }
     let rgb = data

@@ -433,13 +433,14 @@ fn format_is_chosen_by_extension_ignoring_case() {
     assert_eq!(format_for(Path::new("a/b.png")).unwrap(), Format::Png);
     assert_eq!(format_for(Path::new("B.EXR")).unwrap(), Format::Exr);
     assert_eq!(format_for(Path::new("c.Pfm")).unwrap(), Format::Pfm);
+    assert_eq!(format_for(Path::new("d.NPY")).unwrap(), Format::Npy);
     assert_eq!(
         error_of(format_for(Path::new("out/picture.jpg"))).to_string(),
-        "out/picture.jpg: unsupported image file name (extension '.jpg'); expected .png, .exr or .pfm"
+        "out/picture.jpg: unsupported image file name (extension '.jpg'); expected .png, .exr, .pfm or .npy"
     );
     assert_eq!(
         error_of(format_for(Path::new("picture"))).to_string(),
-        "picture: unsupported image file name (no extension); expected .png, .exr or .pfm"
+        "picture: unsupported image file name (no extension); expected .png, .exr, .pfm or .npy"
     );
 }
 
@@ -585,4 +586,35 @@ fn stale_temporary_file_is_left_alone() {
     assert_eq!(read_image(&path).unwrap().rgb, [[0.5; 3]]);
     let stale_name = stale.file_name().unwrap().to_string_lossy().into_owned();
     assert_eq!(listing(&dir), [stale_name, "x.pfm".to_string()]);
+}
+
+/// A float64 .npy written from an image reads back as that image; cut or foreign files are
+/// errors naming the file, never a panic.
+#[test]
+fn npy_round_trips_and_broken_files_are_errors() {
+    let dir = crate::support::scratch("output", "npy");
+    let path = dir.join("a.npy");
+    let img = Image {
+        width: 3,
+        height: 2,
+        rgb: (0..6)
+            .map(|k| [k as f32 * 0.25, 1.0 / (k as f32 + 1.0), -2.5])
+            .collect(),
+        alpha: vec![1.0; 6],
+        layers: Vec::new(),
+    };
+    write_image(&path, &img).unwrap();
+    assert_eq!(read_image(&path).unwrap(), img);
+    let bytes = fs::read(&path).unwrap();
+    for broken in [
+        &bytes[..bytes.len() - 8],
+        &bytes[..9],
+        &bytes[..70],
+        b"\x93NUMPY\x01\x00",
+    ] {
+        let cut = dir.join("cut.npy");
+        fs::write(&cut, broken).unwrap();
+        let e = error_of(read_image(&cut)).to_string();
+        assert!(e.starts_with(&format!("{}: ", cut.display())), "{e}");
+    }
 }
