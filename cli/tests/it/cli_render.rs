@@ -155,7 +155,7 @@ fn bad_scene_gives_a_positioned_error_and_no_file() {
 fn bad_arguments_are_refused_before_any_work() {
     let dir = scratch("args");
     let cases: &[(&[&str], &str)] = &[
-        (&["-o", "x.jpg"], "expected .png, .exr or .pfm"),
+        (&["-o", "x.jpg"], "expected .png, .exr, .pfm or .npy"),
         (
             &["-o", "x.png", "--aov", "depth"],
             "--aov needs an .exr output",
