@@ -84,42 +84,34 @@ impl Lowerer {
         let meshes = &self.meshes;
         let diags = &mut self.diags;
         let points = meshes.array(m.coord);
+        // An ElevationGrid or Extrusion makes its points and faces, then is drawn as an
+        // IndexedFaceSet of them; `None` says why it cannot be.
+        let mut generated = |made: Result<(Vec<DVec3>, Vec<i64>), String>| match made {
+            Ok((points, coord_index)) => {
+                let mut m = m.clone();
+                m.coord_index = coord_index;
+                faces_to_parts(meshes, &m, &points, diags, src, at)
+            }
+            Err(why) => {
+                diags.warn(src, at, format!("{}: {why}: not drawn", m.kind.name()));
+                MeshParts::default()
+            }
+        };
         let parts = match &m.kind {
-            MeshKind::ElevationGrid(g) => match grid_mesh(g) {
-                Some((points, coord_index)) => {
-                    let mut m = m.clone();
-                    m.coord_index = coord_index;
-                    faces_to_parts(meshes, &m, &points, diags, src, at)
-                }
-                None => {
-                    diags.warn(
-                        src,
-                        at,
-                        format!(
-                            "ElevationGrid: {} heights for a {} x {} grid, or a size or spacing that is not finite: not drawn",
-                            g.height.len(),
-                            g.x_dimension,
-                            g.z_dimension
-                        ),
-                    );
-                    MeshParts::default()
-                }
-            },
-            MeshKind::Extrusion(e) => match crate::geom::mesh::extrusion_mesh(e) {
-                Some((points, coord_index)) => {
-                    let mut m = m.clone();
-                    m.coord_index = coord_index;
-                    faces_to_parts(meshes, &m, &points, diags, src, at)
-                }
-                None => {
-                    diags.warn(
-                        src,
-                        at,
-                        "Extrusion: fewer than two spine or cross-section points, or points that are not finite: not drawn",
-                    );
-                    MeshParts::default()
-                }
-            },
+            MeshKind::ElevationGrid(g) => generated(grid_mesh(g).ok_or_else(|| {
+                format!(
+                    "{} heights for a {} x {} grid, or a size or spacing that is not finite",
+                    g.height.len(),
+                    g.x_dimension,
+                    g.z_dimension
+                )
+            })),
+            MeshKind::Extrusion(e) => {
+                generated(crate::geom::mesh::extrusion_mesh(e).ok_or_else(|| {
+                    "fewer than two spine or cross-section points, or points that are not finite"
+                        .to_string()
+                }))
+            }
             k @ MeshKind::PointSet => point_cloud(meshes, m, points, diags, src, at, k.name()),
             k if m.coord_index.iter().all(|&i| i == -1) => {
                 point_cloud(meshes, m, points, diags, src, at, k.name())
