@@ -39,7 +39,7 @@ use glam::{DVec3, UVec2};
 
 use super::breakpoints::breakpoints;
 use super::lights::{towards, LightKind, LightSource};
-use super::shadow_volume::{band_edges, BandCache};
+use super::shadow_volume::{band_edges, path_end, BandCache};
 use super::Prepared;
 use crate::accel::Prim;
 
@@ -87,7 +87,6 @@ pub struct Buffers {
     /// of the segment they block.
     surface_found: Vec<u32>,
     blocked: Vec<(f64, f64)>,
-    edges: Vec<f64>,
     /// The camera ray `(o, d)` and its part that may ask (see [`Buffers::start_ray`]) and,
     /// per light, its band edges and band searches.
     ray: (DVec3, DVec3),
@@ -321,16 +320,7 @@ fn surface_shadows(
         return;
     }
     let (xa, xb) = (o + ta * d, o + tb * d);
-    // With an infinite first band: the edges are [0, end], end beyond every surface.
-    band_edges(
-        &prep.surfaces.bvh,
-        &light.kind,
-        xa,
-        xb,
-        f64::INFINITY,
-        &mut b.edges,
-    );
-    let end = b.edges.last().copied().unwrap_or(0.0);
+    let end = path_end(&prep.surfaces.bvh, &light.kind, xa, xb).max(0.0);
     let region = super::shadow_volume::Region::band(&light.kind, xa, xb, 0.0, end);
     b.surface_found.clear();
     super::shadow_volume::gather(

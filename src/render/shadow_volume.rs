@@ -212,21 +212,11 @@ impl Region {
     }
 }
 
-/// The band edges along the light rays from the segment `[a, b]`: `0 = f_0 < f_1 < ... = end`,
-/// where `end` lies beyond every sphere (directional: the farthest corner of the scene's box
-/// along `L`; point: the light, `1`), and `f_1 = base`, then eight times deeper each band (fewer bands cost fewer BVH descents; deeper
-/// ones gather more spheres that turn out to lie behind dark pieces).
-pub fn band_edges(
-    bvh: &SphereBvh,
-    light: &LightKind,
-    a: DVec3,
-    b: DVec3,
-    base: f64,
-    out: &mut Vec<f64>,
-) {
-    out.clear();
-    out.push(0.0);
-    let (end, step) = match *light {
+/// How far along the light rays from the segment `[a, b]` everything in `bvh` lies: beyond
+/// it no light ray meets a primitive (directional: the farthest corner of the BVH's box along
+/// `L`; point: the light itself, `1`). In the units of [`Region::band`].
+pub fn path_end(bvh: &SphereBvh, light: &LightKind, a: DVec3, b: DVec3) -> f64 {
+    match *light {
         LightKind::Directional { to_light: l, .. } => {
             // Every box point y reached as x + s L has s = (y - x).L, at most the largest over
             // the corners, which is affine in x and so largest at a or b.
@@ -240,11 +230,36 @@ pub fn band_edges(
                 );
                 end = end.max((corner - a).dot(l)).max((corner - b).dot(l));
             }
-            (end, base)
+            end
         }
+        LightKind::Point { .. } => 1.0,
+    }
+}
+
+/// The band edges along the light rays from the segment `[a, b]`: `0 = f_0 < f_1 < ... = end`,
+/// where `end` is [`path_end`], and `f_1 = base`, then eight times deeper each band (fewer
+/// bands cost fewer BVH descents; deeper ones gather more spheres that turn out to lie
+/// behind dark pieces).
+pub fn band_edges(
+    bvh: &SphereBvh,
+    light: &LightKind,
+    a: DVec3,
+    b: DVec3,
+    base: f64,
+    out: &mut Vec<f64>,
+) {
+    out.clear();
+    out.push(0.0);
+    let end = path_end(bvh, light, a, b);
+    let step = match *light {
+        LightKind::Directional { .. } => base,
         LightKind::Point { position: p, .. } => {
             let near = (p - a).length().min((p - b).length());
-            (1.0, if near > 0.0 { base / near } else { 1.0 })
+            if near > 0.0 {
+                base / near
+            } else {
+                1.0
+            }
         }
     };
     let mut f = step;
