@@ -284,7 +284,7 @@ impl Lowerer {
             // Read and drawn: the common case keeps the list short.
             self.meshes.solids.pop();
         }
-        if self.meshes.spheres_only {
+        if self.opts.spheres_only {
             self.diags.skip(match solid {
                 Solid::Cuboid { .. } => "Box",
                 Solid::Cylinder { .. } => "Cylinder",

@@ -104,10 +104,6 @@ pub(super) struct Meshes {
     pub(super) spheres: u64,
     /// Spheres made of points (PointSets and face-less IndexedFaceSets).
     pub(super) point_spheres: u64,
-    /// `--point-radius`, if given.
-    pub(super) point_radius: Option<f64>,
-    /// Don't lower triangles (`--spheres-only`): their components are skipped.
-    pub(super) spheres_only: bool,
     /// What each DEF'd mesh lowered to, by the start of its recording.
     cache: HashMap<usize, MeshCache>,
     /// The last mesh closed (for `cache`).

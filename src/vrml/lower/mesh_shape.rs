@@ -15,7 +15,7 @@
 use glam::DVec3;
 
 use super::mesh::{Grid, MeshKind, MeshState, Meshes};
-use super::{Diags, Lowerer};
+use super::{Diags, LoadOptions, Lowerer};
 use crate::error::Error;
 use crate::geom::mesh::{components, crease_normals, faces, first_bad_index, triangulate};
 use crate::geom::sphere_fit;
@@ -81,19 +81,24 @@ impl Lowerer {
         m: &MeshState,
         at: u64,
     ) -> Result<MeshParts, Error> {
-        let meshes = &self.meshes;
-        let diags = &mut self.diags;
-        let points = meshes.array(m.coord);
+        let mut cx = Ctx {
+            meshes: &self.meshes,
+            opts: &self.opts,
+            diags: &mut self.diags,
+            src,
+            at,
+        };
+        let points = cx.meshes.array(m.coord);
         // An ElevationGrid or Extrusion makes its points and faces, then is drawn as an
-        // IndexedFaceSet of them; `None` says why it cannot be.
+        // IndexedFaceSet of them; `Err` says why it cannot be.
         let mut generated = |made: Result<(Vec<DVec3>, Vec<i64>), String>| match made {
             Ok((points, coord_index)) => {
                 let mut m = m.clone();
                 m.coord_index = coord_index;
-                faces_to_parts(meshes, &m, &points, diags, src, at)
+                faces_to_parts(&mut cx, &m, &points)
             }
             Err(why) => {
-                diags.warn(src, at, format!("{}: {why}: not drawn", m.kind.name()));
+                cx.warn(format!("{}: {why}: not drawn", m.kind.name()));
                 MeshParts::default()
             }
         };
@@ -112,11 +117,11 @@ impl Lowerer {
                         .to_string()
                 }))
             }
-            k @ MeshKind::PointSet => point_cloud(meshes, m, points, diags, src, at, k.name()),
+            k @ MeshKind::PointSet => point_cloud(&mut cx, m, points, k.name()),
             k if m.coord_index.iter().all(|&i| i == -1) => {
-                point_cloud(meshes, m, points, diags, src, at, k.name())
+                point_cloud(&mut cx, m, points, k.name())
             }
-            _ => faces_to_parts(meshes, m, points, diags, src, at),
+            _ => faces_to_parts(&mut cx, m, points),
         };
         self.meshes.spheres += parts.mesh_spheres();
         self.meshes.point_spheres += parts.point_spheres();
@@ -156,32 +161,39 @@ fn grid_mesh(g: &Grid) -> Option<(Vec<DVec3>, Vec<i64>)> {
     Some((points, index))
 }
 
-/// Points as particles.
-fn point_cloud(
-    meshes: &Meshes,
-    m: &MeshState,
-    points: &[DVec3],
-    diags: &mut Diags,
-    src: &SourceWindow,
+/// What the functions below read, and where they report: the arrays of the open mesh, the
+/// load options, and the diagnostics at the mesh's node.
+struct Ctx<'a> {
+    meshes: &'a Meshes,
+    opts: &'a LoadOptions,
+    diags: &'a mut Diags,
+    src: &'a SourceWindow,
     at: u64,
-    ty: &str,
-) -> MeshParts {
-    let colors = meshes.array(m.color);
+}
+
+impl Ctx<'_> {
+    fn warn(&mut self, msg: impl Into<String>) {
+        self.diags.warn(self.src, self.at, msg);
+    }
+    fn note(&mut self, msg: impl Into<String>) {
+        self.diags.note(self.src, self.at, msg);
+    }
+}
+
+/// Points as particles.
+fn point_cloud(cx: &mut Ctx, m: &MeshState, points: &[DVec3], ty: &str) -> MeshParts {
+    let colors = cx.meshes.array(m.color);
     let finite: Vec<DVec3> = points.iter().copied().filter(|p| p.is_finite()).collect();
     if finite.len() < points.len() {
-        diags.warn(
-            src,
-            at,
-            format!(
-                "{ty}: {} points that are not finite are left out",
-                points.len() - finite.len()
-            ),
-        );
+        cx.warn(format!(
+            "{ty}: {} points that are not finite are left out",
+            points.len() - finite.len()
+        ));
     }
     if finite.is_empty() {
         return MeshParts::default();
     }
-    let radius = match meshes.point_radius {
+    let radius = match cx.opts.point_radius {
         Some(r) => r,
         None => {
             let derived = crate::geom::nearest::median_nearest_distance(&finite).map(|d| 0.5 * d);
@@ -191,15 +203,11 @@ fn point_cloud(
             } else {
                 "a single position: the default Sphere radius"
             };
-            diags.note(
-                src,
-                at,
-                format!(
-                    "{ty}: {} points drawn as spheres of radius {} ({how}; --point-radius sets it)",
-                    finite.len(),
-                    crate::vrml::number::format(&mut ryu::Buffer::new(), r)
-                ),
-            );
+            cx.note(format!(
+                "{ty}: {} points drawn as spheres of radius {} ({how}; --point-radius sets it)",
+                finite.len(),
+                crate::vrml::number::format(&mut ryu::Buffer::new(), r)
+            ));
             r
         }
     };
@@ -217,21 +225,11 @@ fn point_cloud(
 }
 
 /// Faces as spheres and triangles.
-fn faces_to_parts(
-    meshes: &Meshes,
-    m: &MeshState,
-    points: &[DVec3],
-    diags: &mut Diags,
-    src: &SourceWindow,
-    at: u64,
-) -> MeshParts {
+fn faces_to_parts(cx: &mut Ctx, m: &MeshState, points: &[DVec3]) -> MeshParts {
     let ci = &m.coord_index;
     let mut face_list = faces(ci);
     if let Some(k) = first_bad_index(ci, points.len()) {
-        diags.warn(
-            src,
-            at,
-            format!(
+        cx.warn(format!(
                 "IndexedFaceSet coordIndex[{k}] = {} is not one of its {} points: the faces using it are left out",
                 ci[k],
                 points.len()
@@ -243,8 +241,8 @@ fn faces_to_parts(
                 .all(|&i| i >= 0 && (i as usize) < points.len())
         });
     }
-    let colors = meshes.array(m.color);
-    let normals = meshes.array(m.normal);
+    let colors = cx.meshes.array(m.color);
+    let normals = cx.meshes.array(m.normal);
     let color_of = |face: usize, pos: usize| {
         corner_value(colors, &m.color_index, ci, m.color_per_vertex, face, pos)
     };
@@ -278,8 +276,8 @@ fn faces_to_parts(
     if rest.is_empty() {
         return parts;
     }
-    if meshes.spheres_only {
-        diags.skip("IndexedFaceSet (faces other than spheres)");
+    if cx.opts.spheres_only {
+        cx.diags.skip("IndexedFaceSet (faces other than spheres)");
         return parts;
     }
     rest.sort_unstable();
@@ -354,10 +352,7 @@ fn faces_to_parts(
         (short.1, "normal", "the face's own normal"),
     ] {
         if missing {
-            diags.warn(
-                src,
-                at,
-                format!("IndexedFaceSet: some corners have no {what} (their index is past the end of the node): {instead} is used there"),
+            cx.warn(format!("IndexedFaceSet: some corners have no {what} (their index is past the end of the node): {instead} is used there"),
             );
         }
     }

@@ -334,8 +334,6 @@ impl Lowerer {
             .recent
             .index(&Material::unlit(), &mut low.scene.materials);
         debug_assert_eq!(unlit, material::UNLIT);
-        low.meshes.point_radius = low.opts.point_radius;
-        low.meshes.spheres_only = low.opts.spheres_only;
         low
     }
 
