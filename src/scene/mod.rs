@@ -4,7 +4,7 @@ mod surface;
 
 use glam::{DAffine3, DQuat, DVec3};
 
-pub use surface::{Surface, SurfaceCounts, SurfaceShape, Triangle};
+pub use surface::{Mapping, Surface, SurfaceCounts, SurfaceShape, Triangle};
 
 /// Index of an ellipsoid's map in [`Scene::ellipsoids`] (and in the BVH's copy of them),
 /// stored plus one so that `Option<EllipsoidId>`, "a true sphere" when `None`, is 4 bytes.

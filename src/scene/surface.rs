@@ -3,7 +3,7 @@
 //! IndexedFaceSets, exactly as the file gives them. They take the lighting equation with the
 //! same lights and scopes as spheres; they are never gas.
 
-use glam::{DAffine3, DVec3};
+use glam::{DAffine3, DMat3, DVec3};
 
 use super::Origin;
 use crate::geom::shapes::Solid;
@@ -43,20 +43,38 @@ pub struct Triangle {
     pub solid: bool,
 }
 
+/// An affine map (world from local) as surfaces take it: with its normal matrix (the inverse
+/// transpose) and whether it mirrors, worked out once for all the surfaces it moves.
+#[derive(Clone, Copy, Debug)]
+pub struct Mapping {
+    pub map: DAffine3,
+    pub normals: DMat3,
+    pub mirrors: bool,
+}
+
+impl Mapping {
+    pub fn new(map: &DAffine3) -> Mapping {
+        Mapping {
+            map: *map,
+            normals: map.matrix3.inverse().transpose(),
+            mirrors: map.matrix3.determinant() < 0.0,
+        }
+    }
+}
+
 impl Triangle {
-    /// Applies `m` (world from local): points moved, normals by the inverse transpose, and the
-    /// corners reordered under a mirroring map so that the front stays the front.
-    pub fn transform(&mut self, m: &DAffine3) {
+    /// Applies `m`: points moved, normals by the inverse transpose, and the corners
+    /// reordered under a mirroring map so that the front stays the front.
+    pub fn transform(&mut self, m: &Mapping) {
         for p in &mut self.p {
-            *p = m.transform_point3(*p);
+            *p = m.map.transform_point3(*p);
         }
         if let Some(n) = &mut self.n {
-            let nm = m.matrix3.inverse().transpose();
             for v in n.iter_mut() {
-                *v = (nm * *v).normalize_or_zero();
+                *v = (m.normals * *v).normalize_or_zero();
             }
         }
-        if m.matrix3.determinant() < 0.0 {
+        if m.mirrors {
             self.p.swap(1, 2);
             if let Some(n) = &mut self.n {
                 n.swap(1, 2);
@@ -107,10 +125,10 @@ impl Surface {
         (0.5 * lo + 0.5 * hi, 0.5 * (hi - lo).length())
     }
 
-    /// Applies `m` (world from local) to the surface.
-    pub fn transform(&mut self, m: &DAffine3) {
+    /// Applies `m` to the surface.
+    pub fn transform(&mut self, m: &Mapping) {
         match &mut self.shape {
-            SurfaceShape::Solid { to_world, .. } => *to_world = *m * *to_world,
+            SurfaceShape::Solid { to_world, .. } => *to_world = m.map * *to_world,
             SurfaceShape::Triangle(t) => t.transform(m),
         }
     }

@@ -282,10 +282,15 @@ fn apply(scene: &mut Scene, m: &DAffine3, translation: bool, marks: Marks) -> Re
             return Err("an ellipsoid too thin or too large to represent in f64".into());
         }
     }
-    for s in &mut scene.surfaces[marks.surfaces..] {
-        s.transform(m);
-        if !s.is_sound() {
-            return Err("a surface too thin or too large to represent in f64".into());
+    let surfaces = &mut scene.surfaces[marks.surfaces..];
+    // (Worked out only when there are surfaces: most Transforms move spheres alone.)
+    if !surfaces.is_empty() {
+        let mapping = crate::scene::Mapping::new(m);
+        for s in surfaces {
+            s.transform(&mapping);
+            if !s.is_sound() {
+                return Err("a surface too thin or too large to represent in f64".into());
+            }
         }
     }
     for l in &mut scene.lights[marks.lights..] {
