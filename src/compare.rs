@@ -22,17 +22,29 @@ pub struct Metrics {
 
 /// Metrics of `a` against the reference `b`; the sizes must match.
 pub fn metrics(a: &Image, b: &Image) -> Result<Metrics, String> {
-    if (a.width, a.height) != (b.width, b.height) {
+    metrics_of((a.width, a.height), &a.rgb, (b.width, b.height), &b.rgb)
+}
+
+/// [`metrics`] of two `width x height` RGB buffers of f32 or f64 (row 0 at the top), so
+/// that f64 films compare at full precision.
+pub fn metrics_of<T: Copy + Into<f64>>(
+    a_size: (usize, usize),
+    a: &[[T; 3]],
+    b_size: (usize, usize),
+    b: &[[T; 3]],
+) -> Result<Metrics, String> {
+    if a_size != b_size {
         return Err(format!(
             "the images differ in size: {}x{} and {}x{}",
-            a.width, a.height, b.width, b.height
+            a_size.0, a_size.1, b_size.0, b_size.1
         ));
     }
+    let width = a_size.0;
     let (mut se, mut ref2, mut peak) = (0.0f64, 0.0f64, f64::NEG_INFINITY);
     let (mut max_abs, mut max_at) = (0.0f64, (0, 0));
-    for (k, (p, q)) in a.rgb.iter().zip(&b.rgb).enumerate() {
+    for (k, (p, q)) in a.iter().zip(b).enumerate() {
         for c in 0..3 {
-            let (x, y) = (f64::from(p[c]), f64::from(q[c]));
+            let (x, y): (f64, f64) = (p[c].into(), q[c].into());
             let e = (x - y).abs();
             se += e * e;
             ref2 += y * y;
@@ -40,11 +52,11 @@ pub fn metrics(a: &Image, b: &Image) -> Result<Metrics, String> {
             // NaN compares false: a NaN pixel is reported as the maximum error.
             if e > max_abs || (e.is_nan() && !max_abs.is_nan()) {
                 max_abs = e;
-                max_at = (k % a.width, k / a.width);
+                max_at = (k % width, k / width);
             }
         }
     }
-    let n = (3 * a.rgb.len()).max(1) as f64;
+    let n = (3 * a.len()).max(1) as f64;
     let rmse = (se / n).sqrt();
     let ref_rms = (ref2 / n).sqrt();
     let peak = if peak > 0.0 { peak } else { 1.0 };

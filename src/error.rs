@@ -20,6 +20,22 @@ pub enum Error {
     /// a malformed or truncated file. `message` says what is wrong.
     #[error("{path}: {message}")]
     Image { path: String, message: String },
+    /// An input array of a scene built in code has a bad value: `array[index] = value:
+    /// message`, e.g. `radii[17] = -1: radius must be positive and finite`.
+    #[error("{array}[{index}] = {value}: {message}")]
+    Array {
+        array: String,
+        index: usize,
+        value: String,
+        message: String,
+    },
+    /// Options, a camera or a scene built in code that cannot be rendered (the message says
+    /// which value and why).
+    #[error("{0}")]
+    Invalid(String),
+    /// A render stopped by its `Progress::cancelled`.
+    #[error("cancelled")]
+    Cancelled,
     #[error("{0}")]
     Other(String),
 }

@@ -10,12 +10,36 @@
 //! 2. Scene IR: [`vrml::lower`] (DEF/USE, PROTO, the transform stack, light scopes, warnings)
 //!    builds a [`scene::Scene`]: spheres, ellipsoids, materials, lights, viewpoints. `scene`
 //!    knows nothing of VRML; [`vrml::write`] writes a Scene back out.
-//! 3. Acceleration: [`render::prepare`] builds the [`accel::bvh`] (f32 padded boxes around
-//!    spheres tested exactly in f64 by [`geom`]), the camera and the lights.
-//! 4. Integrators: [`render::tiles`] traces tiles in parallel, each pixel's samples through
-//!    one of [`render::integrators`] (surface, exact, march, mc), into a film (samples summed
-//!    in f64, stored as f32 unless `RenderOptions::film_f64`).
-//! 5. File: [`output`] writes PNG, EXR or PFM through a temporary file and a rename.
+//!    A scene can also be built in code: [`scene::Scene::from_arrays`] (validated, every bad
+//!    value named by array and index) and the lights' `Default`s (VRML's).
+//! 3. Acceleration: [`render::prepare`] validates the scene and builds a [`render::Prepared`]:
+//!    the [`accel::bvh`] (f32 padded boxes around spheres tested exactly in f64 by [`geom`]),
+//!    materials and lights, once for any number of cameras.
+//! 4. Integrators: [`render::render`] takes the prepared scene, a [`render::Camera`] and
+//!    [`render::RenderOptions`], traces tiles in parallel ([`render::tiles`], with progress
+//!    and cancellation), each pixel's samples through one of [`render::integrators`]
+//!    (surface, exact, march, mc), into a [`render::Film`] (f64 RGB, alpha, extra channels).
+//! 5. File: [`output`] writes PNG, EXR, PFM or NPY through a temporary file and a rename.
+//!
+//! ```
+//! use gtsphere::render::{self, Camera, Lens, PrepareOptions, RenderOptions};
+//! use gtsphere::scene::{PointLight, Light, Radii, Scene, SphereArrays};
+//! use glam::DVec3;
+//!
+//! let centers = [0.0, 0.0, 0.0, 1.2, 0.3, -0.5];
+//! let mut scene = Scene::from_arrays(&SphereArrays::new(&centers, Radii::Each(&[0.5, 0.3])))?;
+//! scene.headlight = false;
+//! scene.lights.push(Light::Point(PointLight {
+//!     location: DVec3::new(3.0, 3.0, 3.0),
+//!     ..PointLight::default()
+//! }));
+//! let prepared = render::prepare(scene, &PrepareOptions::default())?;
+//! let camera = Camera::look_at(DVec3::new(0.0, 0.0, 5.0), DVec3::ZERO, DVec3::Y, Lens::default())?;
+//! let opts = RenderOptions { width: 64, height: 48, spp: 4, ..RenderOptions::default() };
+//! let film = render::render(&prepared, &camera, &opts, &())?;
+//! assert!(film.rgb[24 * 64 + 32][0] > 0.0); // the centre pixel sees the lit sphere
+//! # Ok::<(), gtsphere::Error>(())
+//! ```
 //!
 //! Beside the flow: [`particles`] streams a particle table row by row to VRML (no Scene);
 //! [`vrml::number`] is the one rule both VRML writers format numbers by; [`compare`] holds

@@ -8,10 +8,10 @@ use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use gtsphere::error::Error;
-use gtsphere::output::{format_for, write_image, write_npy, write_part, Format, Placement};
+use gtsphere::output::{format_for, write_film, write_part, Format, Placement};
 use gtsphere::render::{
-    prepare, tiles::render_with_progress, tiles::Progress, Aovs, CameraChoice, Integrator,
-    Projection, RenderOptions, SamplerKind,
+    prepare, render, Aovs, CameraChoice, Integrator, PrepareOptions, Progress, Projection,
+    RenderOptions, SamplerKind,
 };
 use gtsphere::vrml::{load_path, LoadOptions};
 
@@ -189,7 +189,7 @@ fn output_path(args: &RenderArgs) -> PathBuf {
 }
 
 /// Checks the raw arguments and builds the library's options.
-pub fn options(args: &RenderArgs, out: &Path) -> Result<RenderOptions, Error> {
+pub fn options(args: &RenderArgs, out: &Path) -> Result<Plan, Error> {
     let bad = |m: String| Error::Other(m);
     let format = format_for(out)?;
     if args.width == 0 || args.height == 0 || args.width > 65_536 || args.height > 65_536 {
@@ -292,7 +292,7 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<RenderOptions, Error> {
             out.display()
         )));
     }
-    Ok(RenderOptions {
+    let opts = RenderOptions {
         region,
         width: args.width,
         height: args.height,
@@ -302,6 +302,12 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<RenderOptions, Error> {
             SamplerArg::Stratified => SamplerKind::Stratified,
             SamplerArg::Center => SamplerKind::Center,
         },
+        aovs,
+        integrator,
+        tol: args.tol,
+    };
+    Ok(Plan {
+        opts,
         camera: match (&args.viewpoint, args.vrml_default_camera) {
             (Some(n), _) => CameraChoice::Named(n.clone()),
             (None, true) => CameraChoice::VrmlDefault,
@@ -314,18 +320,24 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<RenderOptions, Error> {
         } else {
             Projection::Perspective
         },
-        aovs,
-        as_gas: args.as_gas,
-        integrator,
-        tol: args.tol,
-        // .npy holds the f64 film itself.
-        film_f64: format == Format::Npy,
+        prepare: PrepareOptions {
+            as_gas: args.as_gas,
+        },
     })
+}
+
+/// The validated arguments: how to prepare the scene, which camera, how to render.
+pub struct Plan {
+    pub opts: RenderOptions,
+    pub camera: CameraChoice,
+    pub projection: Projection,
+    pub prepare: PrepareOptions,
 }
 
 pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
     let out = output_path(args);
-    let opts = options(args, &out)?;
+    let plan = options(args, &out)?;
+    let opts = &plan.opts;
     let load = args.geometry.apply(LoadOptions {
         strict: args.strict,
         inline: !args.no_inline,
@@ -343,8 +355,12 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
     let spheres = scene.spheres.len();
     let surfaces = scene.surfaces.len();
     let headlight = scene.headlight;
-    let prep = prepare(scene, &opts)
-        .map_err(|m| Error::Other(format!("{}: {m}", args.scene.display())))?;
+    let in_scene = |e: Error| Error::Other(format!("{}: {e}", args.scene.display()));
+    let prep = prepare(scene, &plan.prepare).map_err(in_scene)?;
+    let (camera, description) = prep
+        .camera(&plan.camera, plan.projection, opts.width, opts.height)
+        .map_err(in_scene)?;
+    let lights = prep.view(&camera, opts).map_err(in_scene)?.lights.len();
     say(format!(
         "{}: {} spheres{}, {} lights{}; camera: {}",
         args.scene.display(),
@@ -354,13 +370,13 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
         } else {
             String::new()
         },
-        prep.lights.len(),
+        lights,
         if headlight {
             " (headlight included)"
         } else {
             ""
         },
-        prep.camera.description
+        description
     ));
     if prep.gas_spheres > 0 {
         say(format!(
@@ -378,11 +394,11 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
         .build()
         .map_err(|e| Error::Other(format!("cannot start worker threads: {e}")))?;
     let bar = TileBar::new(!args.quiet);
-    let done = pool.install(|| render_with_progress(&prep, &opts, &bar));
+    let done = pool.install(|| render(&prep, &camera, opts, &bar))?;
     match opts.region {
         Some((x0, y0, _, _)) => write_part(
             &out,
-            &done.image,
+            &done.image(),
             Placement {
                 x: x0 as usize,
                 y: y0 as usize,
@@ -390,10 +406,7 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
                 full_height: opts.height as usize,
             },
         )?,
-        None if opts.film_f64 => {
-            write_npy(&out, opts.width as usize, opts.height as usize, &done.rgb64)?
-        }
-        None => write_image(&out, &done.image)?,
+        None => write_film(&out, &done)?,
     }
     say(format!(
         "wrote {} ({}x{}, {} spp) in {:.2} s (load {:.2} s, BVH {:.2} s)",

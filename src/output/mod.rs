@@ -87,8 +87,17 @@ pub fn write_image(path: &Path, img: &Image) -> Result<(), Error> {
     write_placed(path, img, None)
 }
 
+/// Writes a rendered film by extension: `.npy` gets its f64 RGB, the other formats its f32
+/// [`crate::render::Film::image`] (EXR with alpha and the extra channels).
+pub fn write_film(path: &Path, film: &crate::render::Film) -> Result<(), Error> {
+    match format_for(path)? {
+        Format::Npy => write_npy(path, film.width, film.height, &film.rgb),
+        _ => write_image(path, &film.image()),
+    }
+}
+
 /// Writes the f64 pixels `rgb` (`width * height`, row 0 at the top, as
-/// `Rendered::rgb64`) as a float64 `.npy` array, the way images are written (temporary file,
+/// `Film::rgb`) as a float64 `.npy` array, the way images are written (temporary file,
 /// then rename).
 pub fn write_npy(path: &Path, width: usize, height: usize, rgb: &[[f64; 3]]) -> Result<(), Error> {
     if width.checked_mul(height) != Some(rgb.len()) || rgb.is_empty() {

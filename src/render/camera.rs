@@ -1,5 +1,7 @@
-//! Cameras: VRML Viewpoints (perspective), the framing camera used when a scene has no
-//! Viewpoint, and an orthographic camera.
+//! Cameras: a [`Camera`] is where the eye is, where it looks and its lens, independent of the
+//! image size; [`Camera::image_plane`] turns it into the rays of a `width x height` picture.
+//! Cameras come from a VRML Viewpoint, from a look-at in code, from framing a scene, or from
+//! what the command line asks of a scene ([`Camera::for_scene`]).
 //!
 //! Image-plane coordinates: `(u, v)` in `[0,1]^2`, `u` to the right, `v` downwards (row 0 at
 //! the top); pixel `(i, j)`'s centre is `((i + 0.5) / W, (j + 0.5) / H)`.
@@ -8,7 +10,8 @@ use std::f64::consts::FRAC_PI_4;
 
 use glam::{DQuat, DVec3};
 
-use crate::scene::Scene;
+use crate::scene::Viewpoint;
+use crate::Error;
 
 /// Which camera to use, as the user asked.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -23,6 +26,7 @@ pub enum CameraChoice {
     VrmlDefault,
 }
 
+/// The projection asked for on the command line.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Projection {
     /// Perspective; the Viewpoint's `fieldOfView` is the angle of the smaller image side.
@@ -31,8 +35,44 @@ pub enum Projection {
     Ortho { height: Option<f64> },
 }
 
+/// How a camera projects, for the smaller side of the image.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Lens {
+    /// Perspective with this field of view (radians, `0 < fov < pi`) across the smaller side.
+    Perspective { fov: f64 },
+    /// Orthographic; `height` is the world size of the smaller side (`> 0`).
+    Orthographic { height: f64 },
+}
+
+impl Default for Lens {
+    /// VRML's default fieldOfView, pi/4.
+    fn default() -> Self {
+        Lens::Perspective { fov: FRAC_PI_4 }
+    }
+}
+
+/// A camera: position, an orthonormal frame (`right`, `up`, `forward`) and a lens. The image
+/// size is not part of it, so one camera renders at any resolution.
+///
+/// ```
+/// use gtsphere::render::{Camera, Lens};
+/// use glam::DVec3;
+/// let cam = Camera::look_at(DVec3::new(0.0, 0.0, 5.0), DVec3::ZERO, DVec3::Y, Lens::default())
+///     .unwrap();
+/// assert_eq!(cam.forward, DVec3::NEG_Z);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
+    pub position: DVec3,
+    pub right: DVec3,
+    pub up: DVec3,
+    pub forward: DVec3,
+    pub lens: Lens,
+}
+
+/// The rays of one picture: a camera at a given image size.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ImagePlane {
     pub position: DVec3,
     pub right: DVec3,
     pub up: DVec3,
@@ -42,13 +82,6 @@ pub struct Camera {
     pub half_w: f64,
     pub half_h: f64,
     pub ortho: bool,
-}
-
-/// What the camera is and where it came from, for `info`/`render` to say.
-#[derive(Clone, Debug, PartialEq)]
-pub struct CameraSetup {
-    pub camera: Camera,
-    pub description: String,
 }
 
 /// Half sizes `(w, h)` of the image plane for the smaller side spanning `2 * s`.
@@ -61,132 +94,272 @@ fn halves(s: f64, width: u32, height: u32) -> (f64, f64) {
     }
 }
 
-/// Sets up the camera for `scene` at `width x height`, or says why it cannot.
-pub fn setup(
-    scene: &Scene,
-    choice: &CameraChoice,
-    projection: Projection,
-    width: u32,
-    height: u32,
-) -> Result<CameraSetup, String> {
-    let named = |vp: &crate::scene::Viewpoint| match &vp.name {
-        Some(n) => format!("Viewpoint {n}"),
-        None if !vp.description.is_empty() => format!("Viewpoint \"{}\"", vp.description),
-        None => "the first Viewpoint".to_string(),
-    };
-    let (position, orientation, fov, description) = match choice {
-        CameraChoice::Named(want) => {
-            let vp = scene
-                .viewpoints
-                .iter()
-                .find(|v| v.name.as_deref() == Some(want.as_str()))
-                .or_else(|| scene.viewpoints.iter().find(|v| v.description == *want))
-                .ok_or_else(|| {
-                    let mut names: Vec<String> = scene
-                        .viewpoints
-                        .iter()
-                        .map(|v| v.name.clone().unwrap_or_else(|| v.description.clone()))
-                        .filter(|n| !n.is_empty())
-                        .collect();
-                    names.dedup();
-                    if names.is_empty() {
-                        format!("no Viewpoint named \"{want}\": the scene has no named Viewpoints")
-                    } else {
-                        format!(
-                            "no Viewpoint named \"{want}\"; the scene has: {}",
-                            names.join(", ")
-                        )
-                    }
-                })?;
-            (vp.position, vp.orientation, vp.field_of_view, named(vp))
-        }
-        CameraChoice::Auto if !scene.viewpoints.is_empty() => {
-            let vp = &scene.viewpoints[0];
-            (vp.position, vp.orientation, vp.field_of_view, named(vp))
-        }
-        CameraChoice::Auto => match scene.bounding_ball() {
-            Some((c, r)) => (
-                crate::scene::framing_position(c, r).ok_or_else(|| {
-                    "no Viewpoint, and a camera framing the scene would stand beyond the \
-                     range of f64: give the scene a Viewpoint"
-                        .to_string()
-                })?,
-                DQuat::IDENTITY,
-                crate::scene::FRAMING_FOV,
-                "no Viewpoint in the scene: looking down -z, placed to frame the scene's bounds"
-                    .to_string(),
-            ),
-            None => (
-                DVec3::new(0.0, 0.0, 10.0),
-                DQuat::IDENTITY,
-                FRAC_PI_4,
-                "no Viewpoint and no spheres: VRML's default camera at (0,0,10)".to_string(),
-            ),
-        },
-        CameraChoice::VrmlDefault => (
-            DVec3::new(0.0, 0.0, 10.0),
-            DQuat::IDENTITY,
-            FRAC_PI_4,
-            "VRML's default camera at (0,0,10) looking down -z".to_string(),
-        ),
-    };
-    let orientation = orientation.normalize();
-    let right = orientation * DVec3::X;
-    let up = orientation * DVec3::Y;
-    let forward = orientation * DVec3::NEG_Z;
-    let (half_w, half_h, ortho) = match projection {
-        Projection::Perspective => {
-            if !(fov > 0.0 && fov < std::f64::consts::PI) {
-                return Err(format!(
-                    "the camera's fieldOfView {fov} is not between 0 and pi"
-                ));
+fn invalid(m: String) -> Error {
+    Error::Invalid(m)
+}
+
+fn check_vec(what: &str, v: DVec3) -> Result<(), Error> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(invalid(format!(
+            "the camera's {what} ({}, {}, {}) is not finite",
+            v.x, v.y, v.z
+        )))
+    }
+}
+
+impl Lens {
+    /// Checks the field of view or height.
+    pub fn validate(self) -> Result<Lens, Error> {
+        match self {
+            Lens::Perspective { fov } if !(fov > 0.0 && fov < std::f64::consts::PI) => {
+                Err(invalid(format!(
+                    "the camera's field of view {fov} is not between 0 and pi"
+                )))
             }
-            let (w, h) = halves((0.5 * fov).tan(), width, height);
-            (w, h, false)
+            Lens::Orthographic { height } if !(height > 0.0 && height.is_finite()) => Err(invalid(
+                format!("the orthographic height {height} is not positive and finite"),
+            )),
+            l => Ok(l),
         }
-        Projection::Ortho { height: Some(hgt) } => {
-            let (w, h) = halves(0.5 * hgt, width, height);
-            (w, h, true)
-        }
-        Projection::Ortho { height: None } => {
-            // Fit the scene box's corners as seen along the view axis.
-            let (mut ew, mut eh) = (0.0f64, 0.0f64);
-            if let Some(b) = scene.bounds() {
-                for k in 0..8 {
-                    let p = DVec3::new(
-                        if k & 1 == 0 { b.min[0] } else { b.max[0] },
-                        if k & 2 == 0 { b.min[1] } else { b.max[1] },
-                        if k & 4 == 0 { b.min[2] } else { b.max[2] },
-                    ) - position;
-                    ew = ew.max(p.dot(right).abs());
-                    eh = eh.max(p.dot(up).abs());
-                }
-            }
-            let aspect = f64::from(width) / f64::from(height);
-            // Smallest half height showing both extents, with a 2 % margin.
-            let half_h = eh.max(ew / aspect).max(f64::MIN_POSITIVE) * 1.02;
-            (half_h * aspect, half_h, true)
-        }
-    };
-    Ok(CameraSetup {
-        camera: Camera {
-            position,
-            right,
-            up,
-            forward,
-            half_w,
-            half_h,
-            ortho,
-        },
-        description: if ortho {
-            format!("{description} (orthographic)")
-        } else {
-            description
-        },
-    })
+    }
 }
 
 impl Camera {
+    /// The camera of a VRML Viewpoint: at `position`, `orientation` applied to VRML's
+    /// default view (looking down -z with +y up), perspective with its fieldOfView.
+    pub fn from_viewpoint(vp: &Viewpoint) -> Result<Camera, Error> {
+        Camera::oriented(
+            vp.position,
+            vp.orientation,
+            Lens::Perspective {
+                fov: vp.field_of_view,
+            },
+        )
+    }
+
+    /// At `position`, looking along `orientation * (0,0,-1)` with `orientation * (0,1,0)` up.
+    pub fn oriented(position: DVec3, orientation: DQuat, lens: Lens) -> Result<Camera, Error> {
+        check_vec("position", position)?;
+        if !orientation.is_finite() || orientation.length_squared() == 0.0 {
+            return Err(invalid("the camera's orientation is not a rotation".into()));
+        }
+        let q = orientation.normalize();
+        Ok(Camera {
+            position,
+            right: q * DVec3::X,
+            up: q * DVec3::Y,
+            forward: q * DVec3::NEG_Z,
+            lens: lens.validate()?,
+        })
+    }
+
+    /// At `eye`, looking at `target`, with `up` projected to be perpendicular to the view.
+    /// Errors when `eye == target` or `up` is parallel to the view direction.
+    pub fn look_at(eye: DVec3, target: DVec3, up: DVec3, lens: Lens) -> Result<Camera, Error> {
+        check_vec("position", eye)?;
+        check_vec("target", target)?;
+        check_vec("up vector", up)?;
+        let forward = (target - eye).normalize_or_zero();
+        if forward == DVec3::ZERO {
+            return Err(invalid(
+                "the camera's target is its own position: no direction to look in".into(),
+            ));
+        }
+        let right = forward.cross(up).normalize_or_zero();
+        if right == DVec3::ZERO {
+            return Err(invalid(format!(
+                "the up vector ({}, {}, {}) is parallel to the view direction",
+                up.x, up.y, up.z
+            )));
+        }
+        Ok(Camera {
+            position: eye,
+            right,
+            up: right.cross(forward),
+            forward,
+            lens: lens.validate()?,
+        })
+    }
+
+    /// A camera looking along `direction` (with `up`) that sees the ball `(centre, radius)`
+    /// whole across the smaller image side, with `margin` (0.02: 2 %) of room: far enough for
+    /// a perspective lens (whose `fov` is kept), or an orthographic height of the ball's
+    /// diameter (the lens's height is replaced).
+    pub fn frame(
+        ball: (DVec3, f64),
+        direction: DVec3,
+        up: DVec3,
+        lens: Lens,
+        margin: f64,
+    ) -> Result<Camera, Error> {
+        let (centre, radius) = ball;
+        if !(margin >= 0.0 && margin.is_finite()) {
+            return Err(invalid(format!("the framing margin {margin} is not >= 0")));
+        }
+        let radius = radius.max(f64::MIN_POSITIVE) * (1.0 + margin);
+        let dir = direction.normalize_or_zero();
+        if dir == DVec3::ZERO || !dir.is_finite() {
+            return Err(invalid(
+                "the framing direction is zero or not finite".into(),
+            ));
+        }
+        let (distance, lens) = match lens.validate()? {
+            Lens::Perspective { fov } => (radius / (0.5 * fov).sin(), lens),
+            Lens::Orthographic { .. } => (
+                2.0 * radius,
+                Lens::Orthographic {
+                    height: 2.0 * radius,
+                },
+            ),
+        };
+        let eye = centre - distance * dir;
+        if !eye.is_finite() {
+            return Err(invalid(
+                "a camera framing the scene would stand beyond the range of f64".into(),
+            ));
+        }
+        Camera::look_at(eye, centre, up, lens)
+    }
+
+    /// The camera the command line uses for a scene with these `viewpoints` and bounds
+    /// (`bounds` = (min, max) corners, `ball` = a bounding ball), as `choice` and `projection`
+    /// ask, at `width x height` (an orthographic lens fitted to the scene depends on the
+    /// aspect), with a sentence saying which camera it is.
+    pub fn for_scene(
+        viewpoints: &[Viewpoint],
+        bounds: Option<(DVec3, DVec3)>,
+        ball: Option<(DVec3, f64)>,
+        choice: &CameraChoice,
+        projection: Projection,
+        width: u32,
+        height: u32,
+    ) -> Result<(Camera, String), Error> {
+        let named = |vp: &Viewpoint| match &vp.name {
+            Some(n) => format!("Viewpoint {n}"),
+            None if !vp.description.is_empty() => format!("Viewpoint \"{}\"", vp.description),
+            None => "the first Viewpoint".to_string(),
+        };
+        let (position, orientation, fov, description) = match choice {
+            CameraChoice::Named(want) => {
+                let vp = viewpoints
+                    .iter()
+                    .find(|v| v.name.as_deref() == Some(want.as_str()))
+                    .or_else(|| viewpoints.iter().find(|v| v.description == *want))
+                    .ok_or_else(|| {
+                        let mut names: Vec<String> = viewpoints
+                            .iter()
+                            .map(|v| v.name.clone().unwrap_or_else(|| v.description.clone()))
+                            .filter(|n| !n.is_empty())
+                            .collect();
+                        names.dedup();
+                        invalid(if names.is_empty() {
+                            format!(
+                                "no Viewpoint named \"{want}\": the scene has no named Viewpoints"
+                            )
+                        } else {
+                            format!(
+                                "no Viewpoint named \"{want}\"; the scene has: {}",
+                                names.join(", ")
+                            )
+                        })
+                    })?;
+                (vp.position, vp.orientation, vp.field_of_view, named(vp))
+            }
+            CameraChoice::Auto if !viewpoints.is_empty() => {
+                let vp = &viewpoints[0];
+                (vp.position, vp.orientation, vp.field_of_view, named(vp))
+            }
+            CameraChoice::Auto => match ball {
+                Some((c, r)) => (
+                    crate::scene::framing_position(c, r).ok_or_else(|| {
+                        invalid(
+                            "no Viewpoint, and a camera framing the scene would stand beyond \
+                             the range of f64: give the scene a Viewpoint"
+                                .to_string(),
+                        )
+                    })?,
+                    DQuat::IDENTITY,
+                    crate::scene::FRAMING_FOV,
+                    "no Viewpoint in the scene: looking down -z, placed to frame the scene's \
+                     bounds"
+                        .to_string(),
+                ),
+                None => (
+                    DVec3::new(0.0, 0.0, 10.0),
+                    DQuat::IDENTITY,
+                    FRAC_PI_4,
+                    "no Viewpoint and no spheres: VRML's default camera at (0,0,10)".to_string(),
+                ),
+            },
+            CameraChoice::VrmlDefault => (
+                DVec3::new(0.0, 0.0, 10.0),
+                DQuat::IDENTITY,
+                FRAC_PI_4,
+                "VRML's default camera at (0,0,10) looking down -z".to_string(),
+            ),
+        };
+        let mut cam = Camera::oriented(position, orientation, Lens::Perspective { fov })?;
+        match projection {
+            Projection::Perspective => Ok((cam, description)),
+            Projection::Ortho { height: Some(h) } => {
+                cam.lens = Lens::Orthographic { height: h }.validate()?;
+                Ok((cam, format!("{description} (orthographic)")))
+            }
+            Projection::Ortho { height: None } => {
+                // Fit the scene box's corners as seen along the view axis.
+                let (mut ew, mut eh) = (0.0f64, 0.0f64);
+                if let Some((lo, hi)) = bounds {
+                    for k in 0..8 {
+                        let p = DVec3::new(
+                            if k & 1 == 0 { lo.x } else { hi.x },
+                            if k & 2 == 0 { lo.y } else { hi.y },
+                            if k & 4 == 0 { lo.z } else { hi.z },
+                        ) - position;
+                        ew = ew.max(p.dot(cam.right).abs());
+                        eh = eh.max(p.dot(cam.up).abs());
+                    }
+                }
+                let aspect = f64::from(width) / f64::from(height);
+                // Smallest half height showing both extents, with a 2 % margin, as the
+                // world size of the smaller side.
+                let half_h = eh.max(ew / aspect).max(f64::MIN_POSITIVE) * 1.02;
+                let (hw, hh) = (half_h * aspect, half_h);
+                cam.lens = Lens::Orthographic {
+                    height: 2.0 * hw.min(hh),
+                }
+                .validate()?;
+                Ok((cam, format!("{description} (orthographic)")))
+            }
+        }
+    }
+
+    /// The rays of a `width x height` picture taken with this camera.
+    pub fn image_plane(&self, width: u32, height: u32) -> ImagePlane {
+        let (half_w, half_h, ortho) = match self.lens {
+            Lens::Perspective { fov } => {
+                let (w, h) = halves((0.5 * fov).tan(), width, height);
+                (w, h, false)
+            }
+            Lens::Orthographic { height: hgt } => {
+                let (w, h) = halves(0.5 * hgt, width, height);
+                (w, h, true)
+            }
+        };
+        ImagePlane {
+            position: self.position,
+            right: self.right,
+            up: self.up,
+            forward: self.forward,
+            half_w,
+            half_h,
+            ortho,
+        }
+    }
+}
+
+impl ImagePlane {
     /// The ray through image-plane point `(u, v)`: origin and unit direction.
     #[inline]
     pub fn ray(&self, u: f64, v: f64) -> (DVec3, DVec3) {

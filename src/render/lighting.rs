@@ -10,7 +10,7 @@ use glam::DVec3;
 use super::integrators::surface::Opaque;
 use super::lights::{in_scope, in_surface_scope, towards, LightSource};
 use super::visibility::visible;
-use super::{Counters, Prepared};
+use super::{Counters, Prepared, View};
 use crate::scene::Material;
 
 /// Where and what was hit. As small as a sphere hit needs (the bench's and the AOVs' lists
@@ -49,7 +49,7 @@ fn lights(l: &LightSource, on: Opaque, index: u32) -> bool {
 }
 
 /// Radiance leaving `sp` towards the viewer.
-pub fn shade(prep: &Prepared, m: &Material, sp: &SurfacePoint, counters: &mut Counters) -> DVec3 {
+pub fn shade(prep: &View, m: &Material, sp: &SurfacePoint, counters: &mut Counters) -> DVec3 {
     // A triangle's geometric normal and Color there; a sphere's or a solid's normal is both.
     let (geometric, color) = match sp.on {
         Opaque::Sphere(_) => (sp.n, None),

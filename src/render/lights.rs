@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use crate::scene::{Light, LightScope, Scene};
+use crate::scene::{Light, LightScope};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LightKind {
@@ -78,11 +78,18 @@ pub fn in_surface_scope(l: &LightSource, surface: u32) -> bool {
     }
 }
 
-/// The scene's lights that are on, plus the headlight (a DirectionalLight along `view`,
-/// intensity 1, ambientIntensity 0, white) when `scene.headlight` is set.
-pub fn collect(scene: &Scene, view: DVec3) -> Vec<LightSource> {
+/// The lights of a scene of `spheres` spheres and `surfaces` surfaces that are on, plus the
+/// headlight (a DirectionalLight along `view`, intensity 1, ambientIntensity 0, white) when
+/// `headlight` is set.
+pub fn collect(
+    lights: &[Light],
+    headlight: bool,
+    spheres: usize,
+    surfaces: usize,
+    view: DVec3,
+) -> Vec<LightSource> {
     let mut out = Vec::new();
-    for l in &scene.lights {
+    for l in lights {
         match l {
             Light::Point(p) if p.on => out.push(LightSource {
                 kind: LightKind::Point {
@@ -98,12 +105,12 @@ pub fn collect(scene: &Scene, view: DVec3) -> Vec<LightSource> {
                     to_light: -d.direction,
                     // A scope holding every sphere is All, which integrators recognise as "no
                     // scoping to apply".
-                    scope: if d.scope.covers_all(scene.spheres.len()) {
+                    scope: if d.scope.covers_all(spheres) {
                         LightScope::All
                     } else {
                         d.scope
                     },
-                    surface_scope: if d.surface_scope.covers_all(scene.surfaces.len()) {
+                    surface_scope: if d.surface_scope.covers_all(surfaces) {
                         LightScope::All
                     } else {
                         d.surface_scope
@@ -115,7 +122,7 @@ pub fn collect(scene: &Scene, view: DVec3) -> Vec<LightSource> {
             _ => {}
         }
     }
-    if scene.headlight {
+    if headlight {
         out.push(LightSource {
             kind: LightKind::Directional {
                 to_light: -view,

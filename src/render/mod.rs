@@ -1,8 +1,10 @@
-//! Rendering: the scene is prepared once (BVH, camera, lights), then image tiles are traced in
-//! parallel by the chosen integrator and averaged into a film.
+//! Rendering: the scene is prepared once ([`prepare`]: BVHs, materials, lights), then each
+//! picture ([`render()`]: a camera and [`RenderOptions`]) is traced in parallel tiles by the
+//! chosen integrator and averaged into a [`Film`].
 
 pub mod breakpoints;
 pub mod camera;
+pub mod film;
 pub mod gas;
 pub mod integrators;
 pub mod light_pieces;
@@ -21,14 +23,18 @@ use std::time::{Duration, Instant};
 use glam::DVec3;
 
 use crate::accel::{Prim, SphereBvh};
-use crate::scene::{Material, Scene};
-pub use camera::{CameraChoice, CameraSetup, Projection};
+use crate::scene::{Bounds, Light, Material, Scene, Viewpoint};
+use crate::Error;
+pub use camera::{Camera, CameraChoice, ImagePlane, Lens, Projection};
+pub use film::Film;
 pub use lights::LightSource;
 pub use sampler::SamplerKind;
+pub use tiles::{render, Cancel, Progress};
 
-/// Which per-pixel extra channels (EXR only) to produce, from the ray through the pixel's
-/// centre: `depth` (ray parameter of the first opaque hit, +inf on a miss), `normal` (world
-/// unit normal, 0 on a miss), `id` (index of the sphere in file order, -1 on a miss).
+/// Which per-pixel extra channels to keep in the [`Film`] (and write to EXR), from the ray
+/// through the pixel's centre: `depth` (ray parameter of the first opaque hit, +inf on a
+/// miss), `normal` (world unit normal, 0 on a miss), `id` (index of the sphere in file order,
+/// then the other surfaces; -1 on a miss).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Aovs {
     pub depth: bool,
@@ -46,7 +52,8 @@ impl Aovs {
     }
 }
 
-/// Everything a render needs to know, validated (the library's config, built from CLI args).
+/// How one picture is rendered, validated by [`Prepared::view`] (the library's config, built
+/// from CLI arguments or Python keywords). The camera is given beside it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderOptions {
     pub width: u32,
@@ -55,11 +62,7 @@ pub struct RenderOptions {
     pub spp: u32,
     pub seed: u64,
     pub sampler: SamplerKind,
-    pub camera: CameraChoice,
-    pub projection: Projection,
     pub aovs: Aovs,
-    /// Every sphere becomes gas of this extinction (`--as-gas`).
-    pub as_gas: Option<f64>,
     /// How camera rays are integrated.
     pub integrator: Integrator,
     /// Target error of the exact integrator, relative to the pixel's value (with an absolute
@@ -68,9 +71,6 @@ pub struct RenderOptions {
     /// Render only the pixels `x0..x1, y0..y1` of the `width x height` image (`--region`,
     /// `--tile`); the result is the same as those pixels of the whole render, bit for bit.
     pub region: Option<(u32, u32, u32, u32)>,
-    /// Also return the pixels in f64 (`Rendered::rgb64`, 24 bytes a pixel more), for
-    /// measuring errors below f32 rounding. Default false.
-    pub film_f64: bool,
 }
 
 impl Default for RenderOptions {
@@ -81,16 +81,19 @@ impl Default for RenderOptions {
             spp: 16,
             seed: 0,
             sampler: SamplerKind::Stratified,
-            camera: CameraChoice::Auto,
-            projection: Projection::Perspective,
             aovs: Aovs::default(),
-            as_gas: None,
             integrator: Integrator::Exact,
             tol: 1e-4,
             region: None,
-            film_f64: false,
         }
     }
+}
+
+/// How a scene is prepared: what is fixed once the BVH is built.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PrepareOptions {
+    /// Every sphere becomes gas of this extinction (`--as-gas`).
+    pub as_gas: Option<f64>,
 }
 
 /// The camera-ray integrators (MODEL.md sections 3 and 5). Only `Exact` is exact; the others
@@ -128,7 +131,27 @@ impl std::ops::AddAssign for Counters {
     }
 }
 
-/// A scene ready to trace.
+/// A scene ready to trace from any camera: the BVHs, the materials and the lights. Built
+/// once by [`prepare`]; [`render()`] takes it with a camera, so a turntable builds one BVH.
+///
+/// ```
+/// use gtsphere::render::{self, Camera, Lens, PrepareOptions, RenderOptions};
+/// use gtsphere::scene::{Radii, Scene, SphereArrays};
+/// use glam::DVec3;
+///
+/// let centers = [0.0, 0.0, 0.0, 1.5, 0.0, 0.0];
+/// let scene = Scene::from_arrays(&SphereArrays::new(&centers, Radii::One(0.5))).unwrap();
+/// let prepared = render::prepare(scene, &PrepareOptions::default()).unwrap();
+/// let opts = RenderOptions { width: 32, height: 24, spp: 1, ..RenderOptions::default() };
+/// for k in 0..3 {
+///     let a = k as f64 * 2.0 * std::f64::consts::PI / 3.0;
+///     let eye = DVec3::new(0.75 + 5.0 * a.sin(), 0.0, 5.0 * a.cos());
+///     let cam = Camera::look_at(eye, DVec3::new(0.75, 0.0, 0.0), DVec3::Y, Lens::default())
+///         .unwrap();
+///     let film = render::render(&prepared, &cam, &opts, &()).unwrap();
+///     assert_eq!(film.rgb.len(), 32 * 24);
+/// }
+/// ```
 pub struct Prepared {
     pub bvh: SphereBvh,
     /// The opaque surfaces other than spheres.
@@ -136,56 +159,172 @@ pub struct Prepared {
     /// Spheres in the scene (the `id` channel numbers surfaces after them).
     pub spheres: usize,
     pub materials: Vec<Material>,
-    pub lights: Vec<LightSource>,
-    pub camera: CameraSetup,
+    /// The scene's lights; they may be changed between renders (they are not in the BVH).
+    pub lights: Vec<Light>,
+    /// Whether a headlight (a white DirectionalLight along each camera's view) is added.
+    pub headlight: bool,
+    /// The scene's Viewpoints, for cameras chosen after the scene was prepared.
+    pub viewpoints: Vec<Viewpoint>,
+    /// World bounds of the scene, as `Scene::bounds`.
+    pub bounds: Option<Bounds>,
+    /// A ball holding the whole scene, as `Scene::bounding_ball` (framing cameras).
+    pub bounding_ball: Option<(DVec3, f64)>,
     pub background: DVec3,
     /// Gas spheres present.
     pub gas_spheres: usize,
-    /// The `Integrator` and `tol` of the options.
-    pub integrator: Integrator,
-    pub tol: f64,
     /// The median sphere radius (sets the depth of the first shadow band, `light_pieces`).
     pub typical_radius: f64,
-    /// An upper bound on the radiance anything in the scene can send along a ray (largest RGB
-    /// channel): emission plus single scattering of any gas, any lit surface, the background.
-    /// Behind a transmittance `T`, what is left of a camera ray adds at most `T * rest_bound`.
-    pub rest_bound: f64,
+    /// The largest channel of any Color a triangle carries (for [`View::rest_bound`]).
+    surface_colors: f64,
     /// Wall time of `prepare` (BVH build included).
     pub prepare_time: Duration,
 }
 
-/// Builds the BVH, camera and light list. Consumes the scene: its sphere list becomes the
-/// BVH's primitive list, so the spheres are not held twice.
-pub fn prepare(scene: Scene, opts: &RenderOptions) -> Result<Prepared, String> {
-    let start = Instant::now();
-    if opts.width == 0 || opts.height == 0 {
-        return Err(format!(
-            "the image size {}x{} is empty",
-            opts.width, opts.height
-        ));
+/// One render's view of a [`Prepared`] scene: the camera's rays at the image size, the lights
+/// the integrators use (switched-off lights dropped, the headlight along this camera), the
+/// integrator and its tolerance. Dereferences to the prepared scene.
+pub struct View<'a> {
+    pub prep: &'a Prepared,
+    pub camera: ImagePlane,
+    pub lights: Vec<LightSource>,
+    pub integrator: Integrator,
+    pub tol: f64,
+    /// An upper bound on the radiance anything in the scene can send along a ray (largest RGB
+    /// channel): emission plus single scattering of any gas, any lit surface, the background.
+    /// Behind a transmittance `T`, what is left of a camera ray adds at most `T * rest_bound`.
+    pub rest_bound: f64,
+}
+
+impl std::ops::Deref for View<'_> {
+    type Target = Prepared;
+    fn deref(&self) -> &Prepared {
+        self.prep
     }
-    if let Some((x0, y0, x1, y1)) = opts.region {
-        if !(x0 < x1 && y0 < y1 && x1 <= opts.width && y1 <= opts.height) {
-            return Err(format!(
-                "the region {x0},{y0},{x1},{y1} is empty or outside the {}x{} image",
-                opts.width, opts.height
-            ));
+}
+
+fn invalid(m: String) -> Error {
+    Error::Invalid(m)
+}
+
+impl RenderOptions {
+    /// Checks the sizes, region, sample count and integrator settings.
+    pub fn validate(&self) -> Result<(), Error> {
+        if self.width == 0 || self.height == 0 {
+            return Err(invalid(format!(
+                "the image size {}x{} is empty",
+                self.width, self.height
+            )));
+        }
+        if let Some((x0, y0, x1, y1)) = self.region {
+            if !(x0 < x1 && y0 < y1 && x1 <= self.width && y1 <= self.height) {
+                return Err(invalid(format!(
+                    "the region {x0},{y0},{x1},{y1} is empty or outside the {}x{} image",
+                    self.width, self.height
+                )));
+            }
+        }
+        if self.spp == 0 {
+            return Err(invalid("spp must be at least 1".into()));
+        }
+        // The tolerance is the exact integrator's; march and mc ignore it.
+        if self.integrator == Integrator::Exact && !(self.tol > 0.0 && self.tol.is_finite()) {
+            return Err(invalid(format!(
+                "tol = {}: the tolerance must be positive and finite",
+                self.tol
+            )));
+        }
+        if let Integrator::March { step } = self.integrator {
+            if !(step > 0.0 && step.is_finite()) {
+                return Err(invalid(format!(
+                    "step = {step}: the march step must be positive and finite"
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Prepared {
+    /// The view of this scene that `render` traces: `camera` at the options' image size.
+    pub fn view(&self, camera: &Camera, opts: &RenderOptions) -> Result<View<'_>, Error> {
+        opts.validate()?;
+        camera.lens.validate()?;
+        let lights = lights::collect(
+            &self.lights,
+            self.headlight,
+            self.spheres,
+            self.surfaces.items.len(),
+            camera.forward,
+        );
+        let rest_bound = rest_bound(
+            &self.materials,
+            &lights,
+            self.background,
+            self.surface_colors,
+        );
+        Ok(View {
+            prep: self,
+            camera: camera.image_plane(opts.width, opts.height),
+            lights,
+            integrator: opts.integrator,
+            tol: opts.tol,
+            rest_bound,
+        })
+    }
+
+    /// The camera `render` uses by default: the first Viewpoint, or else one looking down -z
+    /// that frames the scene ([`CameraChoice::Auto`], perspective).
+    pub fn default_camera(&self, width: u32, height: u32) -> Result<Camera, Error> {
+        Ok(self
+            .camera(&CameraChoice::Auto, Projection::Perspective, width, height)?
+            .0)
+    }
+
+    /// The camera the command line would use: `choice` and `projection` applied to this
+    /// scene's Viewpoints and bounds, with a sentence saying which camera it is.
+    pub fn camera(
+        &self,
+        choice: &CameraChoice,
+        projection: Projection,
+        width: u32,
+        height: u32,
+    ) -> Result<(Camera, String), Error> {
+        Camera::for_scene(
+            &self.viewpoints,
+            self.bounds
+                .map(|b| (DVec3::from(b.min), DVec3::from(b.max))),
+            self.bounding_ball,
+            choice,
+            projection,
+            width,
+            height,
+        )
+    }
+}
+
+/// Validates the scene ([`Scene::validate`]) and builds the BVHs. Consumes the scene: its
+/// sphere list becomes the BVH's primitive list, so the spheres are not held twice.
+pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
+    let start = Instant::now();
+    scene.validate()?;
+    if let Some(sigma) = opts.as_gas {
+        if !(sigma >= 0.0 && sigma.is_finite()) {
+            return Err(invalid(format!(
+                "as_gas = {sigma}: the extinction must be finite and non-negative"
+            )));
         }
     }
-    let camera = camera::setup(
-        &scene,
-        &opts.camera,
-        opts.projection,
-        opts.width,
-        opts.height,
-    )?;
-    let lights = lights::collect(&scene, camera.camera.forward);
+    let bounds = scene.bounds();
+    let bounding_ball = scene.bounding_ball();
     let Scene {
         spheres,
         ellipsoids,
         surfaces,
         materials,
         background,
+        lights,
+        headlight,
+        viewpoints,
         ..
     } = scene;
     // Gas (MODEL.md section 1): sigma = -ln(transparency) / (2 r), or --as-gas SIGMA for every
@@ -225,7 +364,6 @@ pub fn prepare(scene: Scene, opts: &RenderOptions) -> Result<Prepared, String> {
         .collect();
     let typical_radius = median_radius(&prims);
     let surface_colors = surface_color_bound(&surfaces);
-    let rest_bound = rest_bound(&materials, &lights, background, surface_colors);
     let sphere_count = prims.len();
     let bvh = SphereBvh::build(prims, &ellipsoids);
     let surfaces = surfaces::Surfaces::build(surfaces);
@@ -235,13 +373,14 @@ pub fn prepare(scene: Scene, opts: &RenderOptions) -> Result<Prepared, String> {
         spheres: sphere_count,
         materials,
         lights,
-        camera,
+        headlight,
+        viewpoints,
+        bounds,
+        bounding_ball,
         background,
         gas_spheres,
-        integrator: opts.integrator,
-        tol: opts.tol,
         typical_radius,
-        rest_bound,
+        surface_colors,
         prepare_time: start.elapsed(),
     })
 }

@@ -2,6 +2,7 @@
 //! its samples summed in a fixed order, so the image is the same bit for bit whatever the
 //! thread count.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use glam::DVec3;
@@ -10,35 +11,30 @@ use rayon::prelude::*;
 use super::integrators::{self, surface, Scratch};
 use super::sampler::{offsets, Rng};
 use super::Integrator;
-use super::{Counters, Prepared, RenderOptions};
-use crate::output::{Image, Layer};
+use super::{Camera, Counters, Film, Prepared, RenderOptions, View};
+use crate::Error;
 
 const TILE: u32 = 16;
-
-/// A finished render.
-pub struct Rendered {
-    pub image: Image,
-    pub counters: Counters,
-    /// The largest per-pixel error estimate.
-    pub max_error: f64,
-    /// Wall time of the tile loop.
-    pub seconds: f64,
-    /// The pixels' RGB in f64 before rounding to the f32 image, row by row; empty unless
-    /// `RenderOptions::film_f64` (error measurements below f32 rounding, `gtsphere bench`).
-    pub rgb64: Vec<[f64; 3]>,
-}
 
 /// A finished pixel: RGB and alpha, then (only when AOVs are asked for) depth, normal, id.
 #[derive(Clone, Copy, Default)]
 struct PixelOut {
-    /// The f64 mean (rounded to f32 only when the image is assembled).
     rgb: [f64; 3],
-    alpha: f32,
-    error: f32,
-    aov: Option<[f32; 5]>,
+    alpha: f64,
+    error: f64,
+    aov: Option<CentreHit>,
 }
 
-/// Told how the tile loop goes (the command line draws a progress bar); `()` is told nothing.
+/// What the ray through a pixel's centre hit first.
+#[derive(Clone, Copy, Default)]
+struct CentreHit {
+    depth: f64,
+    normal: [f64; 3],
+    id: i64,
+}
+
+/// Told how the tile loop goes (the command line draws a progress bar, Python calls back),
+/// and asked whether to stop; `()` is told nothing and never cancels.
 pub trait Progress: Sync {
     /// Before the first tile: how many tiles there are.
     fn start(&self, _tiles: u64) {}
@@ -46,12 +42,38 @@ pub trait Progress: Sync {
     fn tile_done(&self) {}
     /// After the last tile.
     fn finish(&self) {}
+    /// Whether to stop: asked before every pixel, from the worker threads, so it must be
+    /// cheap. Once it says yes, `render` returns [`Error::Cancelled`] as soon as the pixels
+    /// being traced are done.
+    fn cancelled(&self) -> bool {
+        false
+    }
 }
 
 impl Progress for () {}
 
+/// A cancellation flag to share with another thread (a signal handler, a UI): `render` with
+/// it stops once [`Cancel::cancel`] was called.
+#[derive(Debug, Default)]
+pub struct Cancel(AtomicBool);
+
+impl Cancel {
+    pub fn cancel(&self) {
+        self.0.store(true, Ordering::Relaxed);
+    }
+    pub fn is_cancelled(&self) -> bool {
+        self.0.load(Ordering::Relaxed)
+    }
+}
+
+impl Progress for Cancel {
+    fn cancelled(&self) -> bool {
+        self.is_cancelled()
+    }
+}
+
 fn render_pixel(
-    prep: &Prepared,
+    view: &View,
     opts: &RenderOptions,
     i: u32,
     j: u32,
@@ -63,13 +85,13 @@ fn render_pixel(
     let pixel = u64::from(j) * u64::from(opts.width) + u64::from(i);
     offsets(opts.sampler, opts.spp, opts.seed, pixel, samples);
     if opts.sampler == super::SamplerKind::Center
-        && prep.integrator == Integrator::Mc
-        && prep.gas_spheres > 0
+        && view.integrator == Integrator::Mc
+        && view.gas_spheres > 0
     {
         // Monte Carlo at the pixel centre: `spp` paths through the same point.
         samples.resize(opts.spp.max(1) as usize, (0.5, 0.5));
     }
-    let cam = &prep.camera.camera;
+    let cam = &view.camera;
     let mut sum = DVec3::ZERO;
     // Welford's running mean and sum of squared deviations (the one-pass `sum x^2 - n mean^2`
     // cancels, reporting ~sqrt(eps) |mean| where the samples agree to the last bit).
@@ -81,7 +103,7 @@ fn render_pixel(
     let mut rng = Rng::new(opts.seed ^ 0x6D63_5F70_6174_6873, pixel);
     for (k, &(sx, sy)) in samples.iter().enumerate() {
         let (o, d) = cam.ray((f64::from(i) + sx) / w, (f64::from(j) + sy) / h);
-        let e = integrators::radiance(prep, o, d, &mut rng, scratch, counters);
+        let e = integrators::radiance(view, o, d, &mut rng, scratch, counters);
         sum += e.value;
         err += e.error;
         covered += u32::from(e.covered);
@@ -91,7 +113,7 @@ fn render_pixel(
     }
     let n = samples.len() as f64;
     let mean = sum / n;
-    let error = if prep.integrator == Integrator::Mc && prep.gas_spheres > 0 {
+    let error = if view.integrator == Integrator::Mc && view.gas_spheres > 0 {
         // Standard error of the mean, worst channel.
         if n > 1.0 {
             (m2.max(DVec3::ZERO) / (n * (n - 1.0))).max_element().sqrt()
@@ -103,40 +125,56 @@ fn render_pixel(
     };
     let mut out = PixelOut {
         rgb: mean.to_array(),
-        alpha: (f64::from(covered) / n) as f32,
-        error: error as f32,
+        alpha: f64::from(covered) / n,
+        error,
         aov: None,
     };
     if opts.aovs.any() {
         let (o, d) = cam.ray((f64::from(i) + 0.5) / w, (f64::from(j) + 0.5) / h);
-        out.aov = Some(match surface::first_hit(prep, o, d, 0.0) {
+        out.aov = Some(match surface::first_hit(view, o, d, 0.0) {
             Some(hit) => {
-                let sp = surface::surface_point(prep, o, d, hit);
-                let n = sp.n.as_vec3();
+                let sp = surface::surface_point(view, o, d, hit);
                 // Spheres are numbered first, then the other surfaces.
                 let id = match hit.on {
-                    surface::Opaque::Sphere(_) => f64::from(sp.scene_index(prep)),
-                    surface::Opaque::Surface(i) => (prep.spheres + i as usize) as f64,
+                    surface::Opaque::Sphere(_) => i64::from(sp.scene_index(view)),
+                    surface::Opaque::Surface(i) => (view.spheres + i as usize) as i64,
                 };
-                [hit.t as f32, n.x, n.y, n.z, id as f32]
+                CentreHit {
+                    depth: hit.t,
+                    normal: sp.n.to_array(),
+                    id,
+                }
             }
-            None => [f32::INFINITY, 0.0, 0.0, 0.0, -1.0],
+            None => CentreHit {
+                depth: f64::INFINITY,
+                normal: [0.0; 3],
+                id: -1,
+            },
         });
     }
     out
 }
 
-/// Renders the prepared scene. Run inside a rayon pool to choose the thread count.
-pub fn render(prep: &Prepared, opts: &RenderOptions) -> Rendered {
-    render_with_progress(prep, opts, &())
-}
-
-/// [`render`], telling `progress` of each finished tile.
-pub fn render_with_progress(
+/// Renders `view` seen by `camera` as `opts` say, in rayon's current pool (run it inside
+/// `ThreadPool::install` to choose the thread count), telling `progress` of each tile and
+/// stopping with [`Error::Cancelled`] when it says so. The pixels are the same bit for bit
+/// whatever the thread count and whatever else `prep` was rendered with.
+pub fn render(
     prep: &Prepared,
+    camera: &Camera,
     opts: &RenderOptions,
     progress: &dyn Progress,
-) -> Rendered {
+) -> Result<Film, Error> {
+    let view = prep.view(camera, opts)?;
+    render_view(&view, opts, progress)
+}
+
+/// [`render`] of a view made by [`Prepared::view`] (with the same options).
+pub fn render_view(
+    view: &View,
+    opts: &RenderOptions,
+    progress: &dyn Progress,
+) -> Result<Film, Error> {
     let start = Instant::now();
     // The pixels to render: the region asked for, or the whole image. Each pixel depends
     // only on its own position, so a region equals the same pixels of a whole render.
@@ -154,10 +192,13 @@ pub fn render_with_progress(
             let mut samples = Vec::with_capacity(opts.spp as usize);
             let mut scratch = Scratch::default();
             let mut px = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
-            for j in y0..y1 {
+            'rows: for j in y0..y1 {
                 for i in x0..x1 {
+                    if progress.cancelled() {
+                        break 'rows;
+                    }
                     px.push(render_pixel(
-                        prep,
+                        view,
                         opts,
                         i,
                         j,
@@ -172,83 +213,52 @@ pub fn render_with_progress(
         })
         .collect();
     progress.finish();
+    if progress.cancelled() {
+        return Err(Error::Cancelled);
+    }
 
     let n = (w as usize) * (h as usize);
-    let mut image = Image {
+    let aov = opts.aovs;
+    let mut film = Film {
         width: w as usize,
         height: h as usize,
         rgb: vec![[0.0; 3]; n],
         alpha: vec![0.0; n],
-        layers: Vec::new(),
+        error: aov.error.then(|| vec![0.0; n]),
+        depth: aov.depth.then(|| vec![0.0; n]),
+        normal: aov.normal.then(|| vec![[0.0; 3]; n]),
+        id: aov.id.then(|| vec![0; n]),
+        counters: Counters::default(),
+        max_error: 0.0,
+        seconds: 0.0,
     };
-    let mut depth = vec![0f32; if opts.aovs.depth { n } else { 0 }];
-    let mut normal = vec![[0f32; 3]; if opts.aovs.normal { n } else { 0 }];
-    let mut id = vec![0f32; if opts.aovs.id { n } else { 0 }];
-    let mut error = vec![0f32; if opts.aovs.error { n } else { 0 }];
-    let mut rgb64 = vec![[0f64; 3]; if opts.film_f64 { n } else { 0 }];
-    let mut max_error = 0f64;
-    let mut counters = Counters::default();
     for (t, (px, c)) in tiles.into_iter().enumerate() {
-        counters += c;
+        film.counters += c;
         let t = t as u32;
         let (x0, y0) = ((t % tx) * TILE, (t / tx) * TILE);
         let x1 = (x0 + TILE).min(w);
         for (k, p) in px.into_iter().enumerate() {
             let (i, j) = (x0 + k as u32 % (x1 - x0), y0 + k as u32 / (x1 - x0));
             let at = (j as usize) * (w as usize) + i as usize;
-            image.rgb[at] = p.rgb.map(|v| v as f32);
-            image.alpha[at] = p.alpha;
-            if opts.film_f64 {
-                rgb64[at] = p.rgb;
-            }
-            max_error = max_error.max(f64::from(p.error));
-            if opts.aovs.error {
-                error[at] = p.error;
+            film.rgb[at] = p.rgb;
+            film.alpha[at] = p.alpha;
+            film.max_error = film.max_error.max(p.error);
+            if let Some(e) = &mut film.error {
+                e[at] = p.error;
             }
             if let Some(a) = p.aov {
-                if opts.aovs.depth {
-                    depth[at] = a[0];
+                if let Some(d) = &mut film.depth {
+                    d[at] = a.depth;
                 }
-                if opts.aovs.normal {
-                    normal[at] = [a[1], a[2], a[3]];
+                if let Some(nm) = &mut film.normal {
+                    nm[at] = a.normal;
                 }
-                if opts.aovs.id {
-                    id[at] = a[4];
+                if let Some(id) = &mut film.id {
+                    id[at] = a.id;
                 }
             }
         }
     }
-    if opts.aovs.depth {
-        image.layers.push(Layer {
-            name: "depth".into(),
-            data: depth,
-        });
-    }
-    if opts.aovs.normal {
-        for (k, axis) in ["X", "Y", "Z"].iter().enumerate() {
-            image.layers.push(Layer {
-                name: format!("normal.{axis}"),
-                data: normal.iter().map(|v| v[k]).collect(),
-            });
-        }
-    }
-    if opts.aovs.id {
-        image.layers.push(Layer {
-            name: "id".into(),
-            data: id,
-        });
-    }
-    if opts.aovs.error {
-        image.layers.push(Layer {
-            name: "error".into(),
-            data: error,
-        });
-    }
-    Rendered {
-        image,
-        counters,
-        max_error,
-        seconds: start.elapsed().as_secs_f64(),
-        rgb64,
-    }
+    film.seconds = start.elapsed().as_secs_f64();
+    Ok(film)
 }

@@ -1,9 +1,11 @@
 //! The scene IR: only what a picture needs (MODEL.md section 1). Knows nothing of VRML.
 
+mod build;
 mod surface;
 
 use glam::{DAffine3, DQuat, DVec3};
 
+pub use build::{Radii, SphereArrays};
 pub use surface::{Mapping, Surface, SurfaceCounts, SurfaceShape, Triangle};
 
 /// Index of an ellipsoid's map in [`Scene::ellipsoids`] (and in the BVH's copy of them),
@@ -185,6 +187,41 @@ impl LightScope {
     }
 }
 
+impl Default for PointLight {
+    /// VRML97's PointLight defaults: at the origin, white, intensity 1, ambientIntensity 0,
+    /// attenuation (1, 0, 0), radius 100, on.
+    fn default() -> Self {
+        PointLight {
+            location: DVec3::ZERO,
+            color: DVec3::ONE,
+            intensity: 1.0,
+            ambient_intensity: 0.0,
+            attenuation: DVec3::new(1.0, 0.0, 0.0),
+            radius: 100.0,
+            on: true,
+            origin: Origin::default(),
+        }
+    }
+}
+
+impl Default for DirectionalLight {
+    /// VRML97's DirectionalLight defaults (direction (0, 0, -1), white, intensity 1,
+    /// ambientIntensity 0, on), lighting the whole scene: a light built in code has no
+    /// grouping node to scope it.
+    fn default() -> Self {
+        DirectionalLight {
+            direction: DVec3::new(0.0, 0.0, -1.0),
+            color: DVec3::ONE,
+            intensity: 1.0,
+            ambient_intensity: 0.0,
+            on: true,
+            scope: LightScope::All,
+            surface_scope: LightScope::All,
+            origin: Origin::default(),
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Light {
     Point(PointLight),
@@ -201,6 +238,20 @@ pub struct Viewpoint {
     /// Angle of the smaller image side, radians.
     pub field_of_view: f64,
     pub origin: Origin,
+}
+
+impl Default for Viewpoint {
+    /// VRML97's Viewpoint defaults: at (0, 0, 10) looking down -z, fieldOfView pi/4.
+    fn default() -> Self {
+        Viewpoint {
+            name: None,
+            description: String::new(),
+            position: DVec3::new(0.0, 0.0, 10.0),
+            orientation: DQuat::IDENTITY,
+            field_of_view: std::f64::consts::FRAC_PI_4,
+            origin: Origin::default(),
+        }
+    }
 }
 
 #[derive(Clone, Debug, PartialEq)]

@@ -193,12 +193,13 @@ fn benchmark_scene_shadows_match_brute_force() {
     use gtsphere::render::integrators::surface::{first_hit, surface_point};
     use gtsphere::render::lights::towards;
     use gtsphere::render::visibility::visible;
-    use gtsphere::render::{prepare, RenderOptions};
+    use gtsphere::render::RenderOptions;
     use gtsphere::scenes::random_spheres;
     let scene = random_spheres(20_000);
     let spheres: Vec<(DVec3, f64)> = scene.spheres.iter().map(|s| (s.center, s.radius)).collect();
-    let prep = prepare(scene, &RenderOptions::default()).unwrap();
-    let cam = prep.camera.camera;
+    let prep = crate::support::prepare(scene);
+    let view = crate::support::view(&prep, &RenderOptions::default());
+    let cam = view.camera;
     let (mut lit, mut checked) = (0, 0);
     for j in 0..64 {
         for i in 0..64 {
@@ -208,7 +209,7 @@ fn benchmark_scene_shadows_match_brute_force() {
             };
             let sp = surface_point(&prep, o, d, h);
             let own = sp.scene_index(&prep) as usize;
-            for l in &prep.lights {
+            for l in &view.lights {
                 let (dir, dist, _) = towards(l, sp.x).unwrap();
                 let got = visible(&prep, sp.x, dir, dist, Some(sp.on)) > 0.0;
                 let want = spheres.iter().enumerate().all(|(k, &(c, r))| {

@@ -11,8 +11,7 @@
 
 use std::path::PathBuf;
 
-use gtsphere::render::tiles::render;
-use gtsphere::render::{prepare, Integrator, RenderOptions, SamplerKind};
+use gtsphere::render::{Integrator, RenderOptions, SamplerKind};
 use gtsphere::scene::{Light, Scene};
 use gtsphere::vrml::{load_path, LoadOptions};
 
@@ -135,14 +134,12 @@ fn check_case(case: &str, commands: &[Command]) {
             sampler: SamplerKind::Center,
             integrator: Integrator::Exact,
             tol: cmd.tol,
-            film_f64: true,
             ..RenderOptions::default()
         };
         opts.aovs.error = true;
-        let prep = prepare(scene, &opts).expect("prepare");
-        let done = render(&prep, &opts);
-        let error = &done
-            .image
+        let done = crate::support::render_auto(scene, &opts);
+        let image = done.image();
+        let error = &image
             .layers
             .iter()
             .find(|l| l.name == "error")
@@ -150,7 +147,7 @@ fn check_case(case: &str, commands: &[Command]) {
             .data;
         for p in cmd.probes {
             let at = p.row * cmd.width as usize + p.col;
-            let got = done.rgb64[at].iter().copied().fold(f64::MIN, f64::max);
+            let got = done.rgb[at].iter().copied().fold(f64::MIN, f64::max);
             let expected: f64 = p.expected.parse().expect("expected value");
             let true_err = (got - expected).abs();
             let reported = f64::from(error[at]);
@@ -318,7 +315,8 @@ fn expected_values_agree_with_the_brute_force_reference() {
                 height: cmd.height,
                 ..RenderOptions::default()
             };
-            let cam = prepare(scene, &opts).expect("prepare").camera.camera;
+            let prep = crate::support::prepare(scene);
+            let cam = crate::support::view(&prep, &opts).camera;
             for p in cmd.probes {
                 let (o, w) = cam.ray(
                     (p.col as f64 + 0.5) / f64::from(cmd.width),

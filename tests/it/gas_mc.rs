@@ -7,8 +7,8 @@
 
 use std::path::{Path, PathBuf};
 
-use gtsphere::render::tiles::{render, Rendered};
-use gtsphere::render::{prepare, Aovs, Integrator, RenderOptions, SamplerKind};
+use gtsphere::output::Image;
+use gtsphere::render::{Aovs, Film, Integrator, RenderOptions, SamplerKind};
 use gtsphere::scene::Scene;
 use gtsphere::vrml::{load_path, LoadOptions};
 
@@ -86,13 +86,20 @@ fn options(width: u32, height: u32, spp: u32, integrator: Integrator) -> RenderO
             error: true,
             ..Aovs::default()
         },
-        film_f64: true,
         ..RenderOptions::default()
     }
 }
 
+/// A render: the film and its f32 image (whose "error" layer [`error_aov`] reads).
+struct Rendered {
+    film: Film,
+    image: Image,
+}
+
 fn render_scene(scene: Scene, opts: &RenderOptions) -> Rendered {
-    render(&prepare(scene, opts).expect("prepare"), opts)
+    let film = support::render_auto(scene, opts);
+    let image = film.image();
+    Rendered { film, image }
 }
 
 /// The error AOV (absolute; for mc the standard error of the mean, worst channel).
@@ -107,7 +114,7 @@ fn error_aov(r: &Rendered) -> &[f32] {
 
 /// Largest RGB channel (the README's value) of pixel `at`.
 fn largest(r: &Rendered, at: usize) -> f64 {
-    r.rgb64[at].into_iter().fold(f64::MIN, f64::max)
+    r.film.rgb[at].into_iter().fold(f64::MIN, f64::max)
 }
 
 /// Every mc case pixel agrees with the reference within 4 standard errors. For a normal
@@ -186,8 +193,8 @@ fn mc_pixels_agree_with_exact_in_z_scores() {
     let (mut n, mut sum_z2, mut worst) = (0usize, 0.0, (0.0f64, 0usize));
     for at in 0..(w * h) as usize {
         let se = f64::from(m_se[at]);
-        let want = exact.rgb64[at];
-        let got = mc.rgb64[at];
+        let want = exact.film.rgb[at];
+        let got = mc.film.rgb[at];
         let diff = (0..3).map(|k| (got[k] - want[k]).abs()).fold(0.0, f64::max);
         let scale = want.into_iter().fold(0.0, f64::max);
         if se == 0.0 {
@@ -260,8 +267,11 @@ fn monte_carlo_agrees_with_exact() {
     /// Two-sided normal quantile of ALPHA / 36 = 2.78e-6: P(|N(0, 1)| > 4.69) = 2.73e-6.
     const Z: f64 = 4.69;
     let (balls, lamps) = cloud();
-    let exact = prepared(&balls, &lamps, Integrator::Exact, 1e-8);
-    let mc = prepared(&balls, &lamps, Integrator::Mc, 1e-8);
+    let (exact, mc) = (
+        prepared(&balls, &lamps, Integrator::Exact, 1e-8),
+        prepared(&balls, &lamps, Integrator::Mc, 1e-8),
+    );
+    let (exact, mc) = (exact.view(), mc.view());
     let rays = camera_rays(12);
     let comparisons = 3 * rays.len();
     assert_eq!(comparisons, 36, "Z is computed for 36 comparisons");

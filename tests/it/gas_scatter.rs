@@ -8,7 +8,7 @@
 use glam::DVec3;
 use gtsphere::render::integrators::{self, Scratch};
 use gtsphere::render::sampler::Rng;
-use gtsphere::render::{prepare, Counters, Integrator, Prepared, RenderOptions};
+use gtsphere::render::{Counters, Integrator, PrepareOptions, RenderOptions, View};
 
 use crate::gas_reference::{checked, roots, vrml, Ball, Lamp};
 use crate::support;
@@ -18,21 +18,21 @@ pub(crate) fn prepared(
     lamps: &[Lamp],
     integrator: Integrator,
     tol: f64,
-) -> Prepared {
+) -> support::Setup {
     let (scene, _) = support::scene(&vrml(balls, lamps));
     let opts = RenderOptions {
         integrator,
         tol,
         ..RenderOptions::default()
     };
-    prepare(scene, &opts).expect("prepare")
+    support::Setup::new(scene, &PrepareOptions::default(), opts)
 }
 
 /// The renderer's gas part along a ray: its radiance minus what reaches it from behind
 /// the gas (background black; rays here miss the opaque spheres or the test says so).
-pub(crate) fn ours(prep: &Prepared, o: DVec3, w: DVec3) -> (DVec3, f64) {
+pub(crate) fn ours(view: &View, o: DVec3, w: DVec3) -> (DVec3, f64) {
     let e = integrators::radiance(
-        prep,
+        view,
         o,
         w,
         &mut Rng::new(0, 0),
@@ -73,7 +73,8 @@ fn one_sphere(lamp: Lamp) {
         gas: Some((0.3, DVec3::new(0.05, 0.02, 0.01), DVec3::new(0.9, 0.7, 0.5))),
     }];
     let lamps = [lamp];
-    let prep = prepared(&balls, &lamps, Integrator::Exact, 1e-10);
+    let setup = prepared(&balls, &lamps, Integrator::Exact, 1e-10);
+    let view = setup.view();
     for (o, w) in camera_rays(24) {
         let (want, diff) = checked(&balls, &lamps, o, w);
         let want = want.gas;
@@ -84,7 +85,7 @@ fn one_sphere(lamp: Lamp) {
         if want == DVec3::ZERO {
             continue;
         }
-        assert_rel(ours(&prep, o, w).0, want, 1e-6, "one sphere");
+        assert_rel(ours(&view, o, w).0, want, 1e-6, "one sphere");
     }
 }
 
@@ -158,7 +159,8 @@ pub(crate) fn cloud() -> (Vec<Ball>, Vec<Lamp>) {
 #[test]
 fn cloud_of_twenty_gas_spheres_and_two_opaque_ones() {
     let (balls, lamps) = cloud();
-    let prep = prepared(&balls, &lamps, Integrator::Exact, 1e-9);
+    let setup = prepared(&balls, &lamps, Integrator::Exact, 1e-9);
+    let view = setup.view();
     let mut rays = 0;
     for (o, w) in camera_rays(40) {
         let (r, diff) = checked(&balls, &lamps, o, w);
@@ -176,7 +178,7 @@ fn cloud_of_twenty_gas_spheres_and_two_opaque_ones() {
         {
             continue;
         }
-        assert_rel(ours(&prep, o, w).0, gas, 1e-5, "cloud");
+        assert_rel(ours(&view, o, w).0, gas, 1e-5, "cloud");
         rays += 1;
     }
     assert!(rays >= 20, "{rays}");

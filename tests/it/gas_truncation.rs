@@ -19,26 +19,26 @@ use glam::DVec3;
 const TIGHT_MEDIAN: f64 = 100.0;
 use gtsphere::render::integrators::{self, Estimate, Scratch};
 use gtsphere::render::sampler::Rng;
-use gtsphere::render::{prepare, Counters, Integrator, Prepared, RenderOptions};
+use gtsphere::render::{Counters, Integrator, PrepareOptions, RenderOptions, View};
 
 use crate::gas_reference::{
     checked, hits_opaque, in_shadow_somewhere, roots, sigma_of, vrml, Ball, Lamp,
 };
 use crate::support;
 
-fn prepared(balls: &[Ball], lamps: &[Lamp], tol: f64) -> Prepared {
+fn prepared(balls: &[Ball], lamps: &[Lamp], tol: f64) -> support::Setup {
     let (scene, _) = support::scene(&vrml(balls, lamps));
     let opts = RenderOptions {
         integrator: Integrator::Exact,
         tol,
         ..RenderOptions::default()
     };
-    prepare(scene, &opts).expect("prepare")
+    support::Setup::new(scene, &PrepareOptions::default(), opts)
 }
 
-fn ours(prep: &Prepared, o: DVec3, w: DVec3) -> Estimate {
+fn ours(view: &View, o: DVec3, w: DVec3) -> Estimate {
     integrators::radiance(
-        prep,
+        view,
         o,
         w,
         &mut Rng::new(0, 0),
@@ -178,11 +178,12 @@ fn judge(
     claims: &[Claim],
 ) -> Result<(), String> {
     let start = std::time::Instant::now();
-    let prep = prepared(balls, lamps, tol);
+    let setup = prepared(balls, lamps, tol);
+    let view = setup.view();
     let rays: Vec<Ray> = refs
         .iter()
         .map(|&(o, w, want, ref_err)| {
-            let e = ours(&prep, o, w);
+            let e = ours(&view, o, w);
             Ray {
                 value: e.value,
                 est: e.error,
@@ -639,7 +640,8 @@ fn error_estimate_is_honest() {
     use crate::gas_reference::reference;
     use crate::gas_scatter::{camera_rays, cloud, ours, prepared};
     let (balls, lamps) = cloud();
-    let prep = prepared(&balls, &lamps, Integrator::Exact, 1e-3);
+    let setup = prepared(&balls, &lamps, Integrator::Exact, 1e-3);
+    let view = setup.view();
     let (mut n, mut below, mut measurable, mut tight) = (0, 0, 0, 0);
     for (o, w) in camera_rays(60) {
         if balls
@@ -652,7 +654,7 @@ fn error_estimate_is_honest() {
         if want == DVec3::ZERO {
             continue;
         }
-        let (got, est) = ours(&prep, o, w);
+        let (got, est) = ours(&view, o, w);
         let err = (got - want).abs().max_element();
         // The reference is good to far better than 1e-8 relative (refinement check in the
         // cloud test); this floor was set for an earlier, coarser one.

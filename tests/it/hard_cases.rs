@@ -6,19 +6,19 @@ use glam::DVec3;
 use gtsphere::output::Image;
 use gtsphere::render::integrators::{self, Scratch};
 use gtsphere::render::sampler::Rng;
-use gtsphere::render::tiles::render;
-use gtsphere::render::{prepare, Counters, Prepared, RenderOptions, SamplerKind};
+use gtsphere::render::{self, Counters, PrepareOptions, Prepared, RenderOptions, SamplerKind};
 
 use crate::support;
 
 fn prep(body: &str) -> Prepared {
     let (scene, _) = support::scene(&format!("NavigationInfo {{ headlight FALSE }}\n{body}"));
-    prepare(scene, &RenderOptions::default()).expect("prepare")
+    support::prepare(scene)
 }
 
+/// The radiance along one ray, as a default render of `p` would compute it.
 fn ray(p: &Prepared, o: DVec3, w: DVec3) -> DVec3 {
     let e = integrators::radiance(
-        p,
+        &support::view(p, &RenderOptions::default()),
         o,
         w,
         &mut Rng::new(0, 0),
@@ -75,7 +75,7 @@ fn render_center(body: &str, w: u32, h: u32) -> Image {
         spp: 1,
         ..RenderOptions::default()
     };
-    render(&prepare(scene, &opts).unwrap(), &opts).image
+    support::render_auto(scene, &opts).image()
 }
 
 /// The cluster sample translated by 1e7 (camera, lights and spheres) gives the same picture
@@ -446,11 +446,10 @@ fn optical_depths_1e_12_and_1e4() {
         "NavigationInfo { headlight FALSE }\nBackground { skyColor 0 0 1 }\n\
          Shape { appearance Appearance { material Material { emissiveColor 1 1 1 diffuseColor 0 0 0 } } geometry Sphere { } }",
     );
-    let opts = RenderOptions {
+    let opts = PrepareOptions {
         as_gas: Some(5000.0),
-        ..RenderOptions::default()
     };
-    let p = prepare(scene, &opts).expect("prepare");
+    let p = render::prepare(scene, &opts).expect("prepare");
     assert_eq!(
         ray(&p, DVec3::new(0.0, 0.0, 5.0), DVec3::NEG_Z),
         DVec3::new(1.0, 1.0, 1.0)

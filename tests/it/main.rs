@@ -1,6 +1,7 @@
 //! One integration-test binary of named modules: the library's tests (the `gtsphere`
 //! binary's are in cli/tests/it/).
 
+mod api; // scenes from arrays and validate, cameras, one prepared scene many cameras, cancel
 mod bvh; // the BVH's closest, any and all hits against a brute-force loop over every sphere
 mod convert_csv; // particle tables to VRML: dialects, columns, bad rows, table -> VRML -> IR
 mod corpus; // every ../shared/corpus file reads or fails with a positioned error

@@ -381,8 +381,7 @@ fn a_directional_light_lights_the_surfaces_of_its_group_only() {
 /// own Viewpoint: a few hundred pixels of 160 x 120).
 #[test]
 fn every_tool_export_renders_with_no_options() {
-    use gtsphere::render::tiles::render;
-    use gtsphere::render::{prepare, RenderOptions, SamplerKind};
+    use gtsphere::render::{RenderOptions, SamplerKind};
     let Some(dir) = shared("corpus") else {
         return;
     };
@@ -403,8 +402,7 @@ fn every_tool_export_renders_with_no_options() {
             spp: 1,
             ..RenderOptions::default()
         };
-        let prep = prepare(scene, &opts).unwrap();
-        let img = render(&prep, &opts).image;
+        let img = crate::support::render_auto(scene, &opts).image();
         let covered = img.alpha.iter().filter(|a| **a > 0.0).count();
         assert!(covered > 20, "{}: {covered} pixels drawn", path.display());
         assert!(img.rgb.iter().flatten().all(|v| v.is_finite()));

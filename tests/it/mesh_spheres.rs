@@ -4,8 +4,7 @@
 
 use glam::DVec3;
 use gtsphere::geom::sphere_through;
-use gtsphere::render::tiles::render;
-use gtsphere::render::{prepare, RenderOptions, SamplerKind};
+use gtsphere::render::{RenderOptions, SamplerKind};
 use gtsphere::vrml::{load_path, LoadOptions, LoadReport};
 
 use crate::support::{close, scene};
@@ -327,7 +326,7 @@ fn jmol_spacefill_renders_its_atoms() {
         sampler: SamplerKind::Center,
         ..RenderOptions::default()
     };
-    let img = render(&prepare(s, &opts).unwrap(), &opts).image;
+    let img = crate::support::render_auto(s, &opts).image();
     let covered = img.alpha.iter().filter(|&&a| a > 0.0).count();
     let frac = covered as f64 / img.alpha.len() as f64;
     // Jmol's own view (its Viewpoint) of a 20-residue peptide fills a good part of the frame.

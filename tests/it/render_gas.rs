@@ -4,7 +4,7 @@
 use glam::DVec3;
 use gtsphere::render::integrators::{self, Scratch};
 use gtsphere::render::sampler::Rng;
-use gtsphere::render::{prepare, Counters, Integrator, Prepared, RenderOptions};
+use gtsphere::render::{Counters, Integrator, PrepareOptions, RenderOptions};
 
 use crate::support;
 
@@ -21,21 +21,20 @@ fn chord(o: DVec3, w: DVec3, c: DVec3, r: f64) -> (f64, f64) {
     ((-b - s).max(0.0), (-b + s).max(0.0))
 }
 
-fn prepared(body: &str, as_gas: Option<f64>, integrator: Integrator) -> Prepared {
+fn prepared(body: &str, as_gas: Option<f64>, integrator: Integrator) -> support::Setup {
     let (scene, _) = support::scene(&format!("NavigationInfo {{ headlight FALSE }}\n{body}"));
     let opts = RenderOptions {
-        as_gas,
         integrator,
         tol: 1e-9,
         ..RenderOptions::default()
     };
-    prepare(scene, &opts).expect("prepare")
+    support::Setup::new(scene, &PrepareOptions { as_gas }, opts)
 }
 
-fn ray(prep: &Prepared, o: DVec3, w: DVec3) -> DVec3 {
+fn ray(prep: &support::Setup, o: DVec3, w: DVec3) -> DVec3 {
     let mut c = Counters::default();
     let e = integrators::radiance(
-        prep,
+        &prep.view(),
         o,
         w,
         &mut Rng::new(1, 2),
@@ -244,7 +243,6 @@ fn surface_shadowed_by_gas_gets_the_transmittance() {
 /// non-negative pixels and a finite error estimate.
 #[test]
 fn awkward_scenes_give_finite_pixels() {
-    use gtsphere::render::tiles::render;
     use gtsphere::render::SamplerKind;
     let mut rng = crate::support::Rng(77);
     let mut rnd = move || rng.f();
@@ -298,9 +296,8 @@ fn awkward_scenes_give_finite_pixels() {
                 tol: 1e-4,
                 ..RenderOptions::default()
             };
-            let prep = prepare(scene, &opts).expect("prepare");
-            let done = render(&prep, &opts);
-            for p in &done.image.rgb {
+            let done = support::render_auto(scene, &opts);
+            for p in &done.image().rgb {
                 assert!(
                     p.iter().all(|v| v.is_finite() && *v >= 0.0),
                     "case {case} {integrator:?}: {p:?}"

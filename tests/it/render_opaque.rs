@@ -6,9 +6,8 @@
 use glam::DVec3;
 use gtsphere::output::Image;
 use gtsphere::render::integrators::surface;
-use gtsphere::render::tiles::render;
 use gtsphere::render::{
-    prepare, CameraChoice, Counters, Prepared, Projection, RenderOptions, SamplerKind,
+    self, CameraChoice, Counters, Prepared, Projection, RenderOptions, SamplerKind,
 };
 
 use crate::support;
@@ -82,13 +81,30 @@ pub(crate) fn center_opts(w: u32, h: u32) -> RenderOptions {
     }
 }
 
-fn prepared(body: &str, opts: &RenderOptions) -> Prepared {
+fn prepared(body: &str) -> Prepared {
     let (scene, _) = support::scene(body);
-    prepare(scene, opts).expect("prepare")
+    support::prepare(scene)
 }
 
 fn render_body(body: &str, opts: &RenderOptions) -> Image {
-    render(&prepared(body, opts), opts).image
+    support::render_prepared(&prepared(body), opts).image()
+}
+
+/// [`render_body`] from the camera `choice` and `projection` ask for (the command line's
+/// `--camera` and `--ortho`).
+fn render_body_from(
+    body: &str,
+    choice: &CameraChoice,
+    projection: Projection,
+    opts: &RenderOptions,
+) -> Image {
+    let prep = prepared(body);
+    let (camera, _) = prep
+        .camera(choice, projection, opts.width, opts.height)
+        .expect("camera");
+    render::render(&prep, &camera, opts, &())
+        .expect("render")
+        .image()
 }
 
 /// Every pixel equals `expect(i, j)` (None: background `bg`, alpha 0) to `1e-6` relative.
@@ -330,7 +346,8 @@ fn shadow_edge_lies_where_geometry_puts_it() {
         "{CAM}DirectionalLight {{ direction -1 0 0 }}\n{}\nTransform {{ translation 2 0.3 0.2 children Shape {{ appearance Appearance {{ material Material {{ }} }} geometry Sphere {{ radius 0.5 }} }} }}",
         sphere_shape("diffuseColor 1 1 1 ambientIntensity 0")
     );
-    let prep = prepared(&body, &opts);
+    let prep = prepared(&body);
+    let view = support::view(&prep, &opts);
     let (cb, rb) = (DVec3::new(2.0, 0.3, 0.2), 0.5);
     let l = DVec3::X;
     // Distance from the blocker's centre to the light line through x (x's y, z vs the centre's).
@@ -373,7 +390,7 @@ fn shadow_edge_lies_where_geometry_puts_it() {
             let inside = gap(x) < 0.0;
             let d = (x - o).normalize();
             let mut c = Counters::default();
-            let e = surface::radiance(&prep, o, d, &mut c);
+            let e = surface::radiance(&view, o, d, &mut c);
             let want = if inside { 0.0 } else { x.dot(l) };
             assert!(
                 (e.value.x - want).abs() < 1e-6,
@@ -483,11 +500,12 @@ fn unlit_white_and_background() {
 fn vrml_defaults() {
     let (w, h) = (32, 24);
     let body = "NavigationInfo { headlight FALSE }\nDirectionalLight { }\nShape { appearance Appearance { material Material { } } geometry Sphere { } }";
-    let opts = RenderOptions {
-        camera: CameraChoice::VrmlDefault,
-        ..center_opts(w, h)
-    };
-    let img = render_body(body, &opts);
+    let img = render_body_from(
+        body,
+        &CameraChoice::VrmlDefault,
+        Projection::Perspective,
+        &center_opts(w, h),
+    );
     let m = Mat {
         diffuse: DVec3::splat(0.8),
         ambient: 0.2,
@@ -525,14 +543,15 @@ fn no_viewpoint_frames_the_scene() {
     let body = "Transform { translation 100 50 -20 children Shape { geometry Sphere { radius 3 } } }\n\
                 Transform { translation 130 40 -25 children Shape { geometry Sphere { radius 2 } } }";
     let opts = center_opts(64, 48);
-    let prep = prepared(body, &opts);
-    assert!(
-        prep.camera.description.contains("no Viewpoint"),
-        "{}",
-        prep.camera.description
-    );
-    assert_eq!(prep.camera.camera.forward, DVec3::NEG_Z);
-    let img = render(&prep, &opts).image;
+    let prep = prepared(body);
+    let (camera, description) = prep
+        .camera(&CameraChoice::Auto, Projection::Perspective, 64, 48)
+        .expect("camera");
+    assert!(description.contains("no Viewpoint"), "{description}");
+    assert_eq!(camera.forward, DVec3::NEG_Z);
+    let img = render::render(&prep, &camera, &opts, &())
+        .expect("render")
+        .image();
     // Both spheres are drawn (unlit white) and nothing touches the image border.
     let covered: f32 = img.alpha.iter().sum();
     assert!(covered > 50.0);
@@ -556,11 +575,12 @@ fn orthographic_rays_are_parallel() {
         "{CAM}DirectionalLight {{ direction 0 0 -1 }}\n{}",
         sphere_shape("diffuseColor 1 1 1 ambientIntensity 0")
     );
-    let opts = RenderOptions {
-        projection: Projection::Ortho { height: Some(4.0) },
-        ..center_opts(w, h)
-    };
-    let img = render_body(&body, &opts);
+    let img = render_body_from(
+        &body,
+        &CameraChoice::Auto,
+        Projection::Ortho { height: Some(4.0) },
+        &center_opts(w, h),
+    );
     check_image(&img, DVec3::ZERO, |i, j| {
         let x = ((i as f64 + 0.5) / w as f64 * 2.0 - 1.0) * 2.0;
         let y = (1.0 - (j as f64 + 0.5) / h as f64 * 2.0) * 2.0;
@@ -574,11 +594,16 @@ fn unknown_viewpoint_name_is_a_clear_error() {
     let (scene, _) = support::scene(
         "DEF Top Viewpoint { description \"top view\" }\nShape { geometry Sphere {} }",
     );
-    let opts = RenderOptions {
-        camera: CameraChoice::Named("side".into()),
-        ..center_opts(4, 4)
-    };
-    let err = prepare(scene, &opts).err().expect("must fail");
+    let prep = support::prepare(scene);
+    let err = prep
+        .camera(
+            &CameraChoice::Named("side".into()),
+            Projection::Perspective,
+            4,
+            4,
+        )
+        .expect_err("must fail")
+        .to_string();
     assert!(
         err.contains("no Viewpoint named \"side\"") && err.contains("Top"),
         "{err}"
@@ -587,11 +612,15 @@ fn unknown_viewpoint_name_is_a_clear_error() {
     let (scene, _) = support::scene(
         "DEF Top Viewpoint { description \"top view\" }\nShape { geometry Sphere {} }",
     );
-    let opts = RenderOptions {
-        camera: CameraChoice::Named("top view".into()),
-        ..center_opts(4, 4)
-    };
-    assert!(prepare(scene, &opts).is_ok());
+    let prep = support::prepare(scene);
+    assert!(prep
+        .camera(
+            &CameraChoice::Named("top view".into()),
+            Projection::Perspective,
+            4,
+            4
+        )
+        .is_ok());
 }
 
 /// The same seed gives the same image, bit for bit, on 1 and 2 threads.
@@ -607,13 +636,15 @@ fn image_is_the_same_on_any_thread_count() {
         seed: 3,
         ..RenderOptions::default()
     };
-    let prep = prepare(scene, &opts).expect("prepare");
+    let prep = support::prepare(scene);
+    let camera = support::default_camera(&prep, &opts);
     let run = |n| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build()
             .unwrap()
-            .install(|| render(&prep, &opts).image)
+            .install(|| render::render(&prep, &camera, &opts, &()).expect("render"))
+            .image()
     };
     let (a, b) = (run(1), run(2));
     assert_eq!(a.rgb, b.rgb);
@@ -623,6 +654,8 @@ fn image_is_the_same_on_any_thread_count() {
         seed: 4,
         ..opts.clone()
     };
-    let c = render(&prep, &other).image;
+    let c = render::render(&prep, &camera, &other, &())
+        .expect("render")
+        .image();
     assert_ne!(a.rgb, c.rgb);
 }

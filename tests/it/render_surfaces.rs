@@ -5,8 +5,7 @@
 //! sphere and its light, and a triangle that stops a gas ray.
 
 use glam::{DAffine3, DVec3};
-use gtsphere::render::tiles::render;
-use gtsphere::render::{prepare, Integrator, RenderOptions};
+use gtsphere::render::{Integrator, RenderOptions};
 
 use crate::render_opaque::{center_opts, pixel_ray, vrml_term, Mat};
 use crate::support;
@@ -75,12 +74,7 @@ fn radiance(
 fn rendered(body: &str, opts: RenderOptions) -> Vec<[f64; 3]> {
     let (scene, report) = support::scene(body);
     assert!(report.warnings.is_empty(), "{:?}", report.warnings);
-    let opts = RenderOptions {
-        film_f64: true,
-        ..opts
-    };
-    let prep = prepare(scene, &opts).expect("prepare");
-    render(&prep, &opts).rgb64
+    support::render_auto(scene, &opts).rgb
 }
 
 /// Compares every pixel whose expectation is known with the render, to `rel`; returns how

@@ -13,7 +13,7 @@
 use glam::DVec3;
 use gtsphere::render::light_pieces::{resolve, Buffers, Class};
 use gtsphere::render::lights::LightKind;
-use gtsphere::render::{prepare, Prepared, RenderOptions};
+use gtsphere::render::{Prepared, RenderOptions};
 
 use crate::support;
 
@@ -100,10 +100,12 @@ fn scene(rng: &mut Rng, n: usize, lights: &str) -> Prepared {
         ));
     }
     let (scene, _) = support::scene(&body);
-    prepare(scene, &RenderOptions::default()).unwrap()
+    support::prepare(scene)
 }
 
 fn check(prep: &Prepared, rng: &mut Rng, tau_cut: f64, cases: usize) -> (usize, usize) {
+    // The lights a default render uses.
+    let view = support::view(prep, &RenderOptions::default());
     let mut buffers = Buffers::default();
     let mut active = Vec::new();
     let (mut found_total, mut left_out) = (0, 0);
@@ -125,7 +127,7 @@ fn check(prep: &Prepared, rng: &mut Rng, tau_cut: f64, cases: usize) -> (usize, 
         for w in ends.windows(2) {
             let (ta, tb) = (w[0], w[1]);
             let (a, b) = (o + ta * d, o + tb * d);
-            for (slot, light) in prep.lights.iter().enumerate() {
+            for (slot, light) in view.lights.iter().enumerate() {
                 active.clear();
                 let (pieces, n) = resolve(
                     prep,

@@ -4,6 +4,7 @@ use std::io::Write as _;
 use std::path::PathBuf;
 use std::sync::Once;
 
+use gtsphere::render::{self, Camera, Film, PrepareOptions, Prepared, RenderOptions, View};
 use gtsphere::scene::Scene;
 // load_str goes through the streaming reader (1 MiB chunks), as files do.
 use gtsphere::vrml::{load_str, LoadOptions, LoadReport};
@@ -36,6 +37,55 @@ pub fn strict_error_of(text: &str) -> String {
     match load_str("test.wrl", text, &opts) {
         Ok(_) => panic!("expected a strict error for:\n{text}"),
         Err(e) => e.to_string(),
+    }
+}
+
+/// `scene` prepared with the default [`PrepareOptions`].
+pub fn prepare(scene: Scene) -> Prepared {
+    render::prepare(scene, &PrepareOptions::default()).expect("prepare")
+}
+
+/// The scene's default camera (its first Viewpoint, or one framing it) at `opts`' size.
+pub fn default_camera(prep: &Prepared, opts: &RenderOptions) -> Camera {
+    prep.default_camera(opts.width, opts.height)
+        .expect("default camera")
+}
+
+/// The view `render` traces for `opts` from the scene's default camera (what the integrators
+/// take: the lights with the headlight along that camera, the integrator and its tolerance).
+pub fn view<'a>(prep: &'a Prepared, opts: &RenderOptions) -> View<'a> {
+    prep.view(&default_camera(prep, opts), opts).expect("view")
+}
+
+/// `prep` rendered as `opts` say from the scene's default camera.
+pub fn render_prepared(prep: &Prepared, opts: &RenderOptions) -> Film {
+    render::render(prep, &default_camera(prep, opts), opts, &()).expect("render")
+}
+
+/// `scene` prepared with the default [`PrepareOptions`] and rendered as `opts` say from its
+/// default camera.
+pub fn render_auto(scene: Scene, opts: &RenderOptions) -> Film {
+    render_prepared(&prepare(scene), opts)
+}
+
+/// A prepared scene with the options it is rendered with, for the tests that call the
+/// integrators ray by ray: [`Setup::view`] is the view `render` would trace.
+pub struct Setup {
+    pub prep: Prepared,
+    pub opts: RenderOptions,
+}
+
+impl Setup {
+    pub fn new(scene: Scene, prepare: &PrepareOptions, opts: RenderOptions) -> Setup {
+        Setup {
+            prep: render::prepare(scene, prepare).expect("prepare"),
+            opts,
+        }
+    }
+
+    /// The view from the scene's default camera.
+    pub fn view(&self) -> View<'_> {
+        view(&self.prep, &self.opts)
     }
 }
 

@@ -6,7 +6,6 @@
 use glam::{DAffine3, DQuat, DVec3};
 use gtsphere::geom::shapes::Solid;
 use gtsphere::render::integrators::surface::{first_hit, Opaque};
-use gtsphere::render::{prepare, RenderOptions};
 use gtsphere::scene::{Material, Origin, Scene, Sphere, Surface, SurfaceShape, Triangle};
 
 use crate::support::Rng;
@@ -119,7 +118,7 @@ fn closest_and_any_hit_match_every_primitive_tested() {
     let scene = random_scene(&mut rng, 600);
     let spheres: Vec<(DVec3, f64)> = scene.spheres.iter().map(|s| (s.center, s.radius)).collect();
     let ray_list = rays(&mut rng, &scene, 4000);
-    let prep = prepare(scene, &RenderOptions::default()).expect("prepare");
+    let prep = crate::support::prepare(scene);
     let items = &prep.surfaces.items;
     let (mut surface_hits, mut blocked) = (0, 0);
     for (o, d) in ray_list {

@@ -3,8 +3,7 @@
 //! the written file renders to the same image.
 
 use glam::{DAffine3, DQuat, DVec3};
-use gtsphere::render::tiles::render;
-use gtsphere::render::{prepare, RenderOptions, SamplerKind};
+use gtsphere::render::{RenderOptions, SamplerKind};
 use gtsphere::scene::{
     DirectionalLight, EllipsoidId, Light, LightScope, Material, Origin, PointLight, Scene, Sphere,
 };
@@ -227,8 +226,8 @@ fn written_file_renders_the_same_picture() {
             ..RenderOptions::default()
         };
         let (x, y) = (
-            render(&prepare(a, &opts).unwrap(), &opts).image,
-            render(&prepare(b, &opts).unwrap(), &opts).image,
+            crate::support::render_auto(a, &opts).image(),
+            crate::support::render_auto(b, &opts).image(),
         );
         let max = x
             .rgb
@@ -269,12 +268,11 @@ fn surfaces_round_trip_and_render_the_same() {
         height: 48,
         spp: 1,
         sampler: SamplerKind::Center,
-        film_f64: true,
         ..RenderOptions::default()
     };
     let (x, y) = (
-        render(&prepare(a, &opts).unwrap(), &opts).rgb64,
-        render(&prepare(b, &opts).unwrap(), &opts).rgb64,
+        crate::support::render_auto(a, &opts).rgb,
+        crate::support::render_auto(b, &opts).rgb,
     );
     let lit = x.iter().filter(|p| p[0] > 0.05).count();
     assert!(lit > 300, "{lit} pixels lit");

@@ -23,7 +23,7 @@ use clap::{Args, ValueEnum};
 use super::measure::{goals, median, relative_rms, run_scene, table, BenchScene, Case};
 use gtsphere::error::Error;
 use gtsphere::render::{
-    prepare, tiles::render, Aovs, Counters, Integrator, RenderOptions, SamplerKind,
+    prepare, render, Aovs, Counters, Integrator, PrepareOptions, RenderOptions, SamplerKind,
 };
 use gtsphere::scene::Scene;
 use gtsphere::scenes::{cloud, lit_gas, Cloud};
@@ -159,7 +159,7 @@ struct Shot {
     /// The pixels in f64, row by row.
     rgb: Vec<[f64; 3]>,
     /// The error AOV (the pixel's estimated absolute error), row by row; empty unless asked.
-    error: Vec<f32>,
+    error: Vec<f64>,
     /// Median wall time of the tile loop.
     seconds: f64,
     runs: usize,
@@ -181,28 +181,22 @@ fn shoot(
         sampler: SamplerKind::Center,
         integrator,
         tol,
-        film_f64: true,
         aovs: Aovs {
             error: error_aov,
             ..Aovs::default()
         },
         ..RenderOptions::default()
     };
-    let prep = prepare(scene.clone(), &opts).map_err(Error::Other)?;
+    let prep = prepare(scene.clone(), &PrepareOptions::default())?;
+    let camera = prep.default_camera(size, size)?;
     let mut times = Vec::new();
     loop {
-        let mut done = render(&prep, &opts);
+        let done = render(&prep, &camera, &opts, &())?;
         times.push(done.seconds);
         if times.len() >= runs.max(1) {
-            let error = done
-                .image
-                .layers
-                .iter_mut()
-                .find(|l| l.name == "error")
-                .map(|l| std::mem::take(&mut l.data))
-                .unwrap_or_default();
+            let error = done.error.unwrap_or_default();
             return Ok(Shot {
-                rgb: done.rgb64,
+                rgb: done.rgb,
                 error,
                 runs: times.len(),
                 seconds: median(times),
@@ -215,12 +209,11 @@ fn shoot(
 /// How the reported per-pixel error compares with the true one: the fraction of pixels
 /// whose reported error is at least `max_c |pixel_c - reference_c|`, and the median of
 /// reported / true over the pixels with a true error above 0.
-pub fn error_coverage(img: &[[f64; 3]], reported: &[f32], reference: &[[f64; 3]]) -> (f64, f64) {
+pub fn error_coverage(img: &[[f64; 3]], reported: &[f64], reference: &[[f64; 3]]) -> (f64, f64) {
     let mut covered = 0usize;
     let mut ratios = Vec::new();
     for ((a, b), &e) in img.iter().zip(reference).zip(reported) {
         let truth = (0..3).map(|k| (a[k] - b[k]).abs()).fold(0.0, f64::max);
-        let e = f64::from(e);
         covered += usize::from(e >= truth);
         if truth > 0.0 {
             ratios.push(e / truth);

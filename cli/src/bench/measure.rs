@@ -7,7 +7,9 @@
 use std::fmt::Write as _;
 
 use gtsphere::error::Error;
-use gtsphere::render::{prepare, tiles::render, Counters, Integrator, RenderOptions, SamplerKind};
+use gtsphere::render::{
+    prepare, render, Counters, Integrator, PrepareOptions, RenderOptions, SamplerKind,
+};
 use gtsphere::scene::Scene;
 
 /// Renders faster than this (seconds) are repeated for a median.
@@ -140,19 +142,19 @@ pub fn measure(scene: &Scene, size: u32, case: &Case) -> Result<Measured, Error>
         sampler: case.sampler,
         integrator: case.integrator,
         tol: case.tol,
-        film_f64: true,
         ..RenderOptions::default()
     };
-    let prep = prepare(scene.clone(), &opts).map_err(Error::Other)?;
+    let prep = prepare(scene.clone(), &PrepareOptions::default())?;
+    let camera = prep.default_camera(size, size)?;
     let mut times = Vec::new();
     let mut total = 0.0;
     loop {
-        let done = render(&prep, &opts);
+        let done = render(&prep, &camera, &opts, &())?;
         times.push(done.seconds);
         total += done.seconds;
         if done.seconds >= REPEAT_BELOW || times.len() >= MAX_RUNS || total >= 1.0 {
             return Ok(Measured {
-                rgb: done.rgb64,
+                rgb: done.rgb,
                 runs: times.len(),
                 seconds: median(times),
                 counters: done.counters,

@@ -17,7 +17,7 @@ use gtsphere::error::Error;
 use gtsphere::render::integrators::surface::{first_hit, surface_point};
 use gtsphere::render::lights::towards;
 use gtsphere::render::visibility::visible;
-use gtsphere::render::{prepare, tiles::render, Counters, RenderOptions, SamplerKind};
+use gtsphere::render::{prepare, render, Counters, PrepareOptions, RenderOptions, SamplerKind};
 use gtsphere::scenes::random_spheres;
 
 /// One measured run.
@@ -40,9 +40,10 @@ fn one_run(n: usize, size: u32, threads: usize) -> Result<Run, Error> {
         sampler: SamplerKind::Center,
         ..RenderOptions::default()
     };
-    let prep = prepare(random_spheres(n), &opts).map_err(Error::Other)?;
+    let prep = prepare(random_spheres(n), &PrepareOptions::default())?;
     let peak_prepare = peak_rss_bytes().unwrap_or(0);
-    let cam = prep.camera.camera;
+    let view = prep.view(&prep.default_camera(size, size)?, &opts)?;
+    let cam = view.camera;
     let w = f64::from(size);
 
     // Passes 1 and 2, one thread, a band of 16 rows at a time (so the hit list stays small):
@@ -72,7 +73,7 @@ fn one_run(n: usize, size: u32, threads: usize) -> Result<Run, Error> {
         hit_count += hits.len() as u64;
         let t1 = Instant::now();
         for sp in &hits {
-            for (k, l) in prep.lights.iter().enumerate() {
+            for (k, l) in view.lights.iter().enumerate() {
                 if let Some((dir, dist, _)) = towards(l, sp.x) {
                     shadow_rays += 1;
                     let v = visible(&prep, sp.x, dir, dist, Some(sp.on));
@@ -88,7 +89,8 @@ fn one_run(n: usize, size: u32, threads: usize) -> Result<Run, Error> {
         .num_threads(threads)
         .build()
         .map_err(|e| Error::Other(format!("cannot start worker threads: {e}")))?;
-    let done = pool.install(|| render(&prep, &opts));
+    let camera = prep.default_camera(size, size)?;
+    let done = pool.install(|| render(&prep, &camera, &opts, &()))?;
     let Counters {
         camera_rays,
         shadow_rays: shaded,

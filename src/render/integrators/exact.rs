@@ -10,7 +10,7 @@
 //! value so far is a lower bound of the final value, and "the tolerance" at each step is `tol`
 //! times the value so far (floor `1e-3`): never more than the final tolerance.
 //! - **The camera ray stops** at the first segment where the transmittance `T` so far times
-//!   `Prepared::rest_bound` (the most any gas, surface or background could send) is below
+//!   `View::rest_bound` (the most any gas, surface or background could send) is below
 //!   [`CAMERA_SHARE`] of the tolerance; `T * rest_bound` is the bound.
 //! - **Dark pieces are not integrated**: `U_seg`, the scattering a segment would get with
 //!   every shadow removed, is known in closed form, and so is `U`, the sum over the ray. The
@@ -34,7 +34,7 @@ use crate::render::light_pieces::{gas_chord, resolve, Class};
 use crate::render::lights::{attenuation, towards, LightKind, LightSource};
 use crate::render::quadrature::integrate;
 use crate::render::segments::Segment;
-use crate::render::{Counters, Prepared};
+use crate::render::{Counters, View};
 
 /// Sub-intervals the quadrature may use per camera ray before it reports what it has.
 const MAX_INTERVALS: usize = 4000;
@@ -84,15 +84,15 @@ fn attenuation_max(light: &LightSource, o: DVec3, d: DVec3, t0: f64, t1: f64) ->
 }
 
 pub fn radiance(
-    prep: &Prepared,
+    view: &View,
     o: DVec3,
     d: DVec3,
     s: &mut Scratch,
     counters: &mut Counters,
 ) -> Estimate {
-    let hit = gas_along(prep, o, d, s, counters);
+    let hit = gas_along(view, o, d, s, counters);
     let covered = hit.is_some() || !s.segments.is_empty();
-    let tol = prep.tol;
+    let tol = view.tol;
     let Scratch {
         segments,
         members,
@@ -110,7 +110,7 @@ pub fn radiance(
     unshadowed_by_segment.clear();
     let mut tau = 0.0f64;
     for seg in segments.iter() {
-        unshadowed_by_segment.push(segment_unshadowed(prep, seg, members, (-tau).exp()));
+        unshadowed_by_segment.push(segment_unshadowed(view, seg, members, (-tau).exp()));
         tau += seg.sigma * (seg.tb - seg.ta);
     }
     let unshadowed: f64 = unshadowed_by_segment.iter().sum();
@@ -126,7 +126,7 @@ pub fn radiance(
     let allowed = |v: DVec3| tol * v.abs().max_element().max(1e-3);
     for (k, seg) in segments.iter().enumerate() {
         let t_a = (-tau).exp();
-        let rest = t_a * prep.rest_bound;
+        let rest = t_a * view.rest_bound;
         if rest <= CAMERA_SHARE * allowed(value) {
             // What lies behind cannot change the value within its share of the tolerance.
             return Estimate {
@@ -155,17 +155,17 @@ pub fn radiance(
         pieces.clear();
         meta.clear();
         active.clear();
-        for (i, l) in prep.lights.iter().enumerate() {
+        for (i, l) in view.lights.iter().enumerate() {
             if l.direct == DVec3::ZERO {
                 continue;
             }
-            let a = scatter_for(prep, seg, members, i);
+            let a = scatter_for(view, seg, members, i);
             if a == DVec3::ZERO {
                 continue;
             }
             let coeff = t_a * PHASE * a * l.direct;
             let (found, n) = resolve(
-                prep,
+                view,
                 o,
                 d,
                 (seg.ta, seg.tb),
@@ -205,7 +205,7 @@ pub fn radiance(
         let so_far = value;
         let q = integrate(
             pieces,
-            |k, t| scattered(prep, &meta[k], active, o + t * d, t, limit, &mut deep),
+            |k, t| scattered(view, &meta[k], active, o + t * d, t, limit, &mut deep),
             |v| QUAD_SHARE * weight * allowed(so_far + v),
             MAX_INTERVALS,
             quad,
@@ -217,7 +217,7 @@ pub fn radiance(
             error += u_seg * (-limit).exp();
         }
     }
-    let surface = behind(prep, o, d, hit, counters);
+    let surface = behind(view, o, d, hit, counters);
     Estimate {
         value: value + (-tau).exp() * surface,
         error,
@@ -227,13 +227,13 @@ pub fn radiance(
 
 /// The segment's scattering with every shadow removed (a bound: attenuation <= 1), largest
 /// channel, summed over the lights; `t_a` is the transmittance to its start.
-fn segment_unshadowed(prep: &Prepared, seg: &Segment, members: &[u32], t_a: f64) -> f64 {
+fn segment_unshadowed(view: &View, seg: &Segment, members: &[u32], t_a: f64) -> f64 {
     let mut u = 0.0;
-    for (i, l) in prep.lights.iter().enumerate() {
+    for (i, l) in view.lights.iter().enumerate() {
         if l.direct == DVec3::ZERO {
             continue;
         }
-        let a = scatter_for(prep, seg, members, i);
+        let a = scatter_for(view, seg, members, i);
         u += (t_a * PHASE * a * l.direct).max_element()
             * decay_integral(seg.sigma, seg.ta, seg.ta, seg.tb);
     }
@@ -244,7 +244,7 @@ fn segment_unshadowed(prep: &Prepared, seg: &Segment, members: &[u32], t_a: f64)
 /// `limit` stops there and counts as dark (`deep` is set; the caller bounds it).
 #[inline]
 fn scattered(
-    prep: &Prepared,
+    view: &View,
     m: &PieceMeta,
     active: &[u32],
     x: DVec3,
@@ -252,7 +252,7 @@ fn scattered(
     limit: f64,
     deep: &mut bool,
 ) -> DVec3 {
-    let l = &prep.lights[m.light as usize];
+    let l = &view.lights[m.light as usize];
     let Some((dir, dist, att)) = towards(l, x) else {
         return DVec3::ZERO;
     };
@@ -260,8 +260,8 @@ fn scattered(
     // this piece, and no opaque one does.
     let mut od = 0.0;
     for &c in &active[m.active.0 as usize..m.active.1 as usize] {
-        let p = &prep.bvh.prims[c as usize];
-        od += p.sigma * gas_chord(prep, p, x, dir, dist);
+        let p = &view.bvh.prims[c as usize];
+        od += p.sigma * gas_chord(view, p, x, dir, dist);
         if od > limit {
             *deep = true;
             return DVec3::ZERO;

@@ -8,17 +8,17 @@ use glam::DVec3;
 
 use super::{behind, gas_along, lights_at, scatter_for, Estimate, Scratch};
 
-use crate::render::{Counters, Prepared};
+use crate::render::{Counters, View};
 
 pub fn radiance(
-    prep: &Prepared,
+    view: &View,
     o: DVec3,
     d: DVec3,
     step: f64,
     s: &mut Scratch,
     counters: &mut Counters,
 ) -> Estimate {
-    let hit = gas_along(prep, o, d, s, counters);
+    let hit = gas_along(view, o, d, s, counters);
     let end = s.segments.last().map_or(0.0, |g| g.tb);
     let mut l = DVec3::ZERO;
     let mut transmittance = 1.0;
@@ -34,9 +34,9 @@ pub fn radiance(
             let seg = s.segments[k];
             let x = o + mid * d;
             let light = lights_at(
-                prep,
+                view,
                 x,
-                |i| scatter_for(prep, &seg, &s.members, i),
+                |i| scatter_for(view, &seg, &s.members, i),
                 counters,
             );
             l += transmittance * (seg.emit + light) * dt;
@@ -44,7 +44,7 @@ pub fn radiance(
         }
         t += dt;
     }
-    let surface = behind(prep, o, d, hit, counters);
+    let surface = behind(view, o, d, hit, counters);
     Estimate {
         value: l + transmittance * surface,
         error: 0.0,

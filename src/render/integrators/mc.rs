@@ -43,25 +43,25 @@ use super::{behind, gas_along, lights_at, scatter_for, Estimate, Scratch};
 use crate::render::sampler::Rng;
 use crate::render::segments::emission_absorption;
 
-use crate::render::{Counters, Prepared};
+use crate::render::{Counters, View};
 
 pub fn radiance(
-    prep: &Prepared,
+    view: &View,
     o: DVec3,
     d: DVec3,
     rng: &mut Rng,
     s: &mut Scratch,
     counters: &mut Counters,
 ) -> Estimate {
-    let hit = gas_along(prep, o, d, s, counters);
+    let hit = gas_along(view, o, d, s, counters);
     let covered = hit.is_some() || !s.segments.is_empty();
     // The expected-value part: emission, transmittance and what lies behind, in closed form.
     let (emitted, transmittance) = emission_absorption(&s.segments);
     let mut value = emitted;
     if transmittance > 0.0 {
-        value += transmittance * behind(prep, o, d, hit, counters);
+        value += transmittance * behind(view, o, d, hit, counters);
     }
-    if prep.lights.is_empty() {
+    if view.lights.is_empty() {
         return Estimate {
             value,
             error: 0.0,
@@ -92,9 +92,9 @@ pub fn radiance(
         // f / sigma -> dt as sigma dt -> 0, without cancellation.
         let weight = t_a * f / seg.sigma;
         let light = lights_at(
-            prep,
+            view,
             o + t * d,
-            |i| scatter_for(prep, seg, &s.members, i),
+            |i| scatter_for(view, seg, &s.members, i),
             counters,
         );
         value += weight * light;

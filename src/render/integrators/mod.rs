@@ -18,7 +18,7 @@ use glam::DVec3;
 use super::lighting::shade;
 use super::sampler::Rng;
 use super::segments::{Interval, Segment};
-use super::{Counters, Integrator, Prepared};
+use super::{Counters, Integrator, View};
 use surface::OpaqueHit;
 
 /// What one camera ray returns.
@@ -55,37 +55,37 @@ pub struct Scratch {
 /// The camera ray's radiance with the chosen integrator. Scenes without gas always take the
 /// surface integrator: every integrator reduces to it there.
 pub fn radiance(
-    prep: &Prepared,
+    view: &View,
     o: DVec3,
     d: DVec3,
     rng: &mut Rng,
     scratch: &mut Scratch,
     counters: &mut Counters,
 ) -> Estimate {
-    if prep.gas_spheres == 0 {
-        return surface::radiance(prep, o, d, counters);
+    if view.gas_spheres == 0 {
+        return surface::radiance(view, o, d, counters);
     }
-    match prep.integrator {
-        Integrator::Exact => exact::radiance(prep, o, d, scratch, counters),
-        Integrator::March { step } => march::radiance(prep, o, d, step, scratch, counters),
-        Integrator::Mc => mc::radiance(prep, o, d, rng, scratch, counters),
+    match view.integrator {
+        Integrator::Exact => exact::radiance(view, o, d, scratch, counters),
+        Integrator::March { step } => march::radiance(view, o, d, step, scratch, counters),
+        Integrator::Mc => mc::radiance(view, o, d, rng, scratch, counters),
     }
 }
 
 /// Counts the camera ray, finds its first opaque hit and cuts the gas in front of it into
 /// `s.segments` (one traversal, then the sweep).
 pub fn gas_along(
-    prep: &Prepared,
+    view: &View,
     o: DVec3,
     d: DVec3,
     s: &mut Scratch,
     counters: &mut Counters,
 ) -> Option<OpaqueHit> {
     counters.camera_rays += 1;
-    let hit = super::segments::gather(prep, o, d, &mut s.intervals);
+    let hit = super::segments::gather(view, o, d, &mut s.intervals);
     let t_end = hit.map_or(f64::INFINITY, |h| h.t);
     super::segments::sweep(
-        prep,
+        view,
         &s.intervals,
         t_end,
         &mut s.events,
@@ -97,18 +97,12 @@ pub fn gas_along(
 }
 
 /// Radiance of the opaque surface `hit` (or the background), as seen along `d`.
-pub fn behind(
-    prep: &Prepared,
-    o: DVec3,
-    d: DVec3,
-    hit: Option<OpaqueHit>,
-    c: &mut Counters,
-) -> DVec3 {
+pub fn behind(view: &View, o: DVec3, d: DVec3, hit: Option<OpaqueHit>, c: &mut Counters) -> DVec3 {
     match hit {
-        None => prep.background,
+        None => view.background,
         Some(h) => {
-            let sp = surface::surface_point(prep, o, d, h);
-            shade(prep, surface::material_of(prep, h.on), &sp, c)
+            let sp = surface::surface_point(view, o, d, h);
+            shade(view, surface::material_of(view, h.on), &sp, c)
         }
     }
 }
@@ -117,13 +111,13 @@ pub fn behind(
 /// per light, the scatter weights of the gas present (`scatter(i)`, light scoping applied by
 /// the caller) times the light arriving.
 pub fn lights_at(
-    prep: &Prepared,
+    view: &View,
     x: DVec3,
     mut scatter: impl FnMut(usize) -> DVec3,
     c: &mut Counters,
 ) -> DVec3 {
     let mut sum = DVec3::ZERO;
-    for (i, l) in prep.lights.iter().enumerate() {
+    for (i, l) in view.lights.iter().enumerate() {
         if l.direct == DVec3::ZERO {
             continue;
         }
@@ -135,7 +129,7 @@ pub fn lights_at(
             continue;
         }
         c.shadow_rays += 1;
-        let v = super::visibility::visible(prep, x, dir, dist, None);
+        let v = super::visibility::visible(view, x, dir, dist, None);
         sum += a * l.direct * (att * v);
     }
     sum * PHASE
@@ -146,8 +140,8 @@ pub const PHASE: f64 = 0.25 * std::f64::consts::FRAC_1_PI;
 
 /// Scatter weight `sum sigma_j a_j` of a segment for light `i`, over the members light `i`
 /// may light (VRML scoping of DirectionalLights applies to gas spheres as to surfaces).
-pub fn scatter_for(prep: &Prepared, seg: &Segment, members: &[u32], i: usize) -> DVec3 {
-    let l = &prep.lights[i];
+pub fn scatter_for(view: &View, seg: &Segment, members: &[u32], i: usize) -> DVec3 {
+    let l = &view.lights[i];
     match l.kind {
         super::lights::LightKind::Directional {
             scope: crate::scene::LightScope::Range { .. },
@@ -156,9 +150,9 @@ pub fn scatter_for(prep: &Prepared, seg: &Segment, members: &[u32], i: usize) ->
             let ms = &members[seg.members.0 as usize..(seg.members.0 + seg.members.1) as usize];
             ms.iter()
                 .map(|&k| {
-                    let p = &prep.bvh.prims[k as usize];
+                    let p = &view.bvh.prims[k as usize];
                     if super::lights::in_scope(l, p.sphere) {
-                        p.sigma * super::gas::emission_albedo(&prep.materials, p).1
+                        p.sigma * super::gas::emission_albedo(&view.materials, p).1
                     } else {
                         DVec3::ZERO
                     }

@@ -7,7 +7,7 @@ use glam::DVec3;
 use super::Estimate;
 use crate::geom::ellipsoid_normal;
 use crate::render::lighting::{shade, SurfacePoint};
-use crate::render::{Counters, Prepared};
+use crate::render::{Counters, Prepared, View};
 
 /// What an opaque hit is on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -103,7 +103,7 @@ pub fn material_of(prep: &Prepared, on: Opaque) -> &crate::scene::Material {
     &prep.materials[m as usize]
 }
 
-pub fn radiance(prep: &Prepared, o: DVec3, d: DVec3, counters: &mut Counters) -> Estimate {
+pub fn radiance(prep: &View, o: DVec3, d: DVec3, counters: &mut Counters) -> Estimate {
     counters.camera_rays += 1;
     match first_hit(prep, o, d, 0.0) {
         None => Estimate {

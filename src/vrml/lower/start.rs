@@ -5,7 +5,7 @@
 //! PROTO instance is recorded for expansion when it closes, and a modelled node opens a frame
 //! of its [`Kind`] with the VRML97 defaults of its fields.
 
-use glam::{DQuat, DVec3};
+use glam::DVec3;
 
 use super::mesh::{Grid, MeshKind};
 use super::open::{Frame, Kind, Leaf, Marks, Name};
@@ -266,32 +266,20 @@ impl Lowerer {
                 return Ok(());
             }
             Lowered::PointLight => Kind::PointLight(Box::new(PointLight {
-                location: DVec3::ZERO,
-                color: DVec3::ONE,
-                intensity: 1.0,
-                ambient_intensity: 0.0,
-                attenuation: DVec3::new(1.0, 0.0, 0.0),
-                radius: 100.0,
-                on: true,
                 origin: self.origin(at),
+                ..PointLight::default()
             })),
+            // The scope is set when the light's grouping node closes.
             Lowered::DirectionalLight => Kind::DirectionalLight(Box::new(DirectionalLight {
-                direction: DVec3::new(0.0, 0.0, -1.0),
-                color: DVec3::ONE,
-                intensity: 1.0,
-                ambient_intensity: 0.0,
-                on: true,
                 scope: LightScope::Range { start: 0, end: 0 },
                 surface_scope: LightScope::Range { start: 0, end: 0 },
                 origin: self.origin(at),
+                ..DirectionalLight::default()
             })),
             Lowered::Viewpoint => Kind::Viewpoint(Box::new(Viewpoint {
                 name: def.map(str::to_string),
-                description: String::new(),
-                position: DVec3::new(0.0, 0.0, 10.0),
-                orientation: DQuat::IDENTITY,
-                field_of_view: std::f64::consts::FRAC_PI_4,
                 origin: self.origin(at),
+                ..Viewpoint::default()
             })),
             Lowered::NavigationInfo => Kind::NavigationInfo { headlight: None },
             Lowered::Background => Kind::Background { sky: None },
