@@ -1,0 +1,357 @@
+//! `gtsphere.render` and `gtsphere.Film`: a render on worker threads with the GIL released,
+//! while the calling thread watches for Ctrl-C and reports progress.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Duration;
+
+use gtsphere::render::{
+    self as lib, Aovs, Cancel, Integrator, Progress, RenderOptions, SamplerKind,
+};
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::camera::Camera;
+use crate::scene::Scene;
+use crate::to_py;
+
+/// A rendered picture as numpy arrays, row 0 at the top.
+#[pyclass(module = "gtsphere", frozen)]
+pub struct Film {
+    /// (H, W, 3) float64 linear RGB.
+    #[pyo3(get)]
+    rgb: Py<PyAny>,
+    /// (H, W) float64 coverage in [0, 1].
+    #[pyo3(get)]
+    alpha: Py<PyAny>,
+    /// (H, W) float64 estimated absolute error of each pixel (exact: the quadrature's error
+    /// bound; mc: the standard error of the mean; 0 where the value is exact).
+    #[pyo3(get)]
+    error: Py<PyAny>,
+    /// (H, W) float64 distance to the first opaque hit through the pixel centre (inf on a
+    /// miss), or None unless "depth" was in aovs.
+    #[pyo3(get)]
+    depth: Py<PyAny>,
+    /// (H, W, 3) float64 world unit normal there (0 on a miss), or None unless "normal" was
+    /// in aovs.
+    #[pyo3(get)]
+    normal: Py<PyAny>,
+    /// (H, W) int64 index of what the centre ray hit (spheres in order, then the other
+    /// surfaces; -1 on a miss), or None unless "id" was in aovs.
+    #[pyo3(get)]
+    id: Py<PyAny>,
+    /// The largest per-pixel error estimate.
+    #[pyo3(get)]
+    max_error: f64,
+    /// Wall time of the render (seconds).
+    #[pyo3(get)]
+    seconds: f64,
+    /// Work counters: camera_rays, shadow_rays, quadrature_nodes, shadow_candidates.
+    #[pyo3(get)]
+    counters: Py<PyAny>,
+    width: usize,
+    height: usize,
+    stats: gtsphere::render::Counters,
+}
+
+#[pymethods]
+impl Film {
+    /// Image width in pixels.
+    #[getter]
+    fn width(&self) -> usize {
+        self.width
+    }
+
+    /// Image height in pixels.
+    #[getter]
+    fn height(&self) -> usize {
+        self.height
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "<gtsphere.Film {}x{}, max error {:e}, {:.3} s>",
+            self.width, self.height, self.max_error, self.seconds
+        )
+    }
+}
+
+/// A numpy array of `data` with `shape`, taking the vector (no copy).
+fn array<'py, T: numpy::Element>(
+    py: Python<'py>,
+    data: Vec<T>,
+    shape: &[usize],
+) -> PyResult<Py<PyAny>> {
+    let a = PyArray1::from_vec(py, data);
+    Ok(a.reshape(shape)?.into_any().unbind())
+}
+
+impl Film {
+    /// The numpy arrays take the film's buffers (no copy); what save() needs is read back
+    /// from them ([`Film::to_film`]).
+    fn new(py: Python<'_>, film: lib::Film) -> PyResult<Film> {
+        let (h, w) = (film.height, film.width);
+        let none = || py.None();
+        let c = PyDict::new(py);
+        c.set_item("camera_rays", film.counters.camera_rays)?;
+        c.set_item("shadow_rays", film.counters.shadow_rays)?;
+        c.set_item("quadrature_nodes", film.counters.quadrature_nodes)?;
+        c.set_item("shadow_candidates", film.counters.shadow_candidates)?;
+        let lib::Film {
+            width,
+            height,
+            rgb,
+            alpha,
+            error,
+            depth,
+            normal,
+            id,
+            counters,
+            max_error,
+            seconds,
+        } = film;
+        Ok(Film {
+            rgb: array(py, rgb.into_flattened(), &[h, w, 3])?,
+            alpha: array(py, alpha, &[h, w])?,
+            error: array(py, error.unwrap_or_else(|| vec![0.0; h * w]), &[h, w])?,
+            depth: match depth {
+                Some(d) => array(py, d, &[h, w])?,
+                None => none(),
+            },
+            normal: match normal {
+                Some(n) => array(py, n.into_flattened(), &[h, w, 3])?,
+                None => none(),
+            },
+            id: match id {
+                Some(i) => array(py, i, &[h, w])?,
+                None => none(),
+            },
+            max_error,
+            seconds,
+            counters: c.into_any().unbind(),
+            width,
+            height,
+            stats: counters,
+        })
+    }
+
+    /// The film as the library's writers take it, read from the arrays (as they are now, if
+    /// the caller changed them).
+    pub fn to_film(&self, py: Python<'_>) -> PyResult<lib::Film> {
+        let n = self.width * self.height;
+        let f64s = |name: &str, obj: &Py<PyAny>, per: usize| -> PyResult<Option<Vec<f64>>> {
+            let obj = obj.bind(py);
+            if obj.is_none() {
+                return Ok(None);
+            }
+            let a = crate::arrays::float64(py, name, obj)?;
+            let v = a
+                .as_slice()
+                .map_err(|e| PyValueError::new_err(e.to_string()))?;
+            if v.len() != n * per {
+                return Err(PyValueError::new_err(format!(
+                    "film.{name} has {} values, not {} (was it resized?)",
+                    v.len(),
+                    n * per
+                )));
+            }
+            Ok(Some(v.to_vec()))
+        };
+        let triples = |v: Vec<f64>| v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+        Ok(lib::Film {
+            width: self.width,
+            height: self.height,
+            rgb: triples(f64s("rgb", &self.rgb, 3)?.unwrap_or_default()),
+            alpha: f64s("alpha", &self.alpha, 1)?.unwrap_or_default(),
+            error: f64s("error", &self.error, 1)?,
+            depth: f64s("depth", &self.depth, 1)?,
+            normal: f64s("normal", &self.normal, 3)?.map(triples),
+            id: f64s("id", &self.id, 1)?.map(|v| v.into_iter().map(|x| x as i64).collect()),
+            counters: self.stats,
+            max_error: self.max_error,
+            seconds: self.seconds,
+        })
+    }
+}
+
+/// Tiles done, for the progress callback, and the cancel flag.
+#[derive(Default)]
+struct Watch {
+    done: AtomicU64,
+    total: AtomicU64,
+    cancel: Cancel,
+}
+
+impl Progress for Watch {
+    fn start(&self, tiles: u64) {
+        self.total.store(tiles, Ordering::Relaxed);
+    }
+    fn tile_done(&self) {
+        self.done.fetch_add(1, Ordering::Relaxed);
+    }
+    fn cancelled(&self) -> bool {
+        self.cancel.is_cancelled()
+    }
+}
+
+fn integrator_of(name: &str, step: Option<f64>) -> PyResult<Integrator> {
+    match (name, step) {
+        ("exact", None) => Ok(Integrator::Exact),
+        ("mc", None) => Ok(Integrator::Mc),
+        ("march", Some(step)) => Ok(Integrator::March { step }),
+        ("march", None) => Err(PyValueError::new_err(
+            "integrator \"march\" needs step= (world units)",
+        )),
+        ("exact" | "mc", Some(_)) => Err(PyValueError::new_err(
+            "step= is only for integrator=\"march\"",
+        )),
+        (other, _) => Err(PyValueError::new_err(format!(
+            "integrator = {other:?}: must be \"exact\", \"march\" or \"mc\""
+        ))),
+    }
+}
+
+fn aovs_of(names: Vec<String>) -> PyResult<Aovs> {
+    let mut a = Aovs {
+        error: true,
+        ..Aovs::default()
+    };
+    for n in names {
+        match n.as_str() {
+            "depth" => a.depth = true,
+            "normal" => a.normal = true,
+            "id" => a.id = true,
+            "error" => a.error = true,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "aovs: unknown channel {other:?}; choose from \"depth\", \"normal\", \"id\", \"error\""
+                )))
+            }
+        }
+    }
+    Ok(a)
+}
+
+/// Renders `scene` seen by `camera` (None: Camera.from_scene(scene)) at width x height and
+/// returns a Film: rgb (H, W, 3), alpha, error, and depth / normal / id when asked for.
+///
+/// spp: samples per pixel. integrator: "exact" (closed form and adaptive quadrature to
+/// `tol`, relative to the pixel's value), "march" (fixed steps of `step` world units, an
+/// approximation) or "mc" (unbiased Monte Carlo, `spp` paths). seed: the sample pattern's
+/// seed. threads: worker threads (None: every core). aovs: any of "depth", "normal", "id"
+/// ("error" is always returned). sampler: "stratified" or "center" (one sample at each
+/// pixel centre). progress: called as progress(tiles_done, tiles_total) from this thread
+/// about ten times a second; an exception it raises stops the render.
+///
+/// The GIL is released while rendering; Ctrl-C (KeyboardInterrupt) stops the render within
+/// a pixel's time and leaves the scene usable. The pixels are the same for any thread count.
+#[pyfunction]
+#[pyo3(
+    signature = (scene, camera, width, height, spp=16, integrator="exact", tol=1e-4, seed=0, threads=None, aovs=Vec::new(), *, sampler="stratified", step=None, progress=None),
+    text_signature = "(scene, camera, width, height, spp=16, integrator='exact', tol=1e-4, seed=0, threads=None, aovs=(), *, sampler='stratified', step=None, progress=None)"
+)]
+#[allow(clippy::too_many_arguments)]
+pub fn render(
+    py: Python<'_>,
+    scene: &Scene,
+    camera: Option<&Camera>,
+    width: u32,
+    height: u32,
+    spp: u32,
+    integrator: &str,
+    tol: f64,
+    seed: u64,
+    threads: Option<usize>,
+    aovs: Vec<String>,
+    sampler: &str,
+    step: Option<f64>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Film> {
+    let opts = RenderOptions {
+        width,
+        height,
+        spp,
+        seed,
+        sampler: match sampler {
+            "stratified" => SamplerKind::Stratified,
+            "center" => SamplerKind::Center,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "sampler = {other:?}: must be \"stratified\" or \"center\""
+                )))
+            }
+        },
+        aovs: aovs_of(aovs)?,
+        integrator: integrator_of(integrator, step)?,
+        tol,
+        region: None,
+    };
+    opts.validate().map_err(to_py)?;
+    if threads == Some(0) {
+        return Err(PyValueError::new_err("threads must be at least 1"));
+    }
+    let prepared = scene.prepared.clone();
+    let camera = match camera {
+        Some(c) => c.inner,
+        None => prepared.default_camera(width, height).map_err(to_py)?,
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.unwrap_or(0))
+        .build()
+        .map_err(|e| crate::Error::new_err(format!("cannot start worker threads: {e}")))?;
+    let watch = Watch::default();
+    let mut reported = u64::MAX;
+    // The render runs on the pool; this thread wakes every 50 ms, takes the GIL to let
+    // Python run its signal handlers (Ctrl-C) and the progress callback, and cancels the
+    // render if either raised.
+    let (result, interrupted) = py.detach(|| {
+        let waiting = std::thread::current();
+        std::thread::scope(|s| {
+            let job = s.spawn(|| {
+                let r = pool.install(|| lib::render(&prepared, &camera, &opts, &watch));
+                waiting.unpark(); // return at once, not at the next 50 ms tick
+                r
+            });
+            let mut interrupted: Option<PyErr> = None;
+            loop {
+                let finished = job.is_finished();
+                if interrupted.is_none() {
+                    let step = Python::attach(|py| -> PyResult<()> {
+                        py.check_signals()?;
+                        if let Some(cb) = &progress {
+                            let done = watch.done.load(Ordering::Relaxed);
+                            let total = watch.total.load(Ordering::Relaxed);
+                            if done != reported && total > 0 {
+                                reported = done;
+                                cb.call1(py, (done, total))?;
+                            }
+                        }
+                        Ok(())
+                    });
+                    if let Err(e) = step {
+                        watch.cancel.cancel();
+                        interrupted = Some(e);
+                    }
+                }
+                if finished {
+                    break;
+                }
+                std::thread::park_timeout(Duration::from_millis(50));
+            }
+            (job.join(), interrupted)
+        })
+    });
+    if let Some(e) = interrupted {
+        return Err(e);
+    }
+    let film = match result {
+        Ok(r) => r.map_err(to_py)?,
+        Err(_) => {
+            return Err(crate::Error::new_err(
+                "the render panicked (a bug; please report it)",
+            ))
+        }
+    };
+    Film::new(py, film)
+}

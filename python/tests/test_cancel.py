@@ -1,0 +1,43 @@
+"""Ctrl-C (SIGINT sent from another thread) stops a long render quickly and cleanly."""
+
+import os
+import signal
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import gtsphere as gt
+
+
+@pytest.mark.skipif(not hasattr(signal, "SIGINT"), reason="needs SIGINT")
+def test_sigint_from_a_thread_stops_a_long_render_within_a_second():
+    rng = np.random.default_rng(0)
+    n = 2000
+    scene = gt.Scene.from_arrays(
+        rng.uniform(-1, 1, (n, 3)), 0.15, colors=rng.uniform(0, 1, (n, 3)),
+        transparency=np.full(n, 0.3), headlight=False,
+    )
+    scene.add_point_light((3, 3, 3))
+    cam = gt.Camera.frame(scene)
+    sent = []
+
+    def interrupt():
+        sent.append(time.monotonic())
+        os.kill(os.getpid(), signal.SIGINT)
+
+    timer = threading.Timer(0.5, interrupt)
+    start = time.monotonic()
+    timer.start()
+    # Many minutes of work at this size: it cannot finish before the signal.
+    with pytest.raises(KeyboardInterrupt):
+        gt.render(scene, cam, 1024, 1024, spp=256, tol=1e-6)
+    stopped = time.monotonic()
+    timer.join()
+    assert sent, "the signal was sent"
+    assert stopped - sent[0] < 1.0, f"stopped {stopped - sent[0]:.2f} s after the signal"
+    assert stopped - start >= 0.5
+    # The interpreter and the scene are still usable.
+    film = gt.render(scene, cam, 16, 16, spp=1)
+    assert film.rgb.shape == (16, 16, 3) and np.isfinite(film.rgb).all()

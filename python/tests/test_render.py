@@ -1,0 +1,207 @@
+"""Rendering from numpy: against the command line, against the VRML equation and the gas
+closed form, and prepared scenes reused across cameras."""
+
+import math
+
+import numpy as np
+import pytest
+
+import gtsphere as gt
+
+
+def cloud(n=60, seed=3, gas=False):
+    rng = np.random.default_rng(seed)
+    centers = rng.uniform(-1.0, 1.0, (n, 3))
+    radii = rng.uniform(0.08, 0.25, n)
+    colors = rng.uniform(0.0, 1.0, (n, 3))
+    transparency = np.where(rng.uniform(size=n) < 0.5, rng.uniform(0.2, 0.9, n), 0.0) if gas else None
+    emissive = rng.uniform(0.0, 0.3, (n, 3)) if gas else None
+    return centers, radii, colors, transparency, emissive
+
+
+def vrml_of(centers, radii, colors, transparency, emissive):
+    """The same spheres as VRML97 text, every number written with repr (round-trips)."""
+    f = repr
+    out = [
+        "#VRML V2.0 utf8",
+        "NavigationInfo { headlight FALSE }",
+        "Viewpoint { position 0 0 5 }",
+        "PointLight { location 3 3 3 intensity 0.8 }",
+        "DirectionalLight { direction -0.5773502691896258 -0.5773502691896258 -0.5773502691896258 intensity 0.5 }",
+    ]
+    for i in range(len(centers)):
+        c = centers[i]
+        mat = "diffuseColor {} {} {}".format(*map(f, map(float, colors[i])))
+        if transparency is not None:
+            mat += f" transparency {f(float(transparency[i]))}"
+        if emissive is not None:
+            mat += " emissiveColor {} {} {}".format(*map(f, map(float, emissive[i])))
+        out.append(
+            "Transform {{ translation {} {} {} children Shape {{ appearance Appearance {{ material Material {{ {} }} }} geometry Sphere {{ radius {} }} }} }}".format(
+                *map(f, map(float, c)), mat, f(float(radii[i]))
+            )
+        )
+    return "\n".join(out) + "\n"
+
+
+def scene_of(centers, radii, colors, transparency, emissive):
+    s = gt.Scene.from_arrays(centers, radii, colors, transparency, emissive, headlight=False)
+    s.add_point_light((3, 3, 3), intensity=0.8)
+    s.add_directional_light((-1, -1, -1), intensity=0.5)
+    return s
+
+
+@pytest.mark.parametrize("gas", [False, True])
+def test_arrays_equal_vrml_through_the_cli_bit_for_bit(tmp_path, gtsphere_cli, gas):
+    data = cloud(gas=gas)
+    wrl = tmp_path / "cloud.wrl"
+    wrl.write_text(vrml_of(*data))
+    out = tmp_path / "cli.npy"
+    gtsphere_cli("render", wrl, "-o", out, "--width", 48, "--height", 36, "--spp", 4, "--quiet")
+    want = np.load(out)
+
+    scene = scene_of(*data)
+    cam = gt.Camera.look_at((0, 0, 5), (0, 0, 0), (0, 1, 0))
+    film = gt.render(scene, cam, 48, 36, spp=4)
+    assert film.rgb.shape == want.shape == (36, 48, 3)
+    assert film.rgb.dtype == np.float64
+    assert np.count_nonzero(want) > 100, "the scene must show something"
+    assert np.array_equal(film.rgb, want), np.abs(film.rgb - want).max()
+
+
+def ortho_pixel_ray(cam_pos, height, width_px, height_px, i, j):
+    """Origin of the orthographic ray through pixel (i, j)'s centre, camera looking down -z."""
+    half = 0.5 * height
+    aspect = width_px / height_px
+    hw, hh = (half * aspect, half) if width_px >= height_px else (half, half / aspect)
+    u, v = (i + 0.5) / width_px, (j + 0.5) / height_px
+    return np.array([cam_pos[0] + (2 * u - 1) * hw, cam_pos[1] + (1 - 2 * v) * hh, cam_pos[2]])
+
+
+def test_lit_sphere_pixel_is_the_vrml_equation():
+    diffuse = np.array([0.9, 0.6, 0.3])
+    scene = gt.Scene.from_arrays([[0.0, 0.0, 0.0]], 1.0, colors=[diffuse], headlight=False)
+    point, p_int, p_amb = np.array([2.0, 1.5, 3.0]), 0.7, 0.3
+    scene.add_point_light(point, intensity=p_int, ambient_intensity=p_amb)
+    d_dir, d_int = np.array([0.3, -0.2, -1.0]), 0.6
+    scene.add_directional_light(d_dir, intensity=d_int)
+    cam_pos, h, w_px, h_px = (0.0, 0.0, 5.0), 2.5, 9, 7
+    cam = gt.Camera.look_at(cam_pos, (0, 0, 0), (0, 1, 0), ortho_height=h)
+    film = gt.render(scene, cam, w_px, h_px, sampler="center")
+    checked = 0
+    for j in range(h_px):
+        for i in range(w_px):
+            o = ortho_pixel_ray(cam_pos, h, w_px, h_px, i, j)
+            b2 = o[0] ** 2 + o[1] ** 2
+            if b2 >= 1.0:
+                assert np.all(film.rgb[j, i] == 0.0)
+                continue
+            x = np.array([o[0], o[1], math.sqrt(1.0 - b2)])  # the hit on the unit sphere
+            n = x
+            # VRML97 4.14.4: ambient of the point light (attenuation 1 here) plus each light's
+            # diffuse term (specular colour is 0 by default); both lights see the point unless
+            # N.L <= 0, the sphere being alone.
+            want = p_amb * 0.2 * diffuse  # material ambientIntensity 0.2
+            lp = point - x
+            lp /= np.linalg.norm(lp)
+            want = want + p_int * max(n @ lp, 0.0) * diffuse
+            ld = -d_dir / np.linalg.norm(d_dir)
+            want = want + d_int * max(n @ ld, 0.0) * diffuse
+            np.testing.assert_allclose(film.rgb[j, i], want, rtol=1e-12, atol=1e-15)
+            checked += 1
+    assert checked >= 20
+
+
+@pytest.mark.parametrize("t", [0.9, 0.3, 1e-3])
+def test_gas_sphere_pixel_is_the_closed_form(t):
+    r, c = 0.8, np.array([0.7, 0.4, 0.1])
+    scene = gt.Scene.from_arrays(
+        [[0.1, -0.2, 0.0]], r, colors=[[0, 0, 0]], transparency=[t], emissive=[c], headlight=False
+    )
+    sigma = -math.log(t) / (2 * r)
+    cam_pos, h, w_px, h_px = (0.1, -0.2, 4.0), 2.0, 11, 11
+    cam = gt.Camera.look_at(cam_pos, (0.1, -0.2, 0.0), (0, 1, 0), ortho_height=h)
+    film = gt.render(scene, cam, w_px, h_px, sampler="center")
+    inside = 0
+    for j in range(h_px):
+        for i in range(w_px):
+            o = ortho_pixel_ray(cam_pos, h, w_px, h_px, i, j)
+            b2 = (o[0] - 0.1) ** 2 + (o[1] + 0.2) ** 2
+            chord = 2 * math.sqrt(max(r * r - b2, 0.0))
+            want = c * -np.expm1(-sigma * chord)
+            np.testing.assert_allclose(film.rgb[j, i], want, rtol=1e-12, atol=1e-300)
+            inside += chord > 0
+    assert inside >= 30
+    # The centre pixel's chord is the diameter: 1 - transparency.
+    np.testing.assert_allclose(film.rgb[5, 5], c * (1 - t), rtol=1e-12)
+
+
+def test_one_prepared_scene_two_cameras_equals_two_fresh_renders():
+    data = cloud(gas=True)
+    cams = [
+        gt.Camera.look_at((0, 0, 5), (0, 0, 0), (0, 1, 0)),
+        gt.Camera.look_at((4, 1, 2), (0, 0, 0), (0, 1, 0), fov=0.6),
+    ]
+    shared = scene_of(*data)
+    twice = [gt.render(shared, c, 32, 24, spp=2) for c in cams]
+    fresh = [gt.render(scene_of(*data), c, 32, 24, spp=2) for c in cams]
+    for a, b in zip(twice, fresh):
+        assert np.array_equal(a.rgb, b.rgb)
+        assert np.array_equal(a.error, b.error)
+    assert not np.array_equal(twice[0].rgb, twice[1].rgb)
+
+
+def test_threads_do_not_change_the_pixels():
+    scene = scene_of(*cloud(gas=True))
+    cam = gt.Camera.frame(scene, direction=(0, -1, -1), up=(0, 1, 0))
+    one = gt.render(scene, cam, 40, 30, spp=2, threads=1)
+    two = gt.render(scene, cam, 40, 30, spp=2, threads=2)
+    assert np.array_equal(one.rgb, two.rgb)
+
+
+def test_aovs_and_film_arrays():
+    scene = gt.Scene.from_arrays([[0, 0, 0], [3, 0, 0]], [1.0, 0.5])
+    cam = gt.Camera.look_at((0, 0, 5), (0, 0, 0), (0, 1, 0))
+    film = gt.render(scene, cam, 20, 10, spp=1, aovs=("depth", "normal", "id"), sampler="center")
+    assert film.alpha.shape == film.depth.shape == film.id.shape == film.error.shape == (10, 20)
+    assert film.normal.shape == (10, 20, 3) and film.id.dtype == np.int64
+    centre = film.id[5, 10]
+    assert centre == 0 and film.depth[4, 10] == pytest.approx(4.0, abs=0.2)
+    assert film.id[0, 0] == -1 and np.isinf(film.depth[0, 0])
+    np.testing.assert_allclose(np.linalg.norm(film.normal[film.id >= 0], axis=1), 1.0, rtol=1e-12)
+    plain = gt.render(scene, cam, 20, 10, spp=1, sampler="center")
+    assert plain.depth is None and plain.normal is None and plain.id is None
+
+
+def test_load_renders_like_the_cli(tmp_path, gtsphere_cli):
+    data = cloud()
+    wrl = tmp_path / "c.wrl"
+    wrl.write_text(vrml_of(*data))
+    out = tmp_path / "c.npy"
+    gtsphere_cli("render", wrl, "-o", out, "--width", 30, "--height", 20, "--spp", 2, "--quiet")
+    scene = gt.load(wrl)
+    assert len(scene) == len(data[0]) and scene.lights == 2 and not scene.headlight
+    film = gt.render(scene, gt.Camera.from_scene(scene), 30, 20, spp=2)
+    assert np.array_equal(film.rgb, np.load(out))
+    # camera=None is the same default camera.
+    assert np.array_equal(gt.render(scene, None, 30, 20, spp=2).rgb, film.rgb)
+
+
+def test_progress_callback_and_its_exception_stops_the_render():
+    scene = scene_of(*cloud())
+    cam = gt.Camera.frame(scene)
+    seen = []
+    gt.render(scene, cam, 64, 64, spp=1, progress=lambda d, t: seen.append((d, t)))
+    assert seen and seen[-1] == (16, 16)
+    assert all(t == 16 and 0 <= d <= 16 for d, t in seen)
+
+    class Stop(Exception):
+        pass
+
+    def stop(done, total):
+        raise Stop
+
+    with pytest.raises(Stop):
+        gt.render(scene, cam, 256, 256, spp=64, progress=stop)
+    # The scene stays usable.
+    assert gt.render(scene, cam, 8, 8, spp=1).rgb.shape == (8, 8, 3)
