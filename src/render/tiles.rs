@@ -16,16 +16,16 @@ use crate::Error;
 
 const TILE: u32 = 16;
 
-/// A finished pixel: RGB and alpha, then (only when AOVs are asked for) depth, normal, id.
+/// A finished pixel: RGB, alpha and the error estimate.
 #[derive(Clone, Copy, Default)]
 struct PixelOut {
     rgb: [f64; 3],
     alpha: f64,
     error: f64,
-    aov: Option<CentreHit>,
 }
 
-/// What the ray through a pixel's centre hit first.
+/// What the ray through a pixel's centre hit first (traced only when depth, normal or id
+/// are asked for).
 #[derive(Clone, Copy, Default)]
 struct CentreHit {
     depth: f64,
@@ -123,36 +123,39 @@ fn render_pixel(
     } else {
         err / n
     };
-    let mut out = PixelOut {
+    PixelOut {
         rgb: mean.to_array(),
         alpha: f64::from(covered) / n,
         error,
-        aov: None,
-    };
-    if opts.aovs.any() {
-        let (o, d) = cam.ray((f64::from(i) + 0.5) / w, (f64::from(j) + 0.5) / h);
-        out.aov = Some(match surface::first_hit(view, o, d, 0.0) {
-            Some(hit) => {
-                let sp = surface::surface_point(view, o, d, hit);
-                // Spheres are numbered first, then the other surfaces.
-                let id = match hit.on {
-                    surface::Opaque::Sphere(_) => i64::from(sp.scene_index(view)),
-                    surface::Opaque::Surface(i) => (view.spheres + i as usize) as i64,
-                };
-                CentreHit {
-                    depth: hit.t,
-                    normal: sp.n.to_array(),
-                    id,
-                }
-            }
-            None => CentreHit {
-                depth: f64::INFINITY,
-                normal: [0.0; 3],
-                id: -1,
-            },
-        });
     }
-    out
+}
+
+/// The first opaque hit of the ray through pixel `(i, j)`'s centre.
+fn centre_hit(view: &View, opts: &RenderOptions, i: u32, j: u32) -> CentreHit {
+    let (w, h) = (f64::from(opts.width), f64::from(opts.height));
+    let (o, d) = view
+        .camera
+        .ray((f64::from(i) + 0.5) / w, (f64::from(j) + 0.5) / h);
+    match surface::first_hit(view, o, d, 0.0) {
+        Some(hit) => {
+            let sp = surface::surface_point(view, o, d, hit);
+            // Spheres are numbered first, then the other surfaces.
+            let id = match hit.on {
+                surface::Opaque::Sphere(_) => i64::from(sp.scene_index(view)),
+                surface::Opaque::Surface(i) => (view.spheres + i as usize) as i64,
+            };
+            CentreHit {
+                depth: hit.t,
+                normal: sp.n.to_array(),
+                id,
+            }
+        }
+        None => CentreHit {
+            depth: f64::INFINITY,
+            normal: [0.0; 3],
+            id: -1,
+        },
+    }
 }
 
 /// Renders `view` seen by `camera` as `opts` say, in rayon's current pool (run it inside
@@ -182,7 +185,7 @@ pub fn render_view(
     let (w, h) = (rx1 - rx0, ry1 - ry0);
     let (tx, ty) = (w.div_ceil(TILE), h.div_ceil(TILE));
     progress.start(u64::from(tx * ty));
-    let tiles: Vec<(Vec<PixelOut>, Counters)> = (0..tx * ty)
+    let tiles: Vec<(Vec<PixelOut>, Vec<CentreHit>, Counters)> = (0..tx * ty)
         .into_par_iter()
         .map(|t| {
             let (x0, y0) = ((t % tx) * TILE, (t / tx) * TILE);
@@ -192,6 +195,7 @@ pub fn render_view(
             let mut samples = Vec::with_capacity(opts.spp as usize);
             let mut scratch = Scratch::default();
             let mut px = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
+            let mut hits = Vec::new();
             'rows: for j in y0..y1 {
                 for i in x0..x1 {
                     if progress.cancelled() {
@@ -206,10 +210,13 @@ pub fn render_view(
                         &mut scratch,
                         &mut counters,
                     ));
+                    if opts.aovs.any() {
+                        hits.push(centre_hit(view, opts, i, j));
+                    }
                 }
             }
             progress.tile_done();
-            (px, counters)
+            (px, hits, counters)
         })
         .collect();
     progress.finish();
@@ -232,7 +239,7 @@ pub fn render_view(
         max_error: 0.0,
         seconds: 0.0,
     };
-    for (t, (px, c)) in tiles.into_iter().enumerate() {
+    for (t, (px, hits, c)) in tiles.into_iter().enumerate() {
         film.counters += c;
         let t = t as u32;
         let (x0, y0) = ((t % tx) * TILE, (t / tx) * TILE);
@@ -246,7 +253,7 @@ pub fn render_view(
             if let Some(e) = &mut film.error {
                 e[at] = p.error;
             }
-            if let Some(a) = p.aov {
+            if let Some(a) = hits.get(k) {
                 if let Some(d) = &mut film.depth {
                     d[at] = a.depth;
                 }
