@@ -41,3 +41,33 @@ def test_sigint_from_a_thread_stops_a_long_render_within_a_second():
     # The interpreter and the scene are still usable.
     film = gt.render(scene, cam, 16, 16, spp=1)
     assert film.rgb.shape == (16, 16, 3) and np.isfinite(film.rgb).all()
+
+
+def test_the_gil_is_released_while_rendering():
+    rng = np.random.default_rng(1)
+    n = 1000
+    scene = gt.Scene.from_arrays(
+        rng.uniform(-1, 1, (n, 3)), 0.1, transparency=np.full(n, 0.5), headlight=False
+    )
+    scene.add_point_light((3, 3, 3))
+    cam = gt.Camera.frame(scene)
+    done = threading.Event()
+    result = []
+
+    def work():
+        result.append(gt.render(scene, cam, 64, 64, spp=2, threads=1))
+        done.set()
+
+    t = threading.Thread(target=work)
+    stamps = []
+    t.start()
+    while not done.is_set():
+        stamps.append(time.monotonic())  # Python running in this thread meanwhile
+    t.join()
+    assert result and result[0].rgb.shape == (64, 64, 3)
+    elapsed = stamps[-1] - stamps[0]
+    assert elapsed > 0.3, "the render must take long enough to tell"
+    # Were the GIL held for the render, this thread would stand still for all of it: one
+    # gap as long as the render. Released, it runs but for the 50 ms polls' brief takes.
+    gap = max(b - a for a, b in zip(stamps, stamps[1:]))
+    assert gap < 0.25 * elapsed, (gap, elapsed)
