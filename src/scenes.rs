@@ -119,23 +119,12 @@ pub fn random_spheres(n: usize) -> Scene {
     }
     scene.lights.push(Light::Point(PointLight {
         location: DVec3::new(3.0, 3.0, 3.0),
-        color: DVec3::ONE,
-        intensity: 1.0,
-        ambient_intensity: 0.0,
-        attenuation: DVec3::new(1.0, 0.0, 0.0),
         radius: f64::INFINITY,
-        on: true,
-        origin: Origin::default(),
+        ..PointLight::default()
     }));
     scene.lights.push(Light::Directional(DirectionalLight {
         direction: DVec3::new(-1.0, -1.0, -1.0).normalize(),
-        color: DVec3::ONE,
-        intensity: 1.0,
-        ambient_intensity: 0.0,
-        on: true,
-        scope: crate::scene::LightScope::All,
-        surface_scope: crate::scene::LightScope::All,
-        origin: Origin::default(),
+        ..DirectionalLight::default()
     }));
     scene.viewpoints.push(Viewpoint {
         name: None,
@@ -219,22 +208,13 @@ pub fn gas_cloud(n: usize, lit: bool) -> Scene {
     scene.lights.push(Light::Point(PointLight {
         location: DVec3::new(0.3, 0.5, 0.2),
         color: DVec3::new(1.0, 0.9, 0.8),
-        intensity: 1.0,
-        ambient_intensity: 0.0,
-        attenuation: DVec3::new(1.0, 0.0, 0.0),
-        radius: 100.0,
-        on: true,
-        origin: Origin::default(),
+        ..PointLight::default()
     }));
     scene.lights.push(Light::Directional(DirectionalLight {
         direction: DVec3::new(-1.0, -0.6, -0.4).normalize(),
         color: DVec3::new(0.7, 0.8, 1.0),
-        intensity: 1.0,
         ambient_intensity: 0.1,
-        on: true,
-        scope: crate::scene::LightScope::All,
-        surface_scope: crate::scene::LightScope::All,
-        origin: Origin::default(),
+        ..DirectionalLight::default()
     }));
     scene.viewpoints.push(bench_view());
     scene
@@ -311,26 +291,16 @@ pub fn cloud(n: usize, kind: Cloud) -> Scene {
         s.material = (mix(i as u64 ^ 0xC10D) % CLOUD_COLOURS as u64) as u32;
     }
     scene.lights = vec![
+        // The VRML default radius 100: every sphere is within 6 of the light.
         Light::Point(PointLight {
             location: DVec3::new(3.0, 3.0, 3.0),
-            color: DVec3::ONE,
             intensity: 0.8,
-            ambient_intensity: 0.0,
-            attenuation: DVec3::new(1.0, 0.0, 0.0),
-            // The VRML default; every sphere is within 6 of the light.
-            radius: 100.0,
-            on: true,
-            origin: Origin::default(),
+            ..PointLight::default()
         }),
         Light::Directional(DirectionalLight {
             direction: DVec3::new(-1.0, -1.0, -1.0).normalize(),
-            color: DVec3::ONE,
             intensity: 0.5,
-            ambient_intensity: 0.0,
-            on: true,
-            scope: crate::scene::LightScope::All,
-            surface_scope: crate::scene::LightScope::All,
-            origin: Origin::default(),
+            ..DirectionalLight::default()
         }),
     ];
     scene

@@ -164,7 +164,7 @@ impl Scene {
         }
 
         let mut materials: Vec<Material> = Vec::new();
-        let mut index: HashMap<[u64; 7], u32> = HashMap::new();
+        let mut index: HashMap<[u64; 13], u32> = HashMap::new();
         let mut spheres = Vec::with_capacity(n);
         for i in 0..n {
             let mut m = Material::default();
@@ -177,16 +177,7 @@ impl Scene {
             if let Some(t) = arrays.transparency {
                 m.transparency = t[i];
             }
-            let key = [
-                m.diffuse.x.to_bits(),
-                m.diffuse.y.to_bits(),
-                m.diffuse.z.to_bits(),
-                m.emissive.x.to_bits(),
-                m.emissive.y.to_bits(),
-                m.emissive.z.to_bits(),
-                m.transparency.to_bits(),
-            ];
-            let material = *index.entry(key).or_insert_with(|| {
+            let material = *index.entry(m.key()).or_insert_with(|| {
                 materials.push(m);
                 (materials.len() - 1) as u32
             });

@@ -115,6 +115,25 @@ impl Material {
             ..Material::default()
         }
     }
+    /// Every field's bits: materials are equal when their keys are (so `-0.0` and `0.0`
+    /// differ, as they would be printed differently).
+    pub fn key(&self) -> [u64; 13] {
+        [
+            self.diffuse.x.to_bits(),
+            self.diffuse.y.to_bits(),
+            self.diffuse.z.to_bits(),
+            self.emissive.x.to_bits(),
+            self.emissive.y.to_bits(),
+            self.emissive.z.to_bits(),
+            self.specular.x.to_bits(),
+            self.specular.y.to_bits(),
+            self.specular.z.to_bits(),
+            self.shininess.to_bits(),
+            self.ambient_intensity.to_bits(),
+            self.transparency.to_bits(),
+            self.unlit as u64,
+        ]
+    }
     /// Gas: `0 < transparency <= 1` (MODEL.md section 1).
     pub fn is_gas(&self) -> bool {
         !self.unlit && self.transparency > 0.0

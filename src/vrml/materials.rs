@@ -16,24 +16,9 @@
 
 use crate::scene::{Material, Scene};
 
-/// Every field's bits: materials are equal when their keys are (so `-0.0` and `0.0` differ,
-/// as they would be printed differently).
+/// Every field's bits ([`Material::key`]).
 fn material_key(m: &Material) -> [u64; 13] {
-    [
-        m.diffuse.x.to_bits(),
-        m.diffuse.y.to_bits(),
-        m.diffuse.z.to_bits(),
-        m.emissive.x.to_bits(),
-        m.emissive.y.to_bits(),
-        m.emissive.z.to_bits(),
-        m.specular.x.to_bits(),
-        m.specular.y.to_bits(),
-        m.specular.z.to_bits(),
-        m.shininess.to_bits(),
-        m.ambient_intensity.to_bits(),
-        m.transparency.to_bits(),
-        m.unlit as u64,
-    ]
+    m.key()
 }
 
 /// A fixed (same on every call and every run) hash of a material's key: a multiply-xor mix,
