@@ -1,8 +1,10 @@
 //! Scenes built in code: spheres from arrays ([`Scene::from_arrays`]), and the checks every
 //! scene passes before it is prepared ([`Scene::validate`]).
 
+use std::hash::BuildHasher;
+
 use glam::DVec3;
-use hashbrown::HashMap;
+use hashbrown::{DefaultHashBuilder, HashTable};
 
 use super::{Light, Material, Origin, Scene, Sphere};
 use crate::Error;
@@ -164,7 +166,10 @@ impl Scene {
         }
 
         let mut materials: Vec<Material> = Vec::new();
-        let mut index: HashMap<[u64; 13], u32> = HashMap::new();
+        // Indices into `materials`, hashed by content: 4 bytes a distinct material (a map keyed
+        // by the 104-byte key doubled the peak memory of a million distinct colours).
+        let hasher = DefaultHashBuilder::default();
+        let mut index: HashTable<u32> = HashTable::new();
         let mut spheres = Vec::with_capacity(n);
         for i in 0..n {
             let mut m = Material::default();
@@ -177,10 +182,17 @@ impl Scene {
             if let Some(t) = arrays.transparency {
                 m.transparency = t[i];
             }
-            let material = *index.entry(m.key()).or_insert_with(|| {
-                materials.push(m);
-                (materials.len() - 1) as u32
-            });
+            let key = m.key();
+            let hash = hasher.hash_one(key);
+            let material = match index.find(hash, |&i| materials[i as usize].key() == key) {
+                Some(&i) => i,
+                None => {
+                    materials.push(m);
+                    let i = (materials.len() - 1) as u32;
+                    index.insert_unique(hash, i, |&j| hasher.hash_one(materials[j as usize].key()));
+                    i
+                }
+            };
             spheres.push(Sphere {
                 center: triple(c, i),
                 radius: match arrays.radii {
