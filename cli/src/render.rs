@@ -433,6 +433,7 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
             "rays per second    {:.0}",
             (c.camera_rays + c.shadow_rays) as f64 / done.seconds.max(1e-9)
         );
+        println!("load seconds       {:.3}", report.seconds);
         println!("render seconds     {:.3}", done.seconds);
         println!("prepare seconds    {:.3}", prep.prepare_time.as_secs_f64());
         println!(

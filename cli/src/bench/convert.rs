@@ -16,7 +16,7 @@ use gtsphere::output::write_file_atomically;
 use gtsphere::particles::{self, Extras, TableOptions, WriteOptions};
 use gtsphere::scenes::write_table;
 
-fn generate(dir: &Path, n: usize) -> Result<PathBuf, Error> {
+pub fn generate(dir: &Path, n: usize) -> Result<PathBuf, Error> {
     let path = dir.join(format!("gtsphere-bench-particles-{n}.csv"));
     if path.is_file() {
         return Ok(path);
@@ -25,7 +25,7 @@ fn generate(dir: &Path, n: usize) -> Result<PathBuf, Error> {
     Ok(path)
 }
 
-fn options() -> WriteOptions {
+pub fn options() -> WriteOptions {
     WriteOptions {
         plain: false,
         extras: Extras {

@@ -125,7 +125,7 @@ impl From<CloudArg> for Cloud {
 }
 
 /// A count written as an integer or in exponent form (`1e6`).
-fn parse_count(s: &str) -> Result<usize, String> {
+pub fn parse_count(s: &str) -> Result<usize, String> {
     match s.parse::<usize>() {
         Ok(n) if n > 0 => return Ok(n),
         Ok(_) => return Err("0 is not a positive count".into()),

@@ -10,6 +10,7 @@
 //!  |-- parse     bench parse    (runs `gtsphere info --json` in child processes)
 //!  |-- trace     bench trace
 //!  |-- convert   bench convert
+//!  |-- scale     bench scale    (convert's table, then `gtsphere render --stats` children)
 //!  |-- gas       bench gas ------------------.
 //!  `-- report    bench (no subcommand)       |
 //!       |-- plot   bench.png ----------------|
@@ -32,6 +33,7 @@ pub mod measure;
 pub mod parse;
 pub mod plot;
 pub mod report;
+pub mod scale;
 pub mod trace;
 
 #[derive(Debug, Subcommand)]
@@ -85,6 +87,24 @@ pub enum BenchCommand {
     /// scene; with --scaling, how exact's cost per ray grows with N on gas clouds, against
     /// march at equal error (issue 12); with --write DIR, those clouds as .wrl files.
     Gas(gas::GasArgs),
+    /// The whole path at growing N: a generated particle table converted to VRML, then
+    /// `gtsphere render` of it (512 x 512, 1 spp, shadows) in a child process: read, build
+    /// and render seconds, particles read per second, and the command's peak memory per
+    /// sphere. Files are kept in --dir and reused.
+    Scale {
+        /// Particle counts, comma-separated; 1e6 or 1000000.
+        #[arg(long, value_delimiter = ',', value_parser = gas::parse_count, default_values_t = [1_000_000, 10_000_000])]
+        sizes: Vec<usize>,
+        /// Image width and height in pixels.
+        #[arg(long, default_value_t = 512)]
+        size: u32,
+        /// Threads of the render command.
+        #[arg(long, default_value_t = 1)]
+        threads: usize,
+        /// Where the generated files go (kept for reuse). Default: the system temp folder.
+        #[arg(long)]
+        dir: Option<PathBuf>,
+    },
 }
 
 pub fn run(cmd: BenchCommand) -> Result<ExitCode, Error> {
@@ -103,5 +123,11 @@ pub fn run(cmd: BenchCommand) -> Result<ExitCode, Error> {
         } => trace::run(spheres, size, runs, threads),
         BenchCommand::Gas(args) => gas::run(&args),
         BenchCommand::Convert { rows, runs, dir } => convert::run(rows, runs, dir),
+        BenchCommand::Scale {
+            sizes,
+            size,
+            threads,
+            dir,
+        } => scale::run(&sizes, size, threads, dir),
     }
 }

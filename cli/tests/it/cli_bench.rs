@@ -236,3 +236,61 @@ fn bench_gas_write_gives_files_that_render() {
         assert!(pfm.starts_with(b"PF\n8 8\n"));
     }
 }
+
+/// `gtsphere bench scale`: one row per N with the whole command's numbers; the files are
+/// kept and reused by a second run.
+#[test]
+fn bench_scale_prints_a_row_per_size_and_reuses_its_files() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_bench_scale");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let run = || {
+        let out = Command::new(env!("CARGO_BIN_EXE_gtsphere"))
+            .args([
+                "bench", "scale", "--sizes", "1e3,2000", "--size", "16", "--dir",
+            ])
+            .arg(&dir)
+            .output()
+            .expect("run gtsphere");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    let rows = |text: &str| -> Vec<Vec<String>> {
+        text.lines()
+            .filter(|l| l.starts_with("| ") && !l.starts_with("| N "))
+            .map(|l| l.split('|').map(|c| c.trim().to_string()).collect())
+            .collect()
+    };
+    let first = rows(&run());
+    assert_eq!(first.len(), 2, "one row per size");
+    for (row, n) in first.iter().zip([1000.0, 2000.0]) {
+        assert_eq!(row.len(), 12, "{row:?}");
+        let num = |k: usize| row[k].parse::<f64>().unwrap_or_else(|_| panic!("{row:?}"));
+        assert_eq!(num(1), n);
+        assert!(
+            num(2) > 0.0 && num(3) >= 0.0,
+            "VRML size and convert time: {row:?}"
+        );
+        for k in [4, 6, 7, 8] {
+            assert!(num(k) >= 0.0, "seconds in column {k}: {row:?}");
+        }
+        // Particles read per second, and peak bytes per sphere from the child's own peak.
+        assert!(
+            (num(5) - n / num(4).max(1e-9)).abs() <= 1e-3 * num(5),
+            "{row:?}"
+        );
+        assert!(
+            (num(10) - num(9) * 1e6 / n).abs() <= 0.01 * num(10) + 1.0,
+            "{row:?}"
+        );
+    }
+    let second = rows(&run());
+    assert!(
+        second.iter().all(|r| r[3] == "(reused)"),
+        "the VRML files are reused: {second:?}"
+    );
+}
