@@ -4,6 +4,8 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::process::Command;
 
+use crate::support::stdout_of;
+
 /// One CSV row: (integrator, param, rel_rms, rel_max, seconds).
 type Point = (String, f64, f64, f64, f64);
 
@@ -55,17 +57,11 @@ fn errors(rows: &[Point], integrator: &str) -> Vec<f64> {
 fn bench_quick_writes_csv_table_and_plot() {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_bench_quick");
     let _ = std::fs::remove_dir_all(&dir);
-    let out = Command::new(env!("CARGO_BIN_EXE_gtsphere"))
-        .args(["bench", "--quick", "--out"])
-        .arg(&dir)
-        .output()
-        .expect("run gtsphere");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let stdout = stdout_of(
+        Command::new(env!("CARGO_BIN_EXE_gtsphere"))
+            .args(["bench", "--quick", "--out"])
+            .arg(&dir),
     );
-    let stdout = String::from_utf8_lossy(&out.stdout);
     let md = std::fs::read_to_string(dir.join("bench.md")).expect("bench.md");
     assert_eq!(stdout, md, "the table printed is bench.md");
     assert!(md.contains("| lit gas | exact | tol 1e-2 |"), "{md}");
@@ -151,17 +147,11 @@ fn bench_quick_writes_csv_table_and_plot() {
 /// `gtsphere bench gas --scaling --quick`: the scaling table and its goals, as a user runs it.
 #[test]
 fn bench_gas_scaling_quick_prints_the_table_and_the_goals() {
-    let out = Command::new(env!("CARGO_BIN_EXE_gtsphere"))
-        .args(["bench", "gas", "--scaling", "--quick", "--size", "16"])
-        .args(["--march-budget", "0.5", "--runs", "1"])
-        .output()
-        .expect("run gtsphere");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let stdout = stdout_of(
+        Command::new(env!("CARGO_BIN_EXE_gtsphere"))
+            .args(["bench", "gas", "--scaling", "--quick", "--size", "16"])
+            .args(["--march-budget", "0.5", "--runs", "1"]),
     );
-    let stdout = String::from_utf8_lossy(&out.stdout);
     let rows: Vec<Vec<&str>> = stdout
         .lines()
         .filter(|l| l.starts_with("| 1"))
@@ -207,30 +197,20 @@ fn bench_gas_scaling_quick_prints_the_table_and_the_goals() {
 fn bench_gas_write_gives_files_that_render() {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("cli_bench_gas_write");
     let _ = std::fs::remove_dir_all(&dir);
-    let out = Command::new(env!("CARGO_BIN_EXE_gtsphere"))
-        .args(["bench", "gas", "--sizes", "1e3", "--write"])
-        .arg(&dir)
-        .output()
-        .expect("run gtsphere");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    stdout_of(
+        Command::new(env!("CARGO_BIN_EXE_gtsphere"))
+            .args(["bench", "gas", "--sizes", "1e3", "--write"])
+            .arg(&dir),
     );
     for cloud in ["thick", "thin"] {
         let wrl = dir.join(format!("cloud-{cloud}-1000.wrl"));
         let img = dir.join(format!("cloud-{cloud}.pfm"));
-        let out = Command::new(env!("CARGO_BIN_EXE_gtsphere"))
-            .arg("render")
-            .arg(&wrl)
-            .args(["--width", "8", "--height", "8", "--sampler", "center", "-o"])
-            .arg(&img)
-            .output()
-            .expect("run gtsphere");
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
+        stdout_of(
+            Command::new(env!("CARGO_BIN_EXE_gtsphere"))
+                .arg("render")
+                .arg(&wrl)
+                .args(["--width", "8", "--height", "8", "--sampler", "center", "-o"])
+                .arg(&img),
         );
         let pfm = std::fs::read(&img).expect("image");
         assert!(pfm.starts_with(b"PF\n8 8\n"));
@@ -245,19 +225,14 @@ fn bench_scale_prints_a_row_per_size_and_reuses_its_files() {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let run = || {
-        let out = Command::new(env!("CARGO_BIN_EXE_gtsphere"))
-            .args([
-                "bench", "scale", "--sizes", "1e3,2000", "--size", "16", "--dir",
-            ])
-            .arg(&dir)
-            .output()
-            .expect("run gtsphere");
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
+        let stdout = stdout_of(
+            Command::new(env!("CARGO_BIN_EXE_gtsphere"))
+                .args([
+                    "bench", "scale", "--sizes", "1e3,2000", "--size", "16", "--dir",
+                ])
+                .arg(&dir),
         );
-        String::from_utf8_lossy(&out.stdout).into_owned()
+        stdout
     };
     let rows = |text: &str| -> Vec<Vec<String>> {
         text.lines()

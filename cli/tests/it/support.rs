@@ -19,6 +19,18 @@ pub fn gtsphere(args: &[&str], dir: &std::path::Path) -> std::process::Output {
         .expect("run gtsphere")
 }
 
+/// Runs `cmd` and returns what it printed on stdout; panics with its stderr unless it
+/// succeeds.
+pub fn stdout_of(cmd: &mut std::process::Command) -> String {
+    let out = cmd.output().expect("run gtsphere");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
 /// A fresh, empty directory `group/name` under the target dir's test scratch space.
 pub fn scratch(group: &str, name: &str) -> std::path::PathBuf {
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
