@@ -10,8 +10,8 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use gtsphere::error::Error;
 use gtsphere::output::{format_for, write_film, write_part, Format, Placement};
 use gtsphere::render::{
-    prepare, render, Aovs, CameraChoice, Integrator, PrepareOptions, Progress, Projection,
-    RenderOptions, SamplerKind,
+    prepare, tiles::render_view, Aovs, CameraChoice, Integrator, PrepareOptions, Progress,
+    Projection, RenderOptions, SamplerKind,
 };
 use gtsphere::vrml::{load_path, LoadOptions};
 
@@ -360,7 +360,9 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
     let (camera, description) = prep
         .camera(&plan.camera, plan.projection, opts.width, opts.height)
         .map_err(in_scene)?;
-    let lights = prep.view(&camera, opts).map_err(in_scene)?.lights.len();
+    // The view `render` traces (camera rays, the lights with the headlight along this camera),
+    // made once: its lights are counted here.
+    let view = prep.view(&camera, opts).map_err(in_scene)?;
     say(format!(
         "{}: {} spheres{}, {} lights{}; camera: {}",
         args.scene.display(),
@@ -370,7 +372,7 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
         } else {
             String::new()
         },
-        lights,
+        view.lights.len(),
         if headlight {
             " (headlight included)"
         } else {
@@ -394,7 +396,7 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
         .build()
         .map_err(|e| Error::Other(format!("cannot start worker threads: {e}")))?;
     let bar = TileBar::new(!args.quiet);
-    let done = pool.install(|| render(&prep, &camera, opts, &bar))?;
+    let done = pool.install(|| render_view(&view, opts, &bar))?;
     match opts.region {
         Some((x0, y0, _, _)) => write_part(
             &out,

@@ -287,7 +287,6 @@ pub fn render(
         tol,
         region: None,
     };
-    opts.validate().map_err(to_py)?;
     if threads == Some(0) {
         return Err(PyValueError::new_err("threads must be at least 1"));
     }
@@ -296,6 +295,8 @@ pub fn render(
         Some(c) => c.inner,
         None => prepared.default_camera(width, height).map_err(to_py)?,
     };
+    // Validates the options and the camera before any thread starts.
+    let view = prepared.view(&camera, &opts).map_err(to_py)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads.unwrap_or(0))
         .build()
@@ -309,7 +310,7 @@ pub fn render(
         let waiting = std::thread::current();
         std::thread::scope(|s| {
             let job = s.spawn(|| {
-                let r = pool.install(|| lib::render(&prepared, &camera, &opts, &watch));
+                let r = pool.install(|| lib::tiles::render_view(&view, &opts, &watch));
                 waiting.unpark(); // return at once, not at the next 50 ms tick
                 r
             });

@@ -246,9 +246,16 @@ impl RenderOptions {
 
 impl Prepared {
     /// The view of this scene that `render` traces: `camera` at the options' image size.
+    /// The lights, which may have changed since `prepare` validated them, are checked again
+    /// ([`Light::problem`]).
     pub fn view(&self, camera: &Camera, opts: &RenderOptions) -> Result<View<'_>, Error> {
         opts.validate()?;
         camera.lens.validate()?;
+        for (i, l) in self.lights.iter().enumerate() {
+            if let Some(m) = l.problem() {
+                return Err(invalid(format!("lights[{i}]: {m}")));
+            }
+        }
         let lights = lights::collect(
             &self.lights,
             self.headlight,
@@ -315,7 +322,7 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
         }
     }
     let bounds = scene.bounds();
-    let bounding_ball = scene.bounding_ball();
+    let bounding_ball = bounds.map(|b| scene.bounding_ball_in(b));
     let Scene {
         spheres,
         ellipsoids,

@@ -77,6 +77,54 @@ fn check_rgb(name: &str, v: &[f64], n: usize) -> Result<(), Error> {
     Ok(())
 }
 
+/// Finite, with no negative channel.
+fn non_negative(c: DVec3) -> bool {
+    c.is_finite() && c.cmpge(DVec3::ZERO).all()
+}
+
+impl Light {
+    /// What is wrong with the light for rendering, if anything: finite non-negative colour,
+    /// intensities and attenuation, a non-negative radius, a unit direction.
+    pub fn problem(&self) -> Option<&'static str> {
+        match self {
+            Light::Point(p) => {
+                if !p.location.is_finite() {
+                    Some("the location is not finite")
+                } else if !(non_negative(p.color)
+                    && non_negative(DVec3::new(p.intensity, p.ambient_intensity, 0.0)))
+                {
+                    Some("colour and intensities must be finite and non-negative")
+                } else if !non_negative(p.attenuation) {
+                    Some("attenuation must be finite and non-negative")
+                } else if p.radius.is_nan() || p.radius < 0.0 {
+                    Some("radius must not be negative")
+                } else {
+                    None
+                }
+            }
+            Light::Directional(d) => {
+                if !(d.direction.is_finite() && (d.direction.length() - 1.0).abs() < 1e-9) {
+                    Some("the direction must be a unit vector")
+                } else if !(non_negative(d.color)
+                    && non_negative(DVec3::new(d.intensity, d.ambient_intensity, 0.0)))
+                {
+                    Some("colour and intensities must be finite and non-negative")
+                } else {
+                    None
+                }
+            }
+        }
+    }
+
+    /// Where the light came from.
+    pub fn origin(&self) -> Origin {
+        match self {
+            Light::Point(p) => p.origin,
+            Light::Directional(d) => d.origin,
+        }
+    }
+}
+
 impl Scene {
     /// A scene of the spheres in `arrays` (in that order, so `id` `i` is sphere `i`), with
     /// VRML's defaults for the rest: no lights but the headlight, black background, no
@@ -225,7 +273,6 @@ impl Scene {
                 self.position(origin)
             }
         };
-        let colour_ok = |c: DVec3| c.is_finite() && c.cmpge(DVec3::ZERO).all();
         let fail = |m: String| Err(Error::Invalid(m));
         for (i, s) in self.spheres.iter().enumerate() {
             if !s.center.is_finite() {
@@ -262,7 +309,8 @@ impl Scene {
             let scalars_ok = [m.shininess, m.ambient_intensity]
                 .iter()
                 .all(|x| x.is_finite() && *x >= 0.0);
-            let colours_ok = colour_ok(m.diffuse) && colour_ok(m.emissive) && colour_ok(m.specular);
+            let colours_ok =
+                non_negative(m.diffuse) && non_negative(m.emissive) && non_negative(m.specular);
             if !(colours_ok && scalars_ok) {
                 return fail(format!(
                     "materials[{i}]: colours, shininess and ambientIntensity must be finite \
@@ -277,36 +325,8 @@ impl Scene {
             }
         }
         for (i, l) in self.lights.iter().enumerate() {
-            let problem = match l {
-                Light::Point(p) => if !p.location.is_finite() {
-                    Some("the location is not finite")
-                } else if !(colour_ok(p.color)
-                    && colour_ok(DVec3::new(p.intensity, p.ambient_intensity, 0.0)))
-                {
-                    Some("colour and intensities must be finite and non-negative")
-                } else if !colour_ok(p.attenuation) {
-                    Some("attenuation must be finite and non-negative")
-                } else if p.radius.is_nan() || p.radius < 0.0 {
-                    Some("radius must not be negative")
-                } else {
-                    None
-                }
-                .map(|m| (m, p.origin)),
-                Light::Directional(d) => {
-                    if !(d.direction.is_finite() && (d.direction.length() - 1.0).abs() < 1e-9) {
-                        Some("the direction must be a unit vector")
-                    } else if !(colour_ok(d.color)
-                        && colour_ok(DVec3::new(d.intensity, d.ambient_intensity, 0.0)))
-                    {
-                        Some("colour and intensities must be finite and non-negative")
-                    } else {
-                        None
-                    }
-                    .map(|m| (m, d.origin))
-                }
-            };
-            if let Some((m, origin)) = problem {
-                return fail(format!("{}: {m}", at("lights", i, origin)));
+            if let Some(m) = l.problem() {
+                return fail(format!("{}: {m}", at("lights", i, l.origin())));
             }
         }
         for (i, v) in self.viewpoints.iter().enumerate() {
@@ -317,7 +337,7 @@ impl Scene {
                 ));
             }
         }
-        if !colour_ok(self.background) {
+        if !non_negative(self.background) {
             return fail(format!(
                 "the background {} must be finite and non-negative",
                 show3(self.background)

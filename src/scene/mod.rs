@@ -381,7 +381,12 @@ impl Scene {
     /// Centre and radius of a ball holding every sphere (a bounding ball about the bounds'
     /// centre, not the smallest one), or None for an empty scene.
     pub fn bounding_ball(&self) -> Option<(DVec3, f64)> {
-        let b = self.bounds()?;
+        Some(self.bounding_ball_in(self.bounds()?))
+    }
+
+    /// [`Scene::bounding_ball`] about the centre of `b`, the scene's [`Scene::bounds`] (for a
+    /// caller that has them already: one pass over the spheres instead of two).
+    pub fn bounding_ball_in(&self, b: Bounds) -> (DVec3, f64) {
         let c = DVec3::from(b.min) * 0.5 + DVec3::from(b.max) * 0.5;
         let r = self
             .spheres
@@ -392,7 +397,7 @@ impl Scene {
                 (centre - c).length() + radius
             }))
             .fold(0.0, f64::max);
-        Some((c, r))
+        (c, r)
     }
 
     /// Where `origin` points, as `file:line:col` (1-based line and byte column, as the

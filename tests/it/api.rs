@@ -146,6 +146,20 @@ fn prepare_validates_scenes_built_by_hand() {
     let mut s = lit_scene(3);
     s.spheres[0].material = 99;
     assert!(render::prepare(s, &PrepareOptions::default()).is_err());
+    // Lights changed after prepare are checked when rendered.
+    let mut prepared = render::prepare(lit_scene(3), &PrepareOptions::default()).unwrap();
+    prepared.lights.push(Light::Point(PointLight {
+        intensity: f64::NAN,
+        ..PointLight::default()
+    }));
+    let cam = prepared.default_camera(8, 8).unwrap();
+    let e = render::render(&prepared, &cam, &small(), &())
+        .err()
+        .unwrap();
+    assert_eq!(
+        e.to_string(),
+        "lights[2]: colour and intensities must be finite and non-negative"
+    );
 }
 
 #[test]
