@@ -362,7 +362,13 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
         .map_err(in_scene)?;
     // The view `render` traces (camera rays, the lights with the headlight along this camera),
     // made once: its lights are counted here.
-    let view = prep.view(&camera, opts).map_err(in_scene)?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| Error::Other(format!("cannot start worker threads: {e}")))?;
+    let view = pool
+        .install(|| prep.view(&camera, opts))
+        .map_err(in_scene)?;
     say(format!(
         "{}: {} spheres{}, {} lights{}; camera: {}",
         args.scene.display(),
@@ -391,10 +397,6 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
             }
         ));
     }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| Error::Other(format!("cannot start worker threads: {e}")))?;
     let bar = TileBar::new(!args.quiet);
     let done = pool.install(|| render_view(&view, opts, &bar))?;
     match opts.region {
@@ -438,6 +440,17 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
         println!("load seconds       {:.3}", report.seconds);
         println!("render seconds     {:.3}", done.seconds);
         println!("prepare seconds    {:.3}", prep.prepare_time.as_secs_f64());
+        if view.grids.iter().any(Option::is_some) {
+            println!("light grids seconds {:.3}", view.grid_time.as_secs_f64());
+            println!(
+                "light grids bytes  {}",
+                view.grids
+                    .iter()
+                    .flatten()
+                    .map(|g| g.heap_bytes())
+                    .sum::<usize>()
+            );
+        }
         println!(
             "BVH build seconds  {:.3}",
             prep.bvh.build_time.as_secs_f64()

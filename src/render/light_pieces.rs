@@ -38,6 +38,7 @@
 use glam::{DVec3, UVec2};
 
 use super::breakpoints::breakpoints;
+use super::light_grid::LightGrid;
 use super::lights::{towards, LightKind, LightSource};
 use super::shadow_volume::{band_edges, path_end, BandCache};
 use super::Prepared;
@@ -176,7 +177,8 @@ pub fn gas_chord(prep: &Prepared, p: &Prim, x: DVec3, dir: DVec3, dist: f64) -> 
 /// Cuts light `light`'s integrand over the segment `[ta, tb]` of `o + t d` into pieces; the
 /// lit pieces' active shadowers are appended to `active`. `slot` is the light's index (its
 /// band searches are kept per camera ray, see [`Buffers::start_ray`]). Returns the pieces (in
-/// `b`) and the number of shadowers found. `tau_cut` is the optical depth from which a piece is dark; the
+/// `b`) and the number of shadowers found. `grid` is the light's [`LightGrid`] (the BVH is
+/// searched without one). `tau_cut` is the optical depth from which a piece is dark; the
 /// rim breakpoints of dense shadowers go up to `4 tau_cut` (deeper ones could only split dark
 /// pieces).
 #[allow(clippy::too_many_arguments)]
@@ -185,7 +187,7 @@ pub fn resolve<'b>(
     o: DVec3,
     d: DVec3,
     (ta, tb): (f64, f64),
-    (slot, light): (usize, &LightSource),
+    (slot, light, grid): (usize, &LightSource, Option<&LightGrid>),
     tau_cut: f64,
     b: &'b mut Buffers,
     active: &mut Vec<u32>,
@@ -256,6 +258,7 @@ pub fn resolve<'b>(
         for &span in &b.spans {
             cache.bands[band].query(
                 &prep.bvh,
+                grid,
                 &light.kind,
                 (o, d),
                 f,

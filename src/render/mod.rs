@@ -7,6 +7,7 @@ pub mod camera;
 pub mod film;
 pub mod gas;
 pub mod integrators;
+pub mod light_grid;
 pub mod light_pieces;
 pub mod lighting;
 pub mod lights;
@@ -193,6 +194,11 @@ pub struct View<'a> {
     /// channel): emission plus single scattering of any gas, any lit surface, the background.
     /// Behind a transmittance `T`, what is left of a camera ray adds at most `T * rest_bound`.
     pub rest_bound: f64,
+    /// Per light, the scene as it sees it, for the exact integrator's shadow searches in
+    /// scenes with gas (`None` otherwise).
+    pub grids: Vec<Option<light_grid::LightGrid>>,
+    /// Wall time of building `grids`.
+    pub grid_time: Duration,
 }
 
 impl std::ops::Deref for View<'_> {
@@ -269,9 +275,23 @@ impl Prepared {
             self.background,
             self.surface_colors,
         );
+        let start = Instant::now();
+        let grids = lights
+            .iter()
+            .map(|l| {
+                let wanted = opts.integrator == Integrator::Exact
+                    && self.gas_spheres > 0
+                    && l.direct != DVec3::ZERO;
+                wanted
+                    .then(|| light_grid::LightGrid::build(&l.kind, &self.bvh.prims))
+                    .flatten()
+            })
+            .collect();
         Ok(View {
             prep: self,
             camera: camera.image_plane(opts.width, opts.height),
+            grids,
+            grid_time: start.elapsed(),
             lights,
             integrator: opts.integrator,
             tol: opts.tol,

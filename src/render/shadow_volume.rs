@@ -23,10 +23,11 @@
 
 use glam::{DVec3, UVec2};
 
+use super::light_grid::LightGrid;
 use super::lights::LightKind;
 use crate::accel::{Prim, SphereBvh};
 /// Distance from `c` to the segment `[a, b]`.
-fn to_segment(c: DVec3, a: DVec3, b: DVec3) -> f64 {
+pub(crate) fn to_segment(c: DVec3, a: DVec3, b: DVec3) -> f64 {
     let ab = b - a;
     let len2 = ab.length_squared();
     let u = if len2 > 0.0 {
@@ -302,6 +303,39 @@ pub fn gather(bvh: &SphereBvh, region: &Region, out: &mut Vec<u32>, stack: &mut 
     );
 }
 
+/// Appends to `out` every primitive that meets `region`, the band `f` swept from `[a, b]`,
+/// from the light's grid's candidates; false (nothing appended) where the grid cannot answer.
+fn gather_from_grid(
+    grid: &LightGrid,
+    bvh: &SphereBvh,
+    region: &Region,
+    (a, b): (DVec3, DVec3),
+    f: (f64, f64),
+    out: &mut Vec<u32>,
+) -> bool {
+    let mark = out.len();
+    if !grid.candidates(a, b, f, out) {
+        return false;
+    }
+    out[mark..].sort_unstable();
+    let slack = slack(bvh, region);
+    let mut keep = mark;
+    let mut last = u32::MAX;
+    for k in mark..out.len() {
+        let i = out[k];
+        if i == last {
+            continue;
+        }
+        last = i;
+        if touches(region, &bvh.prims[i as usize], slack) {
+            out[keep] = i;
+            keep += 1;
+        }
+    }
+    out.truncate(keep);
+    true
+}
+
 /// A conservative interval of the camera-ray parameters `t` from which the light ray of the
 /// point `o + t d` (`d` unit) can meet the ball `(c, r)`: outside it, no light ray does.
 /// Infinite where no useful interval is known (a ray along the light's direction, a point
@@ -399,6 +433,7 @@ impl BandCache {
     pub fn query(
         &mut self,
         bvh: &SphereBvh,
+        grid: Option<&LightGrid>,
         light: &LightKind,
         (o, d): (DVec3, DVec3),
         f: (f64, f64),
@@ -422,8 +457,12 @@ impl BandCache {
             self.cover = (u0, end);
             self.near.clear();
             self.found.clear();
-            let region = Region::band(light, o + u0 * d, o + end * d, f.0, f.1);
-            gather(bvh, &region, &mut self.found, stack);
+            let (a, b) = (o + u0 * d, o + end * d);
+            let region = Region::band(light, a, b, f.0, f.1);
+            if !grid.is_some_and(|g| gather_from_grid(g, bvh, &region, (a, b), f, &mut self.found))
+            {
+                gather(bvh, &region, &mut self.found, stack);
+            }
             // The same rounding allowance as the distance tests (the cover's, at least any
             // span's inside it).
             let pad = slack(bvh, &region);

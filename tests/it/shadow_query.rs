@@ -57,14 +57,26 @@ fn ternary(f: impl Fn(f64) -> f64) -> f64 {
 
 /// Distance from `c` to the region swept from `[a, b]` towards the light.
 fn region_distance(c: DVec3, a: DVec3, b: DVec3, light: &LightKind) -> f64 {
+    band_distance(c, a, b, light, (0.0, f64::INFINITY))
+}
+
+/// Distance from `c` to the band `f` of that region: `f` is the distance along the light's
+/// direction (directional) or the fraction of the way to the light (point; clipped to 1).
+/// Both are convex sets, and so is the distance once the inner parameter is minimised in
+/// closed form.
+pub fn band_distance(c: DVec3, a: DVec3, b: DVec3, light: &LightKind, (f0, f1): (f64, f64)) -> f64 {
     match *light {
         LightKind::Directional { to_light: l, .. } => ternary(|u| {
             let x = a + u * (b - a);
-            let s = (c - x).dot(l).max(0.0);
+            let s = (c - x).dot(l).clamp(f0, f1);
             (x + s * l - c).length()
         }),
         LightKind::Point { position: p, .. } => {
-            ternary(|g| to_segment(c, a + g * (p - a), b + g * (p - b)))
+            let (f0, f1) = (f0.clamp(0.0, 1.0), f1.clamp(0.0, 1.0));
+            ternary(|g| {
+                let g = f0 + g * (f1 - f0);
+                to_segment(c, a + g * (p - a), b + g * (p - b))
+            })
         }
     }
 }
@@ -103,9 +115,17 @@ fn scene(rng: &mut Rng, n: usize, lights: &str) -> Prepared {
     support::prepare(scene)
 }
 
-fn check(prep: &Prepared, rng: &mut Rng, tau_cut: f64, cases: usize) -> (usize, usize) {
+fn check(
+    prep: &Prepared,
+    rng: &mut Rng,
+    tau_cut: f64,
+    cases: usize,
+    grids: bool,
+) -> (usize, usize) {
     // The lights a default render uses.
     let view = support::view(prep, &RenderOptions::default());
+    // Every light of these gas scenes has a grid, so `grids` chooses the path tested.
+    assert!(view.grids.iter().all(Option::is_some));
     let mut buffers = Buffers::default();
     let mut active = Vec::new();
     let (mut found_total, mut left_out) = (0, 0);
@@ -134,7 +154,7 @@ fn check(prep: &Prepared, rng: &mut Rng, tau_cut: f64, cases: usize) -> (usize, 
                     o,
                     d,
                     (ta, tb),
-                    (slot, light),
+                    (slot, light, view.grids[slot].as_ref().filter(|_| grids)),
                     tau_cut,
                     &mut buffers,
                     &mut active,
@@ -203,8 +223,11 @@ fn shadowers_found_equal_every_sphere_tested() {
                   PointLight { location 0.1 -0.2 0.3 }";
     for n in [10, 60, 250] {
         let prep = scene(&mut rng, n, lights);
-        let (found, _) = check(&prep, &mut rng, f64::INFINITY, 12);
-        assert!(found > 0);
+        // Through the lights' grids, and through the BVH (what a query falls back on).
+        for grids in [true, false] {
+            let (found, _) = check(&prep, &mut rng, f64::INFINITY, 12, grids);
+            assert!(found > 0);
+        }
     }
 }
 
@@ -213,7 +236,7 @@ fn truncated_queries_leave_out_only_what_lies_in_dark_pieces() {
     let mut rng = Rng(77);
     let lights = "DirectionalLight { direction -1 -1 -1 }\nPointLight { location 3 3 3 }";
     let prep = scene(&mut rng, 400, lights);
-    let (_, left_out) = check(&prep, &mut rng, 6.0, 20);
+    let (_, left_out) = check(&prep, &mut rng, 6.0, 20, true);
     // The test is only meaningful if truncation actually left some spheres out.
     assert!(
         left_out > 0,

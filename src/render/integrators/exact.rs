@@ -169,7 +169,7 @@ pub fn radiance(
                 o,
                 d,
                 (seg.ta, seg.tb),
-                (i, l),
+                (i, l, view.grids[i].as_ref()),
                 tau_cut,
                 buffers,
                 active,
