@@ -442,6 +442,14 @@ impl BandCache {
         out: &mut Vec<u32>,
         stack: &mut Vec<UVec2>,
     ) {
+        if let Some(g) = grid {
+            // A grid query costs what the span's own band holds: no descent to share.
+            let (a, b) = (o + u0 * d, o + u1 * d);
+            let region = Region::band(light, a, b, f.0, f.1);
+            if gather_from_grid(g, bvh, &region, (a, b), f, out) {
+                return;
+            }
+        }
         if self.f != f || !(self.cover.0 <= u0 && u1 <= self.cover.1) {
             let depth = match *light {
                 LightKind::Directional { .. } => f.1 - f.0,
@@ -457,12 +465,8 @@ impl BandCache {
             self.cover = (u0, end);
             self.near.clear();
             self.found.clear();
-            let (a, b) = (o + u0 * d, o + end * d);
-            let region = Region::band(light, a, b, f.0, f.1);
-            if !grid.is_some_and(|g| gather_from_grid(g, bvh, &region, (a, b), f, &mut self.found))
-            {
-                gather(bvh, &region, &mut self.found, stack);
-            }
+            let region = Region::band(light, o + u0 * d, o + end * d, f.0, f.1);
+            gather(bvh, &region, &mut self.found, stack);
             // The same rounding allowance as the distance tests (the cover's, at least any
             // span's inside it).
             let pad = slack(bvh, &region);
