@@ -356,16 +356,20 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
     let surfaces = scene.surfaces.len();
     let headlight = scene.headlight;
     let in_scene = |e: Error| Error::Other(format!("{}: {e}", args.scene.display()));
-    let prep = prepare(scene, &plan.prepare).map_err(in_scene)?;
+    // Every stage after reading (the BVH build, the lights' grids, the render) runs on the
+    // pool, so that --threads bounds all of them.
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| Error::Other(format!("cannot start worker threads: {e}")))?;
+    let prep = pool
+        .install(|| prepare(scene, &plan.prepare))
+        .map_err(in_scene)?;
     let (camera, description) = prep
         .camera(&plan.camera, plan.projection, opts.width, opts.height)
         .map_err(in_scene)?;
     // The view `render` traces (camera rays, the lights with the headlight along this camera),
     // made once: its lights are counted here.
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| Error::Other(format!("cannot start worker threads: {e}")))?;
     let view = pool
         .install(|| prep.view(&camera, opts))
         .map_err(in_scene)?;

@@ -110,6 +110,7 @@ impl Film {
             counters,
             max_error,
             seconds,
+            ..
         } = film;
         Ok(Film {
             rgb: array(py, rgb.into_flattened(), &[h, w, 3])?,
@@ -171,6 +172,7 @@ impl Film {
             counters: self.stats,
             max_error: self.max_error,
             seconds: self.seconds,
+            grid_seconds: 0.0,
         })
     }
 }
@@ -295,12 +297,15 @@ pub fn render(
         Some(c) => c.inner,
         None => prepared.default_camera(width, height).map_err(to_py)?,
     };
-    // Validates the options and the camera before any thread starts.
-    let view = prepared.view(&camera, &opts).map_err(to_py)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads.unwrap_or(0))
         .build()
         .map_err(|e| crate::Error::new_err(format!("cannot start worker threads: {e}")))?;
+    // Validates the options and the camera before the render starts; the lights' grids are
+    // built here, on the pool and without the GIL.
+    let view = py
+        .detach(|| pool.install(|| prepared.view(&camera, &opts)))
+        .map_err(to_py)?;
     let watch = Watch::default();
     let mut reported = u64::MAX;
     // The render runs on the pool; this thread wakes every 50 ms, takes the GIL to let

@@ -29,8 +29,10 @@ pub struct Film {
     pub counters: Counters,
     /// The largest per-pixel error estimate.
     pub max_error: f64,
-    /// Wall time of the tile loop.
+    /// Wall time of the tile loop, plus building the lights' grids for it (`View::grid_time`).
     pub seconds: f64,
+    /// Of which building the lights' grids.
+    pub grid_seconds: f64,
 }
 
 impl Film {

@@ -333,7 +333,8 @@ impl Face {
 }
 
 impl LightGrid {
-    /// The grid of `light` over `prims`; `None` for an empty scene.
+    /// The grid of `light` over `prims`; `None` for an empty scene, or one with coordinates
+    /// beyond 1e30 (the BVH serves those).
     pub fn build(light: &LightKind, prims: &[Prim]) -> Option<LightGrid> {
         if prims.is_empty() {
             return None;
@@ -354,6 +355,10 @@ impl LightGrid {
             .iter()
             .map(|p| p.center.abs().max_element() + p.radius)
             .fold(0.0f64, f64::max);
+        if big > 1e30 {
+            // Distances are stored as f32: such a scene is searched through the BVH.
+            return None;
+        }
         let pad = match view {
             View::Along { .. } => 64.0 * f64::EPSILON * big,
             View::From { p } => 64.0 * f64::EPSILON * (big + p.abs().max_element()),
@@ -540,7 +545,9 @@ impl LightGrid {
                 let (wa, wb) = (a - p, b - p);
                 let near = super::shadow_volume::to_segment(p, a, b);
                 let far = wa.length().max(wb.length());
-                if near.is_nan() || near <= 1e-9 * far {
+                // Within 1e-6 of its length from the light, the segment's directions turn
+                // too fast for the projection's rounding: the BVH answers instead.
+                if near.is_nan() || near <= 1e-6 * far {
                     return false;
                 }
                 let keys = ((1.0 - f1).max(0.0) * near, (1.0 - f0) * far);
@@ -556,7 +563,8 @@ impl LightGrid {
                     // (grown by a little, so neighbouring faces overlap): sign w_k >= |w_k1|,
                     // |w_k2|, four conditions linear in the segment parameter.
                     let (mut s0, mut s1) = (0.0f64, 1.0f64);
-                    let slack = 1e-9 * far;
+                    // Far below |w| >= near, so sign w_k > 0 stays true in the grown pyramid.
+                    let slack = 1e-12 * far;
                     for (m, e) in [(k1, 1.0), (k1, -1.0), (k2, 1.0), (k2, -1.0)] {
                         let g0 = sign * wa[k] - e * wa[m] + slack;
                         let g1 = sign * dw[k] - e * dw[m];

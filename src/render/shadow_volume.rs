@@ -9,17 +9,21 @@
 //! The region is cut into **depth bands** along the light rays (distance `s` along `L`, or the
 //! fraction `lambda` of the way to `P`), so that the far bands need only be searched for the
 //! parts of the segment that the near ones leave lit (`render::light_pieces`). A band is a
-//! convex planar quadrilateral; the BVH is searched with the exact distance of each node's
-//! bounding ball to it (`SphereBvh::near_region`), so the nodes visited are those near the
-//! quadrilateral, not those in an axis-aligned box around it (for a diagonal light, a large part
-//! of the scene).
+//! convex planar quadrilateral. Its spheres come from the light's grid when the render has one
+//! (`render::light_grid`: the scene as the light sees it, where the band is a line, so a query
+//! visits the few cells that line crosses), and otherwise from the BVH, searched with the exact
+//! distance of each node's bounding ball to the quadrilateral (`SphereBvh::near_region`), so the
+//! nodes visited are those near it, not those in an axis-aligned box around it. Either way each
+//! candidate is decided by the same exact distance test ([`touches`]).
 //!
-//! The segments of one camera ray share the descents ([`BandCache`]): a band's search covers
-//! the asking segment and the ray up to the band's depth beyond it, and the segments that
-//! follow take their own shadowers from that list, pruned by where along the ray each sphere
-//! can shadow at all ([`reach_on_ray`]) and then by the same exact test. Measured on cloud-N
-//! (N = 1e4 to 1e6), it changes the time by less than this machine's noise (about 15 %): the
-//! descents it saves are offset by the larger regions they search.
+//! Without a grid, the segments of one camera ray share the descents ([`BandCache`]): a band's
+//! search covers the asking segment and the ray up to the band's depth beyond it, and the
+//! segments that follow take their own shadowers from that list, pruned by where along the ray
+//! each sphere can shadow at all ([`reach_on_ray`]) and then by the same exact test. Measured on
+//! cloud-N (N = 1e4 to 1e6), it changes the time by less than this machine's noise (about 15 %):
+//! the descents it saves are offset by the larger regions they search. Measured with grids
+//! (2026-12-02, cloud-N at N = 1e3 to 1e6), sharing made queries 10-15 % slower, so a grid
+//! query is always the span's own.
 
 use glam::{DVec3, UVec2};
 

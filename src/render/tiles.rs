@@ -238,6 +238,7 @@ pub fn render_view(
         counters: Counters::default(),
         max_error: 0.0,
         seconds: 0.0,
+        grid_seconds: 0.0,
     };
     for (t, (px, hits, c)) in tiles.into_iter().enumerate() {
         film.counters += c;
@@ -266,6 +267,8 @@ pub fn render_view(
             }
         }
     }
-    film.seconds = start.elapsed().as_secs_f64();
+    // The lights' grids are built for this render (Prepared::view): their time is its too.
+    film.grid_seconds = view.grid_time.as_secs_f64();
+    film.seconds = start.elapsed().as_secs_f64() + film.grid_seconds;
     Ok(film)
 }

@@ -160,8 +160,9 @@ struct Shot {
     rgb: Vec<[f64; 3]>,
     /// The error AOV (the pixel's estimated absolute error), row by row; empty unless asked.
     error: Vec<f64>,
-    /// Median wall time of the tile loop.
+    /// Median wall time of the tile loop and the lights' grids, and the grids' (last run).
     seconds: f64,
+    grid_seconds: f64,
     runs: usize,
     counters: Counters,
 }
@@ -193,6 +194,7 @@ fn shoot(
     loop {
         let done = render(&prep, &camera, &opts, &())?;
         times.push(done.seconds);
+        let grid_seconds = done.grid_seconds;
         if times.len() >= runs.max(1) {
             let error = done.error.unwrap_or_default();
             return Ok(Shot {
@@ -200,6 +202,7 @@ fn shoot(
                 error,
                 runs: times.len(),
                 seconds: median(times),
+                grid_seconds,
                 counters: done.counters,
             });
         }
@@ -308,8 +311,10 @@ fn march_to(
 pub struct ScalingRow {
     pub n: usize,
     pub cloud: Cloud,
-    /// Median render time of exact at the default tol.
+    /// Median render time of exact at the default tol (the lights' grids included), and the
+    /// grids' build time.
     pub seconds: f64,
+    pub grid_seconds: f64,
     pub runs: usize,
     pub counters: Counters,
     /// Relative RMS error against exact at the reference tol.
@@ -326,6 +331,10 @@ impl ScalingRow {
     pub fn seconds_per_ray(&self) -> f64 {
         self.seconds / self.counters.camera_rays.max(1) as f64
     }
+    /// Time per shadowing sphere gathered: what a ray's light paths meet.
+    pub fn seconds_per_shadower(&self) -> f64 {
+        self.seconds / self.counters.shadow_candidates.max(1) as f64
+    }
     fn per_ray(&self, v: u64) -> f64 {
         v as f64 / self.counters.camera_rays.max(1) as f64
     }
@@ -338,8 +347,8 @@ pub const REFERENCE_TOL: f64 = 1e-8;
 /// The scaling table (Markdown).
 pub fn scaling_table(rows: &[ScalingRow]) -> String {
     let mut t = String::from(
-        "| N | cloud | seconds | runs | camera rays/s | quadrature nodes / ray | shadowing spheres / ray | rel. RMS error | pixels whose reported error covers the true one | median reported / true | reference s | march step for that error | march seconds | march / exact |\n\
-         |---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+        "| N | cloud | seconds | of which light grids | runs | camera rays/s | quadrature nodes / ray | shadowing spheres / ray | us / shadowing sphere | rel. RMS error | pixels whose reported error covers the true one | median reported / true | reference s | march step for that error | march seconds | march / exact |\n\
+         |---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     for r in rows {
         let (step, ms, ratio) = match r.march {
@@ -360,14 +369,16 @@ pub fn scaling_table(rows: &[ScalingRow]) -> String {
         };
         let _ = writeln!(
             t,
-            "| {} | {} | {:.3} | {} | {:.3e} | {:.1} | {:.1} | {:.2e} | {:.1}% | {:.3} | {:.2} | {step} | {ms} | {ratio} |",
+            "| {} | {} | {:.3} | {:.3} | {} | {:.3e} | {:.1} | {:.1} | {:.2} | {:.2e} | {:.1}% | {:.3} | {:.2} | {step} | {ms} | {ratio} |",
             r.n,
             r.cloud.name(),
             r.seconds,
+            r.grid_seconds,
             r.runs,
             r.counters.camera_rays as f64 / r.seconds,
             r.per_ray(r.counters.quadrature_nodes),
             r.per_ray(r.counters.shadow_candidates),
+            1e6 * r.seconds / r.counters.shadow_candidates.max(1) as f64,
             r.rel_rms,
             100.0 * r.covered,
             r.ratio,
@@ -387,12 +398,17 @@ fn verdict(ok: bool) -> &'static str {
 
 /// Time per camera ray at each N relative to the smallest N = 1e3, per cloud.
 fn per_ray_ratios(rows: &[ScalingRow], cloud: Cloud) -> Vec<(usize, f64)> {
+    ratios(rows, cloud, ScalingRow::seconds_per_ray)
+}
+
+/// `of(row)` at each N relative to N = 1e3, per cloud.
+fn ratios(rows: &[ScalingRow], cloud: Cloud, of: fn(&ScalingRow) -> f64) -> Vec<(usize, f64)> {
     let Some(base) = rows.iter().find(|r| r.cloud == cloud && r.n == 1000) else {
         return Vec::new();
     };
     rows.iter()
         .filter(|r| r.cloud == cloud)
-        .map(|r| (r.n, r.seconds_per_ray() / base.seconds_per_ray()))
+        .map(|r| (r.n, of(r) / of(base)))
         .collect()
 }
 
@@ -400,15 +416,23 @@ fn per_ray_ratios(rows: &[ScalingRow], cloud: Cloud) -> Vec<(usize, f64)> {
 pub fn scaling_goals(rows: &[ScalingRow]) -> String {
     let mut t = String::new();
     for c in [Cloud::Thick, Cloud::Thin] {
-        let r = per_ray_ratios(rows, c);
-        if !r.is_empty() {
-            let list: Vec<String> = r.iter().map(|(n, v)| format!("N {n}: {v:.2}x")).collect();
-            let _ = writeln!(
-                t,
-                "- {}: time per camera ray relative to N = 1000: {}",
-                c.name(),
-                list.join(", ")
-            );
+        for (what, of) in [
+            (
+                "camera ray",
+                ScalingRow::seconds_per_ray as fn(&ScalingRow) -> f64,
+            ),
+            ("shadowing sphere", ScalingRow::seconds_per_shadower),
+        ] {
+            let r = ratios(rows, c, of);
+            if !r.is_empty() {
+                let list: Vec<String> = r.iter().map(|(n, v)| format!("N {n}: {v:.2}x")).collect();
+                let _ = writeln!(
+                    t,
+                    "- {}: time per {what} relative to N = 1000: {}",
+                    c.name(),
+                    list.join(", ")
+                );
+            }
         }
     }
     for r in rows {
@@ -543,6 +567,7 @@ pub fn run_scaling(args: &GasArgs) -> Result<ExitCode, Error> {
                     n,
                     cloud: c,
                     seconds: m.seconds,
+                    grid_seconds: m.grid_seconds,
                     runs: m.runs,
                     counters: m.counters,
                     rel_rms,

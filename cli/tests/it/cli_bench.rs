@@ -170,16 +170,20 @@ fn bench_gas_scaling_quick_prints_the_table_and_the_goals() {
     );
     for r in &rows {
         let num = |k: usize| r[k].trim_end_matches('%').parse::<f64>().unwrap();
-        // seconds, camera rays/s, nodes per ray, rel. RMS error, coverage.
-        assert!(num(3) > 0.0 && num(5) > 0.0, "{r:?}");
-        assert!(num(6) > 0.0, "a lit cloud needs quadrature nodes: {r:?}");
-        assert!(num(8) >= 0.0 && num(8) < 1e-2, "{r:?}");
-        assert!((0.0..=100.0).contains(&num(9)), "{r:?}");
+        // seconds (and the lights' grids' part), camera rays/s, nodes per ray, time per
+        // shadowing sphere, rel. RMS error, coverage.
+        assert!(num(3) > 0.0 && num(6) > 0.0, "{r:?}");
+        assert!((0.0..=num(3)).contains(&num(4)), "{r:?}");
+        assert!(num(7) > 0.0, "a lit cloud needs quadrature nodes: {r:?}");
+        assert!(num(9) > 0.0, "a lit cloud has shadowing spheres: {r:?}");
+        assert!(num(10) >= 0.0 && num(10) < 1e-2, "{r:?}");
+        assert!((0.0..=100.0).contains(&num(11)), "{r:?}");
         // march's time: measured or projected.
-        assert!(r[13] != "-" || r[12] == "not reached", "{r:?}");
+        assert!(r[15] != "-" || r[14] == "not reached", "{r:?}");
     }
     for goal in [
         "- thick: time per camera ray relative to N = 1000: N 1000: 1.00x, N 10000: ",
+        "- thin: time per shadowing sphere relative to N = 1000: N 1000: 1.00x, N 10000: ",
         "- thick: time per camera ray at N = 1e6 / N = 1e3 (goal <= 3x): not measured",
         "(goal >= 10x): ",
         "(goal <= 1e-4): ",

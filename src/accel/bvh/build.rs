@@ -12,6 +12,7 @@ use obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh;
 use obvhs::cwbvh::CwBvh;
 use obvhs::ploc::PlocBuilder;
 use obvhs::BvhBuildParams;
+use rayon::prelude::*;
 
 use super::{Chunk, PaddedBox, Prim, SphereBvh, MAX_CHUNKS, MIN_CHUNK, PAD_ULPS};
 
@@ -71,7 +72,7 @@ fn morton_sort(prims: &mut [Prim], lo: DVec3, hi: DVec3, per_chunk: usize) -> Ve
     }
     let scale = DVec3::splat(2_097_151.0) / (hi - lo).max(DVec3::splat(f64::MIN_POSITIVE));
     let mut keys: Vec<(u64, u32)> = prims
-        .iter()
+        .par_iter()
         .enumerate()
         .map(|(i, p)| {
             let q = ((p.center - lo) * scale).clamp(DVec3::ZERO, DVec3::splat(2_097_151.0));
@@ -79,7 +80,8 @@ fn morton_sort(prims: &mut [Prim], lo: DVec3, hi: DVec3, per_chunk: usize) -> Ve
             (code, i as u32)
         })
         .collect();
-    keys.sort_unstable();
+    // The keys are distinct (the index breaks ties), so any sort gives the same order.
+    keys.par_sort_unstable();
     let ranges = chunk_ranges(&keys, per_chunk);
     let order: Vec<u32> = keys.iter().map(|k| k.1).collect();
     drop(keys);
@@ -181,50 +183,65 @@ impl SphereBvh {
         let start = Instant::now();
         let mut prims = prims;
         let ranges = morton_sort(&mut prims, lo, hi, per_chunk);
-        let mut chunks = Vec::new();
-        for range in ranges {
-            let base = range.start;
-            let part = &mut prims[range];
-            let (mut clo, mut chi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-            let boxes: Vec<PaddedBox> = part
-                .iter()
-                .map(|p| {
-                    let (a, b) = prim_box(p, to_world(p));
-                    clo = clo.min(a);
-                    chi = chi.max(b);
-                    let a = ((a - origin) * scale).as_vec3a() - Vec3A::splat(pad32);
-                    let b = ((b - origin) * scale).as_vec3a() + Vec3A::splat(pad32);
-                    PaddedBox(Aabb::new(a, b))
-                })
-                .collect();
-            // obvhs's build_cwbvh, step by step: its debug-build validation asserts a depth
-            // below 32, which degenerate sets (concentric spheres) exceed; we handle those
-            // (`Chunk::deep`) instead.
-            let params = BvhBuildParams::fast_build();
-            let mut bvh2 = PlocBuilder::with_capacity(boxes.len()).build(
-                params.ploc_search_distance,
-                &boxes,
-                (0..boxes.len() as u32).collect::<Vec<_>>(),
-                params.sort_precision,
-                params.search_depth_threshold,
-            );
-            ReinsertionOptimizer::default().run(&mut bvh2, params.reinsertion_batch_ratio, None);
-            let mut bvh = bvh2_to_cwbvh(&bvh2, params.max_prims_per_leaf.clamp(1, 3), true, false);
-            drop(bvh2);
-            drop(boxes);
-            // Leaf order: the traversal reports positions in `primitive_indices`, so the
-            // chunk's spheres are permuted into that order in place and the list is freed.
-            permute_in_place(part, &bvh.primitive_indices);
-            bvh.primitive_indices = Vec::new();
-            let deep = cwbvh_depth(&bvh) >= 30;
-            chunks.push(Chunk {
-                deep,
-                bvh,
-                base: base as u32,
-                lo: clo - pad * 2.0,
-                hi: chi + pad * 2.0,
-            });
+        // The chunks are disjoint runs of `prims`, built side by side (each alone, so the
+        // result does not depend on the number of threads; each build's temporary peak is
+        // paid once per thread at work).
+        let mut parts = Vec::with_capacity(ranges.len());
+        let mut rest = &mut prims[..];
+        for range in &ranges {
+            let (part, tail) = rest.split_at_mut(range.len());
+            parts.push((range.start, part));
+            rest = tail;
         }
+        let chunks: Vec<Chunk> = parts
+            .into_par_iter()
+            .map(|(base, part)| {
+                let (mut clo, mut chi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+                let boxes: Vec<PaddedBox> = part
+                    .iter()
+                    .map(|p| {
+                        let (a, b) = prim_box(p, to_world(p));
+                        clo = clo.min(a);
+                        chi = chi.max(b);
+                        let a = ((a - origin) * scale).as_vec3a() - Vec3A::splat(pad32);
+                        let b = ((b - origin) * scale).as_vec3a() + Vec3A::splat(pad32);
+                        PaddedBox(Aabb::new(a, b))
+                    })
+                    .collect();
+                // obvhs's build_cwbvh, step by step: its debug-build validation asserts a
+                // depth below 32, which degenerate sets (concentric spheres) exceed; we
+                // handle those (`Chunk::deep`) instead.
+                let params = BvhBuildParams::fast_build();
+                let mut bvh2 = PlocBuilder::with_capacity(boxes.len()).build(
+                    params.ploc_search_distance,
+                    &boxes,
+                    (0..boxes.len() as u32).collect::<Vec<_>>(),
+                    params.sort_precision,
+                    params.search_depth_threshold,
+                );
+                ReinsertionOptimizer::default().run(
+                    &mut bvh2,
+                    params.reinsertion_batch_ratio,
+                    None,
+                );
+                let mut bvh =
+                    bvh2_to_cwbvh(&bvh2, params.max_prims_per_leaf.clamp(1, 3), true, false);
+                drop(bvh2);
+                drop(boxes);
+                // Leaf order: the traversal reports positions in `primitive_indices`, so the
+                // chunk's spheres are permuted into that order in place and the list is freed.
+                permute_in_place(part, &bvh.primitive_indices);
+                bvh.primitive_indices = Vec::new();
+                let deep = cwbvh_depth(&bvh) >= 30;
+                Chunk {
+                    deep,
+                    bvh,
+                    base: base as u32,
+                    lo: clo - pad * 2.0,
+                    hi: chi + pad * 2.0,
+                }
+            })
+            .collect();
         let build_time = start.elapsed();
         let to_object = ellipsoids.iter().map(|m| m.inverse()).collect();
         SphereBvh {
