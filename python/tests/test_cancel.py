@@ -55,7 +55,8 @@ def test_the_gil_is_released_while_rendering():
     result = []
 
     def work():
-        result.append(gt.render(scene, cam, 64, 64, spp=2, threads=1))
+        # About 1 s on one thread (the lit gas is the slow part; 64 x 64 became too fast).
+        result.append(gt.render(scene, cam, 128, 128, spp=2, threads=1))
         done.set()
 
     t = threading.Thread(target=work)
@@ -64,7 +65,7 @@ def test_the_gil_is_released_while_rendering():
     while not done.is_set():
         stamps.append(time.monotonic())  # Python running in this thread meanwhile
     t.join()
-    assert result and result[0].rgb.shape == (64, 64, 3)
+    assert result and result[0].rgb.shape == (128, 128, 3)
     elapsed = stamps[-1] - stamps[0]
     assert elapsed > 0.3, "the render must take long enough to tell"
     # Were the GIL held for the render, this thread would stand still for all of it: one
