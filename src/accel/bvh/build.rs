@@ -71,25 +71,85 @@ fn morton_sort(prims: &mut [Prim], lo: DVec3, hi: DVec3, per_chunk: usize) -> Ve
         (x | x << 2) & 0x1249_2492_4924_9249
     }
     let scale = DVec3::splat(2_097_151.0) / (hi - lo).max(DVec3::splat(f64::MIN_POSITIVE));
-    let mut keys: Vec<(u64, u32)> = prims
+    let mut codes: Vec<u64> = prims
         .par_iter()
-        .enumerate()
-        .map(|(i, p)| {
+        .map(|p| {
             let q = ((p.center - lo) * scale).clamp(DVec3::ZERO, DVec3::splat(2_097_151.0));
-            let code = spread(q.x as u64) | spread(q.y as u64) << 1 | spread(q.z as u64) << 2;
-            (code, i as u32)
+            spread(q.x as u64) | spread(q.y as u64) << 1 | spread(q.z as u64) << 2
         })
         .collect();
-    // The keys are distinct (the index breaks ties), so any sort gives the same order.
-    keys.par_sort_unstable();
-    let ranges = chunk_ranges(&keys, per_chunk);
-    let order: Vec<u32> = keys.iter().map(|k| k.1).collect();
-    drop(keys);
-    permute_in_place(prims, &order);
-    ranges
+    radix_sort(prims, &mut codes, 56);
+    chunk_ranges(&codes, per_chunk)
 }
 
-/// Cuts Morton-sorted `(code, index)` keys into at most [`MAX_CHUNKS`] ranges of at most `per_chunk`.
+/// Sorts `prims` and their `codes` together by the codes' bits below `shift + 8`, in place:
+/// one American-flag pass on bits `shift..shift + 8` (each element is swapped straight into
+/// its bucket, which keeps 256 sequential write streams instead of the random accesses of
+/// following a permutation's cycles: 2.4 s of a 6.5 s build at 1e7 spheres), then the buckets
+/// side by side on the next 8 bits, down to small runs sorted by insertion (stable). The
+/// result depends on nothing but the input (no thread count): equal codes keep an order fixed
+/// by the passes.
+fn radix_sort(prims: &mut [Prim], codes: &mut [u64], shift: u32) {
+    debug_assert_eq!(prims.len(), codes.len());
+    if prims.len() <= 32 {
+        for i in 1..prims.len() {
+            let mut j = i;
+            while j > 0 && codes[j - 1] > codes[j] {
+                codes.swap(j - 1, j);
+                prims.swap(j - 1, j);
+                j -= 1;
+            }
+        }
+        return;
+    }
+    let bucket = |c: u64| (c >> shift & 0xff) as usize;
+    let mut counts = [0usize; 256];
+    for &c in codes.iter() {
+        counts[bucket(c)] += 1;
+    }
+    let mut heads = [0usize; 256];
+    let mut ends = [0usize; 256];
+    let mut at = 0;
+    for b in 0..256 {
+        heads[b] = at;
+        at += counts[b];
+        ends[b] = at;
+    }
+    for b in 0..256 {
+        while heads[b] < ends[b] {
+            let i = heads[b];
+            let c = bucket(codes[i]);
+            if c == b {
+                heads[b] += 1;
+            } else {
+                let j = heads[c];
+                codes.swap(i, j);
+                prims.swap(i, j);
+                heads[c] += 1;
+            }
+        }
+    }
+    if shift == 0 {
+        return;
+    }
+    // The buckets, disjoint runs, on the next 8 bits.
+    let mut runs = Vec::with_capacity(256);
+    let (mut p, mut c) = (prims, codes);
+    for &n in &counts {
+        let (ph, pt) = p.split_at_mut(n);
+        let (ch, ct) = c.split_at_mut(n);
+        if n > 1 {
+            runs.push((ph, ch));
+        }
+        p = pt;
+        c = ct;
+    }
+    let next = shift.saturating_sub(8);
+    runs.into_par_iter()
+        .for_each(|(p, c)| radix_sort(p, c, next));
+}
+
+/// Cuts sorted Morton codes into at most [`MAX_CHUNKS`] ranges of at most `per_chunk`.
 ///
 /// Cuts fall on Morton cell boundaries where possible: the order is split at its octree
 /// cells (halving one axis per code bit) until each piece fits, and neighbouring pieces are
@@ -98,14 +158,8 @@ fn morton_sort(prims: &mut [Prim], lo: DVec3, hi: DVec3, per_chunk: usize) -> Ve
 /// of ~125,000) gives chunks that straddle two cells, whose boxes overlap their neighbours'
 /// and which a ray therefore has to walk for nothing. Falls back to fixed counts if the
 /// cells give too many chunks (very uneven scenes).
-fn chunk_ranges(codes: &[(u64, u32)], per_chunk: usize) -> Vec<Range<usize>> {
-    fn split(
-        codes: &[(u64, u32)],
-        base: usize,
-        bit: i32,
-        per_chunk: usize,
-        out: &mut Vec<Range<usize>>,
-    ) {
+fn chunk_ranges(codes: &[u64], per_chunk: usize) -> Vec<Range<usize>> {
+    fn split(codes: &[u64], base: usize, bit: i32, per_chunk: usize, out: &mut Vec<Range<usize>>) {
         if codes.len() <= per_chunk {
             if !codes.is_empty() {
                 out.push(base..base + codes.len());
@@ -117,7 +171,7 @@ fn chunk_ranges(codes: &[(u64, u32)], per_chunk: usize) -> Vec<Range<usize>> {
             }
         } else {
             // Within a cell the higher bits are equal, so `bit` is sorted: zeros first.
-            let m = codes.partition_point(|c| c.0 >> bit & 1 == 0);
+            let m = codes.partition_point(|c| c >> bit & 1 == 0);
             split(&codes[..m], base, bit - 1, per_chunk, out);
             split(&codes[m..], base + m, bit - 1, per_chunk, out);
         }
@@ -260,8 +314,61 @@ impl SphereBvh {
 
 #[cfg(test)]
 mod tests {
-    use super::{chunk_ranges, permute_in_place, MAX_CHUNKS};
+    use super::{chunk_ranges, permute_in_place, radix_sort, MAX_CHUNKS};
+    use crate::accel::Prim;
     use crate::testing::Rng;
+    use glam::DVec3;
+
+    fn codes_of(keys: &[(u64, u32)]) -> Vec<u64> {
+        keys.iter().map(|k| k.0).collect()
+    }
+
+    /// The in-place radix sort against the standard sort: codes in order, every primitive
+    /// still beside its own code, none lost, for uniform, clustered (one top bucket, so the
+    /// deeper passes do the work), repeated and tiny inputs.
+    #[test]
+    fn radix_sort_orders_codes_and_keeps_each_prim_with_its_code() {
+        let mut rng = Rng::new(31);
+        for (n, kind) in [
+            (0, 0),
+            (1, 0),
+            (31, 0),
+            (33, 0),
+            (5000, 0),
+            (5000, 1),
+            (5000, 2),
+            (70000, 0),
+        ] {
+            let code = |rng: &mut Rng| match kind {
+                0 => rng.u64() >> 1,
+                1 => (5u64 << 56) | (rng.u64() >> 20),
+                _ => rng.below(7) as u64 * 0x0101_0101_0101,
+            };
+            let mut codes: Vec<u64> = (0..n).map(|_| code(&mut rng)).collect();
+            let original = codes.clone();
+            let mut prims: Vec<Prim> = (0..n)
+                .map(|i| Prim {
+                    center: DVec3::ZERO,
+                    radius: 1.0,
+                    material: 0,
+                    sphere: i as u32,
+                    ellipsoid: None,
+                    gas: false,
+                    sigma: 0.0,
+                })
+                .collect();
+            radix_sort(&mut prims, &mut codes, 56);
+            let mut want = original.clone();
+            want.sort_unstable();
+            assert_eq!(codes, want, "n {n} kind {kind}");
+            for (p, c) in prims.iter().zip(&codes) {
+                assert_eq!(original[p.sphere as usize], *c);
+            }
+            let mut ids: Vec<u32> = prims.iter().map(|p| p.sphere).collect();
+            ids.sort_unstable();
+            assert!(ids.iter().enumerate().all(|(i, &v)| v == i as u32));
+        }
+    }
 
     #[test]
     fn chunks_follow_morton_cells_and_cover_everything() {
@@ -270,7 +377,7 @@ mod tests {
         let n = 8000;
         let mut keys: Vec<(u64, u32)> = (0..n).map(|i| (rng.u64() >> 1, i)).collect();
         keys.sort_unstable();
-        let ranges = chunk_ranges(&keys, n as usize * 2 / 15);
+        let ranges = chunk_ranges(&codes_of(&keys), n as usize * 2 / 15);
         assert_eq!(ranges.len(), 8);
         for r in &ranges {
             let top = |k: &(u64, u32)| k.0 >> 60;
@@ -290,7 +397,7 @@ mod tests {
             let mut keys: Vec<(u64, u32)> =
                 (0..n).map(|i| (rng.u64() >> (1 + i % 50), i)).collect();
             keys.sort_unstable();
-            let ranges = chunk_ranges(&keys, per);
+            let ranges = chunk_ranges(&codes_of(&keys), per);
             assert!(ranges.len() <= MAX_CHUNKS.max(n.div_ceil(per as u32) as usize));
             let mut at = 0;
             for r in ranges {
@@ -302,7 +409,7 @@ mod tests {
         }
         // Equal codes: fixed counts.
         let keys = vec![(5u64, 0u32); 100];
-        assert_eq!(chunk_ranges(&keys, 30).len(), 4);
+        assert_eq!(chunk_ranges(&codes_of(&keys), 30).len(), 4);
     }
 
     #[test]
