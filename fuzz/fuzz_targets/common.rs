@@ -12,7 +12,13 @@ pub fn check(bytes: Vec<u8>) {
     let Ok((scene, report)) = load_bytes("fuzz.wrl", bytes, &opts) else {
         return;
     };
-    assert!(report.nodes <= opts.max_nodes, "nodes {} > max_nodes", report.nodes);
+    // The limit is max_nodes plus one node per byte read.
+    assert!(
+        report.nodes <= opts.max_nodes + report.bytes,
+        "nodes {} > max_nodes + bytes {}",
+        report.nodes,
+        report.bytes
+    );
     for (i, s) in scene.spheres.iter().enumerate() {
         assert!(
             s.radius.is_finite() && s.radius > 0.0,

@@ -360,9 +360,45 @@ fn exponential_use_blowup_is_refused() {
     )
     .expect_err("blow-up");
     assert!(
-        e.to_string().contains("expands to more than 1000000 nodes"),
+        e.to_string().contains("expands to more than 10")
+            && e.to_string()
+                .contains("nodes (1000000 plus one per byte read"),
         "{e}"
     );
+}
+
+/// The node limit grows with the text read: many PROTO instances, each a few nodes, load past
+/// `max_nodes` (a hundred million particles as `convert` writes them are 5e8 nodes; found
+/// when such a file was refused), while a blow-up of the same size is still refused.
+#[test]
+fn many_proto_instances_load_past_max_nodes_but_a_blowup_does_not() {
+    let mut text = String::from(
+        "#VRML V2.0 utf8
+PROTO P [ field SFVec3f at 0 0 0 ] { Transform { translation IS at \
+         children Shape { appearance Appearance { material Material { } } geometry Sphere { } } } }\n",
+    );
+    for i in 0..2000 {
+        text.push_str(&format!("P {{ at {i} 0 0 }}\n"));
+    }
+    let opts = gtsphere::vrml::LoadOptions {
+        max_nodes: 1000,
+        ..Default::default()
+    };
+    let (scene, _) =
+        gtsphere::vrml::load_bytes("many.wrl", text.clone().into_bytes(), &opts).expect("loads");
+    assert_eq!(scene.spheres.len(), 2000);
+    // The same instances reached through USE nest: far more nodes than bytes.
+    let mut bomb = String::from("#VRML V2.0 utf8\nDEF L0 Shape { geometry Sphere {} }\n");
+    for i in 1..20 {
+        bomb.push_str(&format!(
+            "DEF L{i} Group {{ children [ USE L{} USE L{} ] }}\n",
+            i - 1,
+            i - 1
+        ));
+    }
+    assert!(bomb.len() < text.len());
+    let e = gtsphere::vrml::load_bytes("bomb.wrl", bomb.into_bytes(), &opts).expect_err("blow-up");
+    assert!(e.to_string().contains("plus one per byte read"), "{e}");
 }
 
 /// A PROTO may take a standard node type's name: from its declaration on, that name means
