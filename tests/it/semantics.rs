@@ -339,26 +339,27 @@ fn inline_cycles_are_refused() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-#[test]
-fn exponential_use_blowup_is_refused() {
-    let mut text = String::from("DEF L0 Shape { geometry Sphere {} }\n");
-    for i in 1..40 {
+/// A file whose `levels` nested DEFs each USE the one before twice: 2^(levels - 1) spheres.
+fn use_bomb(levels: usize) -> String {
+    let mut text = String::from("#VRML V2.0 utf8\nDEF L0 Shape { geometry Sphere {} }\n");
+    for i in 1..levels {
         text.push_str(&format!(
             "DEF L{i} Group {{ children [ USE L{} USE L{} ] }}\n",
             i - 1,
             i - 1
         ));
     }
+    text
+}
+
+#[test]
+fn exponential_use_blowup_is_refused() {
     let opts = gtsphere::vrml::LoadOptions {
         max_nodes: 1_000_000,
         ..Default::default()
     };
-    let e = gtsphere::vrml::load_bytes(
-        "bomb.wrl",
-        format!("#VRML V2.0 utf8\n{text}").into_bytes(),
-        &opts,
-    )
-    .expect_err("blow-up");
+    let e = gtsphere::vrml::load_bytes("bomb.wrl", use_bomb(40).into_bytes(), &opts)
+        .expect_err("blow-up");
     assert!(
         e.to_string().contains("expands to more than 10")
             && e.to_string()
@@ -373,8 +374,7 @@ fn exponential_use_blowup_is_refused() {
 #[test]
 fn many_proto_instances_load_past_max_nodes_but_a_blowup_does_not() {
     let mut text = String::from(
-        "#VRML V2.0 utf8
-PROTO P [ field SFVec3f at 0 0 0 ] { Transform { translation IS at \
+        "#VRML V2.0 utf8\nPROTO P [ field SFVec3f at 0 0 0 ] { Transform { translation IS at \
          children Shape { appearance Appearance { material Material { } } geometry Sphere { } } } }\n",
     );
     for i in 0..2000 {
@@ -388,14 +388,7 @@ PROTO P [ field SFVec3f at 0 0 0 ] { Transform { translation IS at \
         gtsphere::vrml::load_bytes("many.wrl", text.clone().into_bytes(), &opts).expect("loads");
     assert_eq!(scene.spheres.len(), 2000);
     // The same instances reached through USE nest: far more nodes than bytes.
-    let mut bomb = String::from("#VRML V2.0 utf8\nDEF L0 Shape { geometry Sphere {} }\n");
-    for i in 1..20 {
-        bomb.push_str(&format!(
-            "DEF L{i} Group {{ children [ USE L{} USE L{} ] }}\n",
-            i - 1,
-            i - 1
-        ));
-    }
+    let bomb = use_bomb(20);
     assert!(bomb.len() < text.len());
     let e = gtsphere::vrml::load_bytes("bomb.wrl", bomb.into_bytes(), &opts).expect_err("blow-up");
     assert!(e.to_string().contains("plus one per byte read"), "{e}");
