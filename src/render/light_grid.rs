@@ -396,6 +396,20 @@ impl LightGrid {
                 x
             })
             .into_parts();
+        // A face holding spheres none of which the stride sampled (few, in a large scene):
+        // sample them all, so that every face with spheres gets cells.
+        for f in 0..nf {
+            if widths[f].is_empty() && rects[f].0.x <= rects[f].1.x {
+                let mut fp = [None; 6];
+                for p in prims {
+                    if view.footprints(p, pad, &mut fp) {
+                        if let Some(q) = fp[f] {
+                            widths[f].push((q.hi - q.lo).max_element());
+                        }
+                    }
+                }
+            }
+        }
         let mut faces: Vec<Face> = (0..nf)
             .map(|f| {
                 let axis = match view {

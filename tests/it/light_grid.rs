@@ -172,3 +172,35 @@ fn a_segment_through_a_point_light_is_declined_or_answered_in_full() {
     }
     assert!(declined > 0);
 }
+
+/// A large scene (so that the grid samples the spheres' sizes with a stride) in which one face
+/// of a point light's cube sees only two spheres: that face must still list them.
+#[test]
+fn a_face_with_few_spheres_in_a_large_scene_lists_them() {
+    let mut rng = Rng(5);
+    let mut prims = cloud(&mut rng, 140_000, 1.0, DVec3::new(10.0, 0.0, 0.0));
+    // At odd indices: the stride (2 here) samples none of them.
+    let few = [1usize, 3];
+    for (k, x) in few.into_iter().zip([-5.0, -7.0]) {
+        prims[k].center = DVec3::new(x, 0.01, 0.02);
+        prims[k].radius = 0.05;
+    }
+    let light = LightKind::Point {
+        position: DVec3::ZERO,
+        attenuation: DVec3::X,
+        radius: f64::INFINITY,
+    };
+    let grid = LightGrid::build(&light, &prims).expect("a grid");
+    for k in few {
+        let c = prims[k].center;
+        // A short segment just beyond the sphere, whose light rays pass through its centre.
+        let (a, b) = (
+            c * 1.2 + DVec3::new(0.0, 0.01, 0.0),
+            c * 1.2 - DVec3::new(0.0, 0.01, 0.0),
+        );
+        let mut out = Vec::new();
+        assert!(grid.candidates(a, b, (0.0, 1.0), &mut out));
+        assert!(band_distance(c, a, b, &light, (0.0, 1.0)) < prims[k].radius);
+        assert!(out.contains(&(k as u32)), "sphere {k} left out");
+    }
+}
