@@ -42,8 +42,10 @@ use crate::accel::Prim;
 const WIDE: f64 = 0.25;
 /// A sphere whose silhouette covers more cells than this is listed apart.
 const MAX_CELLS: usize = 256;
-/// Gnomonic coordinates are within [-1, 1]; their rounding allowance.
-const UV_PAD: f64 = 1e-9;
+/// Gnomonic coordinates are within [-1, 1]; their rounding allowance. A query's directions
+/// are at least 1e-6 of its length from the light, so their projections are good to about
+/// 1e-9 (2^-52 times 1e6, twice); ten times that is allowed on each side.
+const UV_PAD: f64 = 1e-8;
 
 /// One face of a light's view: a grid of `n.0 x n.1` square cells of side `h` from `lo`.
 #[derive(Debug, Default)]
