@@ -1,4 +1,4 @@
-//! The scene as each light sees it: a grid over the light's view in which every sphere is
+//! The scene as each light sees it: a grid over the light's frame in which every sphere is
 //! listed in the cells its silhouette covers, sorted by its distance along the light rays (the
 //! "light buffer" of Haines and Greenberg, 1986, with exact lists instead of a depth map).
 //!
@@ -12,8 +12,8 @@
 //! visits every node near a long, thin, slanted quadrilateral instead (measured: about 230 box
 //! tests per band query in a million-sphere cloud).
 //!
-//! The view. A directional light's view is the plane normal to `L`, with coordinates
-//! `(x . e1, x . e2)` and distance `x . L`. A point light's view is the cube of directions
+//! The frame. A directional light's frame is the plane normal to `L`, with coordinates
+//! `(x . e1, x . e2)` and distance `x . L`. A point light's frame is the cube of directions
 //! around `P`: six faces, each with gnomonic coordinates `(w1 / w0, w2 / w0)` of `w = x - P`
 //! (`w0` the face's axis), in which great circles, and so the directions from `P` to a
 //! straight segment, are straight lines; the distance is `|x - P|`.
@@ -47,7 +47,7 @@ const MAX_CELLS: usize = 256;
 /// 1e-9 (2^-52 times 1e6, twice); ten times that is allowed on each side.
 const UV_PAD: f64 = 1e-8;
 
-/// One face of a light's view: a grid of `n.0 x n.1` square cells of side `h` from `lo`.
+/// One face of a light's frame: a grid of `n.0 x n.1` square cells of side `h` from `lo`.
 #[derive(Debug, Default)]
 struct Face {
     /// Point lights: the face's axis, its sign and the two in-face axes (unused otherwise).
@@ -69,14 +69,16 @@ struct Face {
 /// The grid of one light (see the module comment).
 #[derive(Debug)]
 pub struct LightGrid {
-    view: View,
+    frame: Frame,
     faces: Vec<Face>,
     /// Spheres returned by every query (wide or containing a point light).
     always: Vec<u32>,
 }
 
+/// How a light sees the scene (the module comment's "frame"): along `l` onto the plane of
+/// `e1`, `e2` (directional), or from `p` onto the cube of directions (point).
 #[derive(Clone, Copy, Debug)]
-enum View {
+enum Frame {
     Along { e1: DVec3, e2: DVec3, l: DVec3 },
     From { p: DVec3 },
 }
@@ -97,10 +99,6 @@ impl Sketch {
             [(DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)); 6],
             Default::default(),
         )
-    }
-
-    fn into_parts(self) -> ([(DVec2, DVec2); 6], [Vec<f64>; 6]) {
-        (self.0, self.1)
     }
 }
 
@@ -128,11 +126,11 @@ impl Placed {
     }
 }
 
-impl View {
+impl Frame {
     fn faces(&self) -> usize {
         match self {
-            View::Along { .. } => 1,
-            View::From { .. } => 6,
+            Frame::Along { .. } => 1,
+            Frame::From { .. } => 6,
         }
     }
 
@@ -146,8 +144,8 @@ impl View {
     /// The distance key of a sphere centred at `c`.
     fn key(&self, c: DVec3) -> f64 {
         match *self {
-            View::Along { l, .. } => c.dot(l),
-            View::From { p } => (c - p).length(),
+            Frame::Along { l, .. } => c.dot(l),
+            Frame::From { p } => (c - p).length(),
         }
     }
 
@@ -156,7 +154,7 @@ impl View {
     fn footprints(&self, p: &Prim, pad: f64, out: &mut [Option<Footprint>; 6]) -> bool {
         *out = [None; 6];
         match *self {
-            View::Along { e1, e2, .. } => {
+            Frame::Along { e1, e2, .. } => {
                 let c = DVec2::new(p.center.dot(e1), p.center.dot(e2));
                 let r = DVec2::splat(p.radius + pad);
                 out[0] = Some(Footprint {
@@ -165,7 +163,7 @@ impl View {
                 });
                 true
             }
-            View::From { p: light } => {
+            Frame::From { p: light } => {
                 let w = p.center - light;
                 let dist = w.length();
                 let s = p.radius / dist * (1.0 + 1e-9) + 1e-15;
@@ -175,7 +173,7 @@ impl View {
                 }
                 let a = w / dist;
                 for (f, slot) in out.iter_mut().enumerate() {
-                    let (k, sign, k1, k2) = View::axes(f);
+                    let (k, sign, k1, k2) = Frame::axes(f);
                     let big = sign * a[k];
                     // The cone must reach the face's pyramid: within its four half-spaces
                     // sign w_k >= +-w_m (unit normals (sign e_k -+ e_m) / sqrt 2).
@@ -341,16 +339,16 @@ impl LightGrid {
         if prims.is_empty() {
             return None;
         }
-        let view = match *light {
+        let frame = match *light {
             LightKind::Directional { to_light: l, .. } => {
                 let e1 = l.any_orthonormal_vector();
-                View::Along {
+                Frame::Along {
                     e1,
                     e2: l.cross(e1),
                     l,
                 }
             }
-            LightKind::Point { position, .. } => View::From { p: position },
+            LightKind::Point { position, .. } => Frame::From { p: position },
         };
         // The largest coordinate anywhere, for the rounding allowance of projections.
         let big = prims
@@ -361,23 +359,23 @@ impl LightGrid {
             // Distances are stored as f32: such a scene is searched through the BVH.
             return None;
         }
-        let pad = match view {
-            View::Along { .. } => 64.0 * f64::EPSILON * big,
-            View::From { p } => 64.0 * f64::EPSILON * (big + p.abs().max_element()),
+        let pad = match frame {
+            Frame::Along { .. } => 64.0 * f64::EPSILON * big,
+            Frame::From { p } => 64.0 * f64::EPSILON * (big + p.abs().max_element()),
         };
-        let nf = view.faces();
-        let face_pad = match view {
-            View::Along { .. } => pad,
-            View::From { .. } => UV_PAD,
+        let nf = frame.faces();
+        let face_pad = match frame {
+            Frame::Along { .. } => pad,
+            Frame::From { .. } => UV_PAD,
         };
         // Pass 1: each face's bounding rectangle, and a sample of silhouette widths.
         let stride = (prims.len() / 65536).max(1);
-        let (rects, mut widths) = prims
+        let Sketch(rects, mut widths) = prims
             .par_iter()
             .enumerate()
             .fold(Sketch::new, |mut acc, (i, p)| {
                 let mut fp = [None; 6];
-                if view.footprints(p, pad, &mut fp) {
+                if frame.footprints(p, pad, &mut fp) {
                     for (f, q) in fp.iter().enumerate().take(nf) {
                         if let Some(q) = q {
                             acc.0[f].0 = acc.0[f].0.min(q.lo);
@@ -396,15 +394,14 @@ impl LightGrid {
                     x.1[f].extend_from_slice(&y.1[f]);
                 }
                 x
-            })
-            .into_parts();
+            });
         // A face holding spheres none of which the stride sampled (few, in a large scene):
         // sample them all, so that every face with spheres gets cells.
         for f in 0..nf {
             if widths[f].is_empty() && rects[f].0.x <= rects[f].1.x {
                 let mut fp = [None; 6];
                 for p in prims {
-                    if view.footprints(p, pad, &mut fp) {
+                    if frame.footprints(p, pad, &mut fp) {
                         if let Some(q) = fp[f] {
                             widths[f].push((q.hi - q.lo).max_element());
                         }
@@ -414,9 +411,9 @@ impl LightGrid {
         }
         let mut faces: Vec<Face> = (0..nf)
             .map(|f| {
-                let axis = match view {
-                    View::Along { .. } => (0, 1.0, 1, 2),
-                    View::From { .. } => View::axes(f),
+                let axis = match frame {
+                    Frame::Along { .. } => (0, 1.0, 1, 2),
+                    Frame::From { .. } => Frame::axes(f),
                 };
                 Face::sized(axis, rects[f], &mut widths[f], prims.len(), face_pad)
             })
@@ -424,11 +421,11 @@ impl LightGrid {
         // Pass 2: every sphere's cells on every face (or listed apart).
         let place = |(i, p): (usize, &Prim), out: &mut Vec<Placed>| {
             let mut fp = [None; 6];
-            if !view.footprints(p, pad, &mut fp) {
+            if !frame.footprints(p, pad, &mut fp) {
                 out.push(Placed::apart(i));
                 return;
             }
-            let key = view.key(p.center) as f32;
+            let key = frame.key(p.center) as f32;
             let reach = (p.radius * (1.0 + 1e-6)) as f32;
             let mark = out.len();
             for f in 0..nf {
@@ -516,7 +513,7 @@ impl LightGrid {
         always.sort_unstable();
         always.dedup();
         Some(LightGrid {
-            view,
+            frame,
             faces,
             always,
         })
@@ -537,13 +534,9 @@ impl LightGrid {
     /// cannot answer (a segment through a point light): search the BVH instead.
     pub fn candidates(&self, a: DVec3, b: DVec3, (f0, f1): (f64, f64), out: &mut Vec<u32>) -> bool {
         let mark = out.len();
-        match self.view {
-            View::Along { e1, e2, l } => {
+        match self.frame {
+            Frame::Along { e1, e2, l } => {
                 let face = &self.faces[0];
-                if face.cells() == 0 {
-                    out.extend_from_slice(&self.always);
-                    return true;
-                }
                 let (pa, pb) = (
                     DVec2::new(a.dot(e1), a.dot(e2)),
                     DVec2::new(b.dot(e1), b.dot(e2)),
@@ -553,11 +546,13 @@ impl LightGrid {
                 // The query's own rounding, beyond what the face allows for.
                 let grow = 64.0 * f64::EPSILON * a.abs().max(b.abs()).max_element();
                 let keys = (keys.0 - grow, keys.1 + grow);
-                face.walk(pa, pb, face.pad.max(grow), |cell| {
-                    face.scan(cell, keys, out)
-                });
+                if face.cells() > 0 {
+                    face.walk(pa, pb, face.pad.max(grow), |cell| {
+                        face.scan(cell, keys, out)
+                    });
+                }
             }
-            View::From { p } => {
+            Frame::From { p } => {
                 let (wa, wb) = (a - p, b - p);
                 let near = super::shadow_volume::to_segment(p, a, b);
                 let far = wa.length().max(wb.length());

@@ -396,11 +396,6 @@ fn verdict(ok: bool) -> &'static str {
     }
 }
 
-/// Time per camera ray at each N relative to the smallest N = 1e3, per cloud.
-fn per_ray_ratios(rows: &[ScalingRow], cloud: Cloud) -> Vec<(usize, f64)> {
-    ratios(rows, cloud, ScalingRow::seconds_per_ray)
-}
-
 /// `of(row)` at each N relative to N = 1e3, per cloud.
 fn ratios(rows: &[ScalingRow], cloud: Cloud, of: fn(&ScalingRow) -> f64) -> Vec<(usize, f64)> {
     let Some(base) = rows.iter().find(|r| r.cloud == cloud && r.n == 1000) else {
@@ -450,7 +445,7 @@ pub fn scaling_goals(rows: &[ScalingRow]) -> String {
     }
     t.push_str("\nGoals:\n");
     for (c, limit) in [(Cloud::Thick, 3.0), (Cloud::Thin, 10.0)] {
-        let r = per_ray_ratios(rows, c);
+        let r = ratios(rows, c, ScalingRow::seconds_per_ray);
         match r.iter().find(|(n, _)| *n == 1_000_000) {
             Some((_, v)) => {
                 let _ = writeln!(
