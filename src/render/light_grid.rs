@@ -36,7 +36,7 @@ use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
 use super::lights::LightKind;
-use crate::accel::Prim;
+use crate::accel::Ball;
 
 /// Spheres wider than this (`sin alpha`) from a point light are listed apart.
 const WIDE: f64 = 0.25;
@@ -151,12 +151,12 @@ impl Frame {
 
     /// Where `p` lies on each face (`out[f]`, `None` where it does not); false when it must
     /// be listed apart instead.
-    fn footprints(&self, p: &Prim, pad: f64, out: &mut [Option<Footprint>; 6]) -> bool {
+    fn footprints(&self, p: &impl Ball, pad: f64, out: &mut [Option<Footprint>; 6]) -> bool {
         *out = [None; 6];
         match *self {
             Frame::Along { e1, e2, .. } => {
-                let c = DVec2::new(p.center.dot(e1), p.center.dot(e2));
-                let r = DVec2::splat(p.radius + pad);
+                let c = DVec2::new(p.center().dot(e1), p.center().dot(e2));
+                let r = DVec2::splat(p.radius() + pad);
                 out[0] = Some(Footprint {
                     lo: c - r,
                     hi: c + r,
@@ -164,9 +164,9 @@ impl Frame {
                 true
             }
             Frame::From { p: light } => {
-                let w = p.center - light;
+                let w = p.center() - light;
                 let dist = w.length();
-                let s = p.radius / dist * (1.0 + 1e-9) + 1e-15;
+                let s = p.radius() / dist * (1.0 + 1e-9) + 1e-15;
                 // (Also for NaN: a degenerate sphere is listed apart.)
                 if s.is_nan() || s > WIDE {
                     return false;
@@ -335,7 +335,7 @@ impl Face {
 impl LightGrid {
     /// The grid of `light` over `prims`; `None` for an empty scene, or one with coordinates
     /// beyond 1e30 (the BVH serves those).
-    pub fn build(light: &LightKind, prims: &[Prim]) -> Option<LightGrid> {
+    pub fn build<P: Ball + Sync>(light: &LightKind, prims: &[P]) -> Option<LightGrid> {
         if prims.is_empty() {
             return None;
         }
@@ -353,7 +353,7 @@ impl LightGrid {
         // The largest coordinate anywhere, for the rounding allowance of projections.
         let big = prims
             .iter()
-            .map(|p| p.center.abs().max_element() + p.radius)
+            .map(|p| p.center().abs().max_element() + p.radius())
             .fold(0.0f64, f64::max);
         if big > 1e30 {
             // Distances are stored as f32: such a scene is searched through the BVH.
@@ -419,14 +419,14 @@ impl LightGrid {
             })
             .collect();
         // Pass 2: every sphere's cells on every face (or listed apart).
-        let place = |(i, p): (usize, &Prim), out: &mut Vec<Placed>| {
+        let place = |(i, p): (usize, &P), out: &mut Vec<Placed>| {
             let mut fp = [None; 6];
             if !frame.footprints(p, pad, &mut fp) {
                 out.push(Placed::apart(i));
                 return;
             }
-            let key = frame.key(p.center) as f32;
-            let reach = (p.radius * (1.0 + 1e-6)) as f32;
+            let key = frame.key(p.center()) as f32;
+            let reach = (p.radius() * (1.0 + 1e-6)) as f32;
             let mark = out.len();
             for f in 0..nf {
                 if let Some(q) = fp[f] {

@@ -274,7 +274,7 @@ pub fn resolve<'b>(
             if b.seen.binary_search(&i).is_ok() {
                 continue;
             }
-            let p = &prep.bvh.prims[i as usize];
+            let p = &prep.bvh.prim(i);
             let s = shadowed_part(prep, p, o, d, light, (ta, tb), rim_cap, &mut b.own);
             b.breaks.extend_from_slice(&b.own);
             b.shadowers.push(Shadower { prim: i, ..s });
@@ -334,7 +334,7 @@ fn surface_shadows(
     );
     // The BVH's primitive indices, as surface indices.
     for i in &mut b.surface_found {
-        *i = prep.surfaces.bvh.prims[*i as usize].sphere;
+        *i = prep.surfaces.bvh.prim(*i).sphere;
     }
     prep.surfaces.shadowed_parts(
         &b.surface_found,
@@ -468,7 +468,7 @@ fn classify(
         let mut blocked = false;
         for &k in &b.live {
             let i = sh[k as usize].prim;
-            let p = &prep.bvh.prims[i as usize];
+            let p = &prep.bvh.prim(i);
             if !p.is_gas() {
                 // The blocking status is constant on a piece; decide it at the middle.
                 if chord(prep, p, xm, dm, distm) == Chord::Blocked {

@@ -33,7 +33,7 @@ impl SurfacePoint {
     #[inline]
     pub fn scene_index(&self, prep: &Prepared) -> u32 {
         match self.on {
-            Opaque::Sphere(p) => prep.bvh.prims[p as usize].sphere,
+            Opaque::Sphere(p) => prep.bvh.prim(p).sphere,
             Opaque::Surface(i) => i,
         }
     }

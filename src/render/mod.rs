@@ -23,8 +23,8 @@ use std::time::{Duration, Instant};
 
 use glam::DVec3;
 
-use crate::accel::{Prim, SphereBvh};
-use crate::scene::{Bounds, Light, Material, Scene, Viewpoint};
+use crate::accel::{Packed, SphereBvh};
+use crate::scene::{Bounds, EllipsoidId, Light, Material, Scene, Viewpoint};
 use crate::Error;
 pub use camera::{Camera, CameraChoice, ImagePlane, Lens, Projection};
 pub use film::Film;
@@ -283,7 +283,7 @@ impl Prepared {
                     && self.gas_spheres > 0
                     && l.direct != DVec3::ZERO;
                 wanted
-                    .then(|| light_grid::LightGrid::build(&l.kind, &self.bvh.prims))
+                    .then(|| light_grid::LightGrid::build(&l.kind, self.bvh.packed()))
                     .flatten()
             })
             .collect();
@@ -370,29 +370,57 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
             }
         }
     };
+    if materials.len() > crate::accel::bvh::MAX_MATERIALS {
+        return Err(invalid(format!(
+            "{} distinct materials: at most {} are supported",
+            materials.len(),
+            crate::accel::bvh::MAX_MATERIALS
+        )));
+    }
     let gas_spheres = spheres.iter().filter(|s| sigma_of(s).is_some()).count();
-    // into_iter().map().collect() reuses the spheres' allocation (a Prim is no larger than a
-    // Sphere), so the million-sphere case does not hold both lists at once.
-    let prims: Vec<Prim> = spheres
+    // The ellipsoid of each sphere, kept only when there are any (the packed primitives keep
+    // a flag; the BVH asks for the map by sphere index).
+    let ellipsoid_of: Vec<Option<EllipsoidId>> = if spheres.iter().any(|s| s.ellipsoid.is_some()) {
+        spheres.iter().map(|s| s.ellipsoid).collect()
+    } else {
+        Vec::new()
+    };
+    // into_iter().map().collect() reuses the spheres' allocation (a packed primitive, 40
+    // bytes, is smaller than a 48-byte Sphere), so a large scene does not hold both lists.
+    let packed: Vec<Packed> = spheres
         .into_iter()
         .enumerate()
         .map(|(i, s)| {
-            let sigma = sigma_of(&s);
-            Prim {
-                center: s.center,
-                radius: s.radius,
-                material: s.material,
-                sphere: i as u32,
-                ellipsoid: s.ellipsoid,
-                gas: sigma.is_some(),
-                sigma: sigma.unwrap_or(0.0),
-            }
+            let gas = opts.as_gas.is_some() || materials[s.material as usize].is_gas();
+            Packed::new(
+                s.center,
+                s.radius,
+                s.material,
+                i as u32,
+                gas,
+                s.ellipsoid.is_some(),
+            )
         })
         .collect();
-    let typical_radius = median_radius(&prims);
+    let typical_radius = median_radius(&packed);
     let surface_colors = surface_color_bound(&surfaces);
-    let sphere_count = prims.len();
-    let bvh = SphereBvh::build(prims, &ellipsoids);
+    let sphere_count = packed.len();
+    let side = |q: &Packed| {
+        let ellipsoid = ellipsoid_of.get(q.sphere as usize).copied().flatten();
+        let sigma = match opts.as_gas {
+            Some(sigma) => sigma,
+            None => {
+                let radius = match ellipsoid {
+                    None => q.radius,
+                    Some(e) => ellipsoids[e.index()].matrix3.determinant().abs().cbrt(),
+                };
+                materials[q.material() as usize].sigma(radius)
+            }
+        };
+        (ellipsoid, sigma)
+    };
+    let bvh = SphereBvh::build_packed(packed, &ellipsoids, &side);
+    drop(ellipsoid_of);
     let surfaces = surfaces::Surfaces::build(surfaces);
     Ok(Prepared {
         bvh,
@@ -425,7 +453,7 @@ fn surface_color_bound(surfaces: &[crate::scene::Surface]) -> f64 {
 }
 
 /// The median radius of (up to about a thousand evenly spread) primitives; 0 for none.
-fn median_radius(prims: &[Prim]) -> f64 {
+fn median_radius(prims: &[Packed]) -> f64 {
     if prims.is_empty() {
         return 0.0;
     }

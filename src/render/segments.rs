@@ -100,7 +100,7 @@ pub fn sweep(
             let start = members.len() as u32;
             for &k in active.iter() {
                 members.push(intervals[k as usize].prim);
-                let p = &prep.bvh.prims[intervals[k as usize].prim as usize];
+                let p = &prep.bvh.prim(intervals[k as usize].prim);
                 let (c, a) = emission_albedo(&prep.materials, p);
                 sigma += p.sigma;
                 emit += p.sigma * c;

@@ -331,7 +331,7 @@ fn gather_from_grid(
             continue;
         }
         last = i;
-        if touches(region, &bvh.prims[i as usize], slack) {
+        if touches(region, &bvh.prim(i), slack) {
             out[keep] = i;
             keep += 1;
         }
@@ -475,7 +475,7 @@ impl BandCache {
             // span's inside it).
             let pad = slack(bvh, &region);
             for &i in &self.found {
-                let p = &bvh.prims[i as usize];
+                let p = &bvh.prim(i);
                 let (t0, t1) = reach_on_ray(light, o, d, p.center, p.radius + pad);
                 self.near.push(Near { prim: i, t0, t1 });
             }
@@ -486,7 +486,7 @@ impl BandCache {
             if n.t1 < u0 || n.t0 > u1 {
                 continue;
             }
-            if touches(&region, &bvh.prims[n.prim as usize], slack) {
+            if touches(&region, &bvh.prim(n.prim), slack) {
                 out.push(n.prim);
             }
         }

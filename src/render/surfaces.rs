@@ -84,7 +84,7 @@ impl Surfaces {
             .closest(o, d, tmin, tmax, |_, p, _| {
                 self.items[p.sphere as usize].seen_at(o, d, tmin, tmax)
             })
-            .map(|h| (h.t, self.bvh.prims[h.prim as usize].sphere))
+            .map(|h| (h.t, self.bvh.prim(h.prim).sphere))
     }
 
     /// Whether a surface other than `own` crosses `o + t d` for `t` in `(tmin, tmax)`.

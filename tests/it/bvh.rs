@@ -84,7 +84,7 @@ fn check_rays(seed: u64, ps: &[Prim], bvh: &SphereBvh, offset: DVec3, extent: f6
             .closest(o, d, 0.0, f64::INFINITY, |_, _, (t0, _)| {
                 (t0 > 0.0).then_some(t0)
             })
-            .map(|h| (h.t, bvh.prims[h.prim as usize].sphere));
+            .map(|h| (h.t, bvh.prim(h.prim).sphere));
         assert_eq!(got, want, "closest: seed {seed} ray {k} o {o} d {d}");
         hits += usize::from(want.is_some());
 
@@ -174,7 +174,7 @@ fn grazing_rays_through_the_bvh() {
             .closest(o, d, 0.0, f64::INFINITY, |_, _, (t0, _)| {
                 (t0 > 0.0).then_some(t0)
             })
-            .map(|h| (h.t, bvh.prims[h.prim as usize].sphere));
+            .map(|h| (h.t, bvh.prim(h.prim).sphere));
         assert_eq!(got, want, "ray {k}");
         if let Some((t, _)) = got {
             assert!(t.is_finite());
@@ -260,7 +260,7 @@ fn concentric_and_coincident_spheres_are_all_found() {
     let h = bvh
         .closest(o, DVec3::X, 0.0, f64::INFINITY, |_, _, (t0, _)| Some(t0))
         .unwrap();
-    assert_eq!(bvh.prims[h.prim as usize].sphere, 599);
+    assert_eq!(bvh.prim(h.prim).sphere, 599);
     // From inside the innermost sphere, every concentric one is left, none entered.
     assert!(!bvh.any(
         DVec3::ZERO,

@@ -173,7 +173,7 @@ fn check(
                 if tau_cut.is_infinite() {
                     assert!(!pieces.iter().any(|p| matches!(p.class, Class::Dark(_))));
                 }
-                for (i, p) in prep.bvh.prims.iter().enumerate() {
+                for (i, p) in (0..prep.bvh.len() as u32).map(|i| (i as usize, prep.bvh.prim(i))) {
                     let dist = region_distance(p.center, a, b, &light.kind);
                     let listed = got.binary_search(&(i as u32)).is_ok();
                     if listed {

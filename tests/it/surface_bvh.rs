@@ -148,7 +148,7 @@ fn closest_and_any_hit_match_every_primitive_tested() {
         let got = first_hit(&prep, o, d, 0.0).map(|h| {
             // Sphere hits name BVH primitives: compare scene indices.
             let on = match h.on {
-                Opaque::Sphere(p) => Opaque::Sphere(prep.bvh.prims[p as usize].sphere),
+                Opaque::Sphere(p) => Opaque::Sphere(prep.bvh.prim(p).sphere),
                 s => s,
             };
             (h.t, on)

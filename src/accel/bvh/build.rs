@@ -14,7 +14,8 @@ use obvhs::ploc::PlocBuilder;
 use obvhs::BvhBuildParams;
 use rayon::prelude::*;
 
-use super::{Chunk, PaddedBox, Prim, SphereBvh, MAX_CHUNKS, MIN_CHUNK, PAD_ULPS};
+use super::{Chunk, Packed, PaddedBox, Prim, SphereBvh, MAX_CHUNKS, MIN_CHUNK, PAD_ULPS};
+use crate::scene::EllipsoidId;
 
 /// Depth of a CWBVH in nodes (internal children of a node sit contiguously at
 /// `child_base_idx`, one per set bit of `imask`).
@@ -61,7 +62,7 @@ fn permute_in_place<T: Copy>(v: &mut [T], order: &[u32]) {
 
 /// Sorts `prims` by the Morton code (21 bits per axis) of their centres in the box `lo..hi`,
 /// and returns the chunks to cut the sorted order into (see [`chunk_ranges`]).
-fn morton_sort(prims: &mut [Prim], lo: DVec3, hi: DVec3, per_chunk: usize) -> Vec<Range<usize>> {
+fn morton_sort(prims: &mut [Packed], lo: DVec3, hi: DVec3, per_chunk: usize) -> Vec<Range<usize>> {
     fn spread(mut x: u64) -> u64 {
         x &= 0x1f_ffff;
         x = (x | x << 32) & 0x1f_0000_0000_ffff;
@@ -89,7 +90,7 @@ fn morton_sort(prims: &mut [Prim], lo: DVec3, hi: DVec3, per_chunk: usize) -> Ve
 /// side by side on the next 8 bits, down to small runs sorted by insertion (stable). The
 /// result depends on nothing but the input (no thread count): equal codes keep an order fixed
 /// by the passes.
-fn radix_sort(prims: &mut [Prim], codes: &mut [u64], shift: u32) {
+fn radix_sort(prims: &mut [Packed], codes: &mut [u64], shift: u32) {
     debug_assert_eq!(prims.len(), codes.len());
     if prims.len() <= 32 {
         for i in 1..prims.len() {
@@ -196,7 +197,7 @@ fn chunk_ranges(codes: &[u64], per_chunk: usize) -> Vec<Range<usize>> {
 }
 
 /// World-space f64 box of a primitive.
-fn prim_box(p: &Prim, to_world: Option<&DAffine3>) -> (DVec3, DVec3) {
+fn prim_box(p: &Packed, to_world: Option<&DAffine3>) -> (DVec3, DVec3) {
     match to_world {
         None => (p.center - p.radius, p.center + p.radius),
         Some(m) => {
@@ -218,8 +219,57 @@ impl SphereBvh {
     /// [`SphereBvh::build`] with a chosen chunk size (at least `len / MAX_CHUNKS`); tests use
     /// it to exercise many chunks on small scenes.
     pub fn build_chunked(prims: Vec<Prim>, ellipsoids: &[DAffine3], per_chunk: usize) -> SphereBvh {
+        let packed = prims
+            .iter()
+            .enumerate()
+            .map(|(j, p)| {
+                Packed::new(
+                    p.center,
+                    p.radius,
+                    p.material,
+                    j as u32,
+                    p.gas,
+                    p.ellipsoid.is_some(),
+                )
+            })
+            .collect();
+        let mut bvh = Self::build_packed_chunked(packed, ellipsoids, per_chunk, &|q: &Packed| {
+            let p = &prims[q.sphere as usize];
+            (p.ellipsoid, p.sigma)
+        });
+        for q in &mut bvh.packed {
+            q.sphere = prims[q.sphere as usize].sphere;
+        }
+        bvh
+    }
+
+    /// Builds the BVH over packed primitives whose `sphere` is their position in `packed`
+    /// (as [`crate::render::prepare`] makes them from the scene's spheres, in place).
+    /// `side(q)` gives a primitive's ellipsoid map (when [`Packed::is_ellipsoid`]) and
+    /// extinction (when [`Packed::is_gas`]).
+    pub fn build_packed(
+        packed: Vec<Packed>,
+        ellipsoids: &[DAffine3],
+        side: &(dyn Fn(&Packed) -> (Option<EllipsoidId>, f64) + Sync),
+    ) -> SphereBvh {
+        let per_chunk = MIN_CHUNK.max(packed.len().div_ceil(MAX_CHUNKS));
+        Self::build_packed_chunked(packed, ellipsoids, per_chunk, side)
+    }
+
+    fn build_packed_chunked(
+        prims: Vec<Packed>,
+        ellipsoids: &[DAffine3],
+        per_chunk: usize,
+        side: &(dyn Fn(&Packed) -> (Option<EllipsoidId>, f64) + Sync),
+    ) -> SphereBvh {
         let per_chunk = per_chunk.max(prims.len().div_ceil(MAX_CHUNKS)).max(1);
-        let to_world = |p: &Prim| p.ellipsoid.map(|e| &ellipsoids[e.index()]);
+        let to_world = |p: &Packed| {
+            if p.is_ellipsoid() {
+                side(p).0.map(|e| &ellipsoids[e.index()])
+            } else {
+                None
+            }
+        };
         let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
         for p in &prims {
             let (a, b) = prim_box(p, to_world(p));
@@ -282,14 +332,17 @@ impl SphereBvh {
                     params.reinsertion_batch_ratio,
                     None,
                 );
+                // The boxes are in the BVH2 now: free them before the conversion's peak.
+                drop(boxes);
                 let mut bvh =
                     bvh2_to_cwbvh(&bvh2, params.max_prims_per_leaf.clamp(1, 3), true, false);
                 drop(bvh2);
-                drop(boxes);
                 // Leaf order: the traversal reports positions in `primitive_indices`, so the
                 // chunk's spheres are permuted into that order in place and the list is freed.
                 permute_in_place(part, &bvh.primitive_indices);
                 bvh.primitive_indices = Vec::new();
+                // obvhs reserves one node per primitive; about a fifth are used.
+                bvh.nodes.shrink_to_fit();
                 let deep = cwbvh_depth(&bvh) >= 30;
                 Chunk {
                     deep,
@@ -300,10 +353,29 @@ impl SphereBvh {
                 }
             })
             .collect();
+        // The side arrays, in leaf order, only when some primitive needs them.
+        let sigmas = if prims.iter().any(Packed::is_gas) {
+            prims
+                .par_iter()
+                .map(|q| if q.is_gas() { side(q).1 } else { 0.0 })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let ellipsoid_maps = if prims.iter().any(Packed::is_ellipsoid) {
+            prims
+                .par_iter()
+                .map(|q| if q.is_ellipsoid() { side(q).0 } else { None })
+                .collect()
+        } else {
+            Vec::new()
+        };
         let build_time = start.elapsed();
         let to_object = ellipsoids.iter().map(|m| m.inverse()).collect();
         SphereBvh {
-            prims,
+            packed: prims,
+            sigmas,
+            ellipsoids: ellipsoid_maps,
             to_object,
             chunks,
             origin,
@@ -319,7 +391,7 @@ impl SphereBvh {
 #[cfg(test)]
 mod tests {
     use super::{chunk_ranges, permute_in_place, radix_sort, MAX_CHUNKS};
-    use crate::accel::Prim;
+    use crate::accel::bvh::Packed;
     use crate::testing::Rng;
     use glam::DVec3;
 
@@ -350,16 +422,8 @@ mod tests {
             };
             let mut codes: Vec<u64> = (0..n).map(|_| code(&mut rng)).collect();
             let original = codes.clone();
-            let mut prims: Vec<Prim> = (0..n)
-                .map(|i| Prim {
-                    center: DVec3::ZERO,
-                    radius: 1.0,
-                    material: 0,
-                    sphere: i as u32,
-                    ellipsoid: None,
-                    gas: false,
-                    sigma: 0.0,
-                })
+            let mut prims: Vec<Packed> = (0..n)
+                .map(|i| Packed::new(DVec3::ZERO, 1.0, 0, i as u32, false, false))
                 .collect();
             radix_sort(&mut prims, &mut codes, 56);
             let mut want = original.clone();

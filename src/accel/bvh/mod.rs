@@ -52,7 +52,8 @@ const MIN_CHUNK: usize = 1 << 17;
 /// Box padding in units of `2^-24 R` (see the module comment).
 const PAD_ULPS: f64 = 64.0;
 
-/// One sphere (or ellipsoid) as the renderer sees it, stored in BVH leaf order.
+/// One sphere (or ellipsoid) as the renderer sees it: what [`SphereBvh::prim`] returns, and what
+/// [`SphereBvh::build`] takes. The BVH stores it as a 40-byte [`Packed`] record plus side arrays.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Prim {
     pub center: DVec3,
@@ -74,6 +75,88 @@ impl Prim {
     #[inline]
     pub fn is_gas(&self) -> bool {
         self.gas
+    }
+}
+
+/// A primitive as stored in leaf order: 40 bytes, so that a scene's 48-byte IR spheres turn
+/// into them in place and 1e8 of them fit beside everything else (issue 16). The extinction
+/// and the ellipsoid map, which most scenes do not need, live in side arrays of the BVH that
+/// are empty unless some primitive has them; the top bits of `tagged` say which.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Packed {
+    pub center: DVec3,
+    pub radius: f64,
+    /// Material index, with [`GAS`] and [`ELLIPSOID`] in the top bits.
+    tagged: u32,
+    /// Index of the sphere in `Scene::spheres` (or, inside a build, its position in the input).
+    pub sphere: u32,
+}
+
+const GAS: u32 = 1 << 31;
+const ELLIPSOID: u32 = 1 << 30;
+
+/// The most materials a packed primitive can index.
+pub const MAX_MATERIALS: usize = ELLIPSOID as usize;
+
+impl Packed {
+    /// `material` must be below [`MAX_MATERIALS`].
+    #[inline]
+    pub fn new(
+        center: DVec3,
+        radius: f64,
+        material: u32,
+        sphere: u32,
+        gas: bool,
+        ellipsoid: bool,
+    ) -> Packed {
+        debug_assert!((material as usize) < MAX_MATERIALS);
+        let tagged = material | if gas { GAS } else { 0 } | if ellipsoid { ELLIPSOID } else { 0 };
+        Packed {
+            center,
+            radius,
+            tagged,
+            sphere,
+        }
+    }
+    #[inline]
+    pub fn material(&self) -> u32 {
+        self.tagged & (ELLIPSOID - 1)
+    }
+    #[inline]
+    pub fn is_gas(&self) -> bool {
+        self.tagged & GAS != 0
+    }
+    #[inline]
+    pub fn is_ellipsoid(&self) -> bool {
+        self.tagged & ELLIPSOID != 0
+    }
+}
+
+/// A ball in world space: what the light grids need of a primitive.
+pub trait Ball {
+    fn center(&self) -> DVec3;
+    fn radius(&self) -> f64;
+}
+
+impl Ball for Prim {
+    #[inline]
+    fn center(&self) -> DVec3 {
+        self.center
+    }
+    #[inline]
+    fn radius(&self) -> f64 {
+        self.radius
+    }
+}
+
+impl Ball for Packed {
+    #[inline]
+    fn center(&self) -> DVec3 {
+        self.center
+    }
+    #[inline]
+    fn radius(&self) -> f64 {
+        self.radius
     }
 }
 
@@ -108,8 +191,12 @@ struct Chunk {
 pub struct SphereBvh {
     chunks: Vec<Chunk>,
     /// Primitives, chunk after chunk, each chunk in its BVH's leaf order: traversal index `i`
-    /// of chunk `c` is `prims[c.base + i]`.
-    pub prims: Vec<Prim>,
+    /// of chunk `c` is `packed[c.base + i]`.
+    packed: Vec<Packed>,
+    /// Extinction per primitive (leaf order); empty when no primitive is gas.
+    sigmas: Vec<f64>,
+    /// Ellipsoid map per primitive (leaf order); empty when no primitive is an ellipsoid.
+    ellipsoids: Vec<Option<crate::scene::EllipsoidId>>,
     /// World-to-object maps of the ellipsoids (object space: the unit sphere).
     pub to_object: Vec<DAffine3>,
     /// Centre of the f32 frame.
@@ -137,8 +224,51 @@ impl SphereBvh {
             .iter()
             .map(|c| c.bvh.nodes.capacity() * std::mem::size_of::<obvhs::cwbvh::node::CwBvhNode>())
             .sum::<usize>()
-            + self.prims.capacity() * std::mem::size_of::<Prim>()
+            + self.packed.capacity() * std::mem::size_of::<Packed>()
+            + self.sigmas.capacity() * std::mem::size_of::<f64>()
+            + self.ellipsoids.capacity() * std::mem::size_of::<Option<crate::scene::EllipsoidId>>()
             + self.to_object.capacity() * std::mem::size_of::<DAffine3>()
+    }
+
+    /// Number of primitives.
+    #[inline]
+    pub fn len(&self) -> usize {
+        self.packed.len()
+    }
+
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.packed.is_empty()
+    }
+
+    /// The primitives as stored, in leaf order.
+    #[inline]
+    pub fn packed(&self) -> &[Packed] {
+        &self.packed
+    }
+
+    /// Primitive `i` (leaf order) whole.
+    #[inline(always)]
+    pub fn prim(&self, i: u32) -> Prim {
+        let q = &self.packed[i as usize];
+        let gas = q.is_gas();
+        Prim {
+            center: q.center,
+            radius: q.radius,
+            material: q.material(),
+            sphere: q.sphere,
+            ellipsoid: if q.is_ellipsoid() {
+                self.ellipsoids.get(i as usize).copied().flatten()
+            } else {
+                None
+            },
+            gas,
+            sigma: if gas {
+                self.sigmas.get(i as usize).copied().unwrap_or(0.0)
+            } else {
+                0.0
+            },
+        }
     }
 
     /// Both roots of the line `o + t d` against primitive `p` (sphere or ellipsoid), in `t`.

@@ -199,7 +199,7 @@ impl SphereBvh {
             let ray = self.ray32(o, d, t0, t1.min(best_t));
             walk(c, ray, |i| {
                 let i = c.base + i;
-                let p = &self.prims[i as usize];
+                let p = &self.prim(i);
                 if let Some(roots) = self.roots(p, o, d) {
                     if let Some(t) = test(i, p, roots) {
                         // Ties (coincident spheres) go to the earlier sphere in the
@@ -208,7 +208,7 @@ impl SphereBvh {
                             None => t <= tmax,
                             Some(b) => {
                                 t < b.t
-                                    || (t == b.t && p.sphere < self.prims[b.prim as usize].sphere)
+                                    || (t == b.t && p.sphere < self.packed[b.prim as usize].sphere)
                             }
                         };
                         if t > tmin && better {
@@ -260,7 +260,7 @@ impl SphereBvh {
                 if Some(i) == skip {
                     return Step::Go;
                 }
-                let p = &self.prims[i as usize];
+                let p = &self.prim(i);
                 match self.roots(p, o, d) {
                     Some(roots) if blocks(i, p, roots) => {
                         blocked = true;
@@ -322,7 +322,7 @@ impl SphereBvh {
                 },
                 {
                     let i = c.base + state.primitive_id;
-                    visit(i, &self.prims[i as usize]);
+                    visit(i, &self.prim(i));
                 }
             );
             *stack = state.stack;
@@ -345,7 +345,7 @@ impl SphereBvh {
             let c = &self.chunks[k as usize];
             walk(c, self.ray32(o, d, t0, t1), |i| {
                 let i = c.base + i;
-                let p = &self.prims[i as usize];
+                let p = &self.prim(i);
                 if let Some(roots) = self.roots(p, o, d) {
                     visit(i, p, roots);
                 }

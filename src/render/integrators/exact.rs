@@ -260,7 +260,7 @@ fn scattered(
     // this piece, and no opaque one does.
     let mut od = 0.0;
     for &c in &active[m.active.0 as usize..m.active.1 as usize] {
-        let p = &view.bvh.prims[c as usize];
+        let p = &view.bvh.prim(c);
         od += p.sigma * gas_chord(view, p, x, dir, dist);
         if od > limit {
             *deep = true;

@@ -150,7 +150,7 @@ pub fn scatter_for(view: &View, seg: &Segment, members: &[u32], i: usize) -> DVe
             let ms = &members[seg.members.0 as usize..(seg.members.0 + seg.members.1) as usize];
             ms.iter()
                 .map(|&k| {
-                    let p = &view.bvh.prims[k as usize];
+                    let p = &view.bvh.prim(k);
                     if super::lights::in_scope(l, p.sphere) {
                         p.sigma * super::gas::emission_albedo(&view.materials, p).1
                     } else {

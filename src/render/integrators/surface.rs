@@ -70,7 +70,7 @@ pub fn surface_point(prep: &Prepared, o: DVec3, d: DVec3, hit: OpaqueHit) -> Sur
     let x = o + hit.t * d;
     match hit.on {
         Opaque::Sphere(prim) => {
-            let p = &prep.bvh.prims[prim as usize];
+            let p = &prep.bvh.prim(prim);
             let n = match p.ellipsoid {
                 // o - c first: for a small sphere far from the origin this keeps the normal's
                 // direction to the precision of the hit parameter.
@@ -97,7 +97,7 @@ pub fn surface_point(prep: &Prepared, o: DVec3, d: DVec3, hit: OpaqueHit) -> Sur
 #[inline]
 pub fn material_of(prep: &Prepared, on: Opaque) -> &crate::scene::Material {
     let m = match on {
-        Opaque::Sphere(prim) => prep.bvh.prims[prim as usize].material,
+        Opaque::Sphere(prim) => prep.bvh.prim(prim).material,
         Opaque::Surface(i) => prep.surfaces.materials[i as usize],
     };
     &prep.materials[m as usize]
