@@ -105,7 +105,7 @@ pub fn random_spheres(n: usize) -> Scene {
         headlight: false,
         ..Scene::default()
     };
-    scene.materials = vec![Material::unlit(), Material::default()];
+    scene.materials = vec![Material::unlit(), Material::default()].into();
     scene.spheres.reserve_exact(n);
     for _ in 0..n {
         let (x, y, z) = (next(), next(), next());
@@ -324,8 +324,8 @@ mod tests {
             for (s, t) in a.spheres.iter().zip(&b.spheres) {
                 assert_eq!((s.center, s.radius), (t.center, t.radius));
                 assert_eq!(
-                    a.materials[s.material as usize],
-                    b.materials[t.material as usize]
+                    a.materials.get(s.material as usize),
+                    b.materials.get(t.material as usize)
                 );
             }
             assert_eq!(
@@ -365,7 +365,7 @@ mod tests {
         let r = 0.6 * (n as f64).powf(-1.0 / 3.0);
         for (s, t) in thick.spheres.iter().zip(&trace.spheres) {
             assert_eq!((s.center, s.radius), (t.center, r));
-            let m = &thick.materials[s.material as usize];
+            let m = &thick.materials.get(s.material as usize);
             // Optical depth 4 along a diameter.
             assert!((m.sigma(s.radius) * 2.0 * s.radius - 4.0).abs() < 1e-12);
         }

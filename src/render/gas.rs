@@ -5,12 +5,12 @@
 use glam::DVec3;
 
 use crate::accel::Prim;
-use crate::scene::Material;
+use crate::scene::MaterialTable;
 
 /// `(C, a)` of a gas primitive.
 #[inline]
-pub fn emission_albedo(materials: &[Material], p: &Prim) -> (DVec3, DVec3) {
-    let m = &materials[p.material as usize];
+pub fn emission_albedo(materials: &MaterialTable, p: &Prim) -> (DVec3, DVec3) {
+    let m = materials.get(p.material as usize);
     if m.unlit {
         (m.diffuse, DVec3::ZERO)
     } else {

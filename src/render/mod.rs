@@ -24,7 +24,7 @@ use std::time::{Duration, Instant};
 use glam::DVec3;
 
 use crate::accel::{Packed, SphereBvh};
-use crate::scene::{Bounds, EllipsoidId, Light, Material, Scene, Viewpoint};
+use crate::scene::{Bounds, EllipsoidId, Light, MaterialTable, Scene, Viewpoint};
 use crate::Error;
 pub use camera::{Camera, CameraChoice, ImagePlane, Lens, Projection};
 pub use film::Film;
@@ -159,7 +159,7 @@ pub struct Prepared {
     pub surfaces: surfaces::Surfaces,
     /// Spheres in the scene (the `id` channel numbers surfaces after them).
     pub spheres: usize,
-    pub materials: Vec<Material>,
+    pub materials: MaterialTable,
     /// The scene's lights; they may be changed between renders (they are not in the BVH).
     pub lights: Vec<Light>,
     /// Whether a headlight (a white DirectionalLight along each camera's view) is added.
@@ -365,7 +365,7 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
         match opts.as_gas {
             Some(sigma) => Some(sigma),
             None => {
-                let m = &materials[s.material as usize];
+                let m = &materials.get(s.material as usize);
                 m.is_gas().then(|| m.sigma(radius_of(s)))
             }
         }
@@ -387,11 +387,11 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
     };
     // into_iter().map().collect() reuses the spheres' allocation (a packed primitive, 40
     // bytes, is smaller than a 48-byte Sphere), so a large scene does not hold both lists.
-    let packed: Vec<Packed> = spheres
+    let mut packed = spheres
         .into_iter()
         .enumerate()
         .map(|(i, s)| {
-            let gas = opts.as_gas.is_some() || materials[s.material as usize].is_gas();
+            let gas = opts.as_gas.is_some() || materials.get(s.material as usize).is_gas();
             Packed::new(
                 s.center,
                 s.radius,
@@ -401,7 +401,10 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
                 s.ellipsoid.is_some(),
             )
         })
-        .collect();
+        .collect::<Vec<Packed>>();
+    // The conversion left the spheres' larger allocation behind, its tail touched: give
+    // the tail back (8 bytes a sphere).
+    packed.shrink_to_fit();
     let typical_radius = median_radius(&packed);
     let surface_colors = surface_color_bound(&surfaces);
     let sphere_count = packed.len();
@@ -414,7 +417,7 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
                     None => q.radius,
                     Some(e) => ellipsoids[e.index()].matrix3.determinant().abs().cbrt(),
                 };
-                materials[q.material() as usize].sigma(radius)
+                materials.get(q.material() as usize).sigma(radius)
             }
         };
         (ellipsoid, sigma)
@@ -468,7 +471,7 @@ fn median_radius(prims: &[Packed]) -> f64 {
 /// any material's gas source `C + p a sum_i C_i I_i` (attenuation and visibility are at most
 /// 1), each channel bounded by its largest.
 fn rest_bound(
-    materials: &[Material],
+    materials: &MaterialTable,
     lights: &[LightSource],
     background: DVec3,
     surface_colors: f64,
@@ -476,7 +479,7 @@ fn rest_bound(
     let direct: f64 = lights.iter().map(|l| l.direct.max_element()).sum();
     let ambient: f64 = lights.iter().map(|l| l.ambient.max_element()).sum();
     let mut bound = background.max_element();
-    for m in materials {
+    for m in materials.iter() {
         let (e, a, s) = (
             m.emissive.max_element(),
             m.diffuse.max_element().max(surface_colors),

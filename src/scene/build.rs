@@ -6,7 +6,7 @@ use std::hash::BuildHasher;
 use glam::DVec3;
 use hashbrown::{DefaultHashBuilder, HashTable};
 
-use super::{Light, Material, Origin, Scene, Sphere};
+use super::{Light, Material, MaterialTable, Origin, Scene, Sphere};
 use crate::Error;
 
 /// Sphere radii: one for all, or one per centre.
@@ -213,7 +213,7 @@ impl Scene {
             }
         }
 
-        let mut materials: Vec<Material> = Vec::new();
+        let mut materials = MaterialTable::new();
         // Indices into `materials`, hashed by content: 4 bytes a distinct material (a map keyed
         // by the 104-byte key doubled the peak memory of a million distinct colours).
         let hasher = DefaultHashBuilder::default();
@@ -232,12 +232,13 @@ impl Scene {
             }
             let key = m.key();
             let hash = hasher.hash_one(key);
-            let material = match index.find(hash, |&i| materials[i as usize].key() == key) {
+            let material = match index.find(hash, |&i| materials.get(i as usize).key() == key) {
                 Some(&i) => i,
                 None => {
-                    materials.push(m);
-                    let i = (materials.len() - 1) as u32;
-                    index.insert_unique(hash, i, |&j| hasher.hash_one(materials[j as usize].key()));
+                    let i = materials.push(m);
+                    index.insert_unique(hash, i, |&j| {
+                        hasher.hash_one(materials.get(j as usize).key())
+                    });
                     i
                 }
             };
@@ -313,13 +314,13 @@ impl Scene {
                 non_negative(m.diffuse) && non_negative(m.emissive) && non_negative(m.specular);
             if !(colours_ok && scalars_ok) {
                 return fail(format!(
-                    "materials[{i}]: colours, shininess and ambientIntensity must be finite \
+                    "materials.get({i}): colours, shininess and ambientIntensity must be finite \
                      and non-negative"
                 ));
             }
             if !(0.0..=1.0).contains(&m.transparency) {
                 return fail(format!(
-                    "materials[{i}]: transparency {:?} must be in [0, 1]",
+                    "materials.get({i}): transparency {:?} must be in [0, 1]",
                     m.transparency
                 ));
             }

@@ -1,11 +1,13 @@
 //! The scene IR: only what a picture needs (MODEL.md section 1). Knows nothing of VRML.
 
 mod build;
+mod material_table;
 mod surface;
 
 use glam::{DAffine3, DQuat, DVec3};
 
 pub use build::{Radii, SphereArrays};
+pub use material_table::MaterialTable;
 pub use surface::{Mapping, Surface, SurfaceCounts, SurfaceShape, Triangle};
 
 /// Index of an ellipsoid's map in [`Scene::ellipsoids`] (and in the BVH's copy of them),
@@ -279,7 +281,7 @@ pub struct Scene {
     pub ellipsoids: Vec<DAffine3>,
     /// Opaque surfaces other than spheres: Box, Cylinder, Cone, triangles.
     pub surfaces: Vec<Surface>,
-    pub materials: Vec<Material>,
+    pub materials: MaterialTable,
     pub lights: Vec<Light>,
     pub viewpoints: Vec<Viewpoint>,
     /// NavigationInfo.headlight of the first NavigationInfo (default TRUE).
@@ -296,7 +298,7 @@ impl Default for Scene {
             spheres: Vec::new(),
             ellipsoids: Vec::new(),
             surfaces: Vec::new(),
-            materials: Vec::new(),
+            materials: MaterialTable::new(),
             lights: Vec::new(),
             viewpoints: Vec::new(),
             headlight: true,
@@ -317,7 +319,7 @@ impl Scene {
     pub fn gas_count(&self) -> usize {
         self.spheres
             .iter()
-            .filter(|s| self.materials[s.material as usize].is_gas())
+            .filter(|s| self.materials.get(s.material as usize).is_gas())
             .count()
     }
     pub fn ellipsoid_count(&self) -> usize {
@@ -429,7 +431,7 @@ impl Scene {
                     _ => 0,
                 })
                 .sum::<usize>()
-            + self.materials.capacity() * size_of::<Material>()
+            + self.materials.heap_bytes()
             + self.lights.capacity() * size_of::<Light>()
             + self.viewpoints.capacity() * size_of::<Viewpoint>()
             + self

@@ -14,7 +14,7 @@
 //! each content keeps its place, in file order), but a file of a million distinct colours no
 //! longer pays a cache miss into a large table for every Material node while it is read.
 
-use crate::scene::{Material, Scene};
+use crate::scene::{Material, MaterialTable, Scene};
 
 /// Every field's bits ([`Material::key`]).
 fn material_key(m: &Material) -> [u64; 13] {
@@ -80,7 +80,7 @@ impl RecentMaterials {
     /// The index of `m` in `mats`: a recent equal material's, or a new one's. Every material
     /// of `mats` must have come through here (or through a merge).
     #[inline]
-    pub(crate) fn index(&mut self, m: &Material, mats: &mut Vec<Material>) -> u32 {
+    pub(crate) fn index(&mut self, m: &Material, mats: &mut MaterialTable) -> u32 {
         let key = material_key(m);
         let hash = hash_key(&key);
         let slot = hash as usize % RECENT_SLOTS;
@@ -88,7 +88,7 @@ impl RecentMaterials {
         let e = self.slots[slot];
         if e != 0 {
             let i = (e as u32).wrapping_sub(1);
-            if e & !0xFFFF_FFFF == tag && material_key(&mats[i as usize]) == key {
+            if e & !0xFFFF_FFFF == tag && material_key(&mats.get(i as usize)) == key {
                 return i;
             }
             self.evicted = true;
@@ -103,14 +103,14 @@ impl RecentMaterials {
     /// Whether enough materials have piled up since the last merge that duplicates should be
     /// merged now (see [`RecentMaterials::merge`]).
     #[inline]
-    pub(crate) fn wants_merge(&self, mats: &[Material]) -> bool {
+    pub(crate) fn wants_merge(&self, mats: &MaterialTable) -> bool {
         self.evicted && mats.len() >= self.next_merge
     }
 
     /// Merges equal materials (see [`merge_equal`]) if the cache may have let any through.
     /// Returns where each old index went when any moved: the caller must renumber every index
     /// it holds (spheres, open nodes). The cache follows by itself.
-    pub(crate) fn merge(&mut self, mats: &mut Vec<Material>) -> Option<Vec<u32>> {
+    pub(crate) fn merge(&mut self, mats: &mut MaterialTable) -> Option<Vec<u32>> {
         if !self.evicted {
             return None;
         }
@@ -136,7 +136,9 @@ impl RecentMaterials {
 
     /// The last merge, when the whole file has been read.
     pub(crate) fn finish(mut self, scene: &mut Scene) {
-        if let Some(new_index) = self.merge(&mut scene.materials) {
+        let moved = self.merge(&mut scene.materials);
+        scene.materials.shrink_to_fit();
+        if let Some(new_index) = moved {
             for s in &mut scene.spheres {
                 s.material = new_index[s.material as usize];
             }
@@ -155,10 +157,10 @@ impl RecentMaterials {
 /// The materials are split by the top bits of their hashes into buckets of a few thousand,
 /// each deduplicated with a hash table small enough for the L1/L2 caches: one table over a
 /// million materials missed the caches (and the TLB) on every probe.
-fn merge_equal(mats: &mut Vec<Material>, hashes: &mut Vec<u64>) -> Option<Vec<u32>> {
+fn merge_equal(mats: &mut MaterialTable, hashes: &mut Vec<u64>) -> Option<Vec<u32>> {
     let n = mats.len();
     if hashes.len() != n {
-        *hashes = mats.iter().map(|m| hash_key(&material_key(m))).collect();
+        *hashes = mats.iter().map(|m| hash_key(&material_key(&m))).collect();
     }
     if n < 2 {
         return None;
@@ -210,7 +212,7 @@ fn merge_equal(mats: &mut Vec<Material>, hashes: &mut Vec<u64>) -> Option<Vec<u3
                 let q = part[e - 1];
                 let j = q as u32;
                 if (q >> 32) as u32 == tag
-                    && material_key(&mats[j as usize]) == material_key(&mats[i as usize])
+                    && material_key(&mats.get(j as usize)) == material_key(&mats.get(i as usize))
                 {
                     break Some(j);
                 }
@@ -298,7 +300,7 @@ mod tests {
             });
             expect.push(at as u32);
         }
-        assert_eq!(scene.materials, distinct);
+        assert_eq!(scene.materials, MaterialTable::from(distinct));
         let got: Vec<u32> = scene.spheres.iter().map(|s| s.material).collect();
         assert_eq!(got, expect);
         most
@@ -308,7 +310,7 @@ mod tests {
     fn few_colours_are_shared_while_reading() {
         let picks: Vec<usize> = (0..20_000).map(|k| k * 7 % 5).collect();
         let mut recent = RecentMaterials::default();
-        let mut mats = Vec::new();
+        let mut mats = MaterialTable::new();
         for &p in &picks {
             recent.index(&material(p), &mut mats);
         }
@@ -351,7 +353,7 @@ mod tests {
     #[test]
     fn signed_zero_colours_stay_apart() {
         let mut recent = RecentMaterials::default();
-        let mut mats = Vec::new();
+        let mut mats = MaterialTable::new();
         let a = Material {
             emissive: DVec3::new(0.0, 0.0, 0.0),
             ..Material::default()

@@ -323,7 +323,7 @@ fn directional(l: &Light) -> String {
 /// The `appearance` field of a Shape of material `i`: DEF'd at its first use, USE'd after
 /// (`prefix` keeps the DEF names of the sphere and surface passes apart); none for unlit white.
 fn appearance(scene: &Scene, i: u32, prefix: &str, defined: &mut [bool]) -> String {
-    let m = &scene.materials[i as usize];
+    let m = &scene.materials.get(i as usize);
     if m.unlit && m.diffuse == DVec3::ONE {
         String::new()
     } else if defined[i as usize] {

@@ -77,7 +77,7 @@ fn from_arrays_keeps_order_and_shares_materials() {
     assert_eq!(s.spheres[0].material, s.spheres[2].material);
     assert_eq!(s.spheres[1].center, DVec3::new(1.0, 0.0, 0.0));
     assert_eq!(
-        s.materials[s.spheres[1].material as usize].diffuse,
+        s.materials.get(s.spheres[1].material as usize).diffuse,
         DVec3::new(0.1, 0.2, 0.3)
     );
     assert!(s.headlight, "VRML's default");

@@ -66,7 +66,7 @@ fn balls(s: &Scene) -> Vec<([f64; 3], f64, Material)> {
             (
                 b.center.to_array(),
                 b.radius,
-                s.materials[b.material as usize],
+                s.materials.get(b.material as usize),
             )
         })
         .collect()

@@ -267,7 +267,7 @@ fn reference_scene(scene: &Scene) -> (Vec<Ball>, Vec<Lamp>) {
         .spheres
         .iter()
         .map(|s| {
-            let m = &scene.materials[s.material as usize];
+            let m = &scene.materials.get(s.material as usize);
             Ball {
                 c: s.center,
                 r: s.radius,

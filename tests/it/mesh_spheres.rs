@@ -95,7 +95,7 @@ fn icosahedron_mesh_is_a_sphere_under_translation_and_uniform_scale() {
     assert_eq!(sp.ellipsoid, None);
     // The Shape's Material applies as for a Sphere.
     assert_eq!(
-        s.materials[sp.material as usize].diffuse,
+        s.materials.get(sp.material as usize).diffuse,
         DVec3::new(1.0, 0.0, 0.0)
     );
 }
@@ -131,7 +131,7 @@ fn def_use_mesh_gives_one_sphere_per_use() {
     assert!(s
         .spheres
         .iter()
-        .all(|sp| s.materials[sp.material as usize].unlit));
+        .all(|sp| s.materials.get(sp.material as usize).unlit));
 }
 
 #[test]

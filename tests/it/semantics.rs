@@ -181,9 +181,9 @@ fn materials_are_shared_not_copied() {
     assert_ne!(ids[0], ids[2]);
     // Unlit white (index 0), the blue-ish one, the gas one.
     assert_eq!(s.materials.len(), 3);
-    assert!(s.materials[ids[4] as usize].unlit);
+    assert!(s.materials.get(ids[4] as usize).unlit);
     assert_eq!(s.gas_count(), 2);
-    let gas = s.materials[ids[2] as usize];
+    let gas = s.materials.get(ids[2] as usize);
     assert!(close(gas.sigma(1.0), 0.5f64.ln().abs() / 2.0, 1e-15));
 }
 
@@ -209,23 +209,23 @@ fn many_colours_in_scrambled_order_are_each_stored_once() {
     assert_eq!(s.spheres.len(), 100_000);
     // The unlit white of a Shape without a Material comes first, then each colour once.
     assert_eq!(s.materials.len(), 20_001);
-    assert!(s.materials[0].unlit);
+    assert!(s.materials.get(0).unlit);
     for (k, b) in s.spheres.iter().enumerate() {
         assert_eq!(b.center.x, k as f64);
         assert_eq!(
-            s.materials[b.material as usize].diffuse.to_array(),
+            s.materials.get(b.material as usize).diffuse.to_array(),
             colour(k)
         );
     }
     // First come, first stored.
-    assert_eq!(s.materials[1].diffuse.to_array(), colour(0));
+    assert_eq!(s.materials.get(1).diffuse.to_array(), colour(0));
 }
 
 #[test]
 fn vrml_material_defaults() {
     let (s, _) =
         scene("Shape { appearance Appearance { material Material {} } geometry Sphere {} }");
-    let m = s.materials[s.spheres[0].material as usize];
+    let m = s.materials.get(s.spheres[0].material as usize);
     assert_eq!(m.diffuse.to_array(), [0.8; 3]);
     assert_eq!(
         (m.ambient_intensity, m.shininess, m.transparency),
@@ -447,8 +447,8 @@ fn the_same_def_name_defined_again_later_one_wins() {
          DEF M Material { diffuseColor 0 0 1 }\n\
          Shape { appearance Appearance { material USE M } geometry Sphere {} }",
     );
-    let m0 = s.materials[s.spheres[0].material as usize];
-    let m1 = s.materials[s.spheres[1].material as usize];
+    let m0 = s.materials.get(s.spheres[0].material as usize);
+    let m1 = s.materials.get(s.spheres[1].material as usize);
     assert_eq!(m0.diffuse.to_array(), [1.0, 0.0, 0.0]);
     assert_eq!(m1.diffuse.to_array(), [0.0, 0.0, 1.0]);
 }
@@ -463,7 +463,7 @@ fn use_inside_a_def_keeps_the_meaning_it_had_when_read() {
     );
     assert_eq!(s.spheres.len(), 2);
     for b in &s.spheres {
-        assert_eq!(s.materials[b.material as usize].diffuse.x, 1.0);
+        assert_eq!(s.materials.get(b.material as usize).diffuse.x, 1.0);
     }
 }
 
@@ -483,11 +483,11 @@ fn proto_with_is_is_expanded() {
     assert_eq!((a.center.to_array(), a.radius), ([1.0, 2.0, 3.0], 0.5));
     assert_eq!((b.center.to_array(), b.radius), ([0.0, 0.0, 0.0], 1.0));
     assert_eq!(
-        s.materials[a.material as usize].diffuse.to_array(),
+        s.materials.get(a.material as usize).diffuse.to_array(),
         [1.0, 0.0, 0.0]
     );
     assert_eq!(
-        s.materials[b.material as usize].diffuse.to_array(),
+        s.materials.get(b.material as usize).diffuse.to_array(),
         [1.0, 1.0, 1.0]
     );
 }
@@ -502,12 +502,13 @@ fn node_valued_proto_fields_and_nested_protos() {
     );
     assert_eq!(s.spheres.len(), 2);
     assert_eq!(
-        s.materials[s.spheres[0].material as usize]
+        s.materials
+            .get(s.spheres[0].material as usize)
             .diffuse
             .to_array(),
         [1.0, 0.0, 0.0]
     );
-    assert!(s.materials[s.spheres[1].material as usize].unlit);
+    assert!(s.materials.get(s.spheres[1].material as usize).unlit);
 }
 
 #[test]

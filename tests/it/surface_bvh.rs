@@ -12,7 +12,7 @@ use crate::support::Rng;
 
 fn random_scene(rng: &mut Rng, n: usize) -> Scene {
     let mut s = Scene {
-        materials: vec![Material::default()],
+        materials: vec![Material::default()].into(),
         ..Scene::default()
     };
     let v = |rng: &mut Rng| DVec3::new(rng.f(), rng.f(), rng.f()) * 20.0 - 10.0;

@@ -61,7 +61,7 @@ fn vmd_style_file_reads_with_colours_from_the_proto() {
             assert!(close(b.center[k], c[k], 1e-12), "{} vs {c:?}", b.center);
         }
         assert!(close(b.radius, rad, 1e-12));
-        let m = s.materials[b.material as usize];
+        let m = s.materials.get(b.material as usize);
         assert!(!m.unlit, "VMDMat must give a lit material");
         for k in 0..3 {
             assert!(close(m.diffuse[k], kd[k], 1e-12), "{} vs {kd:?}", m.diffuse);

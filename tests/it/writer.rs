@@ -44,7 +44,8 @@ fn assert_same(a: &Scene, b: &Scene) {
     assert_eq!(a.spheres.len(), b.spheres.len());
     for (k, (s, t)) in a.spheres.iter().zip(&b.spheres).enumerate() {
         assert_eq!(
-            a.materials[s.material as usize], b.materials[t.material as usize],
+            a.materials.get(s.material as usize),
+            b.materials.get(t.material as usize),
             "material of sphere {k}"
         );
         assert_eq!(s.ellipsoid.is_none(), t.ellipsoid.is_none(), "sphere {k}");
@@ -137,7 +138,8 @@ fn assert_same_surfaces(a: &Scene, b: &Scene) {
     assert_eq!(a.surfaces.len(), b.surfaces.len());
     for (k, (s, t)) in a.surfaces.iter().zip(&b.surfaces).enumerate() {
         assert_eq!(
-            a.materials[s.material as usize], b.materials[t.material as usize],
+            a.materials.get(s.material as usize),
+            b.materials.get(t.material as usize),
             "material of surface {k}"
         );
         match (&s.shape, &t.shape) {

@@ -222,8 +222,8 @@ fn convert_writes_vrml_that_reads_back_to_the_same_scene() {
     for (s, t) in a.spheres.iter().zip(&b.spheres) {
         assert_eq!((s.center, s.radius), (t.center, t.radius));
         assert_eq!(
-            a.materials[s.material as usize],
-            b.materials[t.material as usize]
+            a.materials.get(s.material as usize),
+            b.materials.get(t.material as usize)
         );
     }
     // A missing input: an error naming it and no output.

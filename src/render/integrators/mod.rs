@@ -102,7 +102,7 @@ pub fn behind(view: &View, o: DVec3, d: DVec3, hit: Option<OpaqueHit>, c: &mut C
         None => view.background,
         Some(h) => {
             let sp = surface::surface_point(view, o, d, h);
-            shade(view, surface::material_of(view, h.on), &sp, c)
+            shade(view, &surface::material_of(view, h.on), &sp, c)
         }
     }
 }

@@ -95,12 +95,12 @@ pub fn surface_point(prep: &Prepared, o: DVec3, d: DVec3, hit: OpaqueHit) -> Sur
 
 /// The material of what a hit is on.
 #[inline]
-pub fn material_of(prep: &Prepared, on: Opaque) -> &crate::scene::Material {
+pub fn material_of(prep: &Prepared, on: Opaque) -> crate::scene::Material {
     let m = match on {
         Opaque::Sphere(prim) => prep.bvh.prim(prim).material,
         Opaque::Surface(i) => prep.surfaces.materials[i as usize],
     };
-    &prep.materials[m as usize]
+    prep.materials.get(m as usize)
 }
 
 pub fn radiance(prep: &View, o: DVec3, d: DVec3, counters: &mut Counters) -> Estimate {
@@ -114,7 +114,7 @@ pub fn radiance(prep: &View, o: DVec3, d: DVec3, counters: &mut Counters) -> Est
         Some(hit) => {
             let sp = surface_point(prep, o, d, hit);
             Estimate {
-                value: shade(prep, material_of(prep, hit.on), &sp, counters),
+                value: shade(prep, &material_of(prep, hit.on), &sp, counters),
                 error: 0.0,
                 covered: true,
             }

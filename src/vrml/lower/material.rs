@@ -41,7 +41,7 @@ impl Lowerer {
     /// The index of material `base` with its diffuseColor replaced by `colour` (a mesh's
     /// Color node; for an unlit material, its colour), shared like any other material.
     pub(super) fn recolored(&mut self, base: u32, colour: DVec3) -> u32 {
-        let mut m = self.scene.materials[base as usize];
+        let mut m = self.scene.materials.get(base as usize);
         if m.diffuse == colour {
             return base;
         }
