@@ -2,9 +2,12 @@
 //! distinct materials as spheres, and a 104-byte [`Material`] each would be most of a large
 //! scene's memory (issue 16). Materials that differ only in their diffuse colour, the usual
 //! case (VMD, OVITO and `convert` write one Material per colour), share one stored record of
-//! everything else; an entry is then its diffuse colour and the index of that record, 28
-//! bytes. Every value is kept exactly as given: [`MaterialTable::get`] returns the very
-//! `Material` that was pushed.
+//! everything else; an entry is then its diffuse colour and the index of that record. A
+//! colour whose channels are all `k / 255` (8-bit colours, as particle tables give and
+//! `convert` writes) is stored as those three bytes, so such an entry is 8 bytes; any other
+//! colour takes a slot of 24 bytes in a colour list. Every value is kept exactly as given:
+//! [`MaterialTable::get`] returns the very `Material` that was pushed (a channel is taken as
+//! 8-bit only when `k as f64 / 255.0` is bit for bit the value).
 
 use glam::DVec3;
 
@@ -13,11 +16,33 @@ use super::Material;
 /// Slots of the direct-mapped cache that finds a stored record equal to a new one.
 const SLOTS: usize = 1024;
 
+/// Tags an 8-bit colour in `MaterialTable::diffuse`.
+const BYTES: u32 = 1 << 31;
+
+/// `c` as `BYTES | r g b` when every channel is exactly `k / 255` for a byte `k`.
+fn as_bytes(c: DVec3) -> Option<u32> {
+    let byte = |v: f64| {
+        let k = (v * 255.0).round();
+        let exact = (k / 255.0).to_bits() == v.to_bits();
+        // (Not -0, which passes the other tests but would come back as +0.)
+        ((0.0..=255.0).contains(&k) && k.is_sign_positive() && exact).then_some(k as u32)
+    };
+    Some(BYTES | byte(c.x)? << 16 | byte(c.y)? << 8 | byte(c.z)?)
+}
+
+fn from_bytes(e: u32) -> DVec3 {
+    let channel = |k: u32| f64::from(k & 0xff) / 255.0;
+    DVec3::new(channel(e >> 16), channel(e >> 8), channel(e))
+}
+
 /// The materials of a scene, indexed by `Sphere::material` and `Surface::material`.
 #[derive(Clone, Default)]
 pub struct MaterialTable {
-    /// Each entry's diffuse colour.
-    diffuse: Vec<DVec3>,
+    /// Each entry's diffuse colour: `BYTES | r << 16 | g << 8 | b` for an 8-bit colour,
+    /// else an index into `colours`.
+    diffuse: Vec<u32>,
+    /// The diffuse colours that are not 8-bit.
+    colours: Vec<DVec3>,
     /// Each entry's record in `rest`.
     rest_of: Vec<u32>,
     /// Everything but the diffuse colour (stored with a zero diffuse colour).
@@ -59,8 +84,13 @@ impl MaterialTable {
     /// Material `i`. Panics when `i` is out of range, as indexing a `Vec` would.
     #[inline]
     pub fn get(&self, i: usize) -> Material {
+        let e = self.diffuse[i];
         Material {
-            diffuse: self.diffuse[i],
+            diffuse: if e & BYTES != 0 {
+                from_bytes(e)
+            } else {
+                self.colours[e as usize]
+            },
             ..self.rest[self.rest_of[i] as usize]
         }
     }
@@ -88,7 +118,11 @@ impl MaterialTable {
             r
         });
         let i = self.diffuse.len() as u32;
-        self.diffuse.push(m.diffuse);
+        let colour = as_bytes(m.diffuse).unwrap_or_else(|| {
+            self.colours.push(m.diffuse);
+            (self.colours.len() - 1) as u32
+        });
+        self.diffuse.push(colour);
         self.rest_of.push(r);
         i
     }
@@ -99,15 +133,26 @@ impl MaterialTable {
         self.rest_of.swap(a, b);
     }
 
-    /// Keeps the first `len` entries.
+    /// Keeps the first `len` entries. (Colours of the dropped entries stay in the colour
+    /// list until [`MaterialTable::shrink_to_fit`].)
     pub fn truncate(&mut self, len: usize) {
         self.diffuse.truncate(len);
         self.rest_of.truncate(len);
     }
 
-    /// Frees spare capacity, and the search cache (the table is complete).
+    /// Frees spare capacity, colours no entry uses any more, and the search cache (the table
+    /// is complete).
     pub fn shrink_to_fit(&mut self) {
+        if self.diffuse.iter().filter(|&&e| e & BYTES == 0).count() < self.colours.len() {
+            let mut kept = Vec::new();
+            for e in self.diffuse.iter_mut().filter(|e| **e & BYTES == 0) {
+                kept.push(self.colours[*e as usize]);
+                *e = (kept.len() - 1) as u32;
+            }
+            self.colours = kept;
+        }
         self.diffuse.shrink_to_fit();
+        self.colours.shrink_to_fit();
         self.rest_of.shrink_to_fit();
         self.rest.shrink_to_fit();
         self.recent = None;
@@ -120,7 +165,8 @@ impl MaterialTable {
     /// Heap bytes held.
     pub fn heap_bytes(&self) -> usize {
         use std::mem::size_of;
-        self.diffuse.capacity() * size_of::<DVec3>()
+        self.diffuse.capacity() * size_of::<u32>()
+            + self.colours.capacity() * size_of::<DVec3>()
             + self.rest_of.capacity() * size_of::<u32>()
             + self.rest.capacity() * size_of::<Material>()
             + self.recent.as_ref().map_or(0, |_| SLOTS * size_of::<u32>())
@@ -168,7 +214,12 @@ mod tests {
 
     fn material(i: usize) -> Material {
         Material {
-            diffuse: DVec3::new(i as f64 / 7.0, 0.25, -0.0),
+            // Every third colour 8-bit.
+            diffuse: if i % 3 == 1 {
+                DVec3::new((i % 256) as f64 / 255.0, 1.0, 0.0)
+            } else {
+                DVec3::new(i as f64 / 7.0, 0.25, -0.0)
+            },
             transparency: if i % 3 == 0 { 0.5 } else { 0.0 },
             shininess: (i % 5) as f64,
             unlit: i % 11 == 0,
@@ -203,7 +254,40 @@ mod tests {
             table.shrink_to_fit();
             assert_eq!(table, MaterialTable::from(want.clone()));
             assert!(want.iter().enumerate().all(|(i, m)| table.get(i) == *m));
+            // Colours of the truncated entries were given back.
+            assert!(table.colours.len() <= 2000 * 2 / 3 + 1);
         }
+    }
+
+    /// Only a channel that is bit for bit `k / 255` is stored as a byte: its neighbours in f64,
+    /// -0, values past 1 and NaN keep their own bits.
+    #[test]
+    fn only_exact_bytes_are_stored_as_bytes() {
+        let near = (100.0f64 / 255.0).next_up();
+        let cases = [
+            DVec3::new(100.0 / 255.0, 0.0, 1.0),
+            DVec3::new(near, 0.0, 1.0),
+            DVec3::new(-0.0, 0.0, 1.0),
+            DVec3::new(2.0, 0.0, 1.0),
+            DVec3::new(f64::NAN, 0.0, 1.0),
+            DVec3::new(0.5, 0.0, 1.0),
+        ];
+        let table: MaterialTable = cases
+            .iter()
+            .map(|&c| Material {
+                diffuse: c,
+                ..Material::default()
+            })
+            .collect();
+        for (i, c) in cases.iter().enumerate() {
+            let got = table.get(i).diffuse;
+            assert_eq!(
+                got.to_array().map(f64::to_bits),
+                c.to_array().map(f64::to_bits)
+            );
+        }
+        // The first is bytes; the five others are not.
+        assert_eq!(table.colours.len(), 5);
     }
 
     #[test]

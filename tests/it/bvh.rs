@@ -48,11 +48,35 @@ fn brute_closest(ps: &[Prim], o: DVec3, d: DVec3) -> Option<(f64, u32)> {
 fn check_scene(seed: u64, n: usize, offset: DVec3, extent: f64, r_lo: f64, r_hi: f64) {
     let mut rng = Rng(seed);
     let ps = prims(&mut rng, n, offset, extent, r_lo, r_hi);
-    // One chunk, and as many chunks as allowed (a chunk per n / 16 spheres).
+    // One chunk; a few; as many as allowed (a chunk per n / 16 spheres).
     let one = SphereBvh::build(ps.clone(), &[]);
+    let few = SphereBvh::build_chunked(ps.clone(), &[], n / 5);
     let many = SphereBvh::build_chunked(ps.clone(), &[], 1);
-    for bvh in [&one, &many] {
+    for bvh in [&one, &few, &many] {
         check_rays(seed, &ps, bvh, offset, extent, &mut rng);
+        check_regions(&ps, bvh, offset, extent, &mut rng);
+    }
+}
+
+/// `near_region` with a box region visits every primitive whose box meets it.
+fn check_regions(ps: &[Prim], bvh: &SphereBvh, offset: DVec3, extent: f64, rng: &mut Rng) {
+    let mut stack = Vec::new();
+    for _ in 0..20 {
+        let c = offset + (rng.unit() * 0.6) * extent;
+        let h = DVec3::splat(extent * 0.05 * (0.1 + rng.f()));
+        let (a, b) = (c - h, c + h);
+        let meets = |lo: DVec3, hi: DVec3| lo.cmple(b).all() && hi.cmpge(a).all();
+        let mut seen = vec![false; ps.len()];
+        bvh.near_region(meets, |_, p| seen[p.sphere as usize] = true, &mut stack);
+        for p in ps {
+            if meets(p.center - p.radius, p.center + p.radius) {
+                assert!(
+                    seen[p.sphere as usize],
+                    "sphere {} near {c} missed",
+                    p.sphere
+                );
+            }
+        }
     }
 }
 
