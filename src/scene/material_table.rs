@@ -1,50 +1,46 @@
 //! The scene's materials, stored compactly: a file with a colour per sphere has about as many
 //! distinct materials as spheres, and a 104-byte [`Material`] each would be most of a large
-//! scene's memory (issue 16). Materials that differ only in their diffuse colour, the usual
-//! case (VMD, OVITO and `convert` write one Material per colour), share one stored record of
-//! everything else; an entry is then its diffuse colour and the index of that record. A
-//! colour whose channels are all `k / 255` (8-bit colours, as particle tables give and
-//! `convert` writes) is stored as those three bytes, so such an entry is 8 bytes; any other
-//! colour takes a slot of 24 bytes in a colour list. Every value is kept exactly as given:
-//! [`MaterialTable::get`] returns the very `Material` that was pushed (a channel is taken as
-//! 8-bit only when `k as f64 / 255.0` is bit for bit the value).
+//! scene's memory (issue 16). Two observations make most materials 8 bytes:
+//! - materials that differ only in their diffuse colour, the usual case (VMD, OVITO and
+//!   `convert` write one Material per colour), share one stored record of everything else;
+//! - the channel values of the colours are few, even when the colours are many: 256 for
+//!   8-bit colours, at most 100 001 for colours written with 5 decimals. They go in a
+//!   palette.
+//!
+//! An entry is then one word: the palette indices of its three channels (18 bits each) and
+//! its record's index (9 bits). A material whose record is past the 512th, or whose channel
+//! values are past the palette's 2^18th, is stored whole instead (its colour and record index,
+//! 32 bytes). Every value is kept exactly as given, by its bits: [`MaterialTable::get`]
+//! returns the very `Material` that was pushed.
 
 use glam::DVec3;
+use hashbrown::HashMap;
 
 use super::Material;
 
 /// Slots of the direct-mapped cache that finds a stored record equal to a new one.
 const SLOTS: usize = 1024;
 
-/// Tags an 8-bit colour in `MaterialTable::diffuse`.
-const BYTES: u32 = 1 << 31;
-
-/// `c` as `BYTES | r g b` when every channel is exactly `k / 255` for a byte `k`.
-fn as_bytes(c: DVec3) -> Option<u32> {
-    let byte = |v: f64| {
-        let k = (v * 255.0).round();
-        let exact = (k / 255.0).to_bits() == v.to_bits();
-        // (Not -0, which passes the other tests but would come back as +0.)
-        ((0.0..=255.0).contains(&k) && k.is_sign_positive() && exact).then_some(k as u32)
-    };
-    Some(BYTES | byte(c.x)? << 16 | byte(c.y)? << 8 | byte(c.z)?)
-}
-
-fn from_bytes(e: u32) -> DVec3 {
-    let channel = |k: u32| f64::from(k & 0xff) / 255.0;
-    DVec3::new(channel(e >> 16), channel(e >> 8), channel(e))
-}
+/// Tags a packed entry (else: an index into `MaterialTable::wide`).
+const PACKED: u64 = 1 << 63;
+const CHANNEL_BITS: u32 = 18;
+const CHANNEL: u64 = (1 << CHANNEL_BITS) - 1;
+/// Records a packed entry can name.
+const PACKED_RECORDS: u32 = 1 << 9;
 
 /// The materials of a scene, indexed by `Sphere::material` and `Surface::material`.
 #[derive(Clone, Default)]
 pub struct MaterialTable {
-    /// Each entry's diffuse colour: `BYTES | r << 16 | g << 8 | b` for an 8-bit colour,
-    /// else an index into `colours`.
-    diffuse: Vec<u32>,
-    /// The diffuse colours that are not 8-bit.
-    colours: Vec<DVec3>,
-    /// Each entry's record in `rest`.
-    rest_of: Vec<u32>,
+    /// Each entry: `PACKED | record << 54 | r << 36 | g << 18 | b` (palette indices), or an
+    /// index into `wide`.
+    entries: Vec<u64>,
+    /// Channel values of packed colours.
+    palette: Vec<f64>,
+    /// Where each value's bits are in `palette`; rebuilt when needed after
+    /// [`MaterialTable::shrink_to_fit`] dropped it.
+    palette_index: Option<HashMap<u64, u32>>,
+    /// Entries that do not pack: diffuse colour and record.
+    wide: Vec<(DVec3, u32)>,
     /// Everything but the diffuse colour (stored with a zero diffuse colour).
     rest: Vec<Material>,
     /// A cache from a record's content to its index in `rest` + 1 (0: empty). Only a search
@@ -74,25 +70,52 @@ impl MaterialTable {
     }
 
     pub fn len(&self) -> usize {
-        self.diffuse.len()
+        self.entries.len()
     }
 
     pub fn is_empty(&self) -> bool {
-        self.diffuse.is_empty()
+        self.entries.is_empty()
     }
 
     /// Material `i`. Panics when `i` is out of range, as indexing a `Vec` would.
     #[inline]
     pub fn get(&self, i: usize) -> Material {
-        let e = self.diffuse[i];
+        let e = self.entries[i];
+        let (diffuse, record) = if e & PACKED != 0 {
+            let channel = |shift: u32| self.palette[(e >> shift & CHANNEL) as usize];
+            (
+                DVec3::new(channel(2 * CHANNEL_BITS), channel(CHANNEL_BITS), channel(0)),
+                (e >> (3 * CHANNEL_BITS)) as u32 & (PACKED_RECORDS - 1),
+            )
+        } else {
+            self.wide[e as usize]
+        };
         Material {
-            diffuse: if e & BYTES != 0 {
-                from_bytes(e)
-            } else {
-                self.colours[e as usize]
-            },
-            ..self.rest[self.rest_of[i] as usize]
+            diffuse,
+            ..self.rest[record as usize]
         }
+    }
+
+    /// The palette index of value `v`, added if new and there is room.
+    fn channel(&mut self, v: f64) -> Option<u64> {
+        let palette = &self.palette;
+        let index = self.palette_index.get_or_insert_with(|| {
+            palette
+                .iter()
+                .enumerate()
+                .map(|(k, v)| (v.to_bits(), k as u32))
+                .collect()
+        });
+        if let Some(&k) = index.get(&v.to_bits()) {
+            return Some(u64::from(k));
+        }
+        let k = self.palette.len();
+        if k as u64 > CHANNEL {
+            return None;
+        }
+        self.palette.push(v);
+        index.insert(v.to_bits(), k as u32);
+        Some(k as u64)
     }
 
     /// Appends `m` (no search for an equal material: the loader shares materials) and returns
@@ -117,44 +140,58 @@ impl MaterialTable {
             recent[s] = r + 1;
             r
         });
-        let i = self.diffuse.len() as u32;
-        let colour = as_bytes(m.diffuse).unwrap_or_else(|| {
-            self.colours.push(m.diffuse);
-            (self.colours.len() - 1) as u32
+        let i = self.entries.len() as u32;
+        let c = m.diffuse;
+        let packed = if r < PACKED_RECORDS {
+            (|| {
+                let (x, y, z) = (self.channel(c.x)?, self.channel(c.y)?, self.channel(c.z)?);
+                Some(
+                    PACKED
+                        | u64::from(r) << (3 * CHANNEL_BITS)
+                        | x << (2 * CHANNEL_BITS)
+                        | y << CHANNEL_BITS
+                        | z,
+                )
+            })()
+        } else {
+            None
+        };
+        let entry = packed.unwrap_or_else(|| {
+            self.wide.push((c, r));
+            (self.wide.len() - 1) as u64
         });
-        self.diffuse.push(colour);
-        self.rest_of.push(r);
+        self.entries.push(entry);
         i
     }
 
     /// Swaps entries `a` and `b`.
     pub fn swap(&mut self, a: usize, b: usize) {
-        self.diffuse.swap(a, b);
-        self.rest_of.swap(a, b);
+        self.entries.swap(a, b);
     }
 
-    /// Keeps the first `len` entries. (Colours of the dropped entries stay in the colour
-    /// list until [`MaterialTable::shrink_to_fit`].)
+    /// Keeps the first `len` entries. (What only the dropped entries used stays until
+    /// [`MaterialTable::shrink_to_fit`].)
     pub fn truncate(&mut self, len: usize) {
-        self.diffuse.truncate(len);
-        self.rest_of.truncate(len);
+        self.entries.truncate(len);
     }
 
-    /// Frees spare capacity, colours no entry uses any more, and the search cache (the table
-    /// is complete).
+    /// Frees spare capacity, wide entries no entry uses any more, and the search aids (the
+    /// table is complete; a later push rebuilds them).
     pub fn shrink_to_fit(&mut self) {
-        if self.diffuse.iter().filter(|&&e| e & BYTES == 0).count() < self.colours.len() {
-            let mut kept = Vec::new();
-            for e in self.diffuse.iter_mut().filter(|e| **e & BYTES == 0) {
-                kept.push(self.colours[*e as usize]);
-                *e = (kept.len() - 1) as u32;
+        let used = self.entries.iter().filter(|&&e| e & PACKED == 0).count();
+        if used < self.wide.len() {
+            let mut kept = Vec::with_capacity(used);
+            for e in self.entries.iter_mut().filter(|e| **e & PACKED == 0) {
+                kept.push(self.wide[*e as usize]);
+                *e = (kept.len() - 1) as u64;
             }
-            self.colours = kept;
+            self.wide = kept;
         }
-        self.diffuse.shrink_to_fit();
-        self.colours.shrink_to_fit();
-        self.rest_of.shrink_to_fit();
+        self.entries.shrink_to_fit();
+        self.palette.shrink_to_fit();
+        self.wide.shrink_to_fit();
         self.rest.shrink_to_fit();
+        self.palette_index = None;
         self.recent = None;
     }
 
@@ -165,9 +202,10 @@ impl MaterialTable {
     /// Heap bytes held.
     pub fn heap_bytes(&self) -> usize {
         use std::mem::size_of;
-        self.diffuse.capacity() * size_of::<u32>()
-            + self.colours.capacity() * size_of::<DVec3>()
-            + self.rest_of.capacity() * size_of::<u32>()
+        self.entries.capacity() * size_of::<u64>()
+            + self.palette.capacity() * size_of::<f64>()
+            + self.palette_index.as_ref().map_or(0, |m| m.capacity() * 16)
+            + self.wide.capacity() * size_of::<(DVec3, u32)>()
             + self.rest.capacity() * size_of::<Material>()
             + self.recent.as_ref().map_or(0, |_| SLOTS * size_of::<u32>())
     }
@@ -208,7 +246,7 @@ impl FromIterator<Material> for MaterialTable {
 
 #[cfg(test)]
 mod tests {
-    use super::{MaterialTable, SLOTS};
+    use super::{MaterialTable, CHANNEL, PACKED, PACKED_RECORDS, SLOTS};
     use crate::scene::Material;
     use glam::DVec3;
 
@@ -227,8 +265,13 @@ mod tests {
         }
     }
 
+    fn wide_entries(t: &MaterialTable) -> usize {
+        t.entries.iter().filter(|&&e| e & PACKED == 0).count()
+    }
+
     /// Every material comes back exactly, through pushes, swaps and truncation, with records
-    /// shared (5 * 3 * 2 combinations of the rest) or not (more kinds than cache slots).
+    /// shared (5 * 3 * 2 combinations of the rest: every entry packed) or not (more records
+    /// than a packed entry can name: the later ones wide).
     #[test]
     fn materials_come_back_exactly() {
         for kinds in [1, 30, 3 * SLOTS] {
@@ -245,6 +288,9 @@ mod tests {
             if kinds == 1 {
                 // Diffuse colours alone differ: 2 x 5 x 2 records of the rest.
                 assert!(table.rest.len() <= 30, "{} records", table.rest.len());
+                assert!(table.wide.is_empty());
+            } else if kinds > PACKED_RECORDS as usize {
+                assert!(wide_entries(&table) > 0);
             }
             let mut want = all.clone();
             table.swap(3, 1000);
@@ -254,15 +300,18 @@ mod tests {
             table.shrink_to_fit();
             assert_eq!(table, MaterialTable::from(want.clone()));
             assert!(want.iter().enumerate().all(|(i, m)| table.get(i) == *m));
-            // Colours of the truncated entries were given back.
-            assert!(table.colours.len() <= 2000 * 2 / 3 + 1);
+            // Wide entries of the truncated ones were given back.
+            assert_eq!(table.wide.len(), wide_entries(&table));
+            // A push after the search aids were dropped still shares and packs.
+            let m = want[7];
+            let i = table.push(m);
+            assert_eq!(table.get(i as usize), m);
         }
     }
 
-    /// Only a channel that is bit for bit `k / 255` is stored as a byte: its neighbours in f64,
-    /// -0, values past 1 and NaN keep their own bits.
+    /// Values keep their bits: f64 neighbours, -0, values past 1, NaN payloads.
     #[test]
-    fn only_exact_bytes_are_stored_as_bytes() {
+    fn channel_values_keep_their_bits() {
         let near = (100.0f64 / 255.0).next_up();
         let cases = [
             DVec3::new(100.0 / 255.0, 0.0, 1.0),
@@ -270,7 +319,7 @@ mod tests {
             DVec3::new(-0.0, 0.0, 1.0),
             DVec3::new(2.0, 0.0, 1.0),
             DVec3::new(f64::NAN, 0.0, 1.0),
-            DVec3::new(0.5, 0.0, 1.0),
+            DVec3::new(f64::from_bits(f64::NAN.to_bits() ^ 1), -0.0, 1.0),
         ];
         let table: MaterialTable = cases
             .iter()
@@ -286,26 +335,25 @@ mod tests {
                 c.to_array().map(f64::to_bits)
             );
         }
-        // The first is bytes; the five others are not.
-        assert_eq!(table.colours.len(), 5);
+        // 0 and -0 apart, the two NaNs apart.
+        assert_eq!(table.palette.len(), 8);
+        assert!(table.wide.is_empty());
     }
 
+    /// Past the palette's capacity, colours with new channel values are stored wide, and
+    /// still come back exactly.
     #[test]
-    fn signed_zeros_and_nan_payloads_stay_apart() {
-        let a = Material::default();
-        let b = Material {
-            ambient_intensity: -0.0,
-            ..Material::default()
-        };
-        let c = Material {
-            ambient_intensity: 0.0,
-            ..Material::default()
-        };
-        let table: MaterialTable = [a, b, c].into_iter().collect();
-        assert_eq!(
-            table.get(1).ambient_intensity.to_bits(),
-            (-0.0f64).to_bits()
-        );
-        assert_eq!(table.get(2).ambient_intensity.to_bits(), 0.0f64.to_bits());
+    fn a_full_palette_falls_back_to_wide_entries() {
+        let n = CHANNEL as usize + 100;
+        let colour = |i: usize| DVec3::new(i as f64 * 1e-7, 0.5, 0.25);
+        let table: MaterialTable = (0..n)
+            .map(|i| Material {
+                diffuse: colour(i),
+                ..Material::default()
+            })
+            .collect();
+        assert_eq!(table.palette.len() as u64, CHANNEL + 1);
+        assert!(table.wide.len() >= 100);
+        assert!((0..n).all(|i| table.get(i).diffuse == colour(i)));
     }
 }
