@@ -341,7 +341,7 @@ impl SphereBvh {
                 // chunk's spheres are permuted into that order in place and the list is freed.
                 permute_in_place(part, &bvh.primitive_indices);
                 bvh.primitive_indices = Vec::new();
-                // obvhs reserves one node per primitive; about a fifth are used.
+                // obvhs reserves one node per primitive; about an eighth are used.
                 bvh.nodes.shrink_to_fit();
                 let deep = cwbvh_depth(&bvh) >= 30;
                 Chunk {
@@ -436,6 +436,18 @@ mod tests {
             ids.sort_unstable();
             assert!(ids.iter().enumerate().all(|(i, &v)| v == i as u32));
         }
+    }
+
+    /// A packed primitive is made in place of an IR sphere (`prepare`'s `into_iter().map()
+    /// .collect()` reuses the allocation only when it is no larger and as aligned): grown past
+    /// that, a large scene would silently hold both lists.
+    #[test]
+    fn packed_primitives_fit_in_place_of_spheres() {
+        use crate::scene::Sphere;
+        use std::mem::{align_of, size_of};
+        assert_eq!(size_of::<Packed>(), 40);
+        assert!(size_of::<Packed>() <= size_of::<Sphere>());
+        assert_eq!(align_of::<Packed>(), align_of::<Sphere>());
     }
 
     #[test]

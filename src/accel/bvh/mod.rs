@@ -99,7 +99,8 @@ const ELLIPSOID: u32 = 1 << 30;
 pub const MAX_MATERIALS: usize = ELLIPSOID as usize;
 
 impl Packed {
-    /// `material` must be below [`MAX_MATERIALS`].
+    /// Panics when `material` is not below [`MAX_MATERIALS`] (`prepare` refuses such scenes
+    /// with an error first).
     #[inline]
     pub fn new(
         center: DVec3,
@@ -109,7 +110,10 @@ impl Packed {
         gas: bool,
         ellipsoid: bool,
     ) -> Packed {
-        debug_assert!((material as usize) < MAX_MATERIALS);
+        assert!(
+            (material as usize) < MAX_MATERIALS,
+            "material index {material} too large"
+        );
         let tagged = material | if gas { GAS } else { 0 } | if ellipsoid { ELLIPSOID } else { 0 };
         Packed {
             center,
@@ -160,7 +164,7 @@ impl Ball for Packed {
     }
 }
 
-/// A closest hit: ray parameter and the primitive's index in [`SphereBvh::prims`].
+/// A closest hit: ray parameter and the primitive's index (see [`SphereBvh::prim`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hit {
     pub t: f64,
