@@ -314,13 +314,13 @@ impl Scene {
                 non_negative(m.diffuse) && non_negative(m.emissive) && non_negative(m.specular);
             if !(colours_ok && scalars_ok) {
                 return fail(format!(
-                    "materials.get({i}): colours, shininess and ambientIntensity must be finite \
+                    "materials[{i}]: colours, shininess and ambientIntensity must be finite \
                      and non-negative"
                 ));
             }
             if !(0.0..=1.0).contains(&m.transparency) {
                 return fail(format!(
-                    "materials.get({i}): transparency {:?} must be in [0, 1]",
+                    "materials[{i}]: transparency {:?} must be in [0, 1]",
                     m.transparency
                 ));
             }

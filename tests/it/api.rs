@@ -146,6 +146,21 @@ fn prepare_validates_scenes_built_by_hand() {
     let mut s = lit_scene(3);
     s.spheres[0].material = 99;
     assert!(render::prepare(s, &PrepareOptions::default()).is_err());
+    // A material pushed in code is checked too, and named by its index.
+    let mut s = lit_scene(3);
+    s.materials.push(gtsphere::scene::Material {
+        transparency: 2.0,
+        ..Default::default()
+    });
+    let e = render::prepare(s, &PrepareOptions::default())
+        .err()
+        .unwrap();
+    assert!(
+        e.to_string().starts_with("materials[")
+            && e.to_string()
+                .ends_with("transparency 2.0 must be in [0, 1]"),
+        "{e}"
+    );
     // Lights changed after prepare are checked when rendered.
     let mut prepared = render::prepare(lit_scene(3), &PrepareOptions::default()).unwrap();
     prepared.lights.push(Light::Point(PointLight {
