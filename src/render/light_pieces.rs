@@ -69,6 +69,8 @@ struct Shadower {
     prim: u32,
     lo: f64,
     hi: f64,
+    /// The primitive itself: the pieces read it in a row, not through the BVH's arrays.
+    whole: Prim,
 }
 
 /// Reusable buffers (one set per worker).
@@ -190,7 +192,7 @@ pub fn resolve<'b>(
     (slot, light, grid): (usize, &LightSource, Option<&LightGrid>),
     tau_cut: f64,
     b: &'b mut Buffers,
-    active: &mut Vec<u32>,
+    active: &mut Vec<Prim>,
 ) -> (&'b [Piece], usize) {
     b.shadowers.clear();
     b.seen.clear();
@@ -402,7 +404,12 @@ fn shadowed_part(
         }
         prev = next;
     }
-    Shadower { prim: 0, lo, hi }
+    Shadower {
+        prim: 0,
+        lo,
+        hi,
+        whole: *p,
+    }
 }
 
 /// Cuts `[ta, tb]` at every breakpoint and classifies the pieces into `b.pieces`; the active
@@ -414,7 +421,7 @@ fn classify(
     light: &LightSource,
     tau_cut: f64,
     b: &mut Buffers,
-    active: &mut Vec<u32>,
+    active: &mut Vec<Prim>,
 ) {
     b.breaks.sort_unstable_by(f64::total_cmp);
     b.breaks.dedup();
@@ -467,8 +474,7 @@ fn classify(
         let (mut od0, mut od1) = (0.0, 0.0);
         let mut blocked = false;
         for &k in &b.live {
-            let i = sh[k as usize].prim;
-            let p = &prep.bvh.prim(i);
+            let p = &sh[k as usize].whole;
             if !p.is_gas() {
                 // The blocking status is constant on a piece; decide it at the middle.
                 if chord(prep, p, xm, dm, distm) == Chord::Blocked {
@@ -477,7 +483,7 @@ fn classify(
                 }
                 continue;
             }
-            active.push(i);
+            active.push(*p);
             let concave = !point_light
                 || (p.ellipsoid.is_none()
                     && (xm - p.center).length_squared() > p.radius * p.radius

@@ -29,7 +29,7 @@ use glam::{DVec3, UVec2};
 
 use super::light_grid::LightGrid;
 use super::lights::LightKind;
-use crate::accel::{Prim, SphereBvh};
+use crate::accel::{Ball, SphereBvh};
 /// Distance from `c` to the segment `[a, b]`.
 pub(crate) fn to_segment(c: DVec3, a: DVec3, b: DVec3) -> f64 {
     let ab = b - a;
@@ -289,8 +289,8 @@ fn slack(bvh: &SphereBvh, region: &Region) -> f64 {
 
 /// Whether primitive `p`'s ball meets `region` (allowing `slack` for rounding).
 #[inline]
-fn touches(region: &Region, p: &Prim, slack: f64) -> bool {
-    region.meets(p.center, p.radius * (1.0 + 1e-9) + slack)
+fn touches(region: &Region, p: &impl Ball, slack: f64) -> bool {
+    region.meets(p.center(), p.radius() * (1.0 + 1e-9) + slack)
 }
 
 /// Appends to `out` every primitive that meets `region`.
@@ -331,7 +331,7 @@ fn gather_from_grid(
             continue;
         }
         last = i;
-        if touches(region, &bvh.prim(i), slack) {
+        if touches(region, &bvh.packed()[i as usize], slack) {
             out[keep] = i;
             keep += 1;
         }
@@ -475,7 +475,7 @@ impl BandCache {
             // span's inside it).
             let pad = slack(bvh, &region);
             for &i in &self.found {
-                let p = &bvh.prim(i);
+                let p = &bvh.packed()[i as usize];
                 let (t0, t1) = reach_on_ray(light, o, d, p.center, p.radius + pad);
                 self.near.push(Near { prim: i, t0, t1 });
             }
@@ -486,7 +486,7 @@ impl BandCache {
             if n.t1 < u0 || n.t0 > u1 {
                 continue;
             }
-            if touches(&region, &bvh.prim(n.prim), slack) {
+            if touches(&region, &bvh.packed()[n.prim as usize], slack) {
                 out.push(n.prim);
             }
         }

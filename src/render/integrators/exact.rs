@@ -29,6 +29,8 @@
 
 use glam::DVec3;
 
+use crate::accel::Prim;
+
 use super::{behind, gas_along, scatter_for, Estimate, Scratch, PHASE};
 use crate::render::light_pieces::{gas_chord, resolve, Class};
 use crate::render::lights::{attenuation, towards, LightKind, LightSource};
@@ -246,7 +248,7 @@ fn segment_unshadowed(view: &View, seg: &Segment, members: &[u32], t_a: f64) -> 
 fn scattered(
     view: &View,
     m: &PieceMeta,
-    active: &[u32],
+    active: &[Prim],
     x: DVec3,
     t: f64,
     limit: f64,
@@ -259,8 +261,7 @@ fn scattered(
     // V_i(x) from the piece's active shadowers alone: no other sphere meets a light ray from
     // this piece, and no opaque one does.
     let mut od = 0.0;
-    for &c in &active[m.active.0 as usize..m.active.1 as usize] {
-        let p = &view.bvh.prim(c);
+    for p in &active[m.active.0 as usize..m.active.1 as usize] {
         od += p.sigma * gas_chord(view, p, x, dir, dist);
         if od > limit {
             *deep = true;

@@ -46,7 +46,8 @@ pub struct Scratch {
     pub light: super::light_pieces::Buffers,
     pub pieces: Vec<(f64, f64)>,
     pub meta: Vec<exact::PieceMeta>,
-    pub active: Vec<u32>,
+    /// The lit pieces' active gas shadowers, whole (the integrand reads them in a row).
+    pub active: Vec<crate::accel::Prim>,
     pub quad: super::quadrature::QuadScratch,
     /// The exact integrator's unshadowed scattering bound of each segment.
     pub unshadowed_by_segment: Vec<f64>,
