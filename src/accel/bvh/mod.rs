@@ -275,6 +275,18 @@ impl SphereBvh {
         }
     }
 
+    /// [`SphereBvh::roots`] of primitive `i`, read from its packed record (the whole
+    /// primitive is gathered only for an ellipsoid): the traversal's test, most often a miss.
+    #[inline(always)]
+    pub(crate) fn roots_of(&self, i: u32, o: DVec3, d: DVec3) -> Option<(f64, f64)> {
+        let q = &self.packed[i as usize];
+        if q.is_ellipsoid() {
+            self.roots(&self.prim(i), o, d)
+        } else {
+            sphere_roots(o, d, q.center, q.radius)
+        }
+    }
+
     /// Both roots of the line `o + t d` against primitive `p` (sphere or ellipsoid), in `t`.
     #[inline]
     pub fn roots(&self, p: &Prim, o: DVec3, d: DVec3) -> Option<(f64, f64)> {

@@ -199,8 +199,8 @@ impl SphereBvh {
             let ray = self.ray32(o, d, t0, t1.min(best_t));
             walk(c, ray, |i| {
                 let i = c.base + i;
-                let p = &self.prim(i);
-                if let Some(roots) = self.roots(p, o, d) {
+                if let Some(roots) = self.roots_of(i, o, d) {
+                    let p = &self.prim(i);
                     if let Some(t) = test(i, p, roots) {
                         // Ties (coincident spheres) go to the earlier sphere in the
                         // scene, whatever the traversal order.
@@ -345,9 +345,8 @@ impl SphereBvh {
             let c = &self.chunks[k as usize];
             walk(c, self.ray32(o, d, t0, t1), |i| {
                 let i = c.base + i;
-                let p = &self.prim(i);
-                if let Some(roots) = self.roots(p, o, d) {
-                    visit(i, p, roots);
+                if let Some(roots) = self.roots_of(i, o, d) {
+                    visit(i, &self.prim(i), roots);
                 }
                 Step::Go
             });
