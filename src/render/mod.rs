@@ -11,6 +11,7 @@ pub mod light_grid;
 pub mod light_pieces;
 pub mod lighting;
 pub mod lights;
+pub mod profile;
 pub mod quadrature;
 pub mod sampler;
 pub mod segments;
