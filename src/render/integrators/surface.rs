@@ -12,7 +12,7 @@ use crate::render::{Counters, Prepared, View};
 /// What an opaque hit is on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Opaque {
-    /// A primitive of the sphere BVH (an index into `Prepared::bvh.prims`).
+    /// A primitive of the sphere BVH (its index, see `SphereBvh::prim`).
     Sphere(u32),
     /// A surface (an index into `Prepared::surfaces.items`, the same as into `Scene::surfaces`).
     Surface(u32),
