@@ -3,6 +3,7 @@
 //! (`mesh/`: faces, components, triangles, normals); nearest-neighbour spacing
 //! (`nearest.rs`). Depends on nothing else in the crate; see `sphere.rs` for the numerics.
 
+pub(crate) mod eft;
 mod ellipsoid;
 mod fit;
 pub mod mesh;

@@ -11,6 +11,8 @@
 
 use glam::DVec3;
 
+use super::eft::{two_prod, two_square, two_sum};
+
 /// Parameters `t0 <= t1` where the line `o + t d` meets the sphere `|x - c| = r`, or `None` if
 /// it misses.
 ///
@@ -125,7 +127,7 @@ pub fn segment_chord(o: DVec3, d: DVec3, c: DVec3, r: f64, ta: f64, tb: f64) -> 
 ///
 /// No fused multiply-add: without an FMA target feature (the build must run on any x86-64),
 /// `f64::mul_add` is a call into a runtime-dispatched routine, and every call spills the
-/// vector registers. Exact products use Dekker's splitting instead ([`two_prod_split`]).
+/// vector registers. Exact products use Dekker's splitting instead ([`two_prod`]).
 #[inline(always)]
 fn unit_scale_roots(o: DVec3, d: DVec3, c: DVec3, r: f64) -> Option<(f64, f64)> {
     // f = o - c = fh + fl exactly (TwoSum). Rounding f would move the line sideways by
@@ -186,7 +188,7 @@ fn unit_scale_roots(o: DVec3, d: DVec3, c: DVec3, r: f64) -> Option<(f64, f64)> 
 #[inline(always)]
 fn closest_offset(fh: DVec3, fl: DVec3, tc: f64, d: DVec3) -> DVec3 {
     let one = |dk: f64, fk: f64, lk: f64| {
-        let (p, e) = two_prod_split(tc, dk);
+        let (p, e) = two_prod(tc, dk);
         (p + fk) + (e + lk)
     };
     DVec3::new(
@@ -213,47 +215,12 @@ fn dist2_minus_r2(fh: DVec3, fl: DVec3, r: f64) -> f64 {
     s + tail
 }
 
-/// `a + b = s + e` exactly, `s = fl(a + b)` (Knuth's TwoSum; no branch on magnitudes).
-#[inline(always)]
-pub(super) fn two_sum(a: f64, b: f64) -> (f64, f64) {
-    let s = a + b;
-    let bb = s - a;
-    (s, (a - (s - bb)) + (b - bb))
-}
-
 #[inline(always)]
 fn two_sum3(a: DVec3, b: DVec3) -> (DVec3, DVec3) {
     let (x, ex) = two_sum(a.x, b.x);
     let (y, ey) = two_sum(a.y, b.y);
     let (z, ez) = two_sum(a.z, b.z);
     (DVec3::new(x, y, z), DVec3::new(ex, ey, ez))
-}
-
-/// Veltkamp's split: `a = hi + lo` exactly, each half with at most 26 significant bits, so
-/// products of halves are exact. Needs `|a| < 2^995` (no overflow of `2^27 a`).
-#[inline(always)]
-fn split(a: f64) -> (f64, f64) {
-    let t = 134_217_729.0 * a; // 2^27 + 1
-    let hi = t - (t - a);
-    (hi, a - hi)
-}
-
-/// `a * b = p + e` exactly, `p = fl(a * b)` (Dekker's TwoProduct, no fused multiply-add),
-/// unless the product underflows; `|a|, |b| < 2^995`.
-#[inline(always)]
-fn two_prod_split(a: f64, b: f64) -> (f64, f64) {
-    let p = a * b;
-    let (ah, al) = split(a);
-    let (bh, bl) = split(b);
-    (p, ((ah * bh - p) + ah * bl + al * bh) + al * bl)
-}
-
-/// `a * a = p + e` exactly (Dekker), as [`two_prod_split`]`(a, a)`.
-#[inline(always)]
-fn two_square(a: f64) -> (f64, f64) {
-    let p = a * a;
-    let (h, l) = split(a);
-    (p, ((h * h - p) + 2.0 * (h * l)) + l * l)
 }
 
 /// `floor(log2 |x|)` for finite non-zero `x` (subnormals included); 0 for 0.
@@ -303,25 +270,6 @@ pub(super) fn scale_down(v: DVec3, k: i32) -> DVec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn two_prod_and_two_sum_are_exact_against_i128() {
-        // Integers below 2^53 are exact in f64; i128 holds their exact products and sums.
-        let mut rng = crate::testing::Rng::new(0x9e37_79b9_7f4a_7c15);
-        for _ in 0..10_000 {
-            let a = (rng.u64() >> 11) as i64 - (1 << 52);
-            let b = (rng.u64() >> 13) as i64 - (1 << 50);
-            let (p, e) = two_prod_split(a as f64, b as f64);
-            assert_eq!(two_square(a as f64), two_prod_split(a as f64, a as f64));
-            assert_eq!(p as i128 + e as i128, a as i128 * b as i128);
-            let (s, e) = two_sum(a as f64 * 1024.0, b as f64 / 64.0);
-            // Scale by 64 to make both sides integers.
-            assert_eq!(
-                (s * 64.0) as i128 + (e * 64.0) as i128,
-                a as i128 * 65536 + b as i128
-            );
-        }
-    }
 
     #[test]
     fn exponent_and_scalbn_cover_the_whole_range() {

@@ -36,6 +36,8 @@
 
 use glam::DVec3;
 
+use crate::geom::eft::{two_prod, two_square, two_sum};
+
 /// A radial density profile `f(u)`, `u = |x - c| / r` (MODEL.md section 6).
 ///
 /// | name | `f(u)` on `[0, 1]` | `I_f` = integral of `f` over `[0, 1]` |
@@ -534,37 +536,6 @@ fn sinh_minus_x(x: f64) -> f64 {
         sum += term;
     }
     sum
-}
-
-/// `a + b = s + e` exactly, `s = fl(a + b)` (Knuth's TwoSum).
-#[inline]
-fn two_sum(a: f64, b: f64) -> (f64, f64) {
-    let s = a + b;
-    let bb = s - a;
-    (s, (a - (s - bb)) + (b - bb))
-}
-
-/// Veltkamp's split, `a = hi + lo` with 26-bit halves (`|a| < 2^995`).
-#[inline]
-fn split(a: f64) -> (f64, f64) {
-    let t = 134_217_729.0 * a; // 2^27 + 1
-    let hi = t - (t - a);
-    (hi, a - hi)
-}
-
-/// `a b = p + e` exactly (Dekker's TwoProduct; no fused multiply-add, which is a slow call
-/// on x86-64 without the `fma` target feature), unless the product underflows.
-#[inline]
-fn two_prod(a: f64, b: f64) -> (f64, f64) {
-    let p = a * b;
-    let (ah, al) = split(a);
-    let (bh, bl) = split(b);
-    (p, ((ah * bh - p) + ah * bl + al * bh) + al * bl)
-}
-
-#[inline]
-fn two_square(a: f64) -> (f64, f64) {
-    two_prod(a, a)
 }
 
 // The error function, from W. J. Cody, "Rational Chebyshev approximations for the error
