@@ -8,31 +8,9 @@
 #   environment: DIR, FORM, GTSPHERE, TACHYON as for run.sh
 set -eu
 cd "$(dirname "$0")"
-HERE=$(pwd)
 N=$(python3 -c "print(int(float('${1:-1000}')))")
 SIZE=${2:-512}
-DIR=${DIR:-/tmp/gtsphere-tachyon}
-FORM=${FORM:-proto}
-GTS=${GTSPHERE:-$HERE/../../target/release/gtsphere}
-TACHYON=${TACHYON:-tachyon}
-command -v "$TACHYON" > /dev/null || {
-    echo "tachyon not found: apt-get update && apt-get install -y tachyon" >&2
-    exit 1
-}
-[ -x "$GTS" ] || (cd ../.. && cargo build --release -p gtsphere-cli)
-case $FORM in
-    proto) WRL=$DIR/spheres-$N.wrl PLAIN= ;;
-    plain) WRL=$DIR/spheres-$N-plain.wrl PLAIN=--plain ;;
-    *) echo "FORM must be proto or plain" >&2 && exit 2 ;;
-esac
-DAT=$DIR/spheres-$N-$SIZE.dat
-mkdir -p "$DIR"
-if [ ! -s "$WRL" ] || [ ! -s "$DAT" ]; then
-    # shellcheck disable=SC2086
-    python3 gen.py "$N" "$WRL.part" "$DAT.part" --size "$SIZE" $PLAIN
-    mv "$WRL.part" "$WRL"
-    mv "$DAT.part" "$DAT"
-fi
+. ./files.sh
 OUT=$DIR/check-$N-$SIZE
 "$GTS" render "$WRL" --width "$SIZE" --height "$SIZE" --sampler center --threads 1 \
     -o "$OUT-gtsphere.pfm" -q

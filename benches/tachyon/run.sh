@@ -13,33 +13,10 @@
 #                built if missing), TACHYON (default tachyon)
 set -eu
 cd "$(dirname "$0")"
-HERE=$(pwd)
 N=$(python3 -c "print(int(float('${1:-1000000}')))")
 ROUNDS=${2:-5}
-DIR=${DIR:-/tmp/gtsphere-tachyon}
 SIZE=${SIZE:-512}
-FORM=${FORM:-proto}
-GTS=${GTSPHERE:-$HERE/../../target/release/gtsphere}
-TACHYON=${TACHYON:-tachyon}
-command -v "$TACHYON" > /dev/null || {
-    echo "tachyon not found: apt-get update && apt-get install -y tachyon" >&2
-    exit 1
-}
-[ -x "$GTS" ] || (cd ../.. && cargo build --release -p gtsphere-cli)
-case $FORM in
-    proto) WRL=$DIR/spheres-$N.wrl PLAIN= ;;
-    plain) WRL=$DIR/spheres-$N-plain.wrl PLAIN=--plain ;;
-    *) echo "FORM must be proto or plain" >&2 && exit 2 ;;
-esac
-DAT=$DIR/spheres-$N-$SIZE.dat
-mkdir -p "$DIR"
-if [ ! -s "$WRL" ] || [ ! -s "$DAT" ]; then
-    echo "writing $WRL and $DAT" >&2
-    # shellcheck disable=SC2086
-    python3 gen.py "$N" "$WRL.part" "$DAT.part" --size "$SIZE" $PLAIN
-    mv "$WRL.part" "$WRL"
-    mv "$DAT.part" "$DAT"
-fi
+. ./files.sh
 RAW=$DIR/times-$N-$FORM-$(date +%Y%m%d-%H%M%S).txt
 : > "$RAW"
 echo "raw times in $RAW; $("$GTS" --version); Tachyon $("$TACHYON" -version 2>&1 | head -1) ($(dpkg-query -W -f '${Version}' tachyon-bin-nox 2>/dev/null || echo '?'))" >&2
