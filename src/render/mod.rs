@@ -355,21 +355,13 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
         viewpoints,
         ..
     } = scene;
-    // Gas (MODEL.md section 1): sigma = -ln(transparency) / (2 r), or --as-gas SIGMA for every
-    // sphere. An ellipsoid has no single diameter; it uses its volume-equivalent radius
-    // (the cube root of the product of its semi-axes), so its mean transmittance matches.
-    let radius_of = |s: &crate::scene::Sphere| match s.ellipsoid {
-        None => s.radius,
-        Some(e) => ellipsoids[e.index()].matrix3.determinant().abs().cbrt(),
-    };
-    let sigma_of = |s: &crate::scene::Sphere| -> Option<f64> {
-        match opts.as_gas {
-            Some(sigma) => Some(sigma),
-            None => {
-                let m = &materials.get(s.material as usize);
-                m.is_gas().then(|| m.sigma(radius_of(s)))
-            }
-        }
+    // Gas (MODEL.md section 1): a material with 0 < transparency, or every sphere with
+    // --as-gas SIGMA. A sphere's material is looked up only when some material may be gas:
+    // with a colour per sphere those are random reads in a table as long as the spheres (about
+    // 1 s a pass at 1e7 spheres).
+    let maybe_gas = opts.as_gas.is_some() || materials.may_have_gas();
+    let is_gas = |s: &crate::scene::Sphere| {
+        opts.as_gas.is_some() || (maybe_gas && materials.get(s.material as usize).is_gas())
     };
     if materials.len() > crate::accel::bvh::MAX_MATERIALS {
         return Err(invalid(format!(
@@ -378,7 +370,11 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
             crate::accel::bvh::MAX_MATERIALS
         )));
     }
-    let gas_spheres = spheres.iter().filter(|s| sigma_of(s).is_some()).count();
+    let gas_spheres = if maybe_gas {
+        spheres.iter().filter(|s| is_gas(s)).count()
+    } else {
+        0
+    };
     // The ellipsoid of each sphere, kept only when there are any (the packed primitives keep
     // a flag; the BVH asks for the map by sphere index).
     let ellipsoid_of: Vec<Option<EllipsoidId>> = if spheres.iter().any(|s| s.ellipsoid.is_some()) {
@@ -392,7 +388,7 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
         .into_iter()
         .enumerate()
         .map(|(i, s)| {
-            let gas = opts.as_gas.is_some() || materials.get(s.material as usize).is_gas();
+            let gas = is_gas(&s);
             Packed::new(
                 s.center,
                 s.radius,

@@ -164,6 +164,13 @@ impl MaterialTable {
         i
     }
 
+    /// Whether some material may be gas (`Material::is_gas`): false means none is. (Answered
+    /// from the shared records alone, which gas-ness does not depend on the diffuse colour of;
+    /// a record no entry uses any more can make it true for nothing.)
+    pub fn may_have_gas(&self) -> bool {
+        self.rest.iter().any(Material::is_gas)
+    }
+
     /// Swaps entries `a` and `b`.
     pub fn swap(&mut self, a: usize, b: usize) {
         self.entries.swap(a, b);
@@ -338,6 +345,18 @@ mod tests {
         // 0 and -0 apart, the two NaNs apart.
         assert_eq!(table.palette.len(), 8);
         assert!(table.wide.is_empty());
+    }
+
+    #[test]
+    fn gas_is_seen_from_the_records() {
+        let mut table: MaterialTable = (0..100).map(material).filter(|m| !m.is_gas()).collect();
+        assert!(!table.may_have_gas());
+        let gas = Material {
+            transparency: 0.5,
+            ..material(1)
+        };
+        table.push(gas);
+        assert!(table.may_have_gas());
     }
 
     /// Past the palette's capacity, colours with new channel values are stored wide, and

@@ -317,6 +317,9 @@ pub struct Bounds {
 
 impl Scene {
     pub fn gas_count(&self) -> usize {
+        if !self.materials.may_have_gas() {
+            return 0;
+        }
         self.spheres
             .iter()
             .filter(|s| self.materials.get(s.material as usize).is_gas())
