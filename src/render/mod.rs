@@ -370,11 +370,6 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
             crate::accel::bvh::MAX_MATERIALS
         )));
     }
-    let gas_spheres = if maybe_gas {
-        spheres.iter().filter(|s| is_gas(s)).count()
-    } else {
-        0
-    };
     // The ellipsoid of each sphere, kept only when there are any (the packed primitives keep
     // a flag; the BVH asks for the map by sphere index).
     let ellipsoid_of: Vec<Option<EllipsoidId>> = if spheres.iter().any(|s| s.ellipsoid.is_some()) {
@@ -402,6 +397,7 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
     // The conversion left the spheres' larger allocation behind, its tail touched: give
     // the tail back (8 bytes a sphere).
     packed.shrink_to_fit();
+    let gas_spheres = packed.iter().filter(|q| q.is_gas()).count();
     let typical_radius = median_radius(&packed);
     let surface_colors = surface_color_bound(&surfaces);
     let sphere_count = packed.len();
