@@ -233,11 +233,7 @@ impl std::fmt::Debug for MaterialTable {
 
 impl From<Vec<Material>> for MaterialTable {
     fn from(materials: Vec<Material>) -> Self {
-        let mut table = MaterialTable::new();
-        for m in materials {
-            table.push(m);
-        }
-        table
+        materials.into_iter().collect()
     }
 }
 

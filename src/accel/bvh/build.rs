@@ -212,8 +212,7 @@ fn prim_box(p: &Packed, to_world: Option<&DAffine3>) -> (DVec3, DVec3) {
 impl SphereBvh {
     /// Builds the BVH. `ellipsoids` are the unit-sphere-to-world maps of `Scene::ellipsoids`.
     pub fn build(prims: Vec<Prim>, ellipsoids: &[DAffine3]) -> SphereBvh {
-        let per_chunk = MIN_CHUNK.max(prims.len().div_ceil(MAX_CHUNKS));
-        Self::build_chunked(prims, ellipsoids, per_chunk)
+        Self::build_chunked(prims, ellipsoids, MIN_CHUNK)
     }
 
     /// [`SphereBvh::build`] with a chosen chunk size (at least `len / MAX_CHUNKS`); tests use
@@ -252,8 +251,7 @@ impl SphereBvh {
         ellipsoids: &[DAffine3],
         side: &(dyn Fn(&Packed) -> (Option<EllipsoidId>, f64) + Sync),
     ) -> SphereBvh {
-        let per_chunk = MIN_CHUNK.max(packed.len().div_ceil(MAX_CHUNKS));
-        Self::build_packed_chunked(packed, ellipsoids, per_chunk, side)
+        Self::build_packed_chunked(packed, ellipsoids, MIN_CHUNK, side)
     }
 
     fn build_packed_chunked(
