@@ -12,7 +12,7 @@ use crate::source::SourceWindow;
 const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];
 
 /// Wraps a reader, decompressing it when it starts with the gzip magic number.
-pub fn sniff(reader: impl Read + 'static) -> std::io::Result<Box<dyn Read>> {
+pub fn sniff(reader: impl Read + Send + 'static) -> std::io::Result<Box<dyn Read + Send>> {
     let mut br = BufReader::with_capacity(1 << 16, reader);
     let head = br.fill_buf()?;
     if head.len() >= 2 && head[..2] == GZIP_MAGIC {

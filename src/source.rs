@@ -11,6 +11,12 @@ use std::sync::Arc;
 pub const LOOKAHEAD: usize = 64 * 1024;
 const CHUNK: usize = 1 << 20;
 
+/// Text kept behind the cursor for diagnostics. A diagnostic shows its line's text (and
+/// counts its column in characters) when the line starts at most this far behind the cursor:
+/// a rule of the cursor alone, so that it does not depend on how the text was read in (one
+/// stream, or pieces read apart and joined with [`SourceWindow::jump`]).
+pub const KEEP: u64 = 64 * 1024;
+
 /// Byte offsets of line starts, for turning offsets into 1-based line and column.
 ///
 /// Offsets are kept as their low 32 bits (4 bytes a line instead of 8: a million-line file
@@ -75,6 +81,13 @@ impl LineIndex {
     pub fn heap_bytes(&self) -> usize {
         self.low.capacity() * 4 + self.spans.capacity() * 8
     }
+
+    /// The line starts past `offset`, in order.
+    pub fn starts_after(&self, offset: u64) -> impl Iterator<Item = u64> + '_ {
+        // The first line starting past `offset` follows the one `offset` is on.
+        let first = self.line_col(offset).0 as usize;
+        (first..self.low.len()).map(|i| self.start(i))
+    }
 }
 
 /// A window over the source text; `buf[0]` is at absolute offset `base`.
@@ -92,6 +105,8 @@ pub struct SourceWindow {
     /// Absolute offset of the first invalid UTF-8 byte, if any (replaced by `?`).
     pub bad_utf8: Option<u64>,
     pub bytes_read: u64,
+    /// The end of the text read before the last [`Self::jump`], and its offset.
+    held: (u64, String),
 }
 
 impl SourceWindow {
@@ -108,6 +123,7 @@ impl SourceWindow {
             lines: LineIndex::new(),
             bad_utf8: None,
             bytes_read: 0,
+            held: (0, String::new()),
         }
     }
 
@@ -183,14 +199,40 @@ impl SourceWindow {
         Ok(true)
     }
 
+    /// Lines of text read elsewhere, past what was read here (before a [`Self::jump`] over
+    /// them).
+    pub fn lines_skipped(&mut self, starts: impl IntoIterator<Item = u64>) {
+        for l in starts {
+            self.lines.push(l);
+        }
+    }
+
+    /// Continues the text at offset `to` (at or past the end of what was read), from
+    /// `reader`: the text in between was read elsewhere (see `vrml::lower::parallel`), and
+    /// its lines given to [`Self::lines_skipped`]. Everything read so far must have been consumed; its last
+    /// [`KEEP`] bytes stay at hand for diagnostics.
+    pub fn jump(&mut self, to: u64, reader: Box<dyn Read>) {
+        let end = self.base + self.buf.len() as u64;
+        debug_assert!(to >= end && self.pos == self.buf.len() && self.pending.is_empty());
+        let mut from = self.buf.len().saturating_sub(KEEP as usize);
+        while !self.buf.is_char_boundary(from) {
+            from -= 1;
+        }
+        self.held = (self.base + from as u64, self.buf[from..].to_string());
+        self.bytes_read += to - end;
+        self.buf.clear();
+        self.base = to;
+        self.pos = 0;
+        self.eof = false;
+        self.reader = reader;
+    }
+
     fn compact(&mut self) {
         if self.pos < CHUNK {
             return;
         }
-        // Keep the current line's start (up to 2 KiB back) so diagnostics can still show it.
-        let abs = self.offset();
-        let line_start = self.lines.line_start(abs);
-        let keep_from_abs = line_start.max(abs.saturating_sub(2048)).max(self.base);
+        // Keep the last KEEP bytes, so that diagnostics can still show their lines.
+        let keep_from_abs = self.offset().saturating_sub(KEEP).max(self.base);
         let mut keep = (keep_from_abs - self.base) as usize;
         while !self.buf.is_char_boundary(keep) {
             keep -= 1;
@@ -264,10 +306,17 @@ impl SourceWindow {
         let line_start = offset + 1 - byte_col;
         let mut col = byte_col;
         let mut snippet = None;
-        if line_start >= self.base && line_start <= self.base + self.buf.len() as u64 {
-            let from = (line_start - self.base) as usize;
-            if self.buf.is_char_boundary(from) {
-                let text = &self.buf[from..];
+        let kept = line_start.saturating_add(KEEP) >= self.offset();
+        let text = if line_start >= self.base && line_start <= self.base + self.buf.len() as u64 {
+            Some(&self.buf[..]).zip(usize::try_from(line_start - self.base).ok())
+        } else {
+            let (base, held) = (self.held.0, &self.held.1);
+            (line_start >= base && line_start < base + held.len() as u64)
+                .then(|| (&held[..], (line_start - base) as usize))
+        };
+        if let Some((buf, from)) = text.filter(|_| kept) {
+            if buf.is_char_boundary(from) {
+                let text = &buf[from..];
                 let end = text.find('\n').unwrap_or(text.len());
                 let line_text = text[..end].trim_end_matches('\r');
                 let upto = ((offset - line_start) as usize).min(line_text.len());

@@ -131,7 +131,7 @@ fn open(path: &Path) -> Result<Box<dyn Read>, Error> {
         source: e,
     };
     let file = File::open(path).map_err(io)?;
-    sniff(file).map_err(io)
+    Ok(sniff(file).map_err(io)?)
 }
 
 /// Whether the (decompressed) input starts with the VRML header.

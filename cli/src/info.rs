@@ -85,6 +85,8 @@ pub fn to_json(path: &Path, s: &Scene, r: &LoadReport) -> serde_json::Value {
         "parse_seconds": r.seconds,
         "mb_per_s": mb_per_s(r),
         "nodes": r.nodes,
+        "read_pieces": r.read_pieces,
+        "read_again": r.read_again,
         "files": r.files,
         "peak_rss_bytes": crate::memory::peak_rss_bytes(),
     })
@@ -119,6 +121,12 @@ pub fn to_text(path: &Path, s: &Scene, r: &LoadReport) -> String {
         mb_per_s(r),
         r.nodes
     );
+    if r.read_pieces > 0 {
+        let _ = writeln!(o, "            in {} pieces at once", r.read_pieces);
+    }
+    if let Some(why) = &r.read_again {
+        let _ = writeln!(o, "            by one reader ({why})");
+    }
     let _ = writeln!(
         o,
         "spheres:    {} (opaque {}, gas {}, ellipsoids {})",

@@ -16,6 +16,10 @@ pub struct GeometryArgs {
     /// Cone and the other faces of IndexedFaceSets (counted under `skipped`).
     #[arg(long)]
     pub spheres_only: bool,
+    /// Threads that read a large scene file at once (default: as many as the command uses;
+    /// 1: one reader). The scene, its order and its warnings are the same either way.
+    #[arg(long, value_name = "N")]
+    pub read_threads: Option<usize>,
 }
 
 impl GeometryArgs {
@@ -31,6 +35,7 @@ impl GeometryArgs {
         Ok(LoadOptions {
             point_radius: self.point_radius,
             spheres_only: self.spheres_only,
+            read_threads: self.read_threads.unwrap_or(opts.read_threads),
             ..opts
         })
     }

@@ -6,6 +6,7 @@ mod materials;
 pub mod number;
 pub mod parse;
 pub mod schema;
+pub(crate) mod split;
 pub mod syntax;
 pub mod write;
 

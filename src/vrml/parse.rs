@@ -502,6 +502,19 @@ pub struct Parser {
     pub src: SourceWindow,
     stack: Vec<Frame>,
     scratch: Scratch,
+    /// Stop at the end of the input, wherever it is, instead of requiring the file's end
+    /// there (see [`Parser::resume`]).
+    pub pause_at_end: bool,
+}
+
+/// Where [`Parser::resume`] stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Run {
+    /// At the end of the file, every node closed.
+    Done,
+    /// At the end of the input, which may be anywhere between items: the driver continues it
+    /// ([`SourceWindow::jump`]) or stops there.
+    Paused,
 }
 
 /// A read error (I/O, corrupt gzip) at the point where the text stopped.
@@ -520,6 +533,7 @@ impl Parser {
             src,
             stack: Vec::new(),
             scratch: Scratch::default(),
+            pause_at_end: false,
         }
     }
 
@@ -578,21 +592,47 @@ impl Parser {
     /// parser (each event's variant is then known where it is handled); `&mut dyn Sink` works
     /// too.
     pub fn run<S: Sink + ?Sized>(&mut self, sink: &mut S) -> Result<(), Error> {
+        self.begin()?;
+        self.resume(sink)?;
+        self.end()
+    }
+
+    /// Reads the header line; [`Self::resume`] reads the rest.
+    pub fn begin(&mut self) -> Result<(), Error> {
         self.header()?;
         self.stack.push(Frame::Top);
+        Ok(())
+    }
+
+    /// At the end of the input: an error unless every node is closed.
+    pub fn end(&self) -> Result<(), Error> {
+        let what = match *self.stack.last().unwrap_or(&Frame::Top) {
+            Frame::Top => return Ok(()),
+            Frame::Body | Frame::Single => "expected '}' to close a node",
+            Frame::List => "expected ']' to close a list of nodes",
+            Frame::Iface { .. } => "expected ']' to close a PROTO interface",
+            Frame::ProtoBody => "expected '}' to close a PROTO body",
+        };
+        Err(self.error_at(self.src.offset(), format!("unexpected end of file: {what}")))
+    }
+
+    /// Whether the items read so far are at the top level of the file.
+    pub fn at_top(&self) -> bool {
+        matches!(self.stack.last(), None | Some(Frame::Top))
+    }
+
+    /// Reads items to the end of the input (then `Done`, or `Paused` with `pause_at_end`).
+    pub fn resume<S: Sink + ?Sized>(&mut self, sink: &mut S) -> Result<Run, Error> {
         loop {
             let next = self.skip_ws()?;
             let at = self.src.offset();
             let top = *self.stack.last().unwrap_or(&Frame::Top);
             let Some((first, ahead)) = next else {
-                let what = match top {
-                    Frame::Top => return Ok(()),
-                    Frame::Body | Frame::Single => "expected '}' to close a node",
-                    Frame::List => "expected ']' to close a list of nodes",
-                    Frame::Iface { .. } => "expected ']' to close a PROTO interface",
-                    Frame::ProtoBody => "expected '}' to close a PROTO body",
-                };
-                return Err(self.error_at(at, format!("unexpected end of file: {what}")));
+                if self.pause_at_end {
+                    return Ok(Run::Paused);
+                }
+                self.end()?;
+                return Ok(Run::Done);
             };
             match (top, first) {
                 (Frame::ProtoBody, b'}') => {

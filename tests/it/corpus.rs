@@ -14,7 +14,7 @@ fn corpus_dir() -> Option<PathBuf> {
     crate::support::shared("corpus")
 }
 
-fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
+pub(crate) fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
     let mut entries: Vec<_> = std::fs::read_dir(dir)
         .unwrap_or_else(|e| {
             panic!(

@@ -21,6 +21,7 @@ mod light_grid; // the lights' grids: candidates hold every sphere a band meets,
 mod mesh_glyphs; // merged sphere glyphs, points as particles, Box/Cylinder/Cone as surfaces
 mod mesh_spheres; // IndexedFaceSets on a sphere become that sphere; other meshes are skipped
 mod output; // PNG, EXR, PFM bytes against independent readers; the atomic write
+mod parallel_read; // reading in pieces on several threads gives one reader's scene, warnings and errors
 mod profile_chords; // density profiles' closed-form optical depth against independent quadrature
 mod regression; // inputs that once broke an invariant, named after what they guard
 mod render_gas; // gas emission and absorption against closed forms

@@ -21,8 +21,8 @@ use crate::vrml::syntax::OwnedEvent;
 /// The first NavigationInfo and Background are bound; later ones are ignored.
 #[derive(Default)]
 pub(super) struct Bound {
-    navigation_info: bool,
-    background: bool,
+    pub(super) navigation_info: bool,
+    pub(super) background: bool,
 }
 
 impl Lowerer {

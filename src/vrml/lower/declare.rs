@@ -299,11 +299,11 @@ impl Lowerer {
                     }
                 }
                 OwnedEvent::Use { name, at } => {
-                    let at = *at;
-                    let found = local
-                        .get(name)
-                        .cloned()
-                        .or_else(|| self.scopes.def(name).map(|d| d.range.clone()));
+                    let (name, at) = (name.clone(), *at);
+                    let found = match local.get(&name) {
+                        Some(r) => Some(r.clone()),
+                        None => self.lookup_def(&name).map(|d| d.range),
+                    };
                     match found {
                         Some(r) => self.rec.arena[i] = Rec::Used { range: r, at },
                         None => {

@@ -201,7 +201,7 @@ impl Lowerer {
 
     /// `USE name`: replays the DEF'd node's events (or records the USE).
     fn on_use(&mut self, src: &SourceWindow, name: &str, at: u64) -> Result<(), Error> {
-        let Some(d) = self.scopes.def(name) else {
+        let Some(d) = self.lookup_def(name) else {
             let open = self.scopes.is_open(name);
             if open && self.open.quiet > 0 {
                 // A Script that refers to itself: fine, it is not lowered.
@@ -220,9 +220,7 @@ impl Lowerer {
             };
             return Err(self.diags.error(src, at, msg));
         };
-        let range = d.range.clone();
-        let ty = d.ty.clone();
-        self.check_child(src, &ty, at);
-        self.use_range(src, range, at)
+        self.check_child(src, &d.ty, at);
+        self.use_range(src, d.range, at)
     }
 }

@@ -8,7 +8,9 @@
 
 use std::path::{Path, PathBuf};
 
+use super::expand::Subst;
 use super::open::{Frame, Kind, Marks, Name};
+use super::record::SetAside;
 use super::Lowerer;
 use crate::error::Error;
 use crate::source::SourceWindow;
@@ -24,6 +26,15 @@ pub(super) struct Files {
     pub(super) stack: Vec<PathBuf>,
     /// Source bytes read (decompressed), over all files.
     pub(super) bytes: u64,
+}
+
+/// What entering a file put aside ([`Lowerer::open_file`]).
+pub(super) struct Opened {
+    saved_file: u32,
+    depth: usize,
+    reusing: u32,
+    substs: Option<Vec<Subst>>,
+    aside: Option<SetAside>,
 }
 
 /// Whether an Inline's (or EXTERNPROTO's) url names a local file relative to the including one.
@@ -71,6 +82,17 @@ impl Lowerer {
 
     /// Parses and lowers one file, its Inlines included.
     pub(super) fn load_source(&mut self, src: SourceWindow, path: &Path) -> Result<(), Error> {
+        let mut opened = self.open_file(&src, path);
+        let mut parser = Parser::new(src);
+        let r = parser.run(self);
+        self.resume_outside(&mut opened);
+        r?;
+        self.close_file(opened, &parser.src)
+    }
+
+    /// Enters a file: its namespace, its root frame, and no recording or substitution of the
+    /// includer's. Then its events; then [`Self::resume_outside`] and [`Self::close_file`].
+    pub(super) fn open_file(&mut self, src: &SourceWindow, path: &Path) -> Opened {
         let saved_file = self.files.current;
         self.files.current = self.scene.files.len() as u32;
         self.scene.files.push(src.name.to_string());
@@ -91,24 +113,40 @@ impl Lowerer {
         // A DEF being recorded around the Inline records the Inline node, not the file's
         // events: a USE of it reads the file again (replaying them too drew it twice).
         let aside = self.rec.set_aside();
-        let mut parser = Parser::new(src);
-        let r = parser.run(self);
-        self.rec.resume(aside);
-        self.replay.reusing = reusing;
-        self.expansions.substs = substs;
-        r?;
-        let src = &parser.src;
+        Opened {
+            saved_file,
+            depth,
+            reusing,
+            substs: Some(substs),
+            aside: Some(aside),
+        }
+    }
+
+    /// Puts back the includer's recording and substitutions (once the file's events are
+    /// read, whether or not they failed).
+    pub(super) fn resume_outside(&mut self, opened: &mut Opened) {
+        if let Some(aside) = opened.aside.take() {
+            self.rec.resume(aside);
+        }
+        self.replay.reusing = opened.reusing;
+        if let Some(substs) = opened.substs.take() {
+            self.expansions.substs = substs;
+        }
+    }
+
+    /// Leaves a file whose events were all read: its warnings, its root frame, its namespace.
+    pub(super) fn close_file(&mut self, opened: Opened, src: &SourceWindow) -> Result<(), Error> {
         if let Some(at) = src.bad_utf8 {
             self.diags
                 .warn(src, at, "invalid UTF-8 (bytes replaced by '?')");
         }
-        debug_assert_eq!(self.open.frames.len(), depth);
+        debug_assert_eq!(self.open.frames.len(), opened.depth);
         let root = self.open.frames.pop().expect("file root frame");
         self.close_group_like(src, root.kind, 0)?;
         self.scopes.pop();
         self.files.stack.pop();
         self.files.bytes += src.bytes_read;
-        self.files.current = saved_file;
+        self.files.current = opened.saved_file;
         Ok(())
     }
 

@@ -57,7 +57,7 @@ impl Lowerer {
     /// the spheres', the open Appearances' and Shapes', and `i` (returned).
     #[cold]
     #[inline(never)]
-    fn merge_materials(&mut self, i: u32) -> u32 {
+    pub(super) fn merge_materials(&mut self, i: u32) -> u32 {
         let Some(new_index) = self.materials.recent.merge(&mut self.scene.materials) else {
             return i;
         };

@@ -71,6 +71,7 @@ mod material;
 mod mesh;
 mod mesh_shape;
 mod open;
+mod parallel;
 mod record;
 mod replay;
 mod route;
@@ -125,6 +126,12 @@ pub struct LoadOptions {
     /// Lower only spheres (Spheres, tessellated spheres, points): Box, Cylinder, Cone and the
     /// other faces of IndexedFaceSets are skipped, as before they were drawn.
     pub spheres_only: bool,
+    /// Threads that read a large file at once (0: as many as rayon's pool has; 1: one
+    /// reader). The scene, its order and its warnings are the same either way.
+    pub read_threads: usize,
+    /// The least text read in one piece (and the least file size read in pieces); tests set it
+    /// small.
+    pub read_chunk_bytes: u64,
 }
 
 impl Default for LoadOptions {
@@ -136,6 +143,8 @@ impl Default for LoadOptions {
             max_inline_depth: 16,
             point_radius: None,
             spheres_only: false,
+            read_threads: 0,
+            read_chunk_bytes: parallel::CHUNK_BYTES,
         }
     }
 }
@@ -163,6 +172,10 @@ pub struct LoadReport {
     pub point_spheres: u64,
     /// What loading chose for the user to know (the radius given to points).
     pub notes: Vec<Diagnostic>,
+    /// Pieces the scene file was read in at once (0: read by one reader).
+    pub read_pieces: usize,
+    /// Why a file started in pieces was read again by one reader.
+    pub read_again: Option<String>,
 }
 
 /// Refuses options no scene can be lowered with.
@@ -179,9 +192,56 @@ fn check_options(opts: &LoadOptions) -> Result<(), Error> {
 pub fn load_path(path: &Path, opts: &LoadOptions) -> Result<(Scene, LoadReport), Error> {
     let t0 = Instant::now();
     check_options(opts)?;
+    let size = std::fs::metadata(path).map_or(0, |m| m.len());
+    let name: Arc<str> = Arc::from(path.display().to_string());
+    let open = || -> Result<Box<dyn std::io::Read + Send>, Error> {
+        let io = |e| Error::Io {
+            path: path.display().to_string(),
+            source: e,
+        };
+        crate::input::sniff(std::fs::File::open(path).map_err(io)?).map_err(io)
+    };
+    load_in_pieces(name, path, size, open, opts, t0)
+}
+
+/// Reads in pieces when that may pay (see [`parallel`]), else (or when the pieces' result
+/// is thrown away) as one stream; `open` gives the decompressed text each time.
+fn load_in_pieces(
+    name: Arc<str>,
+    path: &Path,
+    size: u64,
+    open: impl Fn() -> Result<Box<dyn std::io::Read + Send>, Error>,
+    opts: &LoadOptions,
+    t0: Instant,
+) -> Result<(Scene, LoadReport), Error> {
+    let threads = match opts.read_threads {
+        0 => rayon::current_num_threads(),
+        n => n,
+    };
+    let mut again = None;
+    if threads > 1 && size >= 2 * opts.read_chunk_bytes {
+        let mut low = Lowerer::new(opts.clone());
+        match parallel::load(
+            &mut low,
+            name.clone(),
+            path,
+            open()?,
+            threads,
+            opts.read_chunk_bytes,
+        )? {
+            parallel::Parallel::Chunks(n) => {
+                let (scene, mut report) = low.finish(t0)?;
+                report.read_pieces = n;
+                return Ok((scene, report));
+            }
+            parallel::Parallel::Fallback(why) => again = Some(why),
+        }
+    }
     let mut low = Lowerer::new(opts.clone());
-    low.load_file(path)?;
-    low.finish(t0)
+    low.load_source(SourceWindow::new(name, open()?), path)?;
+    let (scene, mut report) = low.finish(t0)?;
+    report.read_again = again;
+    Ok((scene, report))
 }
 
 /// Loads a scene from bytes in memory (plain or gzip-compressed, any encoding errors
@@ -193,14 +253,15 @@ pub fn load_bytes(
 ) -> Result<(Scene, LoadReport), Error> {
     let t0 = Instant::now();
     check_options(opts)?;
-    let mut low = Lowerer::new(opts.clone());
-    let reader = crate::input::sniff(std::io::Cursor::new(bytes)).map_err(|e| Error::Io {
-        path: name.to_string(),
-        source: e,
-    })?;
-    let src = SourceWindow::new(Arc::from(name), reader);
-    low.load_source(src, Path::new(name))?;
-    low.finish(t0)
+    let size = bytes.len() as u64;
+    let bytes: Arc<[u8]> = Arc::from(bytes);
+    let open = || -> Result<Box<dyn std::io::Read + Send>, Error> {
+        crate::input::sniff(std::io::Cursor::new(bytes.clone())).map_err(|e| Error::Io {
+            path: name.to_string(),
+            source: e,
+        })
+    };
+    load_in_pieces(Arc::from(name), Path::new(name), size, open, opts, t0)
 }
 
 /// Loads scene text held in memory; `name` is used in messages and to resolve Inlines.
@@ -240,6 +301,12 @@ struct Lowerer {
     bound: Bound,
     /// Warnings and skipped node types.
     diags: Diags,
+    /// A chunk being read on its own (`parallel`).
+    watch: Option<parallel::Watch>,
+    /// Names chunks read on their own DEF'd: the main reader may not use them.
+    poison: Option<hashbrown::HashSet<String>>,
+    /// Why what was read in pieces must be read again by one reader.
+    fallback: Option<String>,
 }
 
 /// Warnings (repeats folded) and the node types counted as skipped.
@@ -329,6 +396,9 @@ impl Lowerer {
             externs: Externs::default(),
             bound: Bound::default(),
             diags: Diags::default(),
+            watch: None,
+            poison: None,
+            fallback: None,
         };
         let unlit = low
             .materials
@@ -366,6 +436,8 @@ impl Lowerer {
             mesh_spheres: self.meshes.spheres,
             point_spheres: self.meshes.point_spheres,
             notes: self.diags.notes,
+            read_pieces: 0,
+            read_again: None,
         };
         Ok((self.scene, report))
     }
@@ -386,6 +458,7 @@ impl Lowerer {
     #[inline]
     fn add_nodes(&mut self, n: u64, src: &SourceWindow, at: u64) -> Result<(), Error> {
         self.nodes += n;
+        self.watch_nodes(src.offset());
         let limit = self.opts.max_nodes.saturating_add(src.bytes_read);
         if self.nodes > limit {
             return Err(self.diags.error(

@@ -22,7 +22,7 @@ impl Lowerer {
         at: u64,
     ) {
         let end = |this: &mut Self, node: &str, field: &str, want_out: bool| -> Option<FieldType> {
-            let Some(d) = this.scopes.def(node) else {
+            let Some(d) = this.lookup_def(node) else {
                 this.diags
                     .warn(src, at, format!("ROUTE refers to undefined node '{node}'"));
                 return None;

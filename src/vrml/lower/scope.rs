@@ -121,6 +121,17 @@ impl Scopes {
         None
     }
 
+    /// The names the file's namespace has defined from arena position `mark` on.
+    pub(super) fn file_defs_since(&self, mark: usize) -> Vec<String> {
+        self.stack.first().map_or_else(Vec::new, |s| {
+            s.defs
+                .iter()
+                .filter(|(_, d)| d.range.start >= mark)
+                .map(|(n, _)| n.to_string())
+                .collect()
+        })
+    }
+
     /// A DEF'd node of this name has started and not yet ended.
     pub(super) fn open_def(&mut self, name: &Rc<str>) {
         if let Some(s) = self.stack.last_mut() {

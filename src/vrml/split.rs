@@ -1,0 +1,623 @@
+//! Finding where a large scene file can be read in pieces at once (see
+//! `lower::parallel`): a scan of the text's brackets, strings and comments, no parsing.
+//!
+//! The pieces are runs of whole sibling nodes of one list, the *region*: the top level of
+//! the file, or the `children` of a grouping node (Group, Transform, Anchor, Billboard,
+//! Collision) that is itself such a sibling all the way up, with no DEF on the way (a DEF'd
+//! node is recorded for its USEs, so its contents must be read where it is). Such nodes'
+//! children are lowered in their parent's coordinates and moved when the parent closes, so
+//! lowering them apart and putting the results in place gives what one reader would.
+//!
+//! The text splits into a *prefix* (read first, by the main reader and again by every piece's
+//! reader, so that each starts in the state the file is in there: the PROTOs declared, the
+//! DEFs made, the grouping nodes open), the region's *chunks*, and the rest. Every cut is just
+//! after the end of the line on which a sibling node's `}` ends, so that no line is split. The
+//! prefix ends at the region's first cut, which must come within `prefix_max` bytes; a PROTO
+//! statement at the top level ends a top-level region, and an EXTERNPROTO anywhere, or a word
+//! the scan cannot be sure of where it matters, leaves the whole file to one reader.
+
+use std::sync::Arc;
+
+/// What the scan hands on, in file order.
+#[derive(Debug)]
+pub enum Piece {
+    /// Text for the main reader.
+    Text(Vec<u8>),
+    /// The prefix has been handed on as `Text`; this is it again, for the chunks' readers.
+    Prefix(Arc<[u8]>),
+    /// A run of whole siblings of the region, starting at offset `start`.
+    Chunk { start: u64, text: Vec<u8> },
+    /// The region ends at `end`, after `chunks` chunks; the main reader's text goes on from
+    /// there.
+    RegionEnd { chunks: usize, end: u64 },
+}
+
+/// The grouping nodes whose `children` a region may be.
+const GROUPING: [&str; 5] = ["Group", "Transform", "Anchor", "Billboard", "Collision"];
+
+#[derive(Clone, Copy, Debug)]
+struct Frame {
+    /// `[` (a list), or `{` (a node or a PROTO body).
+    list: bool,
+    /// A list: may be the region. A node: a grouping node whose `children` may be.
+    split: bool,
+    /// A list: its first cut, where a region in it would start.
+    first_cut: Option<u64>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Lex {
+    Code,
+    String,
+    Escape,
+    Comment,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Mode {
+    /// Looking for a region.
+    Seeking,
+    /// Cutting the region at depth `depth` (the top level is depth 0).
+    Region { depth: usize },
+    /// Handing everything on to the main reader.
+    Through,
+}
+
+/// The PROTO statement at the top level, if one is being read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Proto {
+    None,
+    Interface,
+    /// Between the interface's `]` and the body's `{`.
+    AfterInterface,
+    Body,
+}
+
+/// The scan's state between blocks of text.
+pub struct Splitter {
+    chunk_bytes: u64,
+    prefix_max: u64,
+    /// Text not yet handed on; `hold[0]` is at offset `base`.
+    hold: Vec<u8>,
+    base: u64,
+    /// Where in `hold` the scan is.
+    at: usize,
+    lex: Lex,
+    mode: Mode,
+    /// Open brackets and braces below the top level (the top level is an implicit list).
+    stack: Vec<Frame>,
+    top_first_cut: Option<u64>,
+    proto: Proto,
+    /// A PROTO has a grouping node's name: those names may not be trusted.
+    grouping_shadowed: bool,
+    /// Where the words before the next bracket start (after the last structural byte), and
+    /// whether a string or comment came since (then they are not read).
+    span: usize,
+    dirty: bool,
+    /// After a sibling's `}`: looking for the end of its line (a cut), before anything but
+    /// white space and a comment.
+    after_close: bool,
+    /// The comment being read began where only white space followed the last structural
+    /// byte: the words after it can be read as if it were not there.
+    clean_comment: bool,
+    /// Where the next `[`, `]` or `#` is in `hold` (`usize::MAX`: none), and how much of
+    /// `hold` was searched for it, if known.
+    next_rare: Option<(usize, usize)>,
+    /// In the region: the last chunk's end and the last cut seen.
+    last_cut: u64,
+    last_valid: u64,
+    chunks: usize,
+}
+
+/// Bytes that the scan stops at.
+const STRUCTURAL: [bool; 256] = {
+    let mut t = [false; 256];
+    t[b'{' as usize] = true;
+    t[b'}' as usize] = true;
+    t[b'[' as usize] = true;
+    t[b']' as usize] = true;
+    t[b'"' as usize] = true;
+    t[b'#' as usize] = true;
+    t
+};
+
+fn is_ws(b: u8) -> bool {
+    matches!(b, b' ' | b'\t' | b'\r' | b'\n' | b',')
+}
+
+fn is_word(b: u8) -> bool {
+    !is_ws(b) && !STRUCTURAL[b as usize] && b != b'\'' && b > b' '
+}
+
+impl Splitter {
+    pub fn new(chunk_bytes: u64, prefix_max: u64) -> Self {
+        Splitter {
+            chunk_bytes: chunk_bytes.max(1),
+            prefix_max,
+            hold: Vec::new(),
+            base: 0,
+            at: 0,
+            lex: Lex::Code,
+            mode: Mode::Seeking,
+            stack: Vec::new(),
+            top_first_cut: None,
+            proto: Proto::None,
+            grouping_shadowed: false,
+            span: 0,
+            dirty: false,
+            after_close: false,
+            clean_comment: false,
+            next_rare: None,
+            last_cut: 0,
+            last_valid: 0,
+            chunks: 0,
+        }
+    }
+
+    /// Scans the next block of text; `out` takes the pieces it completes.
+    pub fn feed(&mut self, bytes: &[u8], out: &mut impl FnMut(Piece)) {
+        if self.mode == Mode::Through {
+            out(Piece::Text(bytes.to_vec()));
+            return;
+        }
+        self.hold.extend_from_slice(bytes);
+        self.scan(out);
+        if self.mode == Mode::Through {
+            return;
+        }
+        // Nothing may pile up without bound: a prefix too long, or a sibling too large.
+        let held = self.hold.len() as u64;
+        match self.mode {
+            Mode::Seeking if held > self.prefix_max + 4 * self.chunk_bytes => {
+                self.give_up(out);
+            }
+            Mode::Region { .. } if held > 8 * self.chunk_bytes.max(1 << 20) => {
+                self.end_region(out);
+            }
+            _ => {}
+        }
+    }
+
+    /// The end of the text.
+    pub fn finish(mut self, out: &mut impl FnMut(Piece)) {
+        match self.mode {
+            Mode::Region { .. } => self.end_region(out),
+            Mode::Seeking => self.give_up(out),
+            Mode::Through => {}
+        }
+    }
+
+    /// Hands everything on to the main reader from here.
+    fn give_up(&mut self, out: &mut impl FnMut(Piece)) {
+        self.mode = Mode::Through;
+        if !self.hold.is_empty() {
+            out(Piece::Text(std::mem::take(&mut self.hold)));
+        }
+    }
+
+    fn end_region(&mut self, out: &mut impl FnMut(Piece)) {
+        if self.last_valid > self.last_cut {
+            self.chunk(self.last_valid, out);
+        }
+        out(Piece::RegionEnd {
+            chunks: self.chunks,
+            end: self.last_valid,
+        });
+        self.give_up(out);
+    }
+
+    /// Takes the first `n` bytes of `hold` (copying only what follows them, usually less).
+    fn take_head(&mut self, n: usize) -> Vec<u8> {
+        let mut rest = Vec::with_capacity(self.hold.capacity().max(n));
+        rest.extend_from_slice(&self.hold[n..]);
+        self.hold.truncate(n);
+        self.next_rare = None;
+        std::mem::replace(&mut self.hold, rest)
+    }
+
+    /// Hands on the region's text up to `end` as a chunk.
+    fn chunk(&mut self, end: u64, out: &mut impl FnMut(Piece)) {
+        let n = (end - self.base) as usize;
+        let text = self.take_head(n);
+        out(Piece::Chunk {
+            start: self.base,
+            text,
+        });
+        self.base = end;
+        self.at -= n;
+        self.span = self.span.saturating_sub(n);
+        self.last_cut = end;
+        self.chunks += 1;
+    }
+
+    /// The next structural byte at or after `at`: braces and quotes are common, brackets and
+    /// comments rare, so the next rare one is looked for once and remembered.
+    fn next_structural(&mut self) -> Option<usize> {
+        let at = self.at;
+        let len = self.hold.len();
+        let stale = match self.next_rare {
+            None => true,
+            // Passed, or none was found in what `hold` held then.
+            Some((r, upto)) => r < at || (r == usize::MAX && upto < len),
+        };
+        if stale {
+            let from = match self.next_rare {
+                Some((usize::MAX, upto)) => upto.max(at),
+                _ => at,
+            };
+            let r = memchr::memchr3(b'[', b']', b'#', &self.hold[from..])
+                .map_or(usize::MAX, |k| from + k);
+            self.next_rare = Some((r, len));
+        }
+        let rare = self.next_rare.map_or(usize::MAX, |r| r.0);
+        let end = rare.min(len);
+        match memchr::memchr3(b'{', b'}', b'"', &self.hold[at..end]) {
+            Some(k) => Some(at + k),
+            None => (rare < len).then_some(rare),
+        }
+    }
+
+    /// The last `k` words before `hold[i]` (nearest first), if the span holds no string or
+    /// comment.
+    fn words_before(&self, i: usize, k: usize) -> Option<Vec<&[u8]>> {
+        if self.dirty {
+            return None;
+        }
+        let text = &self.hold[self.span.min(i)..i];
+        let mut words = Vec::with_capacity(k);
+        let mut end = text.len();
+        while words.len() < k {
+            while end > 0 && is_ws(text[end - 1]) {
+                end -= 1;
+            }
+            let mut start = end;
+            while start > 0 && is_word(text[start - 1]) {
+                start -= 1;
+            }
+            if start == end {
+                break;
+            }
+            words.push(&text[start..end]);
+            end = start;
+        }
+        Some(words)
+    }
+
+    fn scan(&mut self, out: &mut impl FnMut(Piece)) {
+        while self.at < self.hold.len() && self.mode != Mode::Through {
+            let b = self.hold[self.at];
+            match self.lex {
+                Lex::String => {
+                    match b {
+                        b'"' => self.lex = Lex::Code,
+                        b'\\' => self.lex = Lex::Escape,
+                        _ => {}
+                    }
+                    self.at += 1;
+                    continue;
+                }
+                Lex::Escape => {
+                    self.lex = Lex::String;
+                    self.at += 1;
+                    continue;
+                }
+                Lex::Comment => {
+                    match memchr::memchr(b'\n', &self.hold[self.at..]) {
+                        Some(k) => {
+                            self.at += k;
+                            self.lex = Lex::Code;
+                            if self.clean_comment {
+                                self.span = self.at;
+                                self.dirty = false;
+                            }
+                        }
+                        None => self.at = self.hold.len(),
+                    }
+                    continue;
+                }
+                Lex::Code => {}
+            }
+            if self.after_close {
+                if b == b'\n' {
+                    self.after_close = false;
+                    self.at += 1;
+                    self.cut(self.base + self.at as u64, out);
+                    continue;
+                }
+                if is_ws(b) {
+                    self.at += 1;
+                    continue;
+                }
+                // A comment on the line is still on it (the cut follows its end).
+                self.after_close = b == b'#';
+            }
+            if !STRUCTURAL[b as usize] {
+                match self.next_structural() {
+                    Some(k) => self.at = k,
+                    None => {
+                        self.at = self.hold.len();
+                        continue;
+                    }
+                }
+            }
+            let i = self.at;
+            self.at += 1;
+            match self.hold[i] {
+                b'"' => {
+                    self.lex = Lex::String;
+                    self.dirty = true;
+                }
+                b'#' => {
+                    self.lex = Lex::Comment;
+                    self.clean_comment =
+                        !self.dirty && self.hold[self.span.min(i)..i].iter().all(|&c| is_ws(c));
+                    self.dirty = true;
+                }
+                b'{' => self.open_brace(i, out),
+                b'[' => self.open_bracket(i, out),
+                b'}' => self.close(false, out),
+                b']' => self.close(true, out),
+                _ => unreachable!(),
+            }
+            if self.lex == Lex::Code {
+                self.span = self.at;
+                self.dirty = false;
+            }
+        }
+    }
+
+    fn open_brace(&mut self, i: usize, out: &mut impl FnMut(Piece)) {
+        if self.stack.is_empty() && self.proto == Proto::AfterInterface {
+            self.proto = Proto::Body;
+            self.stack.push(Frame {
+                list: false,
+                split: false,
+                first_cut: None,
+            });
+            return;
+        }
+        let parent_split = match self.stack.last() {
+            None => true,
+            Some(f) => f.list && f.split,
+        };
+        let split = parent_split
+            && !self.grouping_shadowed
+            && self.words_before(i, 3).is_some_and(|w| {
+                w.first()
+                    .is_some_and(|ty| GROUPING.iter().any(|g| g.as_bytes() == *ty))
+                    && w.get(2).is_none_or(|d| *d != b"DEF")
+            });
+        if self.stack.is_empty() && self.proto != Proto::None {
+            // Not a VRML97 statement: leave it to the parser to say so.
+            self.give_up(out);
+            return;
+        }
+        self.stack.push(Frame {
+            list: false,
+            split,
+            first_cut: None,
+        });
+    }
+
+    fn open_bracket(&mut self, i: usize, out: &mut impl FnMut(Piece)) {
+        if self.stack.is_empty() {
+            // Only a PROTO or EXTERNPROTO interface opens with `[` at the top level.
+            let words = self.words_before(i, 2);
+            let keyword = words.as_ref().and_then(|w| w.get(1).copied());
+            if keyword != Some(b"PROTO") || self.proto != Proto::None {
+                self.give_up(out);
+                return;
+            }
+            let name = words
+                .as_ref()
+                .and_then(|w| w.first().copied())
+                .unwrap_or(b"");
+            self.grouping_shadowed |= GROUPING.iter().any(|g| g.as_bytes() == name);
+            self.proto = Proto::Interface;
+            match self.mode {
+                // The region ends before the PROTO, which is read after it.
+                Mode::Region { depth: 0 } => self.end_region(out),
+                // A region starts after the PROTOs it may instance.
+                _ => self.top_first_cut = None,
+            }
+            if self.mode == Mode::Through {
+                return;
+            }
+            self.stack.push(Frame {
+                list: true,
+                split: false,
+                first_cut: None,
+            });
+            return;
+        }
+        let parent = *self.stack.last().expect("not the top level");
+        let split = !parent.list
+            && parent.split
+            && self
+                .words_before(i, 1)
+                .is_some_and(|w| w.first().is_some_and(|f| *f == b"children"));
+        self.stack.push(Frame {
+            list: true,
+            split,
+            first_cut: None,
+        });
+    }
+
+    fn close(&mut self, list: bool, out: &mut impl FnMut(Piece)) {
+        let Some(f) = self.stack.pop() else {
+            // Unbalanced: leave it to the parser to say so.
+            self.give_up(out);
+            return;
+        };
+        if f.list != list {
+            self.give_up(out);
+            return;
+        }
+        if let Mode::Region { depth } = self.mode {
+            if self.stack.len() + 1 == depth {
+                // The region's list closes.
+                self.end_region(out);
+                return;
+            }
+        }
+        if self.stack.is_empty() {
+            match self.proto {
+                Proto::Interface if list => {
+                    self.proto = Proto::AfterInterface;
+                    return;
+                }
+                Proto::Body if !list => self.proto = Proto::None,
+                Proto::None => {}
+                _ => {
+                    self.give_up(out);
+                    return;
+                }
+            }
+        }
+        // A sibling in a list that may be the region ends: its line's end is a cut.
+        if !list && self.stack.last().is_none_or(|p| p.list && p.split) {
+            self.after_close = true;
+        }
+    }
+
+    /// A cut at offset `c` in the innermost list.
+    fn cut(&mut self, c: u64, out: &mut impl FnMut(Piece)) {
+        let depth = self.stack.len();
+        match self.mode {
+            Mode::Region { depth: d } if d == depth => {
+                self.last_valid = c;
+                if c - self.last_cut >= self.chunk_bytes {
+                    self.chunk(c, out);
+                }
+            }
+            Mode::Seeking => {
+                let first = match self.stack.last_mut() {
+                    None => &mut self.top_first_cut,
+                    Some(f) => &mut f.first_cut,
+                };
+                let Some(start) = *first else {
+                    *first = Some(c);
+                    return;
+                };
+                if c - start < self.chunk_bytes || start > self.prefix_max {
+                    return;
+                }
+                // The region starts: the prefix goes to the main reader and to the chunks'.
+                let n = (start - self.base) as usize;
+                let prefix = self.take_head(n);
+                self.base = start;
+                self.at -= n;
+                self.span = self.span.saturating_sub(n);
+                out(Piece::Prefix(Arc::from(&prefix[..])));
+                out(Piece::Text(prefix));
+                self.mode = Mode::Region { depth };
+                self.last_cut = start;
+                self.last_valid = c;
+                self.chunk(c, out);
+            }
+            _ => {}
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The pieces of `text` fed in blocks of `block` bytes.
+    fn pieces(text: &str, chunk: u64, block: usize) -> Vec<Piece> {
+        let mut s = Splitter::new(chunk, 1 << 20);
+        let mut v = Vec::new();
+        for b in text.as_bytes().chunks(block) {
+            s.feed(b, &mut |p| v.push(p));
+        }
+        s.finish(&mut |p| v.push(p));
+        v
+    }
+
+    /// The text put back together, and the chunks' texts.
+    fn rejoin(v: &[Piece]) -> (String, Vec<String>) {
+        let mut all = Vec::new();
+        let mut chunks = Vec::new();
+        for p in v {
+            match p {
+                Piece::Text(t) => all.extend_from_slice(t),
+                Piece::Chunk { start, text } => {
+                    assert_eq!(*start as usize, all.len());
+                    all.extend_from_slice(text);
+                    chunks.push(String::from_utf8(text.clone()).unwrap());
+                }
+                Piece::Prefix(_) | Piece::RegionEnd { .. } => {}
+            }
+        }
+        (String::from_utf8(all).unwrap(), chunks)
+    }
+
+    #[test]
+    fn splits_top_level_and_children_and_keeps_every_byte() {
+        let node = "Transform { translation 1 2 3 children Shape { geometry Sphere {} } }\n";
+        let flat = format!("#VRML V2.0 utf8\n{}", node.repeat(50));
+        let group = format!(
+            "#VRML V2.0 utf8\nGroup {{ children [\n{}] }}\n",
+            node.repeat(50)
+        );
+        for text in [&flat, &group] {
+            for block in [1, 7, 4096] {
+                let v = pieces(text, 200, block);
+                let (all, chunks) = rejoin(&v);
+                assert_eq!(&all, text);
+                assert!(chunks.len() >= 10, "{} chunks", chunks.len());
+                for c in &chunks {
+                    assert!(c.ends_with('\n'), "{c:?}");
+                    assert_eq!(c.matches('{').count(), c.matches('}').count());
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn leaves_def_protos_and_strings_alone() {
+        let node = "Transform { children Shape { geometry Sphere {} } }\n";
+        // A DEF'd group, a grouping node inside a string, an EXTERNPROTO: no region.
+        let texts = [
+            format!(
+                "#VRML V2.0 utf8\nDEF G Group {{ children [\n{}] }}\n",
+                node.repeat(50)
+            ),
+            format!(
+                "#VRML V2.0 utf8\nEXTERNPROTO P [] \"p.wrl\"\n{}",
+                node.repeat(50)
+            ),
+            format!(
+                "#VRML V2.0 utf8\nWorldInfo {{ info \"Group {{ children [\" }}\n{}",
+                "Shape { geometry Sphere {} }\n".repeat(3)
+            ),
+        ];
+        let (_, chunks) = rejoin(&pieces(&texts[0], 100, 13));
+        // The top level holds one node: no cut inside the DEF'd Group.
+        assert!(chunks.is_empty(), "{chunks:?}");
+        let (all, chunks) = rejoin(&pieces(&texts[1], 100, 13));
+        assert_eq!(all, texts[1]);
+        assert!(chunks.is_empty());
+        let (all, _) = rejoin(&pieces(&texts[2], 10, 5));
+        assert_eq!(all, texts[2]);
+        // A PROTO at the top level: the region starts after it and ends at the next one.
+        let text = format!(
+            "#VRML V2.0 utf8\nPROTO P [ field SFNode n Group {{}} ] {{ Group {{ children [ Shape {{}} ] }} }}\n{}PROTO Q [] {{ Group {{}} }}\n{}",
+            "P {}\n".repeat(40),
+            "Q {}\n".repeat(40)
+        );
+        let v = pieces(&text, 30, 11);
+        let (all, chunks) = rejoin(&v);
+        assert_eq!(all, text);
+        assert!(!chunks.is_empty());
+        assert!(chunks
+            .iter()
+            .all(|c| !c.contains("PROTO") && !c.contains('Q')));
+        let prefix = v.iter().find_map(|p| match p {
+            Piece::Prefix(p) => Some(String::from_utf8(p.to_vec()).unwrap()),
+            _ => None,
+        });
+        assert!(prefix.unwrap().contains("PROTO P"));
+    }
+}

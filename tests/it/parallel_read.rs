@@ -1,0 +1,270 @@
+//! Reading a file in pieces on several threads gives what one reader gives: the same scene
+//! (every sphere, its order, materials, lights and their scopes, viewpoints), the same
+//! warnings and counts, and the same errors. The pieces here are tiny, so that small files
+//! are cut in many places; files where a piece depends on another across a cut (DEF/USE,
+//! PROTOs) are generated on purpose, and the report says whether the pieces' result was
+//! kept or the file read again.
+
+use gtsphere::scene::Scene;
+use gtsphere::vrml::lower::{load_bytes, LoadOptions, LoadReport};
+use proptest::prelude::*;
+
+fn load(text: &str, threads: usize, chunk: u64) -> Result<(Scene, LoadReport), String> {
+    let opts = LoadOptions {
+        read_threads: threads,
+        read_chunk_bytes: chunk,
+        ..LoadOptions::default()
+    };
+    load_bytes("scene.wrl", text.as_bytes().to_vec(), &opts).map_err(|e| e.to_string())
+}
+
+/// Loads `text` by one reader and in pieces, and checks that the two agree bit for bit.
+/// Returns the pieces' report.
+fn same(text: &str, threads: usize, chunk: u64) -> Option<LoadReport> {
+    let one = load(text, 1, chunk);
+    let many = load(text, threads, chunk);
+    match (one, many) {
+        (Ok((a, ra)), Ok((b, rb))) => {
+            assert_eq!(ra.read_pieces, 0);
+            assert_eq!(format!("{a:?}"), format!("{b:?}"), "scenes differ:\n{text}");
+            assert!(a == b);
+            assert_eq!(ra.warnings, rb.warnings, "{text}");
+            assert_eq!(ra.notes, rb.notes);
+            assert_eq!(ra.skipped, rb.skipped);
+            assert_eq!(ra.nodes, rb.nodes);
+            assert_eq!(ra.bytes, rb.bytes);
+            assert_eq!(ra.mesh_spheres, rb.mesh_spheres);
+            Some(rb)
+        }
+        (Err(a), Err(b)) => {
+            assert_eq!(a, b, "{text}");
+            None
+        }
+        (a, b) => panic!(
+            "one reader: {:?}\nin pieces: {:?}\n{text}",
+            a.map(|r| r.1.read_pieces),
+            b.map(|r| r.1.read_pieces)
+        ),
+    }
+}
+
+fn particle(i: usize) -> String {
+    let c = |k: usize| ((i * 7919 + k * 104_729) % 1000) as f64 / 1000.0;
+    format!(
+        "Transform {{ translation {} {} {} children Shape {{ appearance Appearance {{ material Material {{ diffuseColor {} {} {} }} }} geometry Sphere {{ radius {} }} }} }}\n",
+        c(1) * 10.0,
+        c(2) * 10.0,
+        c(3) * 10.0,
+        c(4),
+        c(5),
+        c(6),
+        0.1 + c(7) * 0.2
+    )
+}
+
+#[test]
+fn the_three_layouts_are_read_in_pieces() {
+    let flat: String = (0..300).map(particle).collect();
+    let flat = format!("#VRML V2.0 utf8\n{flat}");
+    let group: String = (0..300).map(particle).collect();
+    let group = format!(
+        "#VRML V2.0 utf8\nViewpoint {{ position 0 0 30 }}\nTransform {{ children [\n{group}] translation 1 2 3 scale 2 1 1 }}\n"
+    );
+    let mut proto = String::from(
+        "#VRML V2.0 utf8\nPROTO P [ field SFVec3f c 0 0 0 field SFFloat r 1 field SFColor k 1 1 1 ] {\n  Transform { translation IS c children Shape { appearance Appearance { material Material { diffuseColor IS k } } geometry Sphere { radius IS r } } }\n}\n",
+    );
+    for i in 0..300 {
+        proto += &format!("P {{ c {i} 0 1 r 0.{} k 0.5 0.{} 1 }}\n", 1 + i % 9, i % 10);
+    }
+    for text in [&flat, &group, &proto] {
+        for threads in [2, 3] {
+            let r = same(text, threads, 500).expect("loads");
+            assert!(
+                r.read_pieces >= 10,
+                "{} pieces {:?}",
+                r.read_pieces,
+                r.read_again
+            );
+            assert_eq!(r.read_again, None);
+        }
+    }
+}
+
+#[test]
+fn a_use_across_a_cut_is_read_again_by_one_reader() {
+    // A DEF in one piece, USEd in a later one: the later piece cannot see it, and says so.
+    let mut text = String::from("#VRML V2.0 utf8\nDEF A Shape { geometry Sphere {} }\n");
+    for i in 0..100 {
+        text += &particle(i);
+    }
+    text += "DEF B Shape { geometry Sphere { radius 2 } }\n";
+    for i in 0..100 {
+        text += &particle(i);
+    }
+    text += "Transform { translation 1 1 1 children USE B }\nTransform { children USE A }\n";
+    let r = same(&text, 2, 500).expect("loads");
+    assert!(r.read_again.is_some(), "{:?}", r.read_pieces);
+    // A DEF of the prefix USEd in a piece: fine, every piece reads the prefix.
+    let mut text = String::from("#VRML V2.0 utf8\nDEF A Shape { geometry Sphere {} }\n");
+    for i in 0..200 {
+        text += &particle(i);
+        text += "Transform { translation 0 1 0 children USE A }\n";
+    }
+    let r = same(&text, 2, 500).expect("loads");
+    assert!(r.read_pieces > 5 && r.read_again.is_none());
+}
+
+#[test]
+fn errors_and_warnings_are_one_readers() {
+    let body: String = (0..200).map(particle).collect();
+    let cases = [
+        format!("#VRML V2.0 utf8\n{body}Transform {{ children USE Nobody }}\n{body}"),
+        format!("#VRML V2.0 utf8\n{body}Shape {{ geometry Sphere {{ radius -1 }} }}\n{body}"),
+        format!("#VRML V2.0 utf8\n{body}Frobnicate {{ }}\nShape {{ wibble 3 }}\n{body}"),
+        format!("#VRML V2.0 utf8\nGroup {{ children [\n{body}\n"),
+        format!("#VRML V2.0 utf8\n{body}}}\n"),
+    ];
+    for text in &cases {
+        same(text, 2, 700);
+    }
+}
+
+/// One random node of a generated scene, `depth` levels down.
+fn node(rng: &mut impl FnMut() -> u64, depth: usize, defs: &mut Vec<String>) -> String {
+    let pick = rng() % 16;
+    let mut s = String::new();
+    // A DEF'd particle or group; its name is USEable once the node is written.
+    let name = (pick <= 7 && rng() % 6 == 0).then(|| format!("N{}", rng() % 8));
+    let def = name.as_ref().map_or(String::new(), |n| format!("DEF {n} "));
+    match pick {
+        0..=5 => {
+            s += &particle(rng() as usize % 1000).replacen(
+                "Transform",
+                &format!("{def}Transform"),
+                1,
+            )
+        }
+        6 | 7 if depth < 3 => {
+            let kids: String = (0..rng() % 6).map(|_| node(rng, depth + 1, defs)).collect();
+            let ty = ["Group", "Transform", "Anchor", "Billboard"][rng() as usize % 4];
+            let after = if ty == "Transform" && rng() % 2 == 0 {
+                " translation 1 0 0 scale 1 2 1"
+            } else {
+                ""
+            };
+            s += &format!("{def}{ty} {{ children [\n{kids}]{after} }}\n");
+        }
+        8 if !defs.is_empty() => {
+            let name = &defs[rng() as usize % defs.len()];
+            s += &format!(
+                "Transform {{ translation 0 {} 0 children USE {name} }}\n",
+                rng() % 5
+            );
+        }
+        9 => s += "DirectionalLight { direction 0 -1 0 intensity 0.5 }\n",
+        10 => s += &format!("PointLight {{ location {} 1 1 }}\n", rng() % 9),
+        11 => s += "Viewpoint { position 0 0 9 description \"a { view [ with } brackets\" }\n",
+        12 => s += "# a comment with a Group { children [ in it\n",
+        13 => s += "NavigationInfo { headlight FALSE }\nBackground { skyColor 0.1 0.2 0.3 }\n",
+        14 => s += "Switch { whichChoice 0 choice [ Shape { geometry Sphere { radius 3 } } ] }\n",
+        _ => s += "P { c 1 2 3 }\n",
+    }
+    defs.extend(name);
+    s
+}
+
+fn scene(seed: u64) -> String {
+    let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+    let mut rng = move || {
+        state ^= state >> 12;
+        state ^= state << 25;
+        state ^= state >> 27;
+        state.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11
+    };
+    let mut text = String::from("#VRML V2.0 utf8\n");
+    if rng() % 8 != 0 {
+        text += "PROTO P [ field SFVec3f c 0 0 0 ] { Transform { translation IS c children Shape { geometry Sphere { radius 0.5 } } } }\n";
+    }
+    let mut defs = Vec::new();
+    let wrap = rng() % 3 == 0;
+    if wrap {
+        text += "Transform { translation 5 0 0 children [\n";
+    }
+    for _ in 0..(20 + rng() % 60) {
+        text += &node(&mut rng, 0, &mut defs);
+    }
+    if wrap {
+        text += "] rotation 0 1 0 0.5 }\n";
+    }
+    if rng() % 5 == 0 {
+        text += "PROTO Q [] { Group {} }\nQ {}\n";
+    }
+    for _ in 0..rng() % 10 {
+        text += &node(&mut rng, 0, &mut defs);
+    }
+    text
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+    #[test]
+    fn pieces_agree_with_one_reader(seed in any::<u64>(), chunk in 64u64..1500, threads in 2usize..4) {
+        same(&scene(seed), threads, chunk);
+    }
+}
+
+#[test]
+fn random_scenes_take_both_paths() {
+    // The property above would pass if nothing were ever read in pieces, or if nothing were
+    // ever read again: count both.
+    let reports: Vec<LoadReport> = (0..200)
+        .filter_map(|seed| same(&scene(seed), 2, 300))
+        .collect();
+    let kept = reports
+        .iter()
+        .filter(|r| r.read_pieces > 1 && r.read_again.is_none())
+        .count();
+    let again = reports.iter().filter(|r| r.read_again.is_some()).count();
+    assert!(
+        kept >= 20 && again >= 20,
+        "{kept} kept, {again} read again, of {}",
+        reports.len()
+    );
+}
+
+#[test]
+fn corpus_files_in_pieces_are_one_readers() {
+    // Real exporters' files, cut into 2 kB pieces wherever the scan allows.
+    let Some(corpus) = crate::support::shared("corpus") else {
+        return;
+    };
+    let mut files = Vec::new();
+    crate::corpus::walk(&corpus, &mut files);
+    let load = |f: &std::path::Path, threads| {
+        let opts = LoadOptions {
+            read_threads: threads,
+            read_chunk_bytes: 2048,
+            ..LoadOptions::default()
+        };
+        gtsphere::vrml::lower::load_path(f, &opts).map_err(|e| e.to_string())
+    };
+    let (mut kept, mut again) = (0, 0);
+    for f in &files {
+        match (load(f, 1), load(f, 2)) {
+            (Ok((a, ra)), Ok((b, rb))) => {
+                assert_eq!(format!("{a:?}"), format!("{b:?}"), "{}", f.display());
+                assert_eq!(ra.warnings, rb.warnings, "{}", f.display());
+                assert_eq!((ra.skipped, ra.nodes), (rb.skipped, rb.nodes));
+                kept += usize::from(rb.read_pieces > 1);
+                again += usize::from(rb.read_again.is_some());
+            }
+            (Err(a), Err(b)) => assert_eq!(a, b, "{}", f.display()),
+            (a, b) => panic!("{}: {:?} / {:?}", f.display(), a.is_ok(), b.is_ok()),
+        }
+    }
+    // Both paths are taken on real files.
+    assert!(
+        kept >= 10 && again >= 1,
+        "{kept} in pieces, {again} read again"
+    );
+}
