@@ -118,10 +118,44 @@ impl MaterialTable {
         Some(k as u64)
     }
 
-    /// Appends `m` (no search for an equal material: the loader shares materials) and returns
-    /// its index.
-    pub fn push(&mut self, m: Material) -> u32 {
-        let key = rest_key(&m);
+    /// Appends every material of `other`, in order: what [`Self::push`] of each would store,
+    /// with `other`'s palette and records looked up once each rather than once per material
+    /// (for the tables of a file's pieces read on other threads).
+    pub fn append(&mut self, other: &MaterialTable) {
+        let records: Vec<u32> = other.rest.iter().map(|m| self.record(m)).collect();
+        let palette: Vec<Option<u64>> = other.palette.iter().map(|&v| self.channel(v)).collect();
+        self.entries.reserve(other.entries.len());
+        for &e in &other.entries {
+            let word = if e & PACKED != 0 {
+                let r = records[(e >> (3 * CHANNEL_BITS)) as usize & (PACKED_RECORDS as usize - 1)];
+                let channel = |shift: u32| palette[(e >> shift & CHANNEL) as usize];
+                match (channel(2 * CHANNEL_BITS), channel(CHANNEL_BITS), channel(0)) {
+                    (Some(x), Some(y), Some(z)) if r < PACKED_RECORDS => Ok(PACKED
+                        | u64::from(r) << (3 * CHANNEL_BITS)
+                        | x << (2 * CHANNEL_BITS)
+                        | y << CHANNEL_BITS
+                        | z),
+                    _ => {
+                        let c = |shift: u32| other.palette[(e >> shift & CHANNEL) as usize];
+                        Err((DVec3::new(c(2 * CHANNEL_BITS), c(CHANNEL_BITS), c(0)), r))
+                    }
+                }
+            } else {
+                let (c, r) = other.wide[e as usize];
+                Err((c, records[r as usize]))
+            };
+            let entry = word.unwrap_or_else(|wide| {
+                self.wide.push(wide);
+                (self.wide.len() - 1) as u64
+            });
+            self.entries.push(entry);
+        }
+    }
+
+    /// The index in `rest` of a record equal to `m`'s (all but the diffuse colour), stored if
+    /// the cache finds none.
+    fn record(&mut self, m: &Material) -> u32 {
+        let key = rest_key(m);
         let s = slot(&key);
         let recent = self.recent.get_or_insert_with(|| Box::new([0; SLOTS]));
         let found = match recent[s] {
@@ -131,15 +165,21 @@ impl MaterialTable {
                 (rest_key(&self.rest[r as usize]) == key).then_some(r)
             }
         };
-        let r = found.unwrap_or_else(|| {
+        found.unwrap_or_else(|| {
             let r = self.rest.len() as u32;
             self.rest.push(Material {
                 diffuse: DVec3::ZERO,
-                ..m
+                ..*m
             });
             recent[s] = r + 1;
             r
-        });
+        })
+    }
+
+    /// Appends `m` (no search for an equal material: the loader shares materials) and returns
+    /// its index.
+    pub fn push(&mut self, m: Material) -> u32 {
+        let r = self.record(&m);
         let i = self.entries.len() as u32;
         let c = m.diffuse;
         let packed = if r < PACKED_RECORDS {
@@ -309,6 +349,37 @@ mod tests {
             let m = want[7];
             let i = table.push(m);
             assert_eq!(table.get(i as usize), m);
+        }
+    }
+
+    /// Appending a table gives what pushing its materials one by one gives, whether they
+    /// pack or not on either side (a full palette, records past the packed ones).
+    #[test]
+    fn append_is_push_of_each() {
+        let mut rng = 0x2545_F491_4F6C_DD1Du64;
+        let mut next = move || {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            rng
+        };
+        let mut material = |k: u64| Material {
+            diffuse: DVec3::new((next() % k) as f64 / 7.0, -0.0, (next() % k) as f64),
+            shininess: (next() % 600) as f64,
+            ..Material::default()
+        };
+        for (k, n) in [(3, 50), (1000, 2000), (400_000, 3000)] {
+            let a: Vec<Material> = (0..n).map(|_| material(k)).collect();
+            let b: Vec<Material> = (0..n).map(|_| material(k)).collect();
+            let mut appended: MaterialTable = a.iter().copied().collect();
+            let other: MaterialTable = b.iter().copied().collect();
+            appended.append(&other);
+            let pushed: Vec<Material> = a.iter().chain(&b).copied().collect();
+            assert_eq!(appended.len(), pushed.len());
+            for (i, m) in pushed.iter().enumerate() {
+                let got = appended.get(i);
+                assert_eq!(format!("{got:?}"), format!("{m:?}"), "entry {i}");
+            }
         }
     }
 

@@ -100,6 +100,28 @@ impl RecentMaterials {
         i
     }
 
+    /// Materials were stored without [`Self::index`] (a chunk's, read on another thread),
+    /// with their hashes as the chunk's [`Self::hashes`] gave them (if it had them all):
+    /// duplicates may be among them, to be merged like any the cache lets through.
+    pub(crate) fn stored_unchecked(&mut self, hashes: &[u64], before: usize, after: usize) {
+        self.evicted = true;
+        if self.hashes.len() == before && hashes.len() == after - before {
+            self.hashes.extend_from_slice(hashes);
+        } else {
+            // Out of step: recomputed at the next merge.
+            self.hashes.clear();
+        }
+    }
+
+    /// The hash of each material stored, when they are all known.
+    pub(crate) fn hashes(&self, stored: usize) -> &[u64] {
+        if self.hashes.len() == stored {
+            &self.hashes
+        } else {
+            &[]
+        }
+    }
+
     /// Whether enough materials have piled up since the last merge that duplicates should be
     /// merged now (see [`RecentMaterials::merge`]).
     #[inline]

@@ -38,7 +38,8 @@ pub mod trace;
 
 #[derive(Debug, Subcommand)]
 pub enum BenchCommand {
-    /// Parse speed (MB/s, one core) and peak memory on generated files of N particles.
+    /// Parse speed (MB/s) and peak memory on generated files of N particles, by one reader and
+    /// on several threads.
     Parse {
         /// Number of particles.
         #[arg(long, default_value_t = 1_000_000)]
@@ -50,8 +51,11 @@ pub enum BenchCommand {
         #[arg(long)]
         dir: Option<PathBuf>,
         /// Which layouts to measure.
-        #[arg(long, value_enum, default_values_t = [parse::LayoutArg::Flat, parse::LayoutArg::Group])]
+        #[arg(long, value_enum, default_values_t = [parse::LayoutArg::Flat, parse::LayoutArg::Group, parse::LayoutArg::Proto])]
         layout: Vec<parse::LayoutArg>,
+        /// Reading threads of the runs in pieces (each is paired with a run by one reader).
+        #[arg(long, default_value_t = 2)]
+        read_threads: usize,
     },
     /// BVH build time, camera and shadow rays per second per core, and peak memory on N random
     /// opaque spheres (the scene is described in `gtsphere bench trace --help`'s source,
@@ -114,7 +118,8 @@ pub fn run(cmd: BenchCommand) -> Result<ExitCode, Error> {
             runs,
             dir,
             layout,
-        } => parse::run(particles, runs, dir, layout),
+            read_threads,
+        } => parse::run(particles, runs, dir, layout, read_threads),
         BenchCommand::Trace {
             spheres,
             size,

@@ -31,7 +31,7 @@ use hashbrown::HashSet;
 use super::open::{Kind, Marks};
 use super::Lowerer;
 use crate::error::Error;
-use crate::scene::{EllipsoidId, Light, LightScope, Material, Sphere, Surface, Viewpoint};
+use crate::scene::{EllipsoidId, Light, LightScope, MaterialTable, Sphere, Surface, Viewpoint};
 use crate::source::SourceWindow;
 use crate::vrml::parse::{Parser, Run};
 use crate::vrml::split::{Piece, Splitter};
@@ -57,12 +57,13 @@ pub(super) struct Watch {
 
 /// What a chunk added, moved to the main thread.
 struct Delta {
-    start: u64,
     spheres: Vec<Sphere>,
     ellipsoids: Vec<DAffine3>,
     surfaces: Vec<Surface>,
-    /// The worker's materials, which `spheres` and `surfaces` index.
-    materials: Vec<Material>,
+    /// The worker's materials, which `spheres` and `surfaces` index, and their hashes (if
+    /// the worker knew them all).
+    materials: MaterialTable,
+    hashes: Vec<u64>,
     lights: Vec<Light>,
     views: Vec<Viewpoint>,
     /// Where the worker's own counts began: its spheres, surfaces, ellipsoids, lights
@@ -370,6 +371,15 @@ fn lower_chunk(
     d
 }
 
+/// `v[from..]`, taken (without a copy when that is all of `v`).
+fn tail<T>(v: &mut Vec<T>, from: usize) -> Vec<T> {
+    if from == 0 {
+        std::mem::take(v)
+    } else {
+        v.split_off(from)
+    }
+}
+
 /// What went wrong, without a position (a chunk's reader counts lines from its own start).
 fn reason(e: &Error) -> String {
     match e {
@@ -435,15 +445,20 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Vec<u8>
         }
     }
     skipped.retain(|_, n| *n > 0);
+    let hashes = low
+        .materials
+        .recent
+        .hashes(low.scene.materials.len())
+        .to_vec();
     let scene = &mut low.scene;
     Ok(Box::new(Delta {
-        start,
-        spheres: scene.spheres.split_off(base.spheres),
-        ellipsoids: scene.ellipsoids.split_off(ellipsoid_base),
-        surfaces: scene.surfaces.split_off(base.surfaces),
-        materials: scene.materials.iter().collect(),
-        lights: scene.lights.split_off(base.lights),
-        views: scene.viewpoints.split_off(base.views),
+        spheres: tail(&mut scene.spheres, base.spheres),
+        ellipsoids: tail(&mut scene.ellipsoids, ellipsoid_base),
+        surfaces: tail(&mut scene.surfaces, base.surfaces),
+        materials: std::mem::take(&mut scene.materials),
+        hashes,
+        lights: tail(&mut scene.lights, base.lights),
+        views: tail(&mut scene.viewpoints, base.views),
         base,
         ellipsoid_base,
         dirlights,
@@ -490,11 +505,13 @@ impl Lowerer {
 
     /// Puts a chunk's result in place, as if its text had been lowered here.
     fn put_in_place(&mut self, d: Delta, src: &mut SourceWindow) -> Result<(), String> {
-        let materials: Vec<u32> = d
-            .materials
-            .iter()
-            .map(|m| self.materials.recent.index(m, &mut self.scene.materials))
-            .collect();
+        // Stored as they come (their duplicates are merged like any the cache lets through).
+        let first = self.scene.materials.len() as u32;
+        self.scene.materials.append(&d.materials);
+        let stored = self.scene.materials.len();
+        self.materials
+            .recent
+            .stored_unchecked(&d.hashes, first as usize, stored);
         let scene = &mut self.scene;
         let (s0, f0, l0) = (
             scene.spheres.len(),
@@ -505,7 +522,7 @@ impl Lowerer {
         scene.ellipsoids.extend(d.ellipsoids);
         scene.spheres.reserve(d.spheres.len());
         for mut s in d.spheres {
-            s.material = materials[s.material as usize];
+            s.material += first;
             if let Some(id) = s.ellipsoid {
                 let i = id.index();
                 if i < d.ellipsoid_base {
@@ -516,7 +533,7 @@ impl Lowerer {
             scene.spheres.push(s);
         }
         for mut s in d.surfaces {
-            s.material = materials[s.material as usize];
+            s.material += first;
             scene.surfaces.push(s);
         }
         let shift = |r: &mut LightScope, from: usize, to: usize| {
@@ -561,7 +578,6 @@ impl Lowerer {
         self.meshes.spheres += d.mesh_spheres;
         self.meshes.point_spheres += d.point_spheres;
         src.lines_skipped(d.line_starts);
-        let _ = d.start;
         if self.materials.recent.wants_merge(&self.scene.materials) {
             self.merge_materials(0);
         }
