@@ -154,13 +154,31 @@ impl Splitter {
         }
     }
 
-    /// Scans the next block of text; `out` takes the pieces it completes.
-    pub fn feed(&mut self, bytes: &[u8], out: &mut impl FnMut(Piece)) {
+    /// Reads up to `block` bytes of `reader` straight into the text held (no copy on the
+    /// way) and scans them; `out` takes the pieces that completes. Returns how many were read (0: the end).
+    pub fn read_from(
+        &mut self,
+        reader: &mut dyn std::io::Read,
+        block: usize,
+        out: &mut impl FnMut(Piece),
+    ) -> std::io::Result<usize> {
+        use std::io::Read;
         if self.mode == Mode::Through {
-            out(Piece::Text(bytes.to_vec()));
-            return;
+            let mut text = Vec::with_capacity(block);
+            let n = reader.take(block as u64).read_to_end(&mut text)?;
+            if n > 0 {
+                out(Piece::Text(text));
+            }
+            return Ok(n);
         }
-        self.hold.extend_from_slice(bytes);
+        self.hold.reserve(block);
+        let n = reader.take(block as u64).read_to_end(&mut self.hold)?;
+        self.scanned(out);
+        Ok(n)
+    }
+
+    /// Scans what was added to `hold`, then bounds what is held.
+    fn scanned(&mut self, out: &mut impl FnMut(Piece)) {
         self.scan(out);
         if self.mode == Mode::Through {
             return;
@@ -208,7 +226,10 @@ impl Splitter {
 
     /// Takes the first `n` bytes of `hold` (copying only what follows them, usually less).
     fn take_head(&mut self, n: usize) -> Vec<u8> {
-        let mut rest = Vec::with_capacity(self.hold.capacity().max(n));
+        // Room for the next chunk and the blocks read past its end, so that the text held
+        // is not moved again while it grows.
+        let room = (self.chunk_bytes as usize).saturating_add(2 << 20);
+        let mut rest = Vec::with_capacity(room.max(self.hold.len() - n));
         rest.extend_from_slice(&self.hold[n..]);
         self.hold.truncate(n);
         self.next_rare = None;
@@ -528,9 +549,8 @@ mod tests {
     fn pieces(text: &str, chunk: u64, block: usize) -> Vec<Piece> {
         let mut s = Splitter::new(chunk, 1 << 20);
         let mut v = Vec::new();
-        for b in text.as_bytes().chunks(block) {
-            s.feed(b, &mut |p| v.push(p));
-        }
+        let mut r = std::io::Cursor::new(text.as_bytes());
+        while s.read_from(&mut r, block, &mut |p| v.push(p)).unwrap() > 0 {}
         s.finish(&mut |p| v.push(p));
         v
     }

@@ -40,8 +40,9 @@ use crate::vrml::split::{Piece, Splitter};
 pub const CHUNK_BYTES: u64 = 4 << 20;
 /// The longest prefix (text before the region) that every chunk's reader reads again.
 const PREFIX_MAX: u64 = 1 << 20;
-/// Blocks the scan reads.
-const BLOCK: usize = 1 << 20;
+/// Blocks the scan reads (small, so that little text follows a chunk's end when it is cut:
+/// that text is copied to start the next one).
+const BLOCK: usize = 256 << 10;
 
 /// Watching a chunk's lowering (set on a worker's lowerer once its prefix is read).
 pub(super) struct Watch {
@@ -239,11 +240,10 @@ fn split(
             }
         };
     };
-    let mut buf = vec![0u8; BLOCK];
     loop {
-        match reader.read(&mut buf) {
+        match s.read_from(&mut reader, BLOCK, &mut hand) {
             Ok(0) => break,
-            Ok(n) => s.feed(&buf[..n], &mut hand),
+            Ok(_) => {}
             Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
             Err(e) => {
                 s.finish(&mut hand);
