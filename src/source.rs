@@ -209,8 +209,8 @@ impl SourceWindow {
 
     /// Continues the text at offset `to` (at or past the end of what was read), from
     /// `reader`: the text in between was read elsewhere (see `vrml::lower::parallel`), and
-    /// its lines given to [`Self::lines_skipped`]. Everything read so far must have been consumed; its last
-    /// [`KEEP`] bytes stay at hand for diagnostics.
+    /// its lines given to [`Self::lines_skipped`]. Everything read so far must have been
+    /// consumed; its last [`KEEP`] bytes stay at hand for diagnostics.
     pub fn jump(&mut self, to: u64, reader: Box<dyn Read>) {
         let end = self.base + self.buf.len() as u64;
         debug_assert!(to >= end && self.pos == self.buf.len() && self.pending.is_empty());
@@ -225,6 +225,23 @@ impl SourceWindow {
         self.pos = 0;
         self.eof = false;
         self.reader = reader;
+    }
+
+    /// As [`Self::jump`], with the whole rest of the text at hand (a piece read elsewhere):
+    /// it becomes the window as it is, without being read or copied, when it is valid UTF-8.
+    pub fn jump_to_text(&mut self, to: u64, text: Vec<u8>) {
+        match String::from_utf8(text) {
+            Ok(text) => {
+                self.jump(to, Box::new(std::io::empty()));
+                self.bytes_read += text.len() as u64;
+                for nl in memchr::memchr_iter(b'\n', text.as_bytes()) {
+                    self.lines.push(to + nl as u64 + 1);
+                }
+                self.buf = text;
+                self.eof = true;
+            }
+            Err(e) => self.jump(to, Box::new(std::io::Cursor::new(e.into_bytes()))),
+        }
     }
 
     fn compact(&mut self) {

@@ -268,3 +268,24 @@ fn corpus_files_in_pieces_are_one_readers() {
         "{kept} in pieces, {again} read again"
     );
 }
+
+#[test]
+fn invalid_utf8_in_a_piece_is_one_readers_warning() {
+    let body: String = (0..200).map(particle).collect();
+    let mut bytes = format!("#VRML V2.0 utf8\n{body}").into_bytes();
+    bytes.extend_from_slice(b"# bad \xff\xfe bytes\n");
+    bytes.extend_from_slice(body.as_bytes());
+    let load = |threads| {
+        let opts = LoadOptions {
+            read_threads: threads,
+            read_chunk_bytes: 700,
+            ..LoadOptions::default()
+        };
+        load_bytes("scene.wrl", bytes.clone(), &opts).expect("loads")
+    };
+    let ((a, ra), (b, rb)) = (load(1), load(2));
+    assert_eq!(format!("{a:?}"), format!("{b:?}"));
+    assert_eq!(ra.warnings, rb.warnings);
+    assert_eq!(ra.warnings.len(), 1, "{:?}", ra.warnings);
+    assert!(rb.read_again.is_some());
+}

@@ -4,9 +4,10 @@
 //! nodes cut into chunks, and the rest. The main thread lowers the prefix; each chunk is
 //! lowered on a worker thread by a lowerer that reads the prefix first (so it starts in the
 //! state the file is in there) and hands back what the chunk added: spheres, surfaces,
-//! lights, viewpoints, materials by content, counts. The main thread puts the chunks' results
+//! lights, viewpoints, its material table, counts. The main thread puts the chunks' results
 //! in place in file order (the enclosing grouping nodes, still open, then move and scope them
-//! as they close) and reads the rest.
+//! as they close; the materials the tables repeat, the prefix's among them, are merged like
+//! any duplicates) and reads the rest.
 //!
 //! What a chunk reads that depends on an earlier chunk is checked, not assumed. The result is
 //! thrown away and the file read again by one reader (the same answer, slower) when:
@@ -410,7 +411,7 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Vec<u8>
         nodes_at_start: low.nodes,
         excess: i64::MIN,
     });
-    parser.src.jump(start, Box::new(Cursor::new(text)));
+    parser.src.jump_to_text(start, text);
     parser.resume(low).map_err(|e| reason(&e))?;
     if (said(&low.diags.warnings), said(&low.diags.notes)) != said_before {
         return Err("it has warnings or notes".into());
