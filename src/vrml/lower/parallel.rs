@@ -219,12 +219,13 @@ fn split(
     let mut s = Splitter::new(chunk_bytes, PREFIX_MAX);
     let mut prefix: Option<Arc<[u8]>> = None;
     let mut k = 0;
-    let mut ok = true;
+    // False once a receiver is gone (the main reader stopped): then the scan stops too.
+    let ok = std::cell::Cell::new(true);
     let mut hand = |p: Piece| {
-        if !ok {
+        if !ok.get() {
             return;
         }
-        ok = match p {
+        let sent = match p {
             Piece::Text(t) => text.send(Msg::Text(t)).is_ok(),
             Piece::Prefix(p) => {
                 prefix = Some(p);
@@ -240,10 +241,12 @@ fn split(
                 done.send(Done::Total(n)).is_ok() && text.send(Msg::RegionEnd { end }).is_ok()
             }
         };
+        ok.set(sent);
     };
     loop {
         match s.read_from(&mut reader, BLOCK, &mut hand) {
             Ok(0) => break,
+            Ok(_) if !ok.get() => return,
             Ok(_) => {}
             Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
             Err(e) => {
