@@ -56,9 +56,11 @@
 //! (field values), `transform` (the Transform matrix and what it moves), `lights` (light
 //! scopes), `material` (open Materials and sharing), `mesh` (meshes while they are read),
 //! `mesh_shape` (what a closed mesh becomes), `inline` (files and Inline), `extern_proto`
-//! (the files EXTERNPROTOs name, and positions tagged with the file they are in) and
-//! `route` (ROUTE checks).
+//! (the files EXTERNPROTOs name, and positions tagged with the file they are in), `route`
+//! (ROUTE checks), `parallel` (one large file read on several threads) and `chunk` (a piece
+//! of it read on its own, and put in place).
 
+mod chunk;
 mod close;
 mod declare;
 mod dispatch;
@@ -302,7 +304,7 @@ struct Lowerer {
     /// Warnings and skipped node types.
     diags: Diags,
     /// A chunk being read on its own (`parallel`).
-    watch: Option<parallel::Watch>,
+    watch: Option<chunk::Watch>,
     /// Names chunks read on their own DEF'd: the main reader may not use them.
     poison: Option<hashbrown::HashSet<String>>,
     /// Why what was read in pieces must be read again by one reader.

@@ -1,0 +1,298 @@
+//! A chunk of a file read on its own (see [`super::parallel`]): a worker's lowering of it
+//! after the prefix, what it hands back ([`Delta`]), and the main reader's putting it in
+//! place; with the two watches that decide whether its result may stand (the DEFs it used,
+//! the nodes it counted) and the one on the main reader (the names chunks DEF'd).
+
+use std::collections::BTreeMap;
+use std::io::Cursor;
+use std::path::Path;
+use std::sync::Arc;
+
+use glam::{DAffine3, DVec3};
+
+use super::open::{Kind, Marks};
+use super::Lowerer;
+use crate::error::Error;
+use crate::scene::{EllipsoidId, Light, LightScope, MaterialTable, Sphere, Surface, Viewpoint};
+use crate::source::SourceWindow;
+use crate::vrml::parse::Parser;
+
+/// Watching a chunk's lowering (set on a worker's lowerer once its prefix is read).
+pub(super) struct Watch {
+    /// Arena position where the chunk began: DEFs recorded before it are the prefix's.
+    pub(super) arena_mark: usize,
+    /// File-scope names the chunk USEd or ROUTEd from the prefix's DEFs.
+    pub(super) imports: Vec<String>,
+    /// Nodes counted when the chunk began, and the most that nodes counted since ran ahead
+    /// of the chunk's bytes read (see [`Lowerer::add_nodes`]).
+    pub(super) nodes_at_start: u64,
+    pub(super) excess: i64,
+}
+
+/// What a chunk added, moved to the main thread.
+pub(super) struct Delta {
+    spheres: Vec<Sphere>,
+    ellipsoids: Vec<DAffine3>,
+    surfaces: Vec<Surface>,
+    /// The worker's materials, which `spheres` and `surfaces` index, and their hashes (if
+    /// the worker knew them all).
+    materials: MaterialTable,
+    hashes: Vec<u64>,
+    lights: Vec<Light>,
+    views: Vec<Viewpoint>,
+    /// Where the worker's own counts began: its spheres, surfaces, ellipsoids, lights
+    /// before the chunk.
+    base: Marks,
+    ellipsoid_base: usize,
+    /// DirectionalLights among the region's siblings (indices into `lights`): scoped by the
+    /// group the region is in, when it closes.
+    dirlights: Vec<usize>,
+    skipped: BTreeMap<String, u64>,
+    nodes: u64,
+    pub(super) excess: i64,
+    mesh_spheres: u64,
+    point_spheres: u64,
+    headlight: Option<bool>,
+    background: Option<DVec3>,
+    pub(super) exports: Vec<String>,
+    pub(super) imports: Vec<String>,
+    line_starts: Vec<u64>,
+}
+
+pub(super) type Outcome = Result<Box<Delta>, String>;
+
+/// Lowers one chunk after its prefix, on a worker thread.
+pub(super) fn lower_chunk(
+    opts: &super::LoadOptions,
+    name: &Arc<str>,
+    path: &Path,
+    prefix: &Arc<[u8]>,
+    start: u64,
+    text: Vec<u8>,
+) -> Outcome {
+    let mut low = Lowerer::new(opts.clone());
+    let src = SourceWindow::new(name.clone(), Box::new(Cursor::new(prefix.clone())));
+    let mut opened = low.open_file(&src, path);
+    let mut parser = Parser::new(src);
+    parser.pause_at_end = true;
+    let r = parser.begin().and_then(|()| parser.resume(&mut low));
+    let d = r
+        .map_err(|e| format!("its prefix: {}", reason(&e)))
+        .and_then(|_| chunk_delta(&mut low, &mut parser, start, text));
+    low.resume_outside(&mut opened);
+    d
+}
+
+/// `v[from..]`, taken (without a copy when that is all of `v`).
+fn tail<T>(v: &mut Vec<T>, from: usize) -> Vec<T> {
+    if from == 0 {
+        std::mem::take(v)
+    } else {
+        v.split_off(from)
+    }
+}
+
+/// What went wrong, without a position (a chunk's reader counts lines from its own start).
+fn reason(e: &Error) -> String {
+    match e {
+        Error::Diag(d) => d.message.clone(),
+        e => e.to_string(),
+    }
+}
+
+/// The number of messages in `d`, repeats included.
+fn said(d: &[crate::diag::Diagnostic]) -> u64 {
+    d.iter().map(|d| 1 + d.repeats).sum()
+}
+
+fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Vec<u8>) -> Outcome {
+    let base = Marks::of(&low.scene);
+    let ellipsoid_base = low.scene.ellipsoids.len();
+    let said_before = (said(&low.diags.warnings), said(&low.diags.notes));
+    let skipped_before = low.diags.skipped.clone();
+    let meshes_before = (low.meshes.spheres, low.meshes.point_spheres);
+    let bound_before = (low.bound.navigation_info, low.bound.background);
+    let utf8_before = parser.src.bad_utf8.is_some();
+    let files_before = low.scene.files.len();
+    let arena_mark = low.rec.arena.len();
+    low.rec.pinned = low.rec.pinned.max(arena_mark);
+    low.watch = Some(Watch {
+        arena_mark,
+        imports: Vec::new(),
+        nodes_at_start: low.nodes,
+        excess: i64::MIN,
+    });
+    parser.src.jump_to_text(start, text);
+    parser.resume(low).map_err(|e| reason(&e))?;
+    if (said(&low.diags.warnings), said(&low.diags.notes)) != said_before {
+        return Err("it has warnings or notes".into());
+    }
+    if low.scene.files.len() != files_before {
+        return Err("it reads another file".into());
+    }
+    if !utf8_before && parser.src.bad_utf8.is_some() {
+        return Err("it has invalid UTF-8".into());
+    }
+    if let Some(why) = low.fallback.take() {
+        return Err(why);
+    }
+    let watch = low.watch.take().expect("watching the chunk");
+    let dirlights = match low.open.innermost_group() {
+        Some(
+            Kind::Group { dirlights, .. }
+            | Kind::Switch { dirlights, .. }
+            | Kind::Lod { dirlights, .. },
+        ) => dirlights
+            .iter()
+            .flat_map(|d| d.iter())
+            .filter(|&&i| i >= base.lights)
+            .map(|&i| i - base.lights)
+            .collect(),
+        _ => Vec::new(),
+    };
+    let mut skipped = low.diags.skipped.clone();
+    for (ty, n) in &skipped_before {
+        if let Some(m) = skipped.get_mut(ty) {
+            *m -= n;
+        }
+    }
+    skipped.retain(|_, n| *n > 0);
+    let hashes = low
+        .materials
+        .recent
+        .hashes(low.scene.materials.len())
+        .to_vec();
+    let scene = &mut low.scene;
+    Ok(Box::new(Delta {
+        spheres: tail(&mut scene.spheres, base.spheres),
+        ellipsoids: tail(&mut scene.ellipsoids, ellipsoid_base),
+        surfaces: tail(&mut scene.surfaces, base.surfaces),
+        materials: std::mem::take(&mut scene.materials),
+        hashes,
+        lights: tail(&mut scene.lights, base.lights),
+        views: tail(&mut scene.viewpoints, base.views),
+        base,
+        ellipsoid_base,
+        dirlights,
+        skipped,
+        nodes: low.nodes - watch.nodes_at_start,
+        excess: watch.excess,
+        mesh_spheres: low.meshes.spheres - meshes_before.0,
+        point_spheres: low.meshes.point_spheres - meshes_before.1,
+        headlight: (!bound_before.0 && low.bound.navigation_info).then_some(scene.headlight),
+        background: (!bound_before.1 && low.bound.background).then_some(scene.background),
+        exports: low.scopes.file_defs_since(arena_mark),
+        imports: watch.imports,
+        line_starts: parser.src.lines.starts_after(start).collect(),
+    }))
+}
+
+impl Lowerer {
+    /// Looks a DEF name up in the innermost namespace, noting (in the file's namespace) a
+    /// chunk's use of the prefix's DEFs and the main reader's use of names chunks DEF'd.
+    pub(super) fn lookup_def(&mut self, name: &str) -> Option<super::scope::DefEntry> {
+        let d = self.scopes.def(name).cloned();
+        if self.scopes.depth() == 1 {
+            if let Some(w) = &mut self.watch {
+                if d.as_ref().is_some_and(|d| d.range.start < w.arena_mark) {
+                    w.imports.push(name.to_string());
+                }
+            }
+            if self.poison.as_ref().is_some_and(|p| p.contains(name)) {
+                self.fallback
+                    .get_or_insert_with(|| format!("'{name}' is used after a chunk DEF'd it"));
+            }
+        }
+        d
+    }
+
+    /// Notes how far the nodes counted in a chunk ran ahead of the bytes before the cursor.
+    #[inline]
+    pub(super) fn watch_nodes(&mut self, cursor: u64) {
+        if let Some(w) = &mut self.watch {
+            let e = (self.nodes - w.nodes_at_start) as i64 - cursor as i64;
+            w.excess = w.excess.max(e);
+        }
+    }
+
+    /// Puts a chunk's result in place, as if its text had been lowered here.
+    pub(super) fn put_in_place(&mut self, d: Delta, src: &mut SourceWindow) -> Result<(), String> {
+        // Stored as they come (their duplicates are merged like any the cache lets through).
+        let first = self.scene.materials.len() as u32;
+        self.scene.materials.append(&d.materials);
+        let stored = self.scene.materials.len();
+        self.materials
+            .recent
+            .stored_unchecked(&d.hashes, first as usize, stored);
+        let scene = &mut self.scene;
+        let (s0, f0, l0) = (
+            scene.spheres.len(),
+            scene.surfaces.len(),
+            scene.lights.len(),
+        );
+        let e0 = scene.ellipsoids.len();
+        scene.ellipsoids.extend(d.ellipsoids);
+        scene.spheres.reserve(d.spheres.len());
+        for mut s in d.spheres {
+            s.material += first;
+            if let Some(id) = s.ellipsoid {
+                let i = id.index();
+                if i < d.ellipsoid_base {
+                    return Err("a sphere of the chunk is an ellipsoid of its prefix".into());
+                }
+                s.ellipsoid = EllipsoidId::new(i - d.ellipsoid_base + e0);
+            }
+            scene.spheres.push(s);
+        }
+        for mut s in d.surfaces {
+            s.material += first;
+            scene.surfaces.push(s);
+        }
+        let shift = |r: &mut LightScope, from: usize, to: usize| {
+            if let LightScope::Range { start, end } = r {
+                *start = (*start as usize - from + to) as u32;
+                *end = (*end as usize - from + to) as u32;
+            }
+        };
+        for (i, mut l) in d.lights.into_iter().enumerate() {
+            // (The scopes of the region's own DirectionalLights are set when its group closes.)
+            let pending = d.dirlights.contains(&i);
+            if let (Light::Directional(dl), false) = (&mut l, pending) {
+                shift(&mut dl.scope, d.base.spheres, s0);
+                shift(&mut dl.surface_scope, d.base.surfaces, f0);
+            }
+            scene.lights.push(l);
+        }
+        scene.viewpoints.extend(d.views);
+        if !d.dirlights.is_empty() {
+            if let Some(
+                Kind::Group { dirlights, .. }
+                | Kind::Switch { dirlights, .. }
+                | Kind::Lod { dirlights, .. },
+            ) = self.open.innermost_group()
+            {
+                let list = dirlights.get_or_insert_with(Box::default);
+                list.extend(d.dirlights.iter().map(|i| i + l0));
+            }
+        }
+        if let (Some(h), false) = (d.headlight, self.bound.navigation_info) {
+            self.scene.headlight = h;
+            self.bound.navigation_info = true;
+        }
+        if let (Some(b), false) = (d.background, self.bound.background) {
+            self.scene.background = b;
+            self.bound.background = true;
+        }
+        for (ty, n) in d.skipped {
+            *self.diags.skipped.entry(ty).or_default() += n;
+        }
+        self.nodes += d.nodes;
+        self.meshes.spheres += d.mesh_spheres;
+        self.meshes.point_spheres += d.point_spheres;
+        src.lines_skipped(d.line_starts);
+        if self.materials.recent.wants_merge(&self.scene.materials) {
+            self.merge_materials(0);
+        }
+        Ok(())
+    }
+}
