@@ -255,10 +255,18 @@ pub fn load_bytes(
 ) -> Result<(Scene, LoadReport), Error> {
     let t0 = Instant::now();
     check_options(opts)?;
+    /// The bytes, shared by the readers without a copy.
+    struct Shared(Arc<Vec<u8>>);
+    impl AsRef<[u8]> for Shared {
+        fn as_ref(&self) -> &[u8] {
+            &self.0
+        }
+    }
     let size = bytes.len() as u64;
-    let bytes: Arc<[u8]> = Arc::from(bytes);
+    let bytes = Arc::new(bytes);
     let open = || -> Result<Box<dyn std::io::Read + Send>, Error> {
-        crate::input::sniff(std::io::Cursor::new(bytes.clone())).map_err(|e| Error::Io {
+        let text = Shared(bytes.clone());
+        crate::input::sniff(std::io::Cursor::new(text)).map_err(|e| Error::Io {
             path: name.to_string(),
             source: e,
         })
