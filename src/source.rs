@@ -42,6 +42,13 @@ impl LineIndex {
         }
     }
 
+    /// Records the lines that start after each newline of `text`, which begins at `offset`.
+    fn push_newlines(&mut self, offset: u64, text: &[u8]) {
+        for nl in memchr::memchr_iter(b'\n', text) {
+            self.push(offset + nl as u64 + 1);
+        }
+    }
+
     /// Records a line starting at `offset` (offsets must increase).
     #[inline]
     fn push(&mut self, offset: u64) {
@@ -72,11 +79,6 @@ impl LineIndex {
             }
         }
         (lo as u64 + 1, offset - self.start(lo) + 1)
-    }
-    pub fn line_start(&self, offset: u64) -> u64 {
-        let (line, col) = self.line_col(offset);
-        let _ = line;
-        offset + 1 - col
     }
     pub fn heap_bytes(&self) -> usize {
         self.low.capacity() * 4 + self.spans.capacity() * 8
@@ -234,9 +236,7 @@ impl SourceWindow {
             Ok(text) => {
                 self.jump(to, Box::new(std::io::empty()));
                 self.bytes_read += text.len() as u64;
-                for nl in memchr::memchr_iter(b'\n', text.as_bytes()) {
-                    self.lines.push(to + nl as u64 + 1);
-                }
+                self.lines.push_newlines(to, text.as_bytes());
                 self.buf = text;
                 self.eof = true;
             }
@@ -312,9 +312,8 @@ impl SourceWindow {
             }
         }
         let new_start = (start_abs - self.base) as usize;
-        for nl in memchr::memchr_iter(b'\n', &self.buf.as_bytes()[new_start..]) {
-            self.lines.push(start_abs + nl as u64 + 1);
-        }
+        self.lines
+            .push_newlines(start_abs, &self.buf.as_bytes()[new_start..]);
     }
 
     /// A diagnostic at an absolute offset, with the line's text if it is still in the window.

@@ -125,7 +125,7 @@ impl MaterialTable {
         let records: Vec<u32> = other.rest.iter().map(|m| self.record(m)).collect();
         let palette: Vec<Option<u64>> = other.palette.iter().map(|&v| self.channel(v)).collect();
         self.entries.reserve(other.entries.len());
-        for &e in &other.entries {
+        for (i, &e) in other.entries.iter().enumerate() {
             let word = if e & PACKED != 0 {
                 let r = records[(e >> (3 * CHANNEL_BITS)) as usize & (PACKED_RECORDS as usize - 1)];
                 let channel = |shift: u32| palette[(e >> shift & CHANNEL) as usize];
@@ -135,10 +135,7 @@ impl MaterialTable {
                         | x << (2 * CHANNEL_BITS)
                         | y << CHANNEL_BITS
                         | z),
-                    _ => {
-                        let c = |shift: u32| other.palette[(e >> shift & CHANNEL) as usize];
-                        Err((DVec3::new(c(2 * CHANNEL_BITS), c(CHANNEL_BITS), c(0)), r))
-                    }
+                    _ => Err((other.get(i).diffuse, r)),
                 }
             } else {
                 let (c, r) = other.wide[e as usize];

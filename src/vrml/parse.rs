@@ -593,8 +593,7 @@ impl Parser {
     /// too.
     pub fn run<S: Sink + ?Sized>(&mut self, sink: &mut S) -> Result<(), Error> {
         self.begin()?;
-        self.resume(sink)?;
-        self.end()
+        self.resume(sink).map(|_| ())
     }
 
     /// Reads the header line; [`Self::resume`] reads the rest.
@@ -614,11 +613,6 @@ impl Parser {
             Frame::ProtoBody => "expected '}' to close a PROTO body",
         };
         Err(self.error_at(self.src.offset(), format!("unexpected end of file: {what}")))
-    }
-
-    /// Whether the items read so far are at the top level of the file.
-    pub fn at_top(&self) -> bool {
-        matches!(self.stack.last(), None | Some(Frame::Top))
     }
 
     /// Reads items to the end of the input (then `Done`, or `Paused` with `pause_at_end`).

@@ -155,7 +155,8 @@ impl Splitter {
     }
 
     /// Reads up to `block` bytes of `reader` straight into the text held (no copy on the
-    /// way) and scans them; `out` takes the pieces that completes. Returns how many were read (0: the end).
+    /// way) and scans them; `out` takes the pieces that completes. Returns how many were
+    /// read (0: the end).
     pub fn read_from(
         &mut self,
         reader: &mut dyn std::io::Read,
@@ -224,8 +225,10 @@ impl Splitter {
         self.give_up(out);
     }
 
-    /// Takes the first `n` bytes of `hold` (copying only what follows them, usually less).
-    fn take_head(&mut self, n: usize) -> Vec<u8> {
+    /// Takes the text before offset `end` out of `hold` (copying only what follows it,
+    /// usually less), and moves the scan's indices with it.
+    fn take_head(&mut self, end: u64) -> Vec<u8> {
+        let n = (end - self.base) as usize;
         // Room for the next chunk and the blocks read past its end, so that the text held
         // is not moved again while it grows.
         let room = (self.chunk_bytes as usize).saturating_add(2 << 20);
@@ -233,20 +236,17 @@ impl Splitter {
         rest.extend_from_slice(&self.hold[n..]);
         self.hold.truncate(n);
         self.next_rare = None;
+        self.base = end;
+        self.at -= n;
+        self.span = self.span.saturating_sub(n);
         std::mem::replace(&mut self.hold, rest)
     }
 
     /// Hands on the region's text up to `end` as a chunk.
     fn chunk(&mut self, end: u64, out: &mut impl FnMut(Piece)) {
-        let n = (end - self.base) as usize;
-        let text = self.take_head(n);
-        out(Piece::Chunk {
-            start: self.base,
-            text,
-        });
-        self.base = end;
-        self.at -= n;
-        self.span = self.span.saturating_sub(n);
+        let start = self.base;
+        let text = self.take_head(end);
+        out(Piece::Chunk { start, text });
         self.last_cut = end;
         self.chunks += 1;
     }
@@ -524,11 +524,7 @@ impl Splitter {
                     return;
                 }
                 // The region starts: the prefix goes to the main reader and to the chunks'.
-                let n = (start - self.base) as usize;
-                let prefix = self.take_head(n);
-                self.base = start;
-                self.at -= n;
-                self.span = self.span.saturating_sub(n);
+                let prefix = self.take_head(start);
                 out(Piece::Prefix(Arc::from(&prefix[..])));
                 out(Piece::Text(prefix));
                 self.mode = Mode::Region { depth };

@@ -10,7 +10,7 @@ use std::sync::Arc;
 
 use glam::{DAffine3, DVec3};
 
-use super::open::{Kind, Marks};
+use super::open::Marks;
 use super::Lowerer;
 use crate::error::Error;
 use crate::scene::{EllipsoidId, Light, LightScope, MaterialTable, Sphere, Surface, Viewpoint};
@@ -137,19 +137,16 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Vec<u8>
         return Err(why);
     }
     let watch = low.watch.take().expect("watching the chunk");
-    let dirlights = match low.open.innermost_group() {
-        Some(
-            Kind::Group { dirlights, .. }
-            | Kind::Switch { dirlights, .. }
-            | Kind::Lod { dirlights, .. },
-        ) => dirlights
-            .iter()
-            .flat_map(|d| d.iter())
-            .filter(|&&i| i >= base.lights)
-            .map(|&i| i - base.lights)
-            .collect(),
-        _ => Vec::new(),
-    };
+    let dirlights = low
+        .open
+        .innermost_dirlights()
+        .and_then(|d| d.as_deref())
+        .map_or_else(Vec::new, |d| {
+            d.iter()
+                .filter(|&&i| i >= base.lights)
+                .map(|&i| i - base.lights)
+                .collect()
+        });
     let mut skipped = low.diags.skipped.clone();
     for (ty, n) in &skipped_before {
         if let Some(m) = skipped.get_mut(ty) {
@@ -265,12 +262,7 @@ impl Lowerer {
         }
         scene.viewpoints.extend(d.views);
         if !d.dirlights.is_empty() {
-            if let Some(
-                Kind::Group { dirlights, .. }
-                | Kind::Switch { dirlights, .. }
-                | Kind::Lod { dirlights, .. },
-            ) = self.open.innermost_group()
-            {
+            if let Some(dirlights) = self.open.innermost_dirlights() {
                 let list = dirlights.get_or_insert_with(Box::default);
                 list.extend(d.dirlights.iter().map(|i| i + l0));
             }

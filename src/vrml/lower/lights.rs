@@ -6,7 +6,7 @@
 
 use glam::DVec3;
 
-use super::open::{Kind, Marks};
+use super::open::Marks;
 use super::Lowerer;
 use crate::scene::{DirectionalLight, Light, LightScope, PointLight};
 use crate::source::SourceWindow;
@@ -39,12 +39,7 @@ impl Lowerer {
         let idx = self.scene.lights.len();
         self.scene.lights.push(Light::Directional(l));
         // Scope: the siblings in the enclosing grouping node (set when it closes).
-        if let Some(
-            Kind::Group { dirlights, .. }
-            | Kind::Switch { dirlights, .. }
-            | Kind::Lod { dirlights, .. },
-        ) = self.open.innermost_group()
-        {
+        if let Some(dirlights) = self.open.innermost_dirlights() {
             dirlights.get_or_insert_with(Box::default).push(idx);
         }
     }

@@ -229,14 +229,18 @@ impl Open {
         })
     }
 
-    /// The innermost open grouping node (the scope of a DirectionalLight closing now).
-    pub(super) fn innermost_group(&mut self) -> Option<&mut Kind> {
-        self.frames.iter_mut().rev().map(|f| &mut f.kind).find(|k| {
-            matches!(
-                k,
-                Kind::Group { .. } | Kind::Switch { .. } | Kind::Lod { .. }
-            )
-        })
+    /// The DirectionalLights of the innermost open grouping node (the scope of a
+    /// DirectionalLight closing now).
+    pub(super) fn innermost_dirlights(&mut self) -> Option<&mut DirLights> {
+        self.frames
+            .iter_mut()
+            .rev()
+            .find_map(|f| match &mut f.kind {
+                Kind::Group { dirlights, .. }
+                | Kind::Switch { dirlights, .. }
+                | Kind::Lod { dirlights, .. } => Some(dirlights),
+                _ => None,
+            })
     }
 }
 
