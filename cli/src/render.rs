@@ -338,9 +338,11 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
     let out = output_path(args);
     let plan = options(args, &out)?;
     let opts = &plan.opts;
+    // Reading comes before the pool, but --threads bounds it too (unless --read-threads).
     let load = args.geometry.apply(LoadOptions {
         strict: args.strict,
         inline: !args.no_inline,
+        read_threads: args.threads.unwrap_or(0),
         ..LoadOptions::default()
     })?;
     let (scene, report) = load_path(&args.scene, &load)?;
@@ -442,6 +444,7 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
             (c.camera_rays + c.shadow_rays) as f64 / done.seconds.max(1e-9)
         );
         println!("load seconds       {:.3}", report.seconds);
+        println!("read pieces        {}", report.read_pieces);
         println!("render seconds     {:.3}", done.seconds);
         println!("prepare seconds    {:.3}", prep.prepare_time.as_secs_f64());
         if view.grids.iter().any(Option::is_some) {

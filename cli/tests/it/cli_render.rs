@@ -477,3 +477,45 @@ fn npy_output_is_the_f64_film() {
     }
     assert!(wider > 100, "only {wider} values need f64");
 }
+
+#[test]
+fn threads_bound_the_reading_too() {
+    // A file large enough to be read in pieces (twice the 4 MiB piece): `--threads 1` reads
+    // it with one reader, `--threads 2` in pieces, and `--read-threads` overrides either.
+    let dir = scratch("read_threads");
+    let mut text = String::from("#VRML V2.0 utf8\n");
+    let mut i = 0u64;
+    while text.len() < 9 << 20 {
+        let f = |k: u64| ((i * 7919 + k * 104_729) % 1000) as f64 / 1000.0;
+        text += &format!(
+            "Transform {{ translation {} {} {} children Shape {{ geometry Sphere {{ radius 0.01 }} }} }}\n",
+            f(1),
+            f(2),
+            f(3)
+        );
+        i += 1;
+    }
+    std::fs::write(dir.join("big.wrl"), &text).unwrap();
+    let pieces = |extra: &[&str]| -> usize {
+        let mut args = vec![
+            "render", "big.wrl", "--width", "4", "--height", "4", "--stats",
+        ];
+        args.extend_from_slice(extra);
+        let out = gtsphere(&args, &dir);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        let line = stdout
+            .lines()
+            .find(|l| l.starts_with("read pieces"))
+            .unwrap_or_else(|| panic!("no read pieces line in\n{stdout}"));
+        line.split_whitespace().last().unwrap().parse().unwrap()
+    };
+    assert_eq!(pieces(&["--threads", "1"]), 0);
+    assert!(pieces(&["--threads", "2"]) >= 2);
+    assert!(pieces(&["--threads", "1", "--read-threads", "2"]) >= 2);
+    assert_eq!(pieces(&["--threads", "2", "--read-threads", "1"]), 0);
+}

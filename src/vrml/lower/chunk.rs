@@ -26,6 +26,8 @@ pub(super) struct Watch {
     /// Nodes counted when the chunk began, and the most that nodes counted since ran ahead
     /// of the chunk's bytes read (see [`Lowerer::add_nodes`]).
     pub(super) nodes_at_start: u64,
+    /// PROTO instances lowered by a template when the chunk began.
+    pub(super) templated_at_start: u64,
     pub(super) excess: i64,
 }
 
@@ -49,6 +51,7 @@ pub(super) struct Delta {
     dirlights: Vec<usize>,
     skipped: BTreeMap<String, u64>,
     nodes: u64,
+    templated: u64,
     pub(super) excess: i64,
     mesh_spheres: u64,
     point_spheres: u64,
@@ -120,6 +123,7 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Vec<u8>
         arena_mark,
         imports: Vec::new(),
         nodes_at_start: low.nodes,
+        templated_at_start: low.templated,
         excess: i64::MIN,
     });
     parser.src.jump_to_text(start, text);
@@ -173,6 +177,7 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Vec<u8>
         dirlights,
         skipped,
         nodes: low.nodes - watch.nodes_at_start,
+        templated: low.templated - watch.templated_at_start,
         excess: watch.excess,
         mesh_spheres: low.meshes.spheres - meshes_before.0,
         point_spheres: low.meshes.point_spheres - meshes_before.1,
@@ -279,6 +284,7 @@ impl Lowerer {
             *self.diags.skipped.entry(ty).or_default() += n;
         }
         self.nodes += d.nodes;
+        self.templated += d.templated;
         self.meshes.spheres += d.mesh_spheres;
         self.meshes.point_spheres += d.point_spheres;
         src.lines_skipped(d.line_starts);

@@ -16,6 +16,7 @@ use hashbrown::HashMap;
 use super::fields::warn_if_event;
 use super::record::{value_end, Rec};
 use super::scope::Protos;
+use super::template::{self, SphereTemplate};
 use super::Lowerer;
 use crate::error::Error;
 use crate::source::SourceWindow;
@@ -51,6 +52,8 @@ pub(super) struct ProtoDecl {
     /// How many body events an instance replays: up to the end of the body's first node
     /// (earlier PROTO declarations included).
     pub(super) first_end: usize,
+    /// The body's first node compiled, when it is one sphere (see `template`).
+    pub(super) sphere: Option<Rc<SphereTemplate>>,
     /// A PROTO reached through an EXTERNPROTO: which of `fields` an instance may set (those
     /// the EXTERNPROTO declares with the same access and type); `None`: all of them.
     pub(super) public: Option<Rc<[bool]>>,
@@ -213,6 +216,7 @@ impl Lowerer {
             body_events: Rc::from([]),
             body_is: Rc::from([]),
             first_end: 0,
+            sphere: None,
             public: None,
             home: None,
         };
@@ -253,6 +257,7 @@ impl Lowerer {
                 }
             }
             decl.body_is = is.into();
+            decl.sphere = template::compile(&decl).map(Rc::new);
         }
         if external {
             // The PROTO it names in a local file, if one of its urls leads to one.

@@ -206,6 +206,13 @@ impl Lowerer {
             }
             i = end;
         }
+        if let (Some(tpl), false) = (&proto.sphere, self.opts.replay_every_instance) {
+            if let Some(r) = self.expand_by_template(src, &proto, tpl, &values) {
+                values.clear();
+                self.expansions.spare_values.push(values);
+                return r;
+            }
+        }
         // The body runs in a namespace of its own (under its file's PROTOs if it came from
         // another file), with this instance's substitutions.
         let scope_depth = self.scopes.depth();

@@ -104,6 +104,8 @@ fn tagged(decl: &ProtoDecl, file: u32) -> ProtoDecl {
     tag_all(&mut events, file);
     let mut d = decl.clone();
     d.body_events = events.into();
+    // (Its template's positions would be untagged; a PROTO of another file is replayed.)
+    d.sphere = None;
     for f in &mut d.fields {
         f.at = tag(f.at, file);
     }

@@ -79,6 +79,7 @@ mod replay;
 mod route;
 mod scope;
 mod start;
+mod template;
 mod transform;
 
 use std::collections::BTreeMap;
@@ -134,6 +135,10 @@ pub struct LoadOptions {
     /// The least text read in one piece (and the least file size read in pieces); tests set it
     /// small.
     pub read_chunk_bytes: u64,
+    /// Lower every PROTO instance by replaying its body, never by its compiled sphere
+    /// template (the same result, slower; tests compare the two).
+    #[doc(hidden)]
+    pub replay_every_instance: bool,
 }
 
 impl Default for LoadOptions {
@@ -147,6 +152,7 @@ impl Default for LoadOptions {
             spheres_only: false,
             read_threads: 0,
             read_chunk_bytes: parallel::CHUNK_BYTES,
+            replay_every_instance: false,
         }
     }
 }
@@ -178,6 +184,9 @@ pub struct LoadReport {
     pub read_pieces: usize,
     /// Why a file started in pieces was read again by one reader.
     pub read_again: Option<String>,
+    /// PROTO instances lowered by their body's sphere template rather than by replaying it
+    /// (the same result; see `template.rs`).
+    pub template_instances: u64,
 }
 
 /// Refuses options no scene can be lowered with.
@@ -287,6 +296,8 @@ struct Lowerer {
     scene: Scene,
     /// Nodes lowered, USE and PROTO expansions included (bounded by `max_nodes`).
     nodes: u64,
+    /// PROTO instances lowered by a sphere template (`template.rs`).
+    templated: u64,
     /// Recorded events and the recordings under way (`record`).
     rec: Recording,
     /// How deep replays nest, and whether DEFs are being read again (`replay`).
@@ -394,6 +405,7 @@ impl Lowerer {
             opts,
             scene: Scene::default(),
             nodes: 0,
+            templated: 0,
             rec: Recording::default(),
             replay: Replay::default(),
             scopes: Scopes::default(),
@@ -448,6 +460,7 @@ impl Lowerer {
             notes: self.diags.notes,
             read_pieces: 0,
             read_again: None,
+            template_instances: self.templated,
         };
         Ok((self.scene, report))
     }

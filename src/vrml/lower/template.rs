@@ -1,0 +1,412 @@
+//! Sphere templates: a PROTO whose body's first node is one sphere, the form `convert` writes
+//! (`Transform { translation IS position children Shape { appearance Appearance { material
+//! Material { diffuseColor IS color ... } } geometry Sphere { radius IS radius } } }`), is
+//! compiled when it is declared into a [`SphereTemplate`]: where each value comes from (a
+//! constant of the body or an interface field). An instance of it is then lowered by reading
+//! its values and doing what replaying the body would do (the same node count, material
+//! table, sphere and Transform, through the same functions), without replaying the body's
+//! events one by one. Anything replaying would warn about or refuse (a transparency outside
+//! [0, 1], a bad radius, a node limit or replay depth reached, a place where the body's
+//! Transform would be out of place, an instance value that is itself an `IS`) sends the
+//! instance down the replay instead, so the result is the replay's in every case
+//! (`tests/it/proto_template.rs` compares the two).
+
+use std::ops::Range;
+
+use glam::DVec3;
+
+use super::declare::ProtoDecl;
+use super::open::{Kind, Marks};
+use super::record::Rec;
+use super::replay::MAX_REPLAY_DEPTH;
+use super::transform::TransformFields;
+use super::Lowerer;
+use crate::error::Error;
+use crate::scene::{Material, Sphere};
+use crate::source::SourceWindow;
+use crate::vrml::syntax::{OwnedEvent, OwnedValue};
+
+/// Where one value of the template comes from.
+#[derive(Clone, Debug)]
+enum Slot {
+    /// Written in the body (checked against its field's type when compiled).
+    Given([f64; 3]),
+    /// `IS` this interface field: the instance's value, or the field's default.
+    Is(u32),
+}
+
+/// A Material field the template sets, in the body's order.
+#[derive(Clone, Copy, Debug)]
+enum MaterialField {
+    Diffuse,
+    Emissive,
+    Specular,
+    Shininess,
+    AmbientIntensity,
+    Transparency,
+}
+
+impl MaterialField {
+    fn of(name: &str) -> Option<MaterialField> {
+        Some(match name {
+            "diffuseColor" => MaterialField::Diffuse,
+            "emissiveColor" => MaterialField::Emissive,
+            "specularColor" => MaterialField::Specular,
+            "shininess" => MaterialField::Shininess,
+            "ambientIntensity" => MaterialField::AmbientIntensity,
+            "transparency" => MaterialField::Transparency,
+            _ => return None,
+        })
+    }
+    fn arity(self) -> usize {
+        match self {
+            MaterialField::Diffuse | MaterialField::Emissive | MaterialField::Specular => 3,
+            _ => 1,
+        }
+    }
+}
+
+/// A PROTO body whose first node is a Transform (translation only) holding one Shape whose
+/// geometry is a Sphere; see the module's comment.
+#[derive(Clone, Debug)]
+pub(super) struct SphereTemplate {
+    /// Where the body's Transform and Sphere start (what replaying reports and records).
+    transform_at: u64,
+    sphere_at: u64,
+    translation: Option<Slot>,
+    /// `None`: no Appearance, or an Appearance without Material (the unlit material).
+    material: Option<Vec<(MaterialField, Slot)>>,
+    radius: Option<Slot>,
+    /// Nodes of the first node (what replaying counts).
+    nodes: u64,
+}
+
+/// Reads the body's first node as a template, if it is one.
+pub(super) fn compile(decl: &ProtoDecl) -> Option<SphereTemplate> {
+    let n = decl.first_end;
+    let mut m = Matcher {
+        events: &decl.body_events[..n],
+        is: &decl.body_is[..n],
+        k: 0,
+    };
+    let tpl = m.transform()?;
+    (m.k == n).then_some(tpl)
+}
+
+/// A cursor over the first node's events.
+struct Matcher<'a> {
+    events: &'a [Rec],
+    is: &'a [u32],
+    k: usize,
+}
+
+impl<'a> Matcher<'a> {
+    fn next(&mut self) -> Option<&'a OwnedEvent> {
+        let r = match self.events.get(self.k)? {
+            Rec::Ev(ev) => ev,
+            Rec::Used { .. } => return None,
+        };
+        self.k += 1;
+        Some(r)
+    }
+
+    /// `NodeStart` of a node of this type, without DEF: its position.
+    fn node(&mut self, ty: &str) -> Option<u64> {
+        match self.next()? {
+            OwnedEvent::NodeStart {
+                def: None,
+                ty: t,
+                at,
+            } if &**t == ty => Some(*at),
+            _ => None,
+        }
+    }
+
+    /// The node-valued field `name` holding exactly one node, read by `inner`.
+    fn holding<T>(&mut self, inner: impl FnOnce(&mut Self) -> Option<T>) -> Option<T> {
+        let t = inner(self)?;
+        match self.next()? {
+            OwnedEvent::NodesEnd { .. } => Some(t),
+            _ => None,
+        }
+    }
+
+    /// The value of the Field event just read, `arity` numbers.
+    fn slot(&self, value: &OwnedValue, arity: usize) -> Option<Slot> {
+        match value {
+            OwnedValue::Is(_) => {
+                let fi = self.is[self.k - 1];
+                (fi != u32::MAX).then_some(Slot::Is(fi))
+            }
+            OwnedValue::Numbers {
+                values, bracketed, ..
+            } if !bracketed && values.len() == arity => {
+                let mut v = [0.0; 3];
+                v[..arity].copy_from_slice(values);
+                Some(Slot::Given(v))
+            }
+            _ => None,
+        }
+    }
+
+    fn transform(&mut self) -> Option<SphereTemplate> {
+        let transform_at = self.node("Transform")?;
+        let mut translation = None;
+        let mut shape = None;
+        loop {
+            match self.next()? {
+                OwnedEvent::NodeEnd { .. } => break,
+                OwnedEvent::Field { name, value, .. }
+                    if &**name == "translation" && translation.is_none() =>
+                {
+                    translation = Some(self.slot(value, 3)?);
+                }
+                OwnedEvent::NodesStart { name, .. } if &**name == "children" && shape.is_none() => {
+                    shape = Some(self.holding(Self::shape)?);
+                }
+                _ => return None,
+            }
+        }
+        let (material, sphere_at, radius, nodes) = shape?;
+        Some(SphereTemplate {
+            transform_at,
+            sphere_at,
+            translation,
+            material,
+            radius,
+            nodes: 1 + nodes,
+        })
+    }
+
+    /// A Shape whose geometry is a Sphere: its material, the Sphere's position and radius, and
+    /// its node count.
+    #[allow(clippy::type_complexity)]
+    fn shape(&mut self) -> Option<(Option<Vec<(MaterialField, Slot)>>, u64, Option<Slot>, u64)> {
+        self.node("Shape")?;
+        let mut appearance = None;
+        let mut sphere = None;
+        loop {
+            match self.next()? {
+                OwnedEvent::NodeEnd { .. } => break,
+                OwnedEvent::NodesStart { name, .. }
+                    if &**name == "appearance" && appearance.is_none() =>
+                {
+                    appearance = Some(self.holding(Self::appearance)?);
+                }
+                OwnedEvent::NodesStart { name, .. }
+                    if &**name == "geometry" && sphere.is_none() =>
+                {
+                    sphere = Some(self.holding(Self::sphere)?);
+                }
+                _ => return None,
+            }
+        }
+        let (sphere_at, radius) = sphere?;
+        let (material, appearance_nodes) = appearance.unwrap_or((None, 0));
+        Some((material, sphere_at, radius, 2 + appearance_nodes))
+    }
+
+    /// An Appearance: its Material's fields (if it has one) and its node count.
+    #[allow(clippy::type_complexity)]
+    fn appearance(&mut self) -> Option<(Option<Vec<(MaterialField, Slot)>>, u64)> {
+        self.node("Appearance")?;
+        let mut material = None;
+        loop {
+            match self.next()? {
+                OwnedEvent::NodeEnd { .. } => break,
+                OwnedEvent::NodesStart { name, .. }
+                    if &**name == "material" && material.is_none() =>
+                {
+                    material = Some(self.holding(Self::material)?);
+                }
+                _ => return None,
+            }
+        }
+        let nodes = 1 + u64::from(material.is_some());
+        Some((material, nodes))
+    }
+
+    fn material(&mut self) -> Option<Vec<(MaterialField, Slot)>> {
+        self.node("Material")?;
+        let mut fields = Vec::new();
+        loop {
+            match self.next()? {
+                OwnedEvent::NodeEnd { .. } => break,
+                OwnedEvent::Field { name, value, .. } => {
+                    let f = MaterialField::of(name)?;
+                    let s = self.slot(value, f.arity())?;
+                    if let (Slot::Given(v), 1) = (&s, f.arity()) {
+                        // (Replaying would warn about a shininess or transparency outside [0, 1].)
+                        if !in_range(f, v[0]) {
+                            return None;
+                        }
+                    }
+                    fields.push((f, s));
+                }
+                _ => return None,
+            }
+        }
+        Some(fields)
+    }
+
+    fn sphere(&mut self) -> Option<(u64, Option<Slot>)> {
+        let at = self.node("Sphere")?;
+        let mut radius = None;
+        loop {
+            match self.next()? {
+                OwnedEvent::NodeEnd { .. } => break,
+                OwnedEvent::Field { name, value, .. }
+                    if &**name == "radius" && radius.is_none() =>
+                {
+                    let s = self.slot(value, 1)?;
+                    if let Slot::Given(v) = s {
+                        if !radius_ok(v[0]) {
+                            return None;
+                        }
+                    }
+                    radius = Some(s);
+                }
+                _ => return None,
+            }
+        }
+        Some((at, radius))
+    }
+}
+
+/// A value replaying stores without a warning (shininess and transparency in [0, 1]).
+fn in_range(f: MaterialField, x: f64) -> bool {
+    match f {
+        MaterialField::Shininess | MaterialField::Transparency => (0.0..=1.0).contains(&x),
+        _ => true,
+    }
+}
+
+/// A radius replaying accepts.
+fn radius_ok(r: f64) -> bool {
+    r > 0.0 && r.is_finite()
+}
+
+impl Lowerer {
+    /// Lowers a PROTO instance by its body's template: `values` are the instance's values
+    /// (arena ranges by interface field, as `expand` found them). `None`: replay the body
+    /// instead (nothing was changed).
+    pub(super) fn expand_by_template(
+        &mut self,
+        src: &SourceWindow,
+        proto: &ProtoDecl,
+        tpl: &SphereTemplate,
+        values: &[Option<Range<usize>>],
+    ) -> Option<Result<(), Error>> {
+        // Where replaying would do more than lower the sphere: a PROTO named like a standard
+        // node may stand for the body's nodes; an external PROTO's body sees other PROTOs;
+        // the body's Transform may only stand where a grouping node's children do.
+        if self.scopes.proto_shadows_standard
+            || proto.home.is_some()
+            || self.open.quiet > 0
+            || self.replay.depth >= MAX_REPLAY_DEPTH
+        {
+            return None;
+        }
+        if let Some(ctx) = self.open.fields.last() {
+            let in_children = &*ctx.name == "children"
+                && matches!(
+                    self.open.frames[ctx.frame].kind,
+                    Kind::Group {
+                        inline_urls: None,
+                        ..
+                    }
+                );
+            if !in_children {
+                return None;
+            }
+        }
+        let limit = self.opts.max_nodes.saturating_add(src.bytes_read);
+        if self.nodes.saturating_add(tpl.nodes) > limit {
+            return None;
+        }
+        // The values, read before anything changes.
+        let arena = &self.rec.arena;
+        let value = |s: &Slot, arity: usize| -> Option<[f64; 3]> {
+            match *s {
+                Slot::Given(v) => Some(v),
+                Slot::Is(fi) => {
+                    let fi = fi as usize;
+                    let range = values
+                        .get(fi)?
+                        .clone()
+                        .or_else(|| proto.fields.get(fi).and_then(|f| f.default.clone()))?;
+                    match arena.get(range.start)? {
+                        Rec::Ev(OwnedEvent::Field {
+                            value:
+                                OwnedValue::Numbers {
+                                    values, bracketed, ..
+                                },
+                            ..
+                        }) if !bracketed && values.len() == arity => {
+                            let mut v = [0.0; 3];
+                            v[..arity].copy_from_slice(values);
+                            Some(v)
+                        }
+                        _ => None,
+                    }
+                }
+            }
+        };
+        let translation = match &tpl.translation {
+            Some(s) => Some(DVec3::from_array(value(s, 3)?)),
+            None => None,
+        };
+        let material = match &tpl.material {
+            None => None,
+            Some(fields) => {
+                let mut m = Material::default();
+                for &(f, ref s) in fields {
+                    let v = value(s, f.arity())?;
+                    match f {
+                        MaterialField::Diffuse => m.diffuse = DVec3::from_array(v),
+                        MaterialField::Emissive => m.emissive = DVec3::from_array(v),
+                        MaterialField::Specular => m.specular = DVec3::from_array(v),
+                        MaterialField::Shininess if in_range(f, v[0]) => m.shininess = v[0],
+                        MaterialField::AmbientIntensity => m.ambient_intensity = v[0],
+                        MaterialField::Transparency if in_range(f, v[0]) => m.transparency = v[0],
+                        _ => return None,
+                    }
+                }
+                Some(m)
+            }
+        };
+        let radius = match &tpl.radius {
+            Some(s) => value(s, 1)?[0],
+            None => 1.0,
+        };
+        if !radius_ok(radius) {
+            return None;
+        }
+        // What replaying does, in its order: the nodes are counted as they start, the
+        // Material is stored when it closes, the sphere when the Shape closes, and the
+        // Transform moves it when it closes.
+        self.nodes += tpl.nodes;
+        self.watch_nodes(src.offset());
+        let marks = Marks::of(&self.scene);
+        let material = match material {
+            Some(m) => {
+                self.materials.open.push(m);
+                self.close_material()
+            }
+            None => super::material::UNLIT,
+        };
+        self.scene.spheres.push(Sphere {
+            center: DVec3::ZERO,
+            radius,
+            material,
+            ellipsoid: None,
+            origin: self.origin(tpl.sphere_at),
+        });
+        let t = TransformFields {
+            translation: translation.unwrap_or(DVec3::ZERO),
+            ..TransformFields::default()
+        };
+        self.templated += 1;
+        Some(self.close_transform(src, &t, marks, tpl.transform_at))
+    }
+}
