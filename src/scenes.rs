@@ -179,7 +179,7 @@ pub fn gas_cloud(n: usize, lit: bool) -> Scene {
             shininess: 0.2,
             ambient_intensity: 0.2,
             transparency: 0.3 + 0.6 * next(),
-            unlit: false,
+            ..Material::default()
         });
         scene.spheres.push(Sphere {
             center: c,

@@ -13,6 +13,7 @@ use gtsphere::render::{
     prepare, tiles::render_view, Aovs, CameraChoice, Integrator, PrepareOptions, Progress,
     Projection, RenderOptions, SamplerKind,
 };
+use gtsphere::scene::Profile;
 use gtsphere::vrml::{load_path, LoadOptions};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -104,6 +105,11 @@ pub struct RenderArgs {
     /// material's emissiveColor, albedo its diffuseColor.
     #[arg(long)]
     pub as_gas: Option<f64>,
+    /// Give every gas sphere (with --as-gas, every sphere) this density profile, whatever the
+    /// scene says: constant, linear, quadratic or gaussian, the gaussian's width as
+    /// `gaussian:0.25` (in units of the radius, default 1/3). Only constant is rendered so far.
+    #[arg(long, value_name = "NAME[:WIDTH]")]
+    pub profile: Option<String>,
     /// Extra EXR channels, comma-separated.
     #[arg(long, value_enum, value_delimiter = ',')]
     pub aov: Vec<AovArg>,
@@ -247,6 +253,10 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<Plan, Error> {
             )));
         }
     }
+    let profile = match &args.profile {
+        None => None,
+        Some(s) => Some(parse_profile(s).map_err(|e| bad(format!("--profile {s}: {e}")))?),
+    };
     if (aovs.any() || aovs.error) && format != Format::Exr {
         return Err(bad(format!(
             "--aov needs an .exr output; {} cannot hold extra channels",
@@ -322,8 +332,23 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<Plan, Error> {
         },
         prepare: PrepareOptions {
             as_gas: args.as_gas,
+            profile,
         },
     })
+}
+
+/// `NAME` or `NAME:WIDTH` as a profile.
+fn parse_profile(s: &str) -> Result<Profile, String> {
+    let (name, width) = match s.split_once(':') {
+        None => (s, None),
+        Some((name, w)) => {
+            let w: f64 = w
+                .parse()
+                .map_err(|_| format!("the width `{w}` is not a number"))?;
+            (name, Some(w))
+        }
+    };
+    Profile::parse(name, width).map_err(|e| e.to_string())
 }
 
 /// The validated arguments: how to prepare the scene, which camera, how to render.

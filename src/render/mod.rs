@@ -96,6 +96,8 @@ impl Default for RenderOptions {
 pub struct PrepareOptions {
     /// Every sphere becomes gas of this extinction (`--as-gas`).
     pub as_gas: Option<f64>,
+    /// Every gas sphere takes this density profile (`--profile`), whatever its material says.
+    pub profile: Option<crate::scene::Profile>,
 }
 
 /// The camera-ray integrators (MODEL.md sections 3 and 5). Only `Exact` is exact; the others
@@ -206,6 +208,36 @@ impl std::ops::Deref for View<'_> {
     type Target = Prepared;
     fn deref(&self) -> &Prepared {
         self.prep
+    }
+}
+
+/// Gas with a density profile other than constant (MODEL.md section 6) is not rendered yet
+/// (issue 17): a clear error rather than a picture of constant gas.
+fn refuse_profiles(
+    spheres: &[crate::scene::Sphere],
+    materials: &crate::scene::MaterialTable,
+    opts: &PrepareOptions,
+    is_gas: &impl Fn(&crate::scene::Sphere) -> bool,
+) -> Result<(), Error> {
+    use crate::scene::Profile;
+    let profiled = match opts.profile {
+        Some(Profile::Constant) => None,
+        Some(p) => spheres.iter().position(is_gas).map(|i| (i, p)),
+        None if materials.may_have_profiled_gas() => {
+            spheres.iter().enumerate().find_map(|(i, s)| {
+                let p = materials.get(s.material as usize).profile;
+                (p != Profile::Constant && is_gas(s)).then_some((i, p))
+            })
+        }
+        None => None,
+    };
+    match profiled {
+        Some((i, p)) => Err(invalid(format!(
+            "spheres[{i}] is gas with the {} density profile: only constant gas is rendered so \
+             far (render with --profile constant to draw every gas sphere of constant density)",
+            p.name()
+        ))),
+        None => Ok(()),
     }
 }
 
@@ -363,6 +395,7 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
     let is_gas = |s: &crate::scene::Sphere| {
         opts.as_gas.is_some() || (maybe_gas && materials.get(s.material as usize).is_gas())
     };
+    refuse_profiles(&spheres, &materials, opts, &is_gas)?;
     if materials.len() > crate::accel::bvh::MAX_MATERIALS {
         return Err(invalid(format!(
             "{} distinct materials: at most {} are supported",

@@ -38,41 +38,7 @@ use glam::DVec3;
 
 use crate::geom::eft::{two_prod, two_square, two_sum};
 
-/// A radial density profile `f(u)`, `u = |x - c| / r` (MODEL.md section 6).
-///
-/// | name | `f(u)` on `[0, 1]` | `I_f` = integral of `f` over `[0, 1]` |
-/// |---|---|---|
-/// | `constant` | 1 | 1 |
-/// | `linear` | `1 - u` | 1/2 |
-/// | `quadratic` | `1 - u^2` | 2/3 |
-/// | `gaussian` (width `s` in (0, 1], default 1/3) | `exp(-u^2 / (2 s^2))` | `s sqrt(pi/2) erf(1 / (s sqrt 2))` |
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub enum Profile {
-    /// MODEL.md section 3's gas, the default.
-    #[default]
-    Constant,
-    Linear,
-    Quadratic,
-    /// Cut at `u = 1`; `width` is `s` in units of the radius, in (0, 1] ([`Profile::parse`]
-    /// checks it; the integrals assume it).
-    Gaussian {
-        width: f64,
-    },
-}
-
-/// The width of the gaussian profile when none is given.
-pub const DEFAULT_WIDTH: f64 = 1.0 / 3.0;
-
-/// Why a profile name or width was refused by [`Profile::parse`].
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum ProfileError {
-    #[error("unknown density profile `{0}` (expected constant, linear, quadratic or gaussian)")]
-    UnknownName(String),
-    #[error("gaussian width {0} is outside (0, 1] (in units of the sphere's radius)")]
-    Width(f64),
-    #[error("the {0} profile takes no width (only gaussian has one)")]
-    NoWidth(&'static str),
-}
+pub use crate::scene::profile::{Profile, ProfileError, DEFAULT_WIDTH};
 
 /// The switch between the two forms of the linear profile: the near-surface form is used
 /// where `f = 1 - u <= LINEAR_SURFACE` on the whole piece. Rounding errors are amplified at
@@ -81,40 +47,6 @@ pub enum ProfileError {
 const LINEAR_SURFACE: f64 = 0.25;
 
 impl Profile {
-    /// The profile called `name` (`constant`, `linear`, `quadratic`, `gaussian`, exactly),
-    /// with `width` for the gaussian ([`DEFAULT_WIDTH`] when `None`). A width outside (0, 1]
-    /// (NaN included), or a width given to another profile, is an error.
-    pub fn parse(name: &str, width: Option<f64>) -> Result<Profile, ProfileError> {
-        let p = match name {
-            "constant" => Profile::Constant,
-            "linear" => Profile::Linear,
-            "quadratic" => Profile::Quadratic,
-            "gaussian" => {
-                let width = width.unwrap_or(DEFAULT_WIDTH);
-                // Also refuses NaN.
-                if !(width > 0.0 && width <= 1.0) {
-                    return Err(ProfileError::Width(width));
-                }
-                return Ok(Profile::Gaussian { width });
-            }
-            _ => return Err(ProfileError::UnknownName(name.to_string())),
-        };
-        match width {
-            Some(_) => Err(ProfileError::NoWidth(p.name())),
-            None => Ok(p),
-        }
-    }
-
-    /// The name [`Profile::parse`] reads.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Profile::Constant => "constant",
-            Profile::Linear => "linear",
-            Profile::Quadratic => "quadratic",
-            Profile::Gaussian { .. } => "gaussian",
-        }
-    }
-
     /// The density shape `f(u)` for `u` in `[0, 1]`; 0 outside (NaN for NaN).
     pub fn f(&self, u: f64) -> f64 {
         if u.is_nan() {

@@ -49,19 +49,21 @@ pub struct MaterialTable {
 }
 
 /// The bits of everything but the diffuse colour.
-fn rest_key(m: &Material) -> [u64; 10] {
+fn rest_key(m: &Material) -> [u64; 12] {
     let k = m.key();
     [
-        k[3], k[4], k[5], k[6], k[7], k[8], k[9], k[10], k[11], k[12],
+        k[3], k[4], k[5], k[6], k[7], k[8], k[9], k[10], k[11], k[12], k[13], k[14],
     ]
 }
 
-fn slot(key: &[u64; 10]) -> usize {
+/// The two slots of the record cache a key may sit in (two, so that two records used in turn
+/// that hash to one slot do not evict each other and get stored again at every turn).
+fn slots(key: &[u64; 12]) -> [usize; 2] {
     let mut h: u64 = 0;
     for &k in key {
         h = (h.rotate_left(23) ^ k).wrapping_mul(0x9E37_79B9_7F4A_7C15);
     }
-    (h >> 40) as usize % SLOTS
+    [(h >> 40) as usize % SLOTS, (h >> 20) as usize % SLOTS]
 }
 
 impl MaterialTable {
@@ -153,24 +155,29 @@ impl MaterialTable {
     /// the cache finds none.
     fn record(&mut self, m: &Material) -> u32 {
         let key = rest_key(m);
-        let s = slot(&key);
+        let [a, b] = slots(&key);
         let recent = self.recent.get_or_insert_with(|| Box::new([0; SLOTS]));
-        let found = match recent[s] {
+        let rest = &self.rest;
+        let at = |s: usize| match recent[s] {
             0 => None,
-            e => {
-                let r = e - 1;
-                (rest_key(&self.rest[r as usize]) == key).then_some(r)
-            }
+            e => (rest_key(&rest[e as usize - 1]) == key).then_some(e - 1),
         };
-        found.unwrap_or_else(|| {
-            let r = self.rest.len() as u32;
-            self.rest.push(Material {
-                diffuse: DVec3::ZERO,
-                ..*m
-            });
-            recent[s] = r + 1;
-            r
-        })
+        if let Some(r) = at(a).or_else(|| at(b)) {
+            return r;
+        }
+        let r = self.rest.len() as u32;
+        self.rest.push(Material {
+            diffuse: DVec3::ZERO,
+            ..*m
+        });
+        // An empty slot of the two, else the first.
+        let s = if recent[a] != 0 && recent[b] == 0 {
+            b
+        } else {
+            a
+        };
+        recent[s] = r + 1;
+        r
     }
 
     /// Appends `m` (no search for an equal material: the loader shares materials) and returns
@@ -206,6 +213,14 @@ impl MaterialTable {
     /// a record no entry uses any more can make it true for nothing.)
     pub fn may_have_gas(&self) -> bool {
         self.rest.iter().any(Material::is_gas)
+    }
+
+    /// Whether some gas material may have a density profile other than constant (answered
+    /// like [`Self::may_have_gas`]).
+    pub fn may_have_profiled_gas(&self) -> bool {
+        self.rest
+            .iter()
+            .any(|m| m.is_gas() && m.profile != super::Profile::Constant)
     }
 
     /// Swaps entries `a` and `b`.

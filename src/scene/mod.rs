@@ -2,12 +2,14 @@
 
 mod build;
 mod material_table;
+pub mod profile;
 mod surface;
 
 use glam::{DAffine3, DQuat, DVec3};
 
 pub use build::{Radii, SphereArrays};
 pub use material_table::MaterialTable;
+pub use profile::Profile;
 pub use surface::{Mapping, Surface, SurfaceCounts, SurfaceShape, Triangle};
 
 /// Index of an ellipsoid's map in [`Scene::ellipsoids`] (and in the BVH's copy of them),
@@ -91,6 +93,9 @@ pub struct Material {
     pub transparency: f64,
     /// A Shape with no Appearance or no Material: colour (1,1,1), lights ignored (VRML 4.14.2).
     pub unlit: bool,
+    /// The density profile of a gas sphere of this material (MODEL.md section 6; a
+    /// `GasParticle` PROTO instance sets it); opaque spheres ignore it.
+    pub profile: Profile,
 }
 
 impl Default for Material {
@@ -103,6 +108,7 @@ impl Default for Material {
             ambient_intensity: 0.2,
             transparency: 0.0,
             unlit: false,
+            profile: Profile::Constant,
         }
     }
 }
@@ -119,7 +125,7 @@ impl Material {
     }
     /// Every field's bits: materials are equal when their keys are (so `-0.0` and `0.0`
     /// differ, as they would be printed differently).
-    pub fn key(&self) -> [u64; 13] {
+    pub fn key(&self) -> [u64; 15] {
         [
             self.diffuse.x.to_bits(),
             self.diffuse.y.to_bits(),
@@ -134,6 +140,8 @@ impl Material {
             self.ambient_intensity.to_bits(),
             self.transparency.to_bits(),
             self.unlit as u64,
+            self.profile.key()[0],
+            self.profile.key()[1],
         ]
     }
     /// Gas: `0 < transparency <= 1` (MODEL.md section 1).

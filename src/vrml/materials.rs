@@ -17,14 +17,14 @@
 use crate::scene::{Material, MaterialTable, Scene};
 
 /// Every field's bits ([`Material::key`]).
-fn material_key(m: &Material) -> [u64; 13] {
+fn material_key(m: &Material) -> [u64; 15] {
     m.key()
 }
 
 /// A fixed (same on every call and every run) hash of a material's key: a multiply-xor mix,
 /// then a final avalanche so that every input bit reaches both the low bits (cache slots)
 /// and the high bits (tags).
-fn hash_key(key: &[u64; 13]) -> u64 {
+fn hash_key(key: &[u64; 15]) -> u64 {
     const K: u64 = 0x9E37_79B9_7F4A_7C15;
     let mut h: u64 = 0;
     for &k in key {

@@ -13,6 +13,9 @@
 //!   A Box, Cylinder or Cone is written the same way; a triangle as a one-face
 //!   IndexedFaceSet (with its corner normals and colours, so it reads back as the same
 //!   triangle: a lone triangle is never a sphere).
+//! - A sphere whose material has a density profile other than constant is a `GasParticle`
+//!   instance (the PROTO the reader recognises, declared once at the top when needed), with
+//!   every Material field, so it reads back with the same material and profile.
 
 use std::io::{self, Write};
 
@@ -20,7 +23,57 @@ use glam::{DAffine3, DMat3, DQuat, DVec3};
 
 use super::number::Float;
 use crate::geom::shapes::Solid;
-use crate::scene::{Light, Material, Scene, Sphere, Surface, SurfaceShape};
+use crate::scene::{Light, Material, Profile, Scene, Sphere, Surface, SurfaceShape};
+
+/// The `GasParticle` PROTO the writer declares: every Material field, and the profile (the
+/// reader recognises it by its name and its `profile` and `width` fields).
+const GAS_PARTICLE: &str = "PROTO GasParticle [
+  field SFVec3f position 0 0 0
+  field SFFloat radius 1
+  field SFColor color 0.8 0.8 0.8
+  field SFColor emission 0 0 0
+  field SFColor specular 0 0 0
+  field SFFloat shininess 0.2
+  field SFFloat ambientIntensity 0.2
+  field SFFloat transparency 0.5
+  field SFString profile \"constant\"
+  field SFFloat width 0.3333333333333333
+] {
+  Transform {
+    translation IS position
+    children Shape {
+      appearance Appearance {
+        material Material { diffuseColor IS color emissiveColor IS emission specularColor IS specular shininess IS shininess ambientIntensity IS ambientIntensity transparency IS transparency }
+      }
+      geometry Sphere { radius IS radius }
+    }
+  }
+}";
+
+/// A sphere of material `m` is written as a `GasParticle` (its profile is not constant).
+fn profiled(m: &Material) -> bool {
+    !m.unlit && m.profile != Profile::Constant
+}
+
+/// A `GasParticle` instance of material `m` at `position` with `radius`.
+fn gas_particle(m: &Material, position: DVec3, radius: f64) -> String {
+    let width = match m.profile {
+        Profile::Gaussian { width } => format!(" width {}", Float(width)),
+        _ => String::new(),
+    };
+    format!(
+        "GasParticle {{ position {} radius {} color {} emission {} specular {} shininess {} ambientIntensity {} transparency {} profile \"{}\"{width} }}",
+        v3(position),
+        Float(radius),
+        v3(m.diffuse),
+        v3(m.emissive),
+        v3(m.specular),
+        Float(m.shininess),
+        Float(m.ambient_intensity),
+        Float(m.transparency),
+        m.profile.name()
+    )
+}
 
 fn v3(v: DVec3) -> String {
     format!("{} {} {}", Float(v.x), Float(v.y), Float(v.z))
@@ -188,6 +241,13 @@ pub fn write_scene(scene: &Scene, out: &mut impl Write) -> io::Result<()> {
         if scene.headlight { "TRUE" } else { "FALSE" }
     )?;
     writeln!(out, "Background {{ skyColor {} }}", v3(scene.background))?;
+    if scene
+        .spheres
+        .iter()
+        .any(|s| profiled(&scene.materials.get(s.material as usize)))
+    {
+        writeln!(out, "{GAS_PARTICLE}")?;
+    }
     let mut names = std::collections::HashSet::new();
     for vp in &scene.viewpoints {
         let def = match &vp.name {
@@ -343,6 +403,18 @@ fn write_sphere(
     defined: &mut [bool],
     out: &mut impl Write,
 ) -> io::Result<()> {
+    let m = scene.materials.get(s.material as usize);
+    if profiled(&m) {
+        return match s.ellipsoid {
+            None => writeln!(out, "{}", gas_particle(&m, s.center, s.radius)),
+            Some(e) => writeln!(
+                out,
+                "Transform {{ {} children {} }}",
+                ellipsoid_transform(&scene.ellipsoids[e.index()]),
+                gas_particle(&m, DVec3::ZERO, 1.0)
+            ),
+        };
+    }
     let appearance = appearance(scene, s.material, "M", defined);
     match s.ellipsoid {
         None => writeln!(

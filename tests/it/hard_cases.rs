@@ -448,6 +448,7 @@ fn optical_depths_1e_12_and_1e4() {
     );
     let opts = PrepareOptions {
         as_gas: Some(5000.0),
+        ..PrepareOptions::default()
     };
     let p = render::prepare(scene, &opts).expect("prepare");
     assert_eq!(

@@ -11,6 +11,7 @@ mod errors; // each error and warning: message and line:col, exactly
 mod extern_proto; // EXTERNPROTO from local files: by name or first, defaults, urls, cycles, depth
 mod gas_accuracy; // the exact cases of ../shared/cases/gas-accuracy as regression tests
 mod gas_mc; // the Monte Carlo integrator: standard errors honest, agrees with exact
+mod gas_particle; // GasParticle PROTO: profiles on materials, positioned errors, prepare refuses profiled gas
 mod gas_reference; // the brute-force gas reference the gas tests share (and its own checks)
 mod gas_scatter; // exact single scattering against the brute-force reference
 mod gas_truncation; // exact: truncation bounds and error estimates against the reference

@@ -28,7 +28,14 @@ fn prepared(body: &str, as_gas: Option<f64>, integrator: Integrator) -> support:
         tol: 1e-9,
         ..RenderOptions::default()
     };
-    support::Setup::new(scene, &PrepareOptions { as_gas }, opts)
+    support::Setup::new(
+        scene,
+        &PrepareOptions {
+            as_gas,
+            ..PrepareOptions::default()
+        },
+        opts,
+    )
 }
 
 fn ray(prep: &support::Setup, o: DVec3, w: DVec3) -> DVec3 {

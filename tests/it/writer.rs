@@ -5,7 +5,8 @@
 use glam::{DAffine3, DQuat, DVec3};
 use gtsphere::render::{RenderOptions, SamplerKind};
 use gtsphere::scene::{
-    DirectionalLight, EllipsoidId, Light, LightScope, Material, Origin, PointLight, Scene, Sphere,
+    DirectionalLight, EllipsoidId, Light, LightScope, Material, Origin, PointLight, Profile, Scene,
+    Sphere,
 };
 use gtsphere::vrml::write::write_scene;
 use gtsphere::vrml::{load_path, load_str, LoadOptions};
@@ -308,6 +309,16 @@ fn generated_scenes_round_trip() {
                 ambient_intensity: rnd(),
                 transparency: if rnd() < 0.5 { 0.0 } else { rnd() },
                 unlit: false,
+                // Profiled materials are written as GasParticle instances (opaque ones too:
+                // the profile comes back either way).
+                profile: match (rnd() * 5.0) as u32 {
+                    0 => Profile::Linear,
+                    1 => Profile::Quadratic,
+                    2 => Profile::Gaussian {
+                        width: rnd().max(1e-3),
+                    },
+                    _ => Profile::Constant,
+                },
             });
         }
         let n = 20;

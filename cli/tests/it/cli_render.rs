@@ -519,3 +519,57 @@ fn threads_bound_the_reading_too() {
     assert!(pieces(&["--threads", "1", "--read-threads", "2"]) >= 2);
     assert_eq!(pieces(&["--threads", "2", "--read-threads", "1"]), 0);
 }
+
+#[test]
+fn profiles_are_named_and_profiled_gas_is_refused_for_now() {
+    let dir = scratch("profile");
+    std::fs::write(
+        dir.join("g.wrl"),
+        "#VRML V2.0 utf8\nPROTO GasParticle [ field SFVec3f position 0 0 0 field SFFloat radius 1 field SFFloat transparency 0.5 field SFString profile \"constant\" field SFFloat width 0.3333333333333333 ] { Transform { translation IS position children Shape { appearance Appearance { material Material { transparency IS transparency } } geometry Sphere { radius IS radius } } } }\nGasParticle { profile \"gaussian\" width 0.5 }\n",
+    )
+    .unwrap();
+    let small = ["--width", "8", "--height", "8"];
+    let run = |extra: &[&str]| {
+        let mut args = vec!["render", "g.wrl", "-o", "g.png"];
+        args.extend_from_slice(&small);
+        args.extend_from_slice(extra);
+        gtsphere(&args, &dir)
+    };
+    for (arg, want) in [
+        ("fuzzy", "--profile fuzzy: unknown density profile `fuzzy`"),
+        (
+            "gaussian:2",
+            "--profile gaussian:2: gaussian width 2 is outside (0, 1]",
+        ),
+        (
+            "linear:0.5",
+            "--profile linear:0.5: the linear profile takes no width",
+        ),
+        (
+            "gaussian:x",
+            "--profile gaussian:x: the width `x` is not a number",
+        ),
+    ] {
+        let out = run(&["--profile", arg]);
+        assert!(!out.status.success());
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(want), "{arg}: {err}");
+    }
+    // The scene's gaussian gas is refused (not drawn as constant gas), no file written...
+    let out = run(&[]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("spheres[0] is gas with the gaussian density profile"),
+        "{err}"
+    );
+    assert!(!dir.join("g.png").exists());
+    // ... and drawn with --profile constant.
+    let out = run(&["--profile", "constant"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(dir.join("g.png").exists());
+}

@@ -14,6 +14,7 @@ use std::rc::Rc;
 use hashbrown::HashMap;
 
 use super::fields::warn_if_event;
+use super::gas_particle::{self, GasFields};
 use super::record::{value_end, Rec};
 use super::scope::Protos;
 use super::template::{self, SphereTemplate};
@@ -54,6 +55,8 @@ pub(super) struct ProtoDecl {
     pub(super) first_end: usize,
     /// The body's first node compiled, when it is one sphere (see `template`).
     pub(super) sphere: Option<Rc<SphereTemplate>>,
+    /// A `GasParticle` PROTO's profile fields (see `gas_particle`).
+    pub(super) gas: Option<GasFields>,
     /// A PROTO reached through an EXTERNPROTO: which of `fields` an instance may set (those
     /// the EXTERNPROTO declares with the same access and type); `None`: all of them.
     pub(super) public: Option<Rc<[bool]>>,
@@ -217,6 +220,7 @@ impl Lowerer {
             body_is: Rc::from([]),
             first_end: 0,
             sphere: None,
+            gas: None,
             public: None,
             home: None,
         };
@@ -258,6 +262,7 @@ impl Lowerer {
             }
             decl.body_is = is.into();
             decl.sphere = template::compile(&decl).map(Rc::new);
+            decl.gas = gas_particle::recognise(&decl);
         }
         if external {
             // The PROTO it names in a local file, if one of its urls leads to one.

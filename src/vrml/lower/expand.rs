@@ -206,10 +206,16 @@ impl Lowerer {
             }
             i = end;
         }
+        // A GasParticle's Materials take its profile (checked here, at the instance's values).
+        let outer_profile = self.gas_profile;
+        if let Some(gas) = proto.gas {
+            self.gas_profile = Some(self.instance_profile(src, &proto, gas, &values, at)?);
+        }
         if let (Some(tpl), false) = (&proto.sphere, self.opts.replay_every_instance) {
             if let Some(r) = self.expand_by_template(src, &proto, tpl, &values) {
                 values.clear();
                 self.expansions.spare_values.push(values);
+                self.gas_profile = outer_profile;
                 return r;
             }
         }
@@ -236,6 +242,7 @@ impl Lowerer {
             self.expansions.spare_values.push(sub.values);
         }
         self.scopes.leave_to(scope_depth);
+        self.gas_profile = outer_profile;
         r
     }
 

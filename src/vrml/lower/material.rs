@@ -29,6 +29,9 @@ impl Lowerer {
     /// The scene's index of the innermost open Material's fields, which it takes off
     /// `open` (read in place: no copy of the material until it is stored).
     pub(super) fn close_material(&mut self) -> u32 {
+        if let (Some(p), Some(m)) = (self.gas_profile, self.materials.open.last_mut()) {
+            m.profile = p;
+        }
         let m = self.materials.open.last().expect("open Material");
         let i = self.materials.recent.index(m, &mut self.scene.materials);
         self.materials.open.pop();

@@ -67,6 +67,7 @@ mod dispatch;
 mod expand;
 mod extern_proto;
 mod fields;
+mod gas_particle;
 mod inline;
 mod lights;
 mod material;
@@ -298,6 +299,8 @@ struct Lowerer {
     nodes: u64,
     /// PROTO instances lowered by a sphere template (`template.rs`).
     templated: u64,
+    /// The profile of the `GasParticle` instance being expanded (its Materials take it).
+    gas_profile: Option<crate::scene::Profile>,
     /// Recorded events and the recordings under way (`record`).
     rec: Recording,
     /// How deep replays nest, and whether DEFs are being read again (`replay`).
@@ -406,6 +409,7 @@ impl Lowerer {
             scene: Scene::default(),
             nodes: 0,
             templated: 0,
+            gas_profile: None,
             rec: Recording::default(),
             replay: Replay::default(),
             scopes: Scopes::default(),

@@ -1,0 +1,176 @@
+//! `GasParticle`: the PROTO that gives gas spheres a density profile (MODEL.md section 6) in
+//! standard VRML97. Recognised by its name and `profile` field; every Material of an instance
+//! takes the instance's profile; bad names and widths are positioned errors; the PROTO's
+//! template and its replay agree; and `prepare` refuses profiled gas until it is rendered.
+
+use gtsphere::render::{self, PrepareOptions};
+use gtsphere::scene::{Profile, Scene};
+use gtsphere::vrml::{load_str, LoadOptions};
+
+use crate::support;
+
+/// The PROTO as `convert` and the VRML writer declare it (the writer adds the other Material
+/// fields).
+const PROTO: &str = "#VRML V2.0 utf8
+PROTO GasParticle [
+  field SFVec3f position 0 0 0
+  field SFFloat radius 1
+  field SFColor color 0.8 0.8 0.8
+  field SFColor emission 0 0 0
+  field SFFloat transparency 0.5
+  field SFString profile \"constant\"
+  field SFFloat width 0.3333333333333333
+] {
+  Transform {
+    translation IS position
+    children Shape {
+      appearance Appearance {
+        material Material { diffuseColor IS color emissiveColor IS emission transparency IS transparency }
+      }
+      geometry Sphere { radius IS radius }
+    }
+  }
+}
+";
+
+fn profiles(scene: &Scene) -> Vec<Profile> {
+    scene
+        .spheres
+        .iter()
+        .map(|s| scene.materials.get(s.material as usize).profile)
+        .collect()
+}
+
+#[test]
+fn each_instance_gives_its_spheres_its_profile() {
+    let text = format!(
+        "{PROTO}GasParticle {{ }}
+GasParticle {{ profile \"linear\" transparency 0.25 }}
+GasParticle {{ profile \"quadratic\" position 1 0 0 }}
+GasParticle {{ profile \"gaussian\" }}
+GasParticle {{ profile \"gaussian\" width 0.25 }}
+GasParticle {{ profile \"constant\" }}
+Transform {{ scale 2 1 1 children GasParticle {{ profile \"linear\" }} }}
+Shape {{ appearance Appearance {{ material Material {{ transparency 0.5 }} }} geometry Sphere {{ }} }}
+"
+    );
+    for replay in [false, true] {
+        let opts = LoadOptions {
+            replay_every_instance: replay,
+            ..LoadOptions::default()
+        };
+        let (scene, report) = load_str("test.wrl", &text, &opts).expect("loads");
+        assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+        assert_eq!(
+            profiles(&scene),
+            [
+                Profile::Constant,
+                Profile::Linear,
+                Profile::Quadratic,
+                Profile::Gaussian { width: 1.0 / 3.0 },
+                Profile::Gaussian { width: 0.25 },
+                Profile::Constant,
+                Profile::Linear,
+                Profile::Constant,
+            ]
+        );
+        // The rest of the material is the instance's, as for any PROTO.
+        let m = scene.materials.get(scene.spheres[1].material as usize);
+        assert_eq!(m.transparency, 0.25);
+        assert_eq!(scene.spheres[2].center.x, 1.0);
+        // The profile is part of the material: equal fields, other profile, other material.
+        assert_eq!(scene.spheres[0].material, scene.spheres[5].material);
+        assert_ne!(scene.spheres[0].material, scene.spheres[3].material);
+        assert_eq!(report.template_instances, if replay { 0 } else { 7 });
+    }
+}
+
+#[test]
+fn bad_names_and_widths_are_errors_at_the_field() {
+    let cases = [
+        (
+            "GasParticle { profile \"fuzzy\" }",
+            "test.wrl:21:15: GasParticle: unknown density profile `fuzzy` (expected constant, linear, quadratic or gaussian)",
+        ),
+        (
+            "GasParticle { profile \"gaussian\" width 0 }",
+            "test.wrl:21:34: GasParticle: gaussian width 0 is outside (0, 1]",
+        ),
+        (
+            "GasParticle { profile \"gaussian\" width 1.5 }",
+            "test.wrl:21:34: GasParticle: gaussian width 1.5 is outside (0, 1]",
+        ),
+    ];
+    for (instance, want) in cases {
+        let e = support::error_of(&format!("{PROTO}{instance}\n"));
+        assert!(e.starts_with(want), "{instance}:\n{e}\nwanted {want}");
+    }
+    // A default the PROTO declares is checked where it is declared, when an instance uses it.
+    let bad_default = PROTO.replace("profile \"constant\"", "profile \"cloudy\"");
+    let e = support::error_of(&format!("{bad_default}GasParticle {{ }}\n"));
+    assert!(
+        e.starts_with("test.wrl:8:3: GasParticle: unknown density profile `cloudy`"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_width_for_another_profile_is_a_warning() {
+    let (scene, report) = support::load(&format!(
+        "{PROTO}GasParticle {{ profile \"linear\" width 0.5 }}\n"
+    ));
+    assert_eq!(profiles(&scene), [Profile::Linear]);
+    assert_eq!(report.warnings.len(), 1);
+    let w = report.warnings[0].to_string();
+    assert!(
+        w.starts_with(
+            "test.wrl:21:32: warning: GasParticle width applies to the gaussian profile only: ignored"
+        ),
+        "{w}"
+    );
+}
+
+#[test]
+fn only_the_name_and_signature_are_recognised() {
+    // Another name, or a GasParticle whose profile is not an SFString field: constant gas.
+    for text in [
+        PROTO.replace("GasParticle", "Blob") + "Blob { profile \"linear\" }\n",
+        PROTO.replace("SFString profile \"constant\"", "SFFloat profile 1")
+            + "GasParticle { profile 2 }\n",
+    ] {
+        let (scene, _) = support::load(&text);
+        assert_eq!(profiles(&scene), [Profile::Constant], "{text}");
+    }
+}
+
+#[test]
+fn profiled_gas_is_refused_until_it_is_rendered() {
+    let (scene, _) = support::load(&format!(
+        "{PROTO}GasParticle {{ profile \"quadratic\" transparency 0 }}\nGasParticle {{ profile \"linear\" }}\n"
+    ));
+    // The opaque one is not gas: its profile does not matter. The gas one is refused...
+    let e = render::prepare(scene.clone(), &PrepareOptions::default())
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(
+        e.contains("spheres[1] is gas with the linear density profile"),
+        "{e}"
+    );
+    // ... unless every gas sphere is made constant.
+    let constant = PrepareOptions {
+        profile: Some(Profile::Constant),
+        ..PrepareOptions::default()
+    };
+    assert!(render::prepare(scene.clone(), &constant).is_ok());
+    // And a profile for every gas sphere is refused too.
+    let (plain, _) = support::scene(
+        "Shape { appearance Appearance { material Material { transparency 0.5 } } geometry Sphere { } }",
+    );
+    let gaussian = PrepareOptions {
+        profile: Some(Profile::Gaussian { width: 0.5 }),
+        ..PrepareOptions::default()
+    };
+    let e = render::prepare(plain, &gaussian).err().expect("refused");
+    assert!(e.to_string().contains("gaussian density profile"), "{e}");
+}
