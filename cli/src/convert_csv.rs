@@ -69,7 +69,8 @@ pub struct ConvertArgs {
     /// a header, e.g. `--columns element,x,y,z` (`skip` for unused columns). Roles: x, y, z,
     /// radius, diameter, red, green, blue, density, opacity, transparency, emission,
     /// emission_red, emission_green, emission_blue, element (van der Waals radius and CPK
-    /// colour when the table gives none).
+    /// colour when the table gives none), profile and width (a gas sphere's density profile,
+    /// written as a GasParticle).
     #[arg(long, value_name = "SPEC")]
     pub columns: Vec<String>,
     /// Radius of every particle (when the table has no radius column; overrides one).

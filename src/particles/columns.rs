@@ -33,10 +33,15 @@ pub enum Role {
     /// A chemical element symbol: van der Waals radius and CPK colour when the table gives
     /// none.
     Element,
+    /// A gas sphere's density profile by name (MODEL.md section 6): written as a
+    /// `GasParticle`.
+    Profile,
+    /// The gaussian profile's width, in units of the radius.
+    Width,
 }
 
 impl Role {
-    pub const ALL: [Role; 16] = [
+    pub const ALL: [Role; 18] = [
         Role::X,
         Role::Y,
         Role::Z,
@@ -53,6 +58,8 @@ impl Role {
         Role::EmissionGreen,
         Role::EmissionBlue,
         Role::Element,
+        Role::Profile,
+        Role::Width,
     ];
 
     /// The role's canonical name, as `--columns` accepts it.
@@ -74,6 +81,8 @@ impl Role {
             Role::EmissionGreen => "emission_green",
             Role::EmissionBlue => "emission_blue",
             Role::Element => "element",
+            Role::Profile => "profile",
+            Role::Width => "width",
         }
     }
 
@@ -138,6 +147,8 @@ fn role_of(norm: &str) -> Option<Role> {
         "transparency" => Role::Transparency,
         "emission" | "emissive" | "glow" => Role::Emission,
         "element" | "elem" | "symbol" => Role::Element,
+        "profile" | "densityprofile" => Role::Profile,
+        "width" | "profilewidth" => Role::Width,
         _ if axis != norm && ["x", "y", "z"].contains(&axis) => match axis {
             "x" => Role::X,
             "y" => Role::Y,
@@ -172,7 +183,7 @@ fn role_named(name: &str) -> Option<Role> {
 /// For each role, the 0-based column that holds it.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct ColumnMap {
-    cols: [Option<usize>; 16],
+    cols: [Option<usize>; 18],
     /// Column names (from the header or `--columns`), for messages.
     pub names: Vec<String>,
     /// Columns that mean nothing to us, listed once for the user.

@@ -84,7 +84,13 @@ pub fn convert<W: Write>(
     let io = |e: std::io::Error| Error::Other(format!("writing the VRML output: {e}"));
     let radius = table.radius;
     let mut reader = ParticleReader::new(name, input, table).map_err(diag)?;
-    let mut writer = ParticleWriter::new(out, name, opts.plain, radius).map_err(io)?;
+    let profiles = reader.has_profiles();
+    if profiles && opts.plain {
+        return Err(Error::Other(format!(
+            "{name}: the profile column needs the PROTO form (GasParticle): leave out --plain"
+        )));
+    }
+    let mut writer = ParticleWriter::new(out, name, opts.plain, profiles, radius).map_err(io)?;
     while let Some(p) = reader.next_particle().map_err(diag)? {
         writer.particle(&p).map_err(io)?;
     }

@@ -23,6 +23,7 @@ use csv::ByteRecord;
 
 use super::columns::{ColumnMap, ColumnSpec, Role};
 use crate::diag::{Diagnostic, Severity};
+use crate::scene::profile::{Profile, ProfileError};
 
 /// How many data rows decide the colour scale.
 pub const SNIFF_ROWS: usize = 1000;
@@ -74,6 +75,8 @@ pub struct Particle<'a> {
     pub emission: Option<[Num<'a>; 3]>,
     /// VRML transparency: 0 opaque, in (0, 1] a gas sphere.
     pub transparency: Option<f64>,
+    /// The density profile, when the table gives one (an empty cell: constant).
+    pub profile: Option<Profile>,
 }
 
 enum Rows {
@@ -154,7 +157,9 @@ pub struct ParticleReader {
     held: std::collections::VecDeque<Held>,
     rec: ByteRecord,
     /// The current row's values by role (see [`Role::ALL`]).
-    vals: [Option<f64>; 16],
+    vals: [Option<f64>; 18],
+    /// The current row's density profile, when the table has a profile column.
+    profile: Option<Profile>,
     /// The current row's element radius and colour, when the table relies on them.
     element: Option<(f64, [f64; 3])>,
     /// Whether the element column gives the radius and the colour (the table does not).
@@ -224,6 +229,11 @@ fn guess_delimiter(head: &[u8]) -> Delimiter {
 }
 
 impl ParticleReader {
+    /// Whether the table has a profile column (its particles are then `GasParticle`s).
+    pub fn has_profiles(&self) -> bool {
+        self.map.get(Role::Profile).is_some()
+    }
+
     /// Opens a table from a byte stream named `file` in messages.
     pub fn new(
         file: &str,
@@ -272,7 +282,8 @@ impl ParticleReader {
             scale: ColorScale::Unit,
             held: std::collections::VecDeque::new(),
             rec: ByteRecord::new(),
-            vals: [None; 16],
+            vals: [None; 18],
+            profile: None,
             element: None,
             element_gives: (false, false),
             line: 0,
@@ -591,7 +602,7 @@ impl ParticleReader {
         for (k, role) in Role::ALL.into_iter().enumerate() {
             self.vals[k] = None;
             let given = matches!(role, Role::Radius | Role::Diameter) && self.opts.radius.is_some();
-            if role == Role::Element || given {
+            if role == Role::Element || role == Role::Profile || given {
                 continue;
             }
             self.vals[k] = self.value(line, role)?;
@@ -611,6 +622,23 @@ impl ParticleReader {
                         "empty, but the row gives other channels of its colour",
                     ));
                 }
+            }
+        }
+        self.profile = None;
+        if let Some(col) = self.map.get(Role::Profile) {
+            let name = text(self.field(line, col)?).trim();
+            let width = self.vals[Role::Width.index()];
+            if !name.is_empty() {
+                // The width is the gaussian's only (a width column may fill every row).
+                let width = width.filter(|_| name == "gaussian");
+                let p = Profile::parse(name, width).map_err(|e| {
+                    let col = match e {
+                        ProfileError::Width(_) => self.map.get(Role::Width).unwrap_or(col),
+                        _ => col,
+                    };
+                    self.column_error(line, col, e.to_string())
+                })?;
+                self.profile = Some(p);
             }
         }
         self.element = None;
@@ -679,7 +707,12 @@ impl ParticleReader {
         };
         let transparency = get(Role::Transparency)
             .or_else(|| get(Role::Opacity).map(|o| 1.0 - o))
-            .or_else(|| get(Role::Density).map(|s| (-2.0 * radius.value * s).exp()));
+            .or_else(|| {
+                // A density is the profile's sigma0, its value at the centre (MODEL.md
+                // section 6: the diameter's optical depth is 2 r I_f sigma0).
+                let i_f = self.profile.map_or(1.0, |p| p.integral());
+                get(Role::Density).map(|s| (-2.0 * radius.value * i_f * s).exp())
+            });
         Particle {
             position: [num(Role::X), num(Role::Y), num(Role::Z)],
             radius,
@@ -687,6 +720,7 @@ impl ParticleReader {
                 .or_else(|| self.element.map(|e| computed(e.1))),
             emission,
             transparency,
+            profile: self.profile,
         }
     }
 }

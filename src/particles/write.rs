@@ -18,13 +18,24 @@ use std::io::{self, Write};
 use glam::DVec3;
 
 use super::read::{Num, Particle};
+use crate::scene::Profile;
 use crate::vrml::number;
 
-/// The PROTO every instance refers to; `radius` defaults to `--radius` when given.
-fn proto(default_radius: f64) -> String {
+/// The PROTO every instance refers to; `radius` defaults to `--radius` when given. With
+/// `profiles`, it is the `GasParticle` the reader recognises (`crate::vrml` reads its
+/// `profile` and `width` fields; other viewers show the same spheres).
+fn proto(default_radius: f64, profiles: bool) -> String {
     let mut buf = ryu::Buffer::new();
+    let (name, extra) = if profiles {
+        (
+            "GasParticle",
+            "\n  field SFString profile \"constant\"\n  field SFFloat width 0.3333333333333333",
+        )
+    } else {
+        ("Particle", "")
+    };
     format!(
-        "PROTO Particle [\n  field SFVec3f position 0 0 0\n  field SFFloat radius {}\n  field SFColor color 0.8 0.8 0.8\n  field SFColor emission 0 0 0\n  field SFFloat transparency 0\n] {{\n  Transform {{\n    translation IS position\n    children Shape {{\n      appearance Appearance {{\n        material Material {{ diffuseColor IS color emissiveColor IS emission transparency IS transparency }}\n      }}\n      geometry Sphere {{ radius IS radius }}\n    }}\n  }}\n}}\n",
+        "PROTO {name} [\n  field SFVec3f position 0 0 0\n  field SFFloat radius {}\n  field SFColor color 0.8 0.8 0.8\n  field SFColor emission 0 0 0\n  field SFFloat transparency 0{extra}\n] {{\n  Transform {{\n    translation IS position\n    children Shape {{\n      appearance Appearance {{\n        material Material {{ diffuseColor IS color emissiveColor IS emission transparency IS transparency }}\n      }}\n      geometry Sphere {{ radius IS radius }}\n    }}\n  }}\n}}\n",
         number::format(&mut buf, default_radius)
     )
 }
@@ -42,6 +53,8 @@ pub struct Extras {
 pub struct ParticleWriter<W: Write> {
     out: W,
     plain: bool,
+    /// Particles are `GasParticle`s with their profiles.
+    profiles: bool,
     /// `--radius`: instances leave the radius to the PROTO's default.
     default_radius: Option<f64>,
     lo: DVec3,
@@ -53,13 +66,21 @@ pub struct ParticleWriter<W: Write> {
 }
 
 impl<W: Write> ParticleWriter<W> {
-    /// Writes the file header (and the PROTO unless `plain`). `source` names the input.
+    /// Writes the file header (and the PROTO unless `plain`). `source` names the input;
+    /// `profiles`: the particles carry density profiles, written as `GasParticle`s (not with
+    /// `plain`, whose ordinary nodes cannot carry them: an error).
     pub fn new(
         mut out: W,
         source: &str,
         plain: bool,
+        profiles: bool,
         default_radius: Option<f64>,
     ) -> io::Result<Self> {
+        if plain && profiles {
+            return Err(io::Error::other(
+                "density profiles need the PROTO form: ordinary nodes cannot carry them (leave out --plain)",
+            ));
+        }
         writeln!(out, "#VRML V2.0 utf8")?;
         // At most 200 characters (truncating bytes could split a character and panic).
         let one_line: String = source
@@ -73,11 +94,12 @@ impl<W: Write> ParticleWriter<W> {
             env!("CARGO_PKG_VERSION")
         )?;
         if !plain {
-            out.write_all(proto(default_radius.unwrap_or(1.0)).as_bytes())?;
+            out.write_all(proto(default_radius.unwrap_or(1.0), profiles).as_bytes())?;
         }
         Ok(ParticleWriter {
             out,
             plain,
+            profiles,
             default_radius,
             lo: DVec3::INFINITY,
             hi: DVec3::NEG_INFINITY,
@@ -132,13 +154,25 @@ impl<W: Write> ParticleWriter<W> {
         if self.plain {
             return self.plain_particle(p);
         }
-        self.out.write_all(b"Particle { position ")?;
+        self.out.write_all(if self.profiles {
+            b"GasParticle { position "
+        } else {
+            b"Particle { position "
+        })?;
         self.nums(p.position)?;
         if self.default_radius.is_none() {
             self.out.write_all(b" radius ")?;
             self.num(p.radius)?;
         }
         self.material(p, [&b" color "[..], b" emission "])?;
+        match p.profile {
+            None | Some(Profile::Constant) => {}
+            Some(Profile::Gaussian { width }) => {
+                self.out.write_all(b" profile \"gaussian\" width ")?;
+                self.f64(width)?;
+            }
+            Some(other) => write!(self.out, " profile \"{}\"", other.name())?,
+        }
         self.out.write_all(b" }\n")
     }
 
@@ -233,7 +267,7 @@ mod tests {
     fn long_non_ascii_source_names_are_cut_at_a_character() {
         // Byte 200 falls inside an "\u{e9}" (2 bytes each, after 3 one-byte characters).
         let name = "ab\n".to_string() + &"\u{e9}".repeat(300);
-        let w = ParticleWriter::new(Vec::new(), &name, true, None).unwrap();
+        let w = ParticleWriter::new(Vec::new(), &name, true, false, None).unwrap();
         let extras = Extras {
             viewpoint: false,
             lights: false,

@@ -511,3 +511,69 @@ fn framing_huge_coordinates() {
     .unwrap_or_else(|e| panic!("{e}"));
     assert!(s.viewpoints.is_empty() && s.spheres.len() == 2);
 }
+
+#[test]
+fn profile_and_width_columns_become_gas_particles() {
+    use gtsphere::scene::Profile;
+    let table = "x,y,z,radius,density,profile,width\n\
+                 0,0,0,1,0.5,linear,0.3\n\
+                 1,0,0,0.5,2,gaussian,0.25\n\
+                 2,0,0,0.5,2,,0.25\n\
+                 3,0,0,0.5,3,quadratic,\n\
+                 4,0,0,0.5,1,gaussian,\n";
+    let (s, text) = convert_with(table, TableOptions::default(), FRAMED).unwrap();
+    assert!(text.contains("PROTO GasParticle ["), "{text}");
+    let m = |k: usize| s.materials.get(s.spheres[k].material as usize);
+    let got: Vec<Profile> = (0..5).map(|k| m(k).profile).collect();
+    assert_eq!(
+        got,
+        [
+            // A width for another profile is ignored (a width column fills every row).
+            Profile::Linear,
+            Profile::Gaussian { width: 0.25 },
+            // An empty cell: constant.
+            Profile::Constant,
+            Profile::Quadratic,
+            Profile::Gaussian { width: 1.0 / 3.0 },
+        ]
+    );
+    // A density is sigma0, the value at the centre: the diameter's optical depth is
+    // 2 r I_f sigma0, I_f = 1/2 for linear, 2/3 for quadratic and 1 for constant.
+    let sigma0 = |k: usize, i_f: f64| -m(k).transparency.ln() / (2.0 * s.spheres[k].radius * i_f);
+    assert!((sigma0(0, 0.5) - 0.5).abs() < 1e-15, "{}", sigma0(0, 0.5));
+    assert!((sigma0(2, 1.0) - 2.0).abs() < 1e-15);
+    let i_gauss = Profile::Gaussian { width: 0.25 }.integral();
+    assert!((sigma0(1, i_gauss) - 2.0).abs() < 1e-14);
+    assert!((sigma0(3, 2.0 / 3.0) - 3.0).abs() < 1e-14);
+}
+
+#[test]
+fn bad_profiles_are_positioned_errors() {
+    let e = err(
+        "x,y,z,radius,profile\n0,0,0,1,linear\n1,0,0,1,fuzzy\n",
+        TableOptions::default(),
+    );
+    assert!(
+        e.contains("t.csv:3:5: column \"profile\": unknown density profile `fuzzy`"),
+        "{e}"
+    );
+    let e = err(
+        "x,y,z,radius,profile,width\n0,0,0,1,gaussian,1.5\n",
+        TableOptions::default(),
+    );
+    assert!(
+        e.contains("t.csv:2:6: column \"width\": gaussian width 1.5 is outside (0, 1]"),
+        "{e}"
+    );
+    let plain = WriteOptions {
+        plain: true,
+        ..FRAMED
+    };
+    let e = convert_with(
+        "x,y,z,radius,profile\n0,0,0,1,linear\n",
+        TableOptions::default(),
+        plain,
+    )
+    .expect_err("refused");
+    assert!(e.contains("the profile column needs the PROTO form"), "{e}");
+}

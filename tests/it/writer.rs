@@ -432,7 +432,7 @@ fn scene_and_particle_writers_write_the_same_numbers() {
         scene.spheres[0].radius = r;
         let from_scene = written(&scene);
 
-        let mut w = ParticleWriter::new(Vec::new(), "numbers", true, None).unwrap();
+        let mut w = ParticleWriter::new(Vec::new(), "numbers", true, false, None).unwrap();
         let num = |value| Num { value, text: None };
         w.particle(&Particle {
             position: [num(v); 3],
@@ -440,6 +440,7 @@ fn scene_and_particle_writers_write_the_same_numbers() {
             color: None,
             emission: None,
             transparency: None,
+            profile: None,
         })
         .unwrap();
         let extras = Extras {
