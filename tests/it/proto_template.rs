@@ -4,6 +4,7 @@
 //! (`LoadOptions::replay_every_instance`), and the tests check that the template was really
 //! used where it may be and not used where replaying does more.
 
+use gtsphere::particles::write::{Extras, ParticleWriter};
 use gtsphere::scene::Scene;
 use gtsphere::vrml::lower::{load_bytes, LoadOptions, LoadReport};
 use proptest::prelude::*;
@@ -48,30 +49,19 @@ fn same(text: &str) -> Option<LoadReport> {
     same_limited(text, LoadOptions::default().max_nodes)
 }
 
-/// `gtsphere convert`'s PROTO, as src/particles/write.rs writes it.
-const CONVERT: &str = "#VRML V2.0 utf8
-PROTO Particle [
-  field SFVec3f position 0 0 0
-  field SFFloat radius 1
-  field SFColor color 0.8 0.8 0.8
-  field SFColor emission 0 0 0
-  field SFFloat transparency 0
-] {
-  Transform {
-    translation IS position
-    children Shape {
-      appearance Appearance {
-        material Material { diffuseColor IS color emissiveColor IS emission transparency IS transparency }
-      }
-      geometry Sphere { radius IS radius }
-    }
-  }
+/// The header `gtsphere convert` writes (its `PROTO Particle`), from the writer itself.
+fn convert_header() -> String {
+    let w = ParticleWriter::new(Vec::new(), "t.csv", false, false, None).unwrap();
+    let none = Extras {
+        viewpoint: false,
+        lights: false,
+    };
+    String::from_utf8(w.finish(none).unwrap()).unwrap()
 }
-";
 
 #[test]
 fn converts_proto_is_lowered_by_its_template() {
-    let mut text = String::from(CONVERT);
+    let mut text = convert_header();
     for i in 0..500 {
         let f = |k: usize| ((i * 7919 + k * 104_729) % 1000) as f64 / 1000.0;
         text += &format!(
@@ -129,14 +119,19 @@ fn where_replaying_does_more_it_replays() {
         ("Particle { colour 1 0 0 }", 1),
     ];
     for (tail, templated) in cases {
-        let text = format!("{CONVERT}Particle {{ position 9 9 9 }}\n{tail}\n");
+        let text = format!(
+            "{}Particle {{ position 9 9 9 }}\n{tail}\n",
+            convert_header()
+        );
         if let Some(r) = same(&text) {
             assert_eq!(r.template_instances, 1 + templated, "{tail}");
         }
     }
     // A PROTO named like a standard node could stand for the body's nodes: replay all.
-    let text =
-        format!("{CONVERT}PROTO Cone [ ] {{ Group {{ }} }}\nParticle {{ }} Particle {{ }}\n");
+    let text = format!(
+        "{}PROTO Cone [ ] {{ Group {{ }} }}\nParticle {{ }} Particle {{ }}\n",
+        convert_header()
+    );
     assert_eq!(same(&text).unwrap().template_instances, 0);
 }
 
@@ -144,7 +139,7 @@ fn where_replaying_does_more_it_replays() {
 fn the_node_limit_is_the_replays() {
     // Ten instances USEd fifty times: far more nodes than bytes, so that the limit (max_nodes
     // plus one per byte read) is reached inside an instance, at each node in turn.
-    let mut text = String::from(CONVERT);
+    let mut text = convert_header();
     text += "DEF G Group { children [";
     for i in 0..10 {
         text += &format!(" Particle {{ radius 0.{} }}", i + 1);
