@@ -629,9 +629,7 @@ impl ParticleReader {
             let name = text(self.field(line, col)?).trim();
             let width = self.vals[Role::Width.index()];
             if !name.is_empty() {
-                // The width is the gaussian's only (a width column may fill every row).
-                let width = width.filter(|_| name == "gaussian");
-                let p = Profile::parse(name, width).map_err(|e| {
+                let (p, _) = Profile::parse_beside(name, width).map_err(|e| {
                     let col = match e {
                         ProfileError::Width(_) => self.map.get(Role::Width).unwrap_or(col),
                         _ => col,

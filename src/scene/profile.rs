@@ -63,6 +63,20 @@ impl Profile {
         }
     }
 
+    /// [`Profile::parse`] for a profile read from a scene or a table, where a width may be
+    /// given beside any name (a `GasParticle`'s `width` field, a `width` column that fills
+    /// every row): the width counts for the gaussian only. Also returns the width that did
+    /// not count (given to another profile), for the caller to warn about or not.
+    pub fn parse_beside(
+        name: &str,
+        width: Option<f64>,
+    ) -> Result<(Profile, Option<f64>), ProfileError> {
+        if name == "gaussian" {
+            return Profile::parse(name, width).map(|p| (p, None));
+        }
+        Profile::parse(name, None).map(|p| (p, width))
+    }
+
     /// The name [`Profile::parse`] reads.
     pub fn name(&self) -> &'static str {
         match self {

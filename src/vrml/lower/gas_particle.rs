@@ -96,24 +96,22 @@ impl Lowerer {
                 }
                 _ => None,
             });
-        let gaussian = name == "gaussian";
-        match width {
-            Some((_, wat, true)) if !gaussian && Profile::parse(&name, None).is_ok() => {
-                self.diags.warn(
-                    src,
-                    wat,
-                    format!("{NAME} width applies to the gaussian profile only: ignored"),
-                );
-            }
-            _ => {}
+        let (profile, ignored) =
+            Profile::parse_beside(&name, width.map(|(v, _, _)| v)).map_err(|e| {
+                let at = match (&e, width) {
+                    (ProfileError::Width(_), Some((_, wat, _))) => wat,
+                    _ => name_at,
+                };
+                self.diags.error(src, at, format!("{NAME}: {e}"))
+            })?;
+        // (A width the PROTO's default gives is no one's mistake.)
+        if let (Some(_), Some((_, wat, true))) = (ignored, width) {
+            self.diags.warn(
+                src,
+                wat,
+                format!("{NAME} width applies to the gaussian profile only: ignored"),
+            );
         }
-        let w = width.filter(|_| gaussian);
-        Profile::parse(&name, w.map(|(v, _, _)| v)).map_err(|e| {
-            let at = match (&e, w) {
-                (ProfileError::Width(_), Some((_, wat, _))) => wat,
-                _ => name_at,
-            };
-            self.diags.error(src, at, format!("{NAME}: {e}"))
-        })
+        Ok(profile)
     }
 }
