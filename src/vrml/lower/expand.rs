@@ -211,14 +211,31 @@ impl Lowerer {
         if let Some(gas) = proto.gas {
             self.gas_profile = Some(self.instance_profile(src, &proto, gas, &values, at)?);
         }
-        if let (Some(tpl), false) = (&proto.sphere, self.opts.replay_every_instance) {
-            if let Some(r) = self.expand_by_template(src, &proto, tpl, &values) {
+        let by_template = match (&proto.sphere, self.opts.replay_every_instance) {
+            (Some(tpl), false) => self.expand_by_template(src, &proto, tpl, &values),
+            _ => None,
+        };
+        let r = match by_template {
+            Some(r) => {
                 values.clear();
                 self.expansions.spare_values.push(values);
-                self.gas_profile = outer_profile;
-                return r;
+                r
             }
-        }
+            None => self.replay_body(src, proto, values, at),
+        };
+        self.gas_profile = outer_profile;
+        r
+    }
+
+    /// Replays an instance's body with its `values` (by interface field), in a namespace of
+    /// its own.
+    fn replay_body(
+        &mut self,
+        src: &SourceWindow,
+        proto: Rc<ProtoDecl>,
+        values: Vec<Option<Range<usize>>>,
+        at: u64,
+    ) -> Result<(), Error> {
         // The body runs in a namespace of its own (under its file's PROTOs if it came from
         // another file), with this instance's substitutions.
         let scope_depth = self.scopes.depth();
@@ -242,7 +259,6 @@ impl Lowerer {
             self.expansions.spare_values.push(sub.values);
         }
         self.scopes.leave_to(scope_depth);
-        self.gas_profile = outer_profile;
         r
     }
 
