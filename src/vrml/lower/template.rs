@@ -84,20 +84,51 @@ pub(super) struct SphereTemplate {
 /// Reads the body's first node as a template, if it is one.
 pub(super) fn compile(decl: &ProtoDecl) -> Option<SphereTemplate> {
     let n = decl.first_end;
+    let events = &decl.body_events[..n];
     let mut m = Matcher {
-        events: &decl.body_events[..n],
+        events,
         is: &decl.body_is[..n],
         k: 0,
+        draft: Draft::default(),
     };
-    let tpl = m.transform()?;
-    (m.k == n).then_some(tpl)
+    let transform_at = m.node("Transform", Matcher::transform_member)?;
+    let d = m.draft;
+    if m.k != n {
+        return None;
+    }
+    // Replaying counts each node as it starts.
+    let nodes = events
+        .iter()
+        .filter(|r| matches!(r, Rec::Ev(OwnedEvent::NodeStart { .. })))
+        .count() as u64;
+    Some(SphereTemplate {
+        transform_at,
+        sphere_at: d.sphere_at?,
+        translation: d.translation,
+        material: d.material,
+        radius: d.radius,
+        nodes,
+    })
 }
 
-/// A cursor over the first node's events.
+/// What the matcher has found so far.
+#[derive(Default)]
+struct Draft {
+    translation: Option<Slot>,
+    /// Whether the Transform's Shape and the Shape's Appearance were met (each at most once).
+    shape: bool,
+    appearance: bool,
+    material: Option<Vec<(MaterialField, Slot)>>,
+    sphere_at: Option<u64>,
+    radius: Option<Slot>,
+}
+
+/// A cursor over the first node's events, and what it found.
 struct Matcher<'a> {
     events: &'a [Rec],
     is: &'a [u32],
     k: usize,
+    draft: Draft,
 }
 
 impl<'a> Matcher<'a> {
@@ -110,19 +141,31 @@ impl<'a> Matcher<'a> {
         Some(r)
     }
 
-    /// `NodeStart` of a node of this type, without DEF: its position.
-    fn node(&mut self, ty: &str) -> Option<u64> {
-        match self.next()? {
+    /// A node of type `ty` without DEF, to its end, each of its members read by `member`:
+    /// its position. `None` if it is not one, or `member` refuses a member.
+    fn node(
+        &mut self,
+        ty: &str,
+        member: impl Fn(&mut Self, &'a OwnedEvent) -> Option<()>,
+    ) -> Option<u64> {
+        let at = match self.next()? {
             OwnedEvent::NodeStart {
                 def: None,
                 ty: t,
                 at,
-            } if &**t == ty => Some(*at),
-            _ => None,
+            } if &**t == ty => *at,
+            _ => return None,
+        };
+        loop {
+            match self.next()? {
+                OwnedEvent::NodeEnd { .. } => return Some(at),
+                ev => member(self, ev)?,
+            }
         }
     }
 
-    /// The node-valued field `name` holding exactly one node, read by `inner`.
+    /// The rest of a node-valued field (its NodesStart was read) holding exactly one node,
+    /// read by `inner`.
     fn holding<T>(&mut self, inner: impl FnOnce(&mut Self) -> Option<T>) -> Option<T> {
         let t = inner(self)?;
         match self.next()? {
@@ -149,127 +192,92 @@ impl<'a> Matcher<'a> {
         }
     }
 
-    fn transform(&mut self) -> Option<SphereTemplate> {
-        let transform_at = self.node("Transform")?;
-        let mut translation = None;
-        let mut shape = None;
-        loop {
-            match self.next()? {
-                OwnedEvent::NodeEnd { .. } => break,
-                OwnedEvent::Field { name, value, .. }
-                    if &**name == "translation" && translation.is_none() =>
-                {
-                    translation = Some(self.slot(value, 3)?);
-                }
-                OwnedEvent::NodesStart { name, .. } if &**name == "children" && shape.is_none() => {
-                    shape = Some(self.holding(Self::shape)?);
-                }
-                _ => return None,
+    /// A member of the Transform: `translation`, and `children` holding one Shape.
+    fn transform_member(&mut self, ev: &'a OwnedEvent) -> Option<()> {
+        match ev {
+            OwnedEvent::Field { name, value, .. }
+                if &**name == "translation" && self.draft.translation.is_none() =>
+            {
+                self.draft.translation = Some(self.slot(value, 3)?);
             }
+            OwnedEvent::NodesStart { name, .. } if &**name == "children" && !self.draft.shape => {
+                self.draft.shape = true;
+                self.holding(|m| m.node("Shape", Self::shape_member))?;
+            }
+            _ => return None,
         }
-        let (material, sphere_at, radius, nodes) = shape?;
-        Some(SphereTemplate {
-            transform_at,
-            sphere_at,
-            translation,
-            material,
-            radius,
-            nodes: 1 + nodes,
-        })
+        Some(())
     }
 
-    /// A Shape whose geometry is a Sphere: its material, the Sphere's position and radius, and
-    /// its node count.
-    #[allow(clippy::type_complexity)]
-    fn shape(&mut self) -> Option<(Option<Vec<(MaterialField, Slot)>>, u64, Option<Slot>, u64)> {
-        self.node("Shape")?;
-        let mut appearance = None;
-        let mut sphere = None;
-        loop {
-            match self.next()? {
-                OwnedEvent::NodeEnd { .. } => break,
-                OwnedEvent::NodesStart { name, .. }
-                    if &**name == "appearance" && appearance.is_none() =>
-                {
-                    appearance = Some(self.holding(Self::appearance)?);
-                }
-                OwnedEvent::NodesStart { name, .. }
-                    if &**name == "geometry" && sphere.is_none() =>
-                {
-                    sphere = Some(self.holding(Self::sphere)?);
-                }
-                _ => return None,
+    /// A member of the Shape: `appearance` holding an Appearance, `geometry` a Sphere (which
+    /// it must have).
+    fn shape_member(&mut self, ev: &'a OwnedEvent) -> Option<()> {
+        match ev {
+            OwnedEvent::NodesStart { name, .. }
+                if &**name == "appearance" && !self.draft.appearance =>
+            {
+                self.draft.appearance = true;
+                self.holding(|m| m.node("Appearance", Self::appearance_member))?;
             }
+            OwnedEvent::NodesStart { name, .. }
+                if &**name == "geometry" && self.draft.sphere_at.is_none() =>
+            {
+                let at = self.holding(|m| m.node("Sphere", Self::sphere_member))?;
+                self.draft.sphere_at = Some(at);
+            }
+            _ => return None,
         }
-        let (sphere_at, radius) = sphere?;
-        let (material, appearance_nodes) = appearance.unwrap_or((None, 0));
-        Some((material, sphere_at, radius, 2 + appearance_nodes))
+        Some(())
     }
 
-    /// An Appearance: its Material's fields (if it has one) and its node count.
-    #[allow(clippy::type_complexity)]
-    fn appearance(&mut self) -> Option<(Option<Vec<(MaterialField, Slot)>>, u64)> {
-        self.node("Appearance")?;
-        let mut material = None;
-        loop {
-            match self.next()? {
-                OwnedEvent::NodeEnd { .. } => break,
-                OwnedEvent::NodesStart { name, .. }
-                    if &**name == "material" && material.is_none() =>
-                {
-                    material = Some(self.holding(Self::material)?);
-                }
-                _ => return None,
+    /// A member of the Appearance: `material` holding a Material.
+    fn appearance_member(&mut self, ev: &'a OwnedEvent) -> Option<()> {
+        match ev {
+            OwnedEvent::NodesStart { name, .. }
+                if &**name == "material" && self.draft.material.is_none() =>
+            {
+                self.draft.material = Some(Vec::new());
+                self.holding(|m| m.node("Material", Self::material_member))?;
             }
+            _ => return None,
         }
-        let nodes = 1 + u64::from(material.is_some());
-        Some((material, nodes))
+        Some(())
     }
 
-    fn material(&mut self) -> Option<Vec<(MaterialField, Slot)>> {
-        self.node("Material")?;
-        let mut fields = Vec::new();
-        loop {
-            match self.next()? {
-                OwnedEvent::NodeEnd { .. } => break,
-                OwnedEvent::Field { name, value, .. } => {
-                    let f = MaterialField::of(name)?;
-                    let s = self.slot(value, f.arity())?;
-                    if let (Slot::Given(v), 1) = (&s, f.arity()) {
-                        // (Replaying would warn about a shininess or transparency outside [0, 1].)
-                        if !in_range(f, v[0]) {
-                            return None;
-                        }
+    /// A field of the Material (any of its six).
+    fn material_member(&mut self, ev: &'a OwnedEvent) -> Option<()> {
+        let OwnedEvent::Field { name, value, .. } = ev else {
+            return None;
+        };
+        let f = MaterialField::of(name)?;
+        let s = self.slot(value, f.arity())?;
+        if let (Slot::Given(v), 1) = (&s, f.arity()) {
+            // (Replaying would warn about a shininess or transparency outside [0, 1].)
+            if !in_range(f, v[0]) {
+                return None;
+            }
+        }
+        self.draft.material.as_mut()?.push((f, s));
+        Some(())
+    }
+
+    /// The Sphere's `radius`.
+    fn sphere_member(&mut self, ev: &'a OwnedEvent) -> Option<()> {
+        match ev {
+            OwnedEvent::Field { name, value, .. }
+                if &**name == "radius" && self.draft.radius.is_none() =>
+            {
+                let s = self.slot(value, 1)?;
+                if let Slot::Given(v) = s {
+                    if !radius_ok(v[0]) {
+                        return None;
                     }
-                    fields.push((f, s));
                 }
-                _ => return None,
+                self.draft.radius = Some(s);
             }
+            _ => return None,
         }
-        Some(fields)
-    }
-
-    fn sphere(&mut self) -> Option<(u64, Option<Slot>)> {
-        let at = self.node("Sphere")?;
-        let mut radius = None;
-        loop {
-            match self.next()? {
-                OwnedEvent::NodeEnd { .. } => break,
-                OwnedEvent::Field { name, value, .. }
-                    if &**name == "radius" && radius.is_none() =>
-                {
-                    let s = self.slot(value, 1)?;
-                    if let Slot::Given(v) = s {
-                        if !radius_ok(v[0]) {
-                            return None;
-                        }
-                    }
-                    radius = Some(s);
-                }
-                _ => return None,
-            }
-        }
-        Some((at, radius))
+        Some(())
     }
 }
 
