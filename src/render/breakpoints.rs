@@ -176,6 +176,7 @@ mod tests {
             ellipsoid: None,
             gas: sigma > 0.0,
             sigma,
+            profile: crate::scene::Profile::Constant,
         }
     }
 

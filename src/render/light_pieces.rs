@@ -38,6 +38,7 @@
 use glam::{DVec3, UVec2};
 
 use super::breakpoints::breakpoints;
+use super::density::gas_depth;
 use super::light_grid::LightGrid;
 use super::lights::{towards, LightKind, LightSource};
 use super::shadow_volume::{band_edges, path_end, BandCache};
@@ -440,7 +441,6 @@ fn classify(
     });
     b.live.clear();
     let mut next = 0;
-    let point_light = matches!(light.kind, LightKind::Point { .. });
     for w in 0..b.breaks.len().saturating_sub(1) {
         let (t0, t1) = (b.breaks[w], b.breaks[w + 1]);
         // Every shadow interval's ends are breakpoints: active on [t0, t1] iff lo <= t0 < hi.
@@ -484,21 +484,14 @@ fn classify(
                 continue;
             }
             active.push(*p);
-            let concave = !point_light
-                || (p.ellipsoid.is_none()
-                    && (xm - p.center).length_squared() > p.radius * p.radius
-                    && light_outside(light, p));
-            if concave {
+            if bounded_at_ends(prep, p, light, xm) {
                 let at = |x: DVec3, e: Option<(DVec3, f64, f64)>| match e {
-                    Some((dir, dist, _)) => match chord(prep, p, x, dir, dist) {
-                        Chord::Gas(l) => l,
-                        Chord::Blocked => 0.0,
-                    },
+                    Some((dir, dist, _)) => gas_depth(prep, p, x, dir, dist),
                     // At the light itself (the end of a piece): no bound from this end.
                     None => 0.0,
                 };
-                od0 += p.sigma * at(x0, ends.0);
-                od1 += p.sigma * at(x1, ends.1);
+                od0 += at(x0, ends.0);
+                od1 += at(x1, ends.1);
             }
         }
         let od = od0.min(od1);
@@ -512,6 +505,36 @@ fn classify(
             Class::Lit((mark as u32, active.len() as u32))
         };
         b.pieces.push(Piece { t0, t1, class });
+    }
+}
+
+/// Whether the gas shadower `p`'s optical depth to `light` over a piece (through `xm`, its
+/// middle) takes its minimum at an end of the piece (the module comment), so that it may
+/// count in the dark-piece bound.
+///
+/// Constant gas: the chord's concavity. A profiled shadower's depth along a full chord is
+/// `sigma0 r J(beta)`, and `J` falls as `beta`, the chord's distance from the centre, grows
+/// (`f` falls outwards, and the chord shortens); along the piece `beta` is largest at an end
+/// exactly where the constant chord is shortest there (the same convexity). That holds for
+/// full chords only, so `xm` must lie outside the shadower (and the light too).
+#[inline]
+fn bounded_at_ends(prep: &Prepared, p: &Prim, light: &LightSource, xm: DVec3) -> bool {
+    let point_light = matches!(light.kind, LightKind::Point { .. });
+    let outside_sphere = || (xm - p.center).length_squared() > p.radius * p.radius;
+    if !p.is_profiled() {
+        return !point_light
+            || (p.ellipsoid.is_none() && outside_sphere() && light_outside(light, p));
+    }
+    match p.ellipsoid {
+        // In object space a directional light stays one direction, and `t` is kept.
+        Some(e) => {
+            !point_light
+                && prep.bvh.to_object[e.index()]
+                    .transform_point3(xm)
+                    .length_squared()
+                    > 1.0
+        }
+        None => outside_sphere() && light_outside(light, p),
     }
 }
 

@@ -4,6 +4,7 @@
 
 pub mod breakpoints;
 pub mod camera;
+pub mod density;
 pub mod film;
 pub mod gas;
 pub mod integrators;
@@ -211,36 +212,6 @@ impl std::ops::Deref for View<'_> {
     }
 }
 
-/// Gas with a density profile other than constant (MODEL.md section 6) is not rendered yet
-/// (issue 17): a clear error rather than a picture of constant gas.
-fn refuse_profiles(
-    spheres: &[crate::scene::Sphere],
-    materials: &crate::scene::MaterialTable,
-    opts: &PrepareOptions,
-    is_gas: &impl Fn(&crate::scene::Sphere) -> bool,
-) -> Result<(), Error> {
-    use crate::scene::Profile;
-    let profiled = match opts.profile {
-        Some(Profile::Constant) => None,
-        Some(p) => spheres.iter().position(is_gas).map(|i| (i, p)),
-        None if materials.may_have_profiled_gas() => {
-            spheres.iter().enumerate().find_map(|(i, s)| {
-                let p = materials.get(s.material as usize).profile;
-                (p != Profile::Constant && is_gas(s)).then_some((i, p))
-            })
-        }
-        None => None,
-    };
-    match profiled {
-        Some((i, p)) => Err(invalid(format!(
-            "spheres[{i}] is gas with the {} density profile: only constant gas is rendered so \
-             far (render with --profile constant to draw every gas sphere of constant density)",
-            p.name()
-        ))),
-        None => Ok(()),
-    }
-}
-
 fn invalid(m: String) -> Error {
     Error::Invalid(m)
 }
@@ -395,7 +366,12 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
     let is_gas = |s: &crate::scene::Sphere| {
         opts.as_gas.is_some() || (maybe_gas && materials.get(s.material as usize).is_gas())
     };
-    refuse_profiles(&spheres, &materials, opts, &is_gas)?;
+    // Density profiles (MODEL.md section 6): --profile for every gas sphere, or each
+    // material's own. Looked up per primitive only when some gas may be profiled.
+    let profiled = match opts.profile {
+        Some(p) => p != crate::scene::Profile::Constant,
+        None => materials.may_have_profiled_gas(),
+    };
     if materials.len() > crate::accel::bvh::MAX_MATERIALS {
         return Err(invalid(format!(
             "{} distinct materials: at most {} are supported",
@@ -436,6 +412,12 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
     let sphere_count = packed.len();
     let side = |q: &Packed| {
         let ellipsoid = ellipsoid_of.get(q.sphere as usize).copied().flatten();
+        let profile = match opts.profile {
+            Some(p) => p,
+            None if profiled => materials.get(q.material() as usize).profile,
+            None => crate::scene::Profile::Constant,
+        };
+        // With a profile, the extinction at the centre (`--as-gas SIGMA` gives it as is).
         let sigma = match opts.as_gas {
             Some(sigma) => sigma,
             None => {
@@ -443,12 +425,17 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
                     None => q.radius,
                     Some(e) => ellipsoids[e.index()].matrix3.determinant().abs().cbrt(),
                 };
-                materials.get(q.material() as usize).sigma(radius)
+                let m = materials.get(q.material() as usize);
+                if profile == crate::scene::Profile::Constant {
+                    m.sigma(radius)
+                } else {
+                    profile::sigma0(m.transparency, radius, profile)
+                }
             }
         };
-        (ellipsoid, sigma)
+        (ellipsoid, sigma, profile)
     };
-    let bvh = SphereBvh::build_packed(packed, &ellipsoids, &side);
+    let bvh = SphereBvh::build_packed(packed, &ellipsoids, &side, profiled);
     drop(ellipsoid_of);
     let surfaces = surfaces::Surfaces::build(surfaces);
     Ok(Prepared {

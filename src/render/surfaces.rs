@@ -52,6 +52,7 @@ impl Surfaces {
                 ellipsoid: None,
                 gas: false,
                 sigma: 0.0,
+                profile: crate::scene::Profile::Constant,
             });
             materials.push(s.material);
             items.push(match s.shape {

@@ -51,9 +51,9 @@ pub fn visible_through_spheres(
     let mut tau = 0.0;
     let blocked = bvh.any_except(x, l, 0.0, dist, own, |_, p, (t0, t1)| {
         if p.is_gas() {
-            let overlap = t1.min(dist) - t0.max(0.0);
-            if overlap > 0.0 {
-                tau += p.sigma * overlap;
+            let (a, b) = (t0.max(0.0), t1.min(dist));
+            if b > a {
+                tau += super::density::part_depth(bvh, p, x, l, (a, b));
             }
             // Past this, exp(-tau) is 0 in f64 whatever else the ray meets: stop (exactly the
             // same answer, for less work through dense gas).

@@ -31,6 +31,7 @@ fn prims(rng: &mut Rng, n: usize, offset: DVec3, extent: f64, r_lo: f64, r_hi: f
             ellipsoid: None,
             gas: false,
             sigma: 0.0,
+            profile: gtsphere::scene::Profile::Constant,
         })
         .collect()
 }
@@ -183,6 +184,7 @@ fn grazing_rays_through_the_bvh() {
         ellipsoid: None,
         gas: false,
         sigma: 0.0,
+        profile: gtsphere::scene::Profile::Constant,
     }];
     ps.extend(others);
     let bvh = SphereBvh::build(ps.clone(), &[]);
@@ -263,6 +265,7 @@ fn concentric_and_coincident_spheres_are_all_found() {
             ellipsoid: None,
             gas: false,
             sigma: 0.0,
+            profile: gtsphere::scene::Profile::Constant,
         })
         .collect();
     ps.extend((0..300).map(|k| Prim {
@@ -273,6 +276,7 @@ fn concentric_and_coincident_spheres_are_all_found() {
         ellipsoid: None,
         gas: false,
         sigma: 0.0,
+        profile: gtsphere::scene::Profile::Constant,
     }));
     let bvh = SphereBvh::build(ps, &[]);
     let o = DVec3::new(-10.0, 0.0, 0.0);

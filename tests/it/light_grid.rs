@@ -41,6 +41,7 @@ fn cloud(rng: &mut Rng, n: usize, scale: f64, offset: DVec3) -> Vec<Prim> {
                 ellipsoid: None,
                 gas: i % 9 != 4,
                 sigma: 1.0,
+                profile: gtsphere::scene::Profile::Constant,
             }
         })
         .collect()

@@ -521,7 +521,7 @@ fn threads_bound_the_reading_too() {
 }
 
 #[test]
-fn profiles_are_named_and_profiled_gas_is_refused_for_now() {
+fn profiles_are_named_and_profiled_gas_is_drawn() {
     let dir = scratch("profile");
     std::fs::write(
         dir.join("g.wrl"),
@@ -555,21 +555,19 @@ fn profiles_are_named_and_profiled_gas_is_refused_for_now() {
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(err.contains(want), "{arg}: {err}");
     }
-    // The scene's gaussian gas is refused (not drawn as constant gas), no file written...
-    let out = run(&[]);
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        err.contains("spheres[0] is gas with the gaussian density profile"),
-        "{err}"
-    );
-    assert!(!dir.join("g.png").exists());
-    // ... and drawn with --profile constant.
-    let out = run(&["--profile", "constant"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert!(dir.join("g.png").exists());
+    // The scene's gaussian gas is drawn as such, and --profile constant draws it constant:
+    // the same transparency, so the same diameter transmittance, but another picture.
+    let rendered = |extra: &[&str]| {
+        let out = run(extra);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        std::fs::read(dir.join("g.png")).unwrap()
+    };
+    let gaussian = rendered(&[]);
+    let constant = rendered(&["--profile", "constant"]);
+    assert_ne!(gaussian, constant);
+    assert_eq!(rendered(&["--profile", "gaussian:0.5"]), gaussian);
 }

@@ -15,7 +15,11 @@ use obvhs::BvhBuildParams;
 use rayon::prelude::*;
 
 use super::{Chunk, Packed, PaddedBox, Prim, SphereBvh, MAX_CHUNKS, MIN_CHUNK, PAD_ULPS};
-use crate::scene::EllipsoidId;
+use crate::scene::{EllipsoidId, Profile};
+
+/// What [`SphereBvh::build_packed`] asks of a primitive: its ellipsoid map (when
+/// [`Packed::is_ellipsoid`]), its extinction and its density profile (when [`Packed::is_gas`]).
+pub type Side<'a> = dyn Fn(&Packed) -> (Option<EllipsoidId>, f64, Profile) + Sync + 'a;
 
 /// Depth of a CWBVH in nodes (internal children of a node sit contiguously at
 /// `child_base_idx`, one per set bit of `imask`).
@@ -232,10 +236,12 @@ impl SphereBvh {
                 )
             })
             .collect();
-        let mut bvh = Self::build_packed_chunked(packed, ellipsoids, per_chunk, &|q: &Packed| {
+        let profiled = prims.iter().any(|p| p.is_gas() && p.is_profiled());
+        let side = |q: &Packed| {
             let p = &prims[q.sphere as usize];
-            (p.ellipsoid, p.sigma)
-        });
+            (p.ellipsoid, p.sigma, p.profile)
+        };
+        let mut bvh = Self::build_packed_chunked(packed, ellipsoids, per_chunk, &side, profiled);
         for q in &mut bvh.packed {
             q.sphere = prims[q.sphere as usize].sphere;
         }
@@ -244,21 +250,24 @@ impl SphereBvh {
 
     /// Builds the BVH over packed primitives whose `sphere` is their position in `packed`
     /// (as [`crate::render::prepare`] makes them from the scene's spheres, in place).
-    /// `side(q)` gives a primitive's ellipsoid map (when [`Packed::is_ellipsoid`]) and
-    /// extinction (when [`Packed::is_gas`]).
+    /// `side(q)` gives a primitive's ellipsoid map (when [`Packed::is_ellipsoid`]), extinction
+    /// and profile (when [`Packed::is_gas`]); `profiled` says whether some gas primitive's
+    /// profile may be other than constant (else the profiles are not asked for).
     pub fn build_packed(
         packed: Vec<Packed>,
         ellipsoids: &[DAffine3],
-        side: &(dyn Fn(&Packed) -> (Option<EllipsoidId>, f64) + Sync),
+        side: &Side<'_>,
+        profiled: bool,
     ) -> SphereBvh {
-        Self::build_packed_chunked(packed, ellipsoids, MIN_CHUNK, side)
+        Self::build_packed_chunked(packed, ellipsoids, MIN_CHUNK, side, profiled)
     }
 
     fn build_packed_chunked(
         prims: Vec<Packed>,
         ellipsoids: &[DAffine3],
         per_chunk: usize,
-        side: &(dyn Fn(&Packed) -> (Option<EllipsoidId>, f64) + Sync),
+        side: &Side<'_>,
+        profiled: bool,
     ) -> SphereBvh {
         let per_chunk = per_chunk.max(prims.len().div_ceil(MAX_CHUNKS)).max(1);
         let to_world = |p: &Packed| {
@@ -360,6 +369,18 @@ impl SphereBvh {
         } else {
             Vec::new()
         };
+        let profile = |q: &Packed| {
+            if q.is_gas() {
+                side(q).2
+            } else {
+                Profile::Constant
+            }
+        };
+        let profiles = if profiled {
+            prims.par_iter().map(profile).collect()
+        } else {
+            Vec::new()
+        };
         let ellipsoid_maps = if prims.iter().any(Packed::is_ellipsoid) {
             prims
                 .par_iter()
@@ -373,6 +394,7 @@ impl SphereBvh {
         SphereBvh {
             packed: prims,
             sigmas,
+            profiles,
             ellipsoids: ellipsoid_maps,
             to_object,
             chunks,

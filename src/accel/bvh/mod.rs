@@ -31,6 +31,7 @@
 //! and the obvhs builds, `query.rs` the traversals (closest hit, any hit, a region).
 
 mod build;
+pub use build::Side;
 mod query;
 
 use std::time::Duration;
@@ -41,6 +42,7 @@ use obvhs::cwbvh::CwBvh;
 use obvhs::Boundable;
 
 use crate::geom::{ellipsoid_roots, sphere_roots};
+use crate::scene::Profile;
 
 /// How far (in scaled f32 units) each f32 ray starts before its true start.
 const BACKUP: f32 = 4e-4;
@@ -67,14 +69,23 @@ pub struct Prim {
     pub ellipsoid: Option<crate::scene::EllipsoidId>,
     /// Gas (a participating medium), not an opaque surface.
     pub gas: bool,
-    /// Extinction of a gas primitive (MODEL.md section 1); 0 for opaque ones.
+    /// Extinction of a gas primitive (MODEL.md section 1); 0 for opaque ones. With a density
+    /// profile other than constant, the extinction at the centre, `sigma0` (MODEL.md section 6).
     pub sigma: f64,
+    /// The gas's radial density profile (constant for opaque primitives).
+    pub profile: Profile,
 }
 
 impl Prim {
     #[inline]
     pub fn is_gas(&self) -> bool {
         self.gas
+    }
+
+    /// Gas of a density profile other than constant.
+    #[inline]
+    pub fn is_profiled(&self) -> bool {
+        self.profile != Profile::Constant
     }
 }
 
@@ -199,6 +210,9 @@ pub struct SphereBvh {
     packed: Vec<Packed>,
     /// Extinction per primitive (leaf order); empty when no primitive is gas.
     sigmas: Vec<f64>,
+    /// Density profile per primitive (leaf order); empty when every gas primitive is of
+    /// constant density.
+    profiles: Vec<Profile>,
     /// Ellipsoid map per primitive (leaf order); empty when no primitive is an ellipsoid.
     ellipsoids: Vec<Option<crate::scene::EllipsoidId>>,
     /// World-to-object maps of the ellipsoids (object space: the unit sphere).
@@ -230,6 +244,7 @@ impl SphereBvh {
             .sum::<usize>()
             + self.packed.capacity() * std::mem::size_of::<Packed>()
             + self.sigmas.capacity() * std::mem::size_of::<f64>()
+            + self.profiles.capacity() * std::mem::size_of::<Profile>()
             + self.ellipsoids.capacity() * std::mem::size_of::<Option<crate::scene::EllipsoidId>>()
             + self.to_object.capacity() * std::mem::size_of::<DAffine3>()
     }
@@ -249,6 +264,12 @@ impl SphereBvh {
     #[inline]
     pub fn packed(&self) -> &[Packed] {
         &self.packed
+    }
+
+    /// Whether some gas primitive has a density profile other than constant.
+    #[inline]
+    pub fn has_profiles(&self) -> bool {
+        !self.profiles.is_empty()
     }
 
     /// Primitive `i` (leaf order) whole.
@@ -272,6 +293,11 @@ impl SphereBvh {
             } else {
                 0.0
             },
+            profile: self
+                .profiles
+                .get(i as usize)
+                .copied()
+                .unwrap_or(Profile::Constant),
         }
     }
 

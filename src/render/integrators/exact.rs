@@ -31,11 +31,12 @@ use glam::DVec3;
 
 use crate::accel::Prim;
 
-use super::{behind, gas_along, scatter_for, Estimate, Scratch, PHASE};
-use crate::render::light_pieces::{gas_chord, resolve, Class};
+use super::{behind, gas_along, scatter_at, scatter_for, Estimate, Scratch, PHASE};
+use crate::render::density::gas_depth;
+use crate::render::light_pieces::{resolve, Class};
 use crate::render::lights::{attenuation, towards, LightKind, LightSource};
 use crate::render::quadrature::integrate;
-use crate::render::segments::Segment;
+use crate::render::segments::{Member, Segment};
 use crate::render::{Counters, View};
 
 /// Sub-intervals the quadrature may use per camera ray before it reports what it has.
@@ -45,6 +46,11 @@ const MAX_INTERVALS: usize = 4000;
 pub const CAMERA_SHARE: f64 = 0.125;
 pub const LIGHT_SHARE: f64 = 0.125;
 pub const QUAD_SHARE: f64 = 0.75;
+/// In scenes with profiled gas, the quadrature's share is split: [`PROFILED_QUAD_SHARE`] for
+/// the scattering, [`EMIT_SHARE`] for the emission of segments whose members differ in colour
+/// (the only emission without a closed form).
+pub const PROFILED_QUAD_SHARE: f64 = 0.5;
+pub const EMIT_SHARE: f64 = 0.25;
 /// How far past `tau_cut` a light ray's optical depth is followed at a quadrature node.
 pub const NODE_MARGIN: f64 = 5.0;
 
@@ -54,11 +60,14 @@ pub struct PieceMeta {
     /// Segment start and extinction: the integrand carries `exp(-sigma (t - ta))`.
     ta: f64,
     sigma: f64,
-    /// `T(0, ta) p sum sigma_j a_j C_i I_i` (per channel).
+    /// `T(0, ta) p sum sigma_j a_j C_i I_i` (per channel); for a segment with profiled
+    /// members, `T(0, ta) p C_i I_i`, the scatter weight being taken at each node.
     coeff: DVec3,
     light: u32,
     /// The piece's active gas shadowers: `active[a.0 .. a.1]`.
     active: (u32, u32),
+    /// The segment's index, when it has profiled members.
+    profiled: Option<u32>,
 }
 
 /// `integral over [t0, t1] of exp(-sigma (t - ta))`, without cancellation for small depths.
@@ -98,6 +107,8 @@ pub fn radiance(
     let Scratch {
         segments,
         members,
+        profiled,
+        kinks,
         light: buffers,
         pieces,
         meta,
@@ -106,14 +117,26 @@ pub fn radiance(
         unshadowed_by_segment,
         ..
     } = s;
+    let quad_share = if view.bvh.has_profiles() {
+        PROFILED_QUAD_SHARE
+    } else {
+        QUAD_SHARE
+    };
 
     // The scattering every light would add along the whole ray with no shadows at all
     // (attenuation <= 1): the tolerance is shared out between segments in proportion to it.
+    // Likewise the emission of segments that have no closed form, bounded by their largest
+    // colour.
     unshadowed_by_segment.clear();
     let mut tau = 0.0f64;
+    let mut emission_bound = 0.0;
     for seg in segments.iter() {
-        unshadowed_by_segment.push(segment_unshadowed(view, seg, members, (-tau).exp()));
-        tau += seg.sigma * (seg.tb - seg.ta);
+        let t_a = (-tau).exp();
+        unshadowed_by_segment.push(segment_unshadowed(view, seg, members, t_a));
+        if seg.emitted().is_none() {
+            emission_bound += t_a * seg.emit_max * -(-seg.depth).exp_m1();
+        }
+        tau += seg.depth;
     }
     let unshadowed: f64 = unshadowed_by_segment.iter().sum();
     if let (Some(first), Some(last)) = (segments.first(), segments.last()) {
@@ -137,8 +160,44 @@ pub fn radiance(
                 covered,
             };
         }
-        value += t_a * seg.emitted();
-        tau += seg.sigma * (seg.tb - seg.ta);
+        kinks.clear();
+        if seg.is_profiled() {
+            kinks.push(seg.ta);
+            seg.kinks(profiled, kinks);
+            kinks.push(seg.tb);
+            kinks.sort_unstable_by(f64::total_cmp);
+        }
+        match seg.emitted() {
+            Some(e) => value += t_a * e,
+            None => {
+                // Members of different colours and profiles: no closed form. Integrated
+                // between the kinks, for its part of the emission's share.
+                let bound = t_a * seg.emit_max * -(-seg.depth).exp_m1();
+                if bound <= 0.0 {
+                    // It emits exactly nothing in f64.
+                    tau += seg.depth;
+                    continue;
+                }
+                let share = bound / emission_bound;
+                pieces.clear();
+                pieces.extend(kinks.windows(2).map(|w| (w[0], w[1])));
+                let so_far = value;
+                let q = integrate(
+                    pieces,
+                    |_, t| {
+                        let (_, emit) = seg.source_at(profiled, t);
+                        t_a * (-seg.depth_to(profiled, t)).exp() * emit
+                    },
+                    |v| EMIT_SHARE * share * allowed(so_far + v),
+                    MAX_INTERVALS,
+                    quad,
+                );
+                counters.quadrature_nodes += q.evals;
+                value += q.value;
+                error += q.error;
+            }
+        }
+        tau += seg.depth;
         let u_seg = unshadowed_by_segment[k];
         if u_seg == 0.0 {
             continue;
@@ -161,11 +220,21 @@ pub fn radiance(
             if l.direct == DVec3::ZERO {
                 continue;
             }
-            let a = scatter_for(view, seg, members, i);
-            if a == DVec3::ZERO {
-                continue;
-            }
-            let coeff = t_a * PHASE * a * l.direct;
+            let (coeff, bound) = if seg.is_profiled() {
+                if seg.albedo_max == 0.0 {
+                    continue;
+                }
+                // The scatter weight varies along the segment: taken at each node.
+                let c = t_a * PHASE * l.direct;
+                (c, c.max_element() * seg.albedo_max)
+            } else {
+                let a = scatter_for(view, seg, members, i);
+                if a == DVec3::ZERO {
+                    continue;
+                }
+                let c = t_a * PHASE * a * l.direct;
+                (c, c.max_element())
+            };
             let (found, n) = resolve(
                 view,
                 o,
@@ -180,20 +249,40 @@ pub fn radiance(
             for p in found {
                 match p.class {
                     Class::Lit(range) => {
-                        pieces.push((p.t0, p.t1));
-                        meta.push(PieceMeta {
+                        let m = PieceMeta {
                             ta: seg.ta,
                             sigma: seg.sigma,
                             coeff,
                             light: i as u32,
                             active: range,
-                        });
+                            profiled: seg.is_profiled().then_some(k as u32),
+                        };
+                        // Cut at the kinks of profiled densities (none for constant gas).
+                        let mut t0 = p.t0;
+                        for &t in kinks.iter().filter(|&&t| t > p.t0 && t < p.t1) {
+                            pieces.push((t0, t));
+                            meta.push(m);
+                            t0 = t;
+                        }
+                        pieces.push((t0, p.t1));
+                        meta.push(m);
                     }
                     Class::Dark(depth) => {
-                        error += coeff.max_element()
+                        // The unshadowed integral of the piece: `decay_integral` times the
+                        // constant scatter weight, or with profiled members at most the
+                        // largest albedo times `T(ta, t0) - T(ta, t1)` (the integral of
+                        // `sigma_t T`).
+                        let unshadowed = if seg.is_profiled() {
+                            let d0 = seg.depth_to(profiled, p.t0);
+                            let d1 = seg.depth_to(profiled, p.t1);
+                            (-d0).exp() * -(d0 - d1).exp_m1()
+                        } else {
+                            decay_integral(seg.sigma, seg.ta, p.t0, p.t1)
+                        };
+                        error += bound
                             * attenuation_max(l, o, d, p.t0, p.t1)
                             * (-depth).exp()
-                            * decay_integral(seg.sigma, seg.ta, p.t0, p.t1);
+                            * unshadowed;
                     }
                     Class::Zero => {}
                 }
@@ -205,10 +294,26 @@ pub fn radiance(
         let limit = tau_cut + NODE_MARGIN;
         let mut deep = false;
         let so_far = value;
+        let along = Along {
+            segments,
+            members,
+            profiled,
+        };
         let q = integrate(
             pieces,
-            |k, t| scattered(view, &meta[k], active, o + t * d, t, limit, &mut deep),
-            |v| QUAD_SHARE * weight * allowed(so_far + v),
+            |k, t| {
+                scattered(
+                    view,
+                    &along,
+                    &meta[k],
+                    active,
+                    o + t * d,
+                    t,
+                    limit,
+                    &mut deep,
+                )
+            },
+            |v| quad_share * weight * allowed(so_far + v),
             MAX_INTERVALS,
             quad,
         );
@@ -235,6 +340,12 @@ fn segment_unshadowed(view: &View, seg: &Segment, members: &[u32], t_a: f64) -> 
         if l.direct == DVec3::ZERO {
             continue;
         }
+        if seg.is_profiled() {
+            // sum sigma_j(t) a_j <= albedo_max sigma_t(t), whose integral against the
+            // transmittance is 1 - exp(-depth).
+            u += t_a * PHASE * l.direct.max_element() * seg.albedo_max * -(-seg.depth).exp_m1();
+            continue;
+        }
         let a = scatter_for(view, seg, members, i);
         u += (t_a * PHASE * a * l.direct).max_element()
             * decay_integral(seg.sigma, seg.ta, seg.ta, seg.tb);
@@ -244,9 +355,18 @@ fn segment_unshadowed(view: &View, seg: &Segment, members: &[u32], t_a: f64) -> 
 
 /// The integrand of a lit piece at `x = o + t d`. A light ray whose optical depth passes
 /// `limit` stops there and counts as dark (`deep` is set; the caller bounds it).
+/// The camera ray's segments and their members, for the integrand of a profiled segment.
+struct Along<'a> {
+    segments: &'a [Segment],
+    members: &'a [u32],
+    profiled: &'a [Member],
+}
+
 #[inline]
+#[allow(clippy::too_many_arguments)]
 fn scattered(
     view: &View,
+    along: &Along,
     m: &PieceMeta,
     active: &[Prim],
     x: DVec3,
@@ -262,11 +382,25 @@ fn scattered(
     // this piece, and no opaque one does.
     let mut od = 0.0;
     for p in &active[m.active.0 as usize..m.active.1 as usize] {
-        od += p.sigma * gas_chord(view, p, x, dir, dist);
+        od += gas_depth(view, p, x, dir, dist);
         if od > limit {
             *deep = true;
             return DVec3::ZERO;
         }
     }
-    m.coeff * (att * (-(m.sigma * (t - m.ta) + od)).exp())
+    match m.profiled {
+        None => m.coeff * (att * (-(m.sigma * (t - m.ta) + od)).exp()),
+        Some(k) => {
+            let seg = &along.segments[k as usize];
+            let a = scatter_at(
+                view,
+                seg,
+                along.members,
+                along.profiled,
+                m.light as usize,
+                t,
+            );
+            m.coeff * a * (att * (-(seg.depth_to(along.profiled, t) + od)).exp())
+        }
+    }
 }

@@ -2,11 +2,12 @@
 //! approximation, `--integrator march --step H`): along each camera ray, steps of length `H`
 //! (the last one shorter) from the camera to the first opaque hit or the end of the gas; at
 //! each step's midpoint the extinction, emission and light (one shadow ray per light) are
-//! sampled, `L += T * source * dt` and `T *= exp(-sigma * dt)`.
+//! sampled, `L += T * source * dt` and `T *= exp(-sigma * dt)`. Profiled gas (MODEL.md
+//! section 6) is sampled at its density at the midpoint, as a real-time renderer would.
 
 use glam::DVec3;
 
-use super::{behind, gas_along, lights_at, scatter_for, Estimate, Scratch};
+use super::{behind, gas_along, lights_at, scatter_at, Estimate, Scratch};
 
 use crate::render::{Counters, View};
 
@@ -33,14 +34,16 @@ pub fn radiance(
         if k < s.segments.len() && s.segments[k].ta <= mid {
             let seg = s.segments[k];
             let x = o + mid * d;
+            // Profiled members at their density at the midpoint.
+            let (sigma, emit) = seg.source_at(&s.profiled, mid);
             let light = lights_at(
                 view,
                 x,
-                |i| scatter_for(view, &seg, &s.members, i),
+                |i| scatter_at(view, &seg, &s.members, &s.profiled, i, mid),
                 counters,
             );
-            l += transmittance * (seg.emit + light) * dt;
-            transmittance *= (-seg.sigma * dt).exp();
+            l += transmittance * (emit + light) * dt;
+            transmittance *= (-sigma * dt).exp();
         }
         t += dt;
     }

@@ -39,9 +39,9 @@
 
 use glam::DVec3;
 
-use super::{behind, gas_along, lights_at, scatter_for, Estimate, Scratch};
+use super::{behind, gas_along, lights_at, scatter_at, scatter_for, Estimate, Scratch};
 use crate::render::sampler::Rng;
-use crate::render::segments::emission_absorption;
+use crate::render::segments::{emission_absorption, Member, Segment};
 
 use crate::render::{Counters, View};
 
@@ -61,7 +61,7 @@ pub fn radiance(
     if transmittance > 0.0 {
         value += transmittance * behind(view, o, d, hit, counters);
     }
-    if view.lights.is_empty() {
+    if view.lights.is_empty() && s.segments.iter().all(|g| g.emitted().is_some()) {
         return Estimate {
             value,
             error: 0.0,
@@ -71,6 +71,15 @@ pub fn radiance(
     // The stochastic part: single scattering, one collision point per segment.
     let mut tau = 0.0f64;
     for seg in &s.segments {
+        if seg.is_profiled() {
+            let t_a = (-tau).exp();
+            tau += seg.depth;
+            if t_a == 0.0 {
+                break;
+            }
+            value += t_a * profiled_sample(view, o, d, seg, rng, s, counters);
+            continue;
+        }
         if seg.sigma <= 0.0 {
             continue;
         }
@@ -104,4 +113,83 @@ pub fn radiance(
         error: 0.0,
         covered,
     }
+}
+
+/// One collision in a segment with profiled members, by inverting its closed-form optical
+/// depth: the collision's depth `tau* = -ln(1 - xi F)`, `F = 1 - exp(-depth)`, then the `t`
+/// where `depth_to(t) = tau*`, so that `t` has pdf `sigma_t(t) T(ta, t) / F`. It scores
+/// `(F / sigma_t(t))` times the source at `t`: the emission `sum sigma_j C_j` when the members
+/// differ in colour (else it was added in closed form), and the scattering
+/// `p sum_j sigma_j a_j sum_i E_i`. Relative to `T(0, ta)`.
+fn profiled_sample(
+    view: &View,
+    o: DVec3,
+    d: DVec3,
+    seg: &Segment,
+    rng: &mut Rng,
+    s: &Scratch,
+    counters: &mut Counters,
+) -> DVec3 {
+    let emits = seg.emitted().is_none();
+    let scatters = seg.albedo_max > 0.0 && !view.lights.is_empty();
+    if !(emits || scatters) {
+        return DVec3::ZERO;
+    }
+    let f = -(-seg.depth).exp_m1();
+    if f <= 0.0 {
+        return DVec3::ZERO;
+    }
+    let xi = rng.next_f64();
+    let target = -(-xi * f).ln_1p();
+    let t = invert_depth(seg, &s.profiled, target);
+    let (sigma, emit) = seg.source_at(&s.profiled, t);
+    if !(sigma > 0.0) {
+        // A point of zero density has probability 0; rounding at a rim can land on one.
+        return DVec3::ZERO;
+    }
+    let weight = f / sigma;
+    let mut value = DVec3::ZERO;
+    if emits {
+        value += weight * emit;
+    }
+    if scatters {
+        value += weight
+            * lights_at(
+                view,
+                o + t * d,
+                |i| scatter_at(view, seg, &s.members, &s.profiled, i, t),
+                counters,
+            );
+    }
+    value
+}
+
+/// The `t` in the segment where its optical depth from the start reaches `target` (in
+/// `[0, depth]`): Newton's method on the closed form (whose derivative is the density),
+/// kept inside a bisection bracket.
+fn invert_depth(seg: &Segment, profiled: &[Member], target: f64) -> f64 {
+    let (mut lo, mut hi) = (seg.ta, seg.tb);
+    let mut t = seg.ta + (seg.tb - seg.ta) * (target / seg.depth).clamp(0.0, 1.0);
+    for _ in 0..100 {
+        let g = seg.depth_to(profiled, t) - target;
+        if g.abs() <= 4.0 * f64::EPSILON * target {
+            break;
+        }
+        if g > 0.0 {
+            hi = t;
+        } else {
+            lo = t;
+        }
+        let (sigma, _) = seg.source_at(profiled, t);
+        let next = t - g / sigma;
+        t = if next > lo && next < hi {
+            next
+        } else {
+            0.5 * (lo + hi)
+        };
+        if hi - lo <= 4.0 * f64::EPSILON * t.abs().max(hi.abs()) {
+            break;
+        }
+    }
+    t
 }

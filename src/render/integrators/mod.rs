@@ -17,7 +17,7 @@ use glam::DVec3;
 
 use super::lighting::shade;
 use super::sampler::Rng;
-use super::segments::{Interval, Segment};
+use super::segments::{Interval, Member, Segment};
 use super::{Counters, Integrator, View};
 use surface::OpaqueHit;
 
@@ -36,11 +36,13 @@ pub struct Estimate {
 #[derive(Default)]
 pub struct Scratch {
     pub intervals: Vec<Interval>,
-    pub events: Vec<(f64, u32)>,
+    pub sweep: super::segments::SweepBuffers,
     pub segments: Vec<Segment>,
     pub members: Vec<u32>,
-    /// The sweep's set of gas spheres present.
-    pub inside: Vec<u32>,
+    /// The segments' profiled members.
+    pub profiled: Vec<Member>,
+    /// Kinks of profiled densities within one segment (the exact integrator's breakpoints).
+    pub kinks: Vec<f64>,
     /// The exact integrator's: shadow pieces of one segment and light, the lit pieces of the
     /// whole ray with their shadowers, and the quadrature's buffers.
     pub light: super::light_pieces::Buffers,
@@ -87,12 +89,13 @@ pub fn gas_along(
     let t_end = hit.map_or(f64::INFINITY, |h| h.t);
     super::segments::sweep(
         view,
+        (o, d),
         &s.intervals,
         t_end,
-        &mut s.events,
+        &mut s.sweep,
         &mut s.segments,
         &mut s.members,
-        &mut s.inside,
+        &mut s.profiled,
     );
     hit
 }
@@ -139,8 +142,30 @@ pub fn lights_at(
 /// The isotropic phase function, `1 / (4 pi)`.
 pub const PHASE: f64 = 0.25 * std::f64::consts::FRAC_1_PI;
 
-/// Scatter weight `sum sigma_j a_j` of a segment for light `i`, over the members light `i`
-/// may light (VRML scoping of DirectionalLights applies to gas spheres as to surfaces).
+/// The scatter weight `sum sigma_j(t) a_j` at `t` of a segment for light `i`: its constant
+/// members' ([`scatter_for`]) and its profiled members' (`profiled`: the sweep's list), each
+/// counted where light `i` may light it.
+pub fn scatter_at(
+    view: &View,
+    seg: &Segment,
+    members: &[u32],
+    profiled: &[Member],
+    i: usize,
+    t: f64,
+) -> DVec3 {
+    let l = &view.lights[i];
+    let mut sum = scatter_for(view, seg, members, i);
+    for m in seg.members_profiled(profiled) {
+        if m.albedo != DVec3::ZERO && super::lights::in_scope(l, m.sphere) {
+            sum += m.along.density(t) * m.albedo;
+        }
+    }
+    sum
+}
+
+/// Scatter weight `sum sigma_j a_j` of a segment's constant members for light `i`, over the
+/// members light `i` may light (VRML scoping of DirectionalLights applies to gas spheres as
+/// to surfaces).
 pub fn scatter_for(view: &View, seg: &Segment, members: &[u32], i: usize) -> DVec3 {
     let l = &view.lights[i];
     match l.kind {
