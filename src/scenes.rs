@@ -17,7 +17,7 @@ use glam::{DQuat, DVec3};
 
 use crate::render::sampler::mix;
 use crate::scene::{
-    DirectionalLight, Light, Material, Origin, PointLight, Scene, Sphere, Viewpoint,
+    DirectionalLight, Light, Material, Origin, PointLight, Profile, Scene, Sphere, Viewpoint,
 };
 
 /// How the particles are laid out in the file.
@@ -150,6 +150,13 @@ pub fn lit_gas(n: usize) -> Scene {
 /// no opaque spheres (only emission and absorption: the `emission` scene of `gtsphere
 /// bench`).
 pub fn gas_cloud(n: usize, lit: bool) -> Scene {
+    gas_cloud_with(n, lit, |_| Profile::Constant)
+}
+
+/// [`gas_cloud`] with density profiles (MODEL.md section 6): gas sphere `i` has `profile(i)`
+/// and otherwise the same values (the same `transparency`, so the same diameter
+/// transmittance).
+pub fn gas_cloud_with(n: usize, lit: bool, profile: impl Fn(usize) -> Profile) -> Scene {
     let mut state: u64 = 7;
     let mut next = || {
         state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
@@ -168,7 +175,7 @@ pub fn gas_cloud(n: usize, lit: bool) -> Scene {
     };
     scene.materials.push(opaque);
     let base = 0.9 * (n.max(1) as f64).powf(-1.0 / 3.0);
-    for _ in 0..n {
+    for i in 0..n {
         let c = DVec3::new(next(), next(), next()) * 2.0 - 1.0;
         let radius = base * (0.6 + 0.8 * next());
         let warm = DVec3::new(1.0, 0.55 + 0.3 * next(), 0.2 + 0.3 * next());
@@ -179,6 +186,7 @@ pub fn gas_cloud(n: usize, lit: bool) -> Scene {
             shininess: 0.2,
             ambient_intensity: 0.2,
             transparency: 0.3 + 0.6 * next(),
+            profile: profile(i),
             ..Material::default()
         });
         scene.spheres.push(Sphere {

@@ -28,6 +28,8 @@ class Scene:
         *,
         headlight: bool = True,
         background: Optional[Vec3] = None,
+        profile: Optional[str] = None,
+        width: Optional[float] = None,
     ) -> Scene: ...
     def add_point_light(
         self,
@@ -67,6 +69,8 @@ def load(
     point_radius: Optional[float] = None,
     spheres_only: bool = False,
     strict: bool = False,
+    profile: Optional[str] = None,
+    width: Optional[float] = None,
 ) -> Scene: ...
 
 class Camera:

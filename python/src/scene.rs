@@ -82,13 +82,16 @@ impl Scene {
     /// transmits t (glowing its emissive colour, scattering its colour as albedo).
     /// emissive: (N, 3) emissive RGB in [0, 1]; default black.
     /// headlight: a white directional light along each camera's view, as VRML's default.
+    /// profile: the gas spheres' density profile, "constant" (default), "linear",
+    /// "quadratic" or "gaussian" (with width, in (0, 1] of the radius, default 1/3);
+    /// transparency stays the transmittance along a diameter (MODEL.md section 6).
     /// background: RGB seen where rays meet nothing.
     ///
     /// Arrays are read in place when they are C-contiguous float64 (otherwise numpy converts
     /// them once). A bad value raises ValueError naming the array, index and value, e.g.
     /// "radii[17] = -1.0: radius must be positive and finite".
     #[staticmethod]
-    #[pyo3(signature = (centers, radii, colors=None, transparency=None, emissive=None, *, headlight=true, background=None))]
+    #[pyo3(signature = (centers, radii, colors=None, transparency=None, emissive=None, *, headlight=true, background=None, profile=None, width=None))]
     #[allow(clippy::too_many_arguments)]
     fn from_arrays(
         py: Python<'_>,
@@ -99,7 +102,10 @@ impl Scene {
         emissive: Option<&Bound<'_, PyAny>>,
         headlight: bool,
         background: Option<&Bound<'_, PyAny>>,
+        profile: Option<&str>,
+        width: Option<f64>,
     ) -> PyResult<Scene> {
+        let prepare_opts = profile_options(profile, width)?;
         let background = match background {
             Some(b) => colour("background", b)?,
             None => DVec3::ZERO,
@@ -128,7 +134,7 @@ impl Scene {
                 let mut scene = gtsphere::scene::Scene::from_arrays(&arrays)?;
                 scene.headlight = headlight;
                 scene.background = background;
-                prepare(scene, &PrepareOptions::default())
+                prepare(scene, &prepare_opts)
             })
             .map_err(to_py)?;
         Ok(Scene::new(prepared, Vec::new()))
@@ -299,20 +305,25 @@ impl Scene {
 ///
 /// point_radius: radius of the spheres that PointSet points become (default: half the
 /// median nearest-neighbour distance, said in a note). spheres_only: leave out everything
-/// that is not a sphere. strict: every warning becomes an error.
+/// that is not a sphere. strict: every warning becomes an error. profile (and width): every
+/// gas sphere takes this density profile, as `render --profile` (default: each sphere's own,
+/// from GasParticle PROTO instances).
 ///
 /// Warnings are issued as gtsphere.SceneWarning (and kept in Scene.warnings). A file that
 /// cannot be read raises gtsphere.ParseError whose message starts with file:line:col, or
 /// OSError (FileNotFoundError) for a missing file.
 #[pyfunction]
-#[pyo3(signature = (path, *, point_radius=None, spheres_only=false, strict=false))]
+#[pyo3(signature = (path, *, point_radius=None, spheres_only=false, strict=false, profile=None, width=None))]
 pub fn load(
     py: Python<'_>,
     path: PathBuf,
     point_radius: Option<f64>,
     spheres_only: bool,
     strict: bool,
+    profile: Option<&str>,
+    width: Option<f64>,
 ) -> PyResult<Scene> {
+    let prepare_opts = profile_options(profile, width)?;
     if let Some(r) = point_radius {
         if !(r > 0.0 && r.is_finite()) {
             return Err(PyValueError::new_err(format!(
@@ -335,7 +346,7 @@ pub fn load(
                 .chain(&report.notes)
                 .map(|w| w.to_string())
                 .collect();
-            Ok::<_, gtsphere::Error>((prepare(scene, &PrepareOptions::default())?, warnings))
+            Ok::<_, gtsphere::Error>((prepare(scene, &prepare_opts)?, warnings))
         })
         .map_err(to_py)?;
     let warn = py.import("warnings")?;
@@ -344,4 +355,25 @@ pub fn load(
         warn.call_method1("warn", (w.as_str(), &category, 2))?;
     }
     Ok(Scene::new(prepared, warnings))
+}
+
+/// The `profile` and `width` keywords (`render --profile NAME[:WIDTH]`): every gas sphere
+/// takes that density profile (MODEL.md section 6). A bad name or width raises ValueError.
+fn profile_options(profile: Option<&str>, width: Option<f64>) -> PyResult<PrepareOptions> {
+    let profile = match (profile, width) {
+        (None, None) => None,
+        (None, Some(_)) => {
+            return Err(PyValueError::new_err(
+                "width is the gaussian profile's: give profile=\"gaussian\" with it",
+            ))
+        }
+        (Some(name), width) => Some(
+            gtsphere::scene::Profile::parse(name, width)
+                .map_err(|e| PyValueError::new_err(format!("profile: {e}")))?,
+        ),
+    };
+    Ok(PrepareOptions {
+        profile,
+        ..PrepareOptions::default()
+    })
 }

@@ -136,6 +136,51 @@ def test_gas_sphere_pixel_is_the_closed_form(t):
     np.testing.assert_allclose(film.rgb[5, 5], c * (1 - t), rtol=1e-12)
 
 
+@pytest.mark.parametrize("t", [0.9, 0.3])
+def test_quadratic_gas_sphere_pixel_is_the_closed_form(t):
+    # f = 1 - u^2: a chord at distance b r from the centre has optical depth
+    # sigma0 r (4/3) h^3, h = sqrt(1 - b^2), and sigma0 = -ln(t) / (2 r 2/3).
+    r, c = 0.8, np.array([0.7, 0.4, 0.1])
+    scene = gt.Scene.from_arrays(
+        [[0.1, -0.2, 0.0]], r, colors=[[0, 0, 0]], transparency=[t], emissive=[c],
+        headlight=False, profile="quadratic",
+    )
+    sigma0 = -math.log(t) / (2 * r * 2 / 3)
+    cam_pos, h, w_px, h_px = (0.1, -0.2, 4.0), 2.0, 11, 11
+    cam = gt.Camera.look_at(cam_pos, (0.1, -0.2, 0.0), (0, 1, 0), ortho_height=h)
+    film = gt.render(scene, cam, w_px, h_px, sampler="center")
+    inside = 0
+    for j in range(h_px):
+        for i in range(w_px):
+            o = ortho_pixel_ray(cam_pos, h, w_px, h_px, i, j)
+            b2 = ((o[0] - 0.1) ** 2 + (o[1] + 0.2) ** 2) / (r * r)
+            half = math.sqrt(max(1 - b2, 0.0))
+            want = c * -np.expm1(-sigma0 * r * 4 / 3 * half**3)
+            np.testing.assert_allclose(film.rgb[j, i], want, rtol=1e-12, atol=1e-300)
+            inside += half > 0
+    assert inside >= 30
+    np.testing.assert_allclose(film.rgb[5, 5], c * (1 - t), rtol=1e-12)
+
+
+def test_profile_keyword_renders_like_the_cli_and_refuses_bad_names(tmp_path, gtsphere_cli):
+    data = cloud(gas=True)
+    wrl = tmp_path / "g.wrl"
+    wrl.write_text(vrml_of(*data))
+    out = tmp_path / "g.npy"
+    gtsphere_cli("render", wrl, "-o", out, "--width", 12, "--height", 10, "--spp", 1,
+                 "--profile", "gaussian:0.25", "--quiet")
+    scene = gt.load(wrl, profile="gaussian", width=0.25)
+    film = gt.render(scene, None, 12, 10, spp=1)
+    assert np.array_equal(film.rgb, np.load(out))
+    assert not np.array_equal(film.rgb, gt.render(gt.load(wrl), None, 12, 10, spp=1).rgb)
+    with pytest.raises(ValueError, match="unknown density profile `fuzzy`"):
+        gt.load(wrl, profile="fuzzy")
+    with pytest.raises(ValueError, match="gaussian width 2"):
+        gt.Scene.from_arrays([[0, 0, 0]], 1.0, transparency=[0.5], profile="gaussian", width=2.0)
+    with pytest.raises(ValueError, match="width is the gaussian profile's"):
+        gt.Scene.from_arrays([[0, 0, 0]], 1.0, transparency=[0.5], width=0.5)
+
+
 def test_one_prepared_scene_two_cameras_equals_two_fresh_renders():
     data = cloud(gas=True)
     cams = [

@@ -436,14 +436,14 @@ fn hermite_mean(m: f64, d: f64) -> f64 {
     let (a, c) = (2.0 * m * d, 2.0 * d * d);
     let (mut prev, mut cur) = (1.0, a); // P_0, P_1
     let mut sum = 1.0;
-    let mut n = 1.0;
-    while n < 40.0 {
-        let next = (a * cur - c * prev) / (n + 1.0);
-        n += 1.0;
+    // (An integer counter: `n % 2.0` on f64 is a call to fmod, a fifth of the cost here.)
+    for n in 2..=40u32 {
+        let nf = f64::from(n);
+        let next = (a * cur - c * prev) / nf;
         prev = cur;
         cur = next;
-        if n % 2.0 == 0.0 {
-            sum += cur / (n + 1.0);
+        if n % 2 == 0 {
+            sum += cur / (nf + 1.0);
         }
         if prev.abs() + cur.abs() <= 1e-18 * sum {
             break;

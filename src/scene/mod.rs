@@ -9,7 +9,7 @@ use glam::{DAffine3, DQuat, DVec3};
 
 pub use build::{Radii, SphereArrays};
 pub use material_table::MaterialTable;
-pub use profile::Profile;
+pub use profile::{Profile, DEFAULT_WIDTH};
 pub use surface::{Mapping, Surface, SurfaceCounts, SurfaceShape, Triangle};
 
 /// Index of an ellipsoid's map in [`Scene::ellipsoids`] (and in the BVH's copy of them),

@@ -1,4 +1,4 @@
-//! `gtsphere bench` (no subcommand): time against error of every integrator on three built-in
+//! `gtsphere bench` (no subcommand): time against error of every integrator on four built-in
 //! scenes, written to `--out` as `bench.csv`, `bench.md` (also printed) and `bench.png`.
 //!
 //! Scenes ([`scenes`]):
@@ -9,6 +9,7 @@
 //! - `emission`: a gas cloud without lights (emission and absorption only).
 //! - `lit gas`: `bench gas`'s scene (gas lit by a point and a directional light, two opaque
 //!   spheres).
+//! - `profiled gas`: the same scene with density profiles (MODEL.md section 6).
 //!
 //! The gas scenes are traced with one ray through each pixel centre (mc: `spp` paths through
 //! it), so only the integration error along a ray is measured, against `exact` at a much
@@ -24,7 +25,8 @@ use clap::Args;
 
 use super::measure::{goals, run_scene, table, BenchScene, Case, Row};
 use gtsphere::error::Error;
-use gtsphere::scenes::{gas_cloud, random_spheres};
+use gtsphere::scene::{Profile, DEFAULT_WIDTH};
+use gtsphere::scenes::{gas_cloud, gas_cloud_with, random_spheres};
 
 /// `gtsphere bench` without a subcommand.
 #[derive(Debug, Args)]
@@ -111,6 +113,25 @@ pub fn scenes(quick: bool) -> Vec<BenchScene> {
                  {s_gas}x{s_gas} pixel centres, against exact at tol {ref_tol:e}"
             ),
             scene: gas_cloud(n_gas, true),
+            size: s_gas,
+            reference: Case::exact(ref_tol),
+            cases: gas_cases(&tols, &lit_steps),
+        },
+        BenchScene {
+            name: "profiled gas",
+            description: format!(
+                "the lit gas scene with density profiles, linear, quadratic and gaussian (width \
+                 1/3) in turn; {s_gas}x{s_gas} pixel centres, against exact at tol {ref_tol:e}"
+            ),
+            scene: gas_cloud_with(n_gas, true, |i| {
+                [
+                    Profile::Linear,
+                    Profile::Quadratic,
+                    Profile::Gaussian {
+                        width: DEFAULT_WIDTH,
+                    },
+                ][i % 3]
+            }),
             size: s_gas,
             reference: Case::exact(ref_tol),
             cases: gas_cases(&tols, &lit_steps),
