@@ -1,6 +1,7 @@
 //! Gas along a camera ray: every gas-sphere interval up to the first opaque hit, gathered in
 //! one BVH traversal, and the sweep that cuts them into segments of constant extinction and
-//! source (MODEL.md section 3).
+//! source (MODEL.md section 3), or, where profiled gas is present (section 6), segments
+//! between sphere events whose profiled members are listed with their closed-form depths.
 
 use glam::DVec3;
 

@@ -196,5 +196,9 @@ fn prepare_gives_gas_its_profile_and_centre_density() {
         })
         .sum();
     let want = 2f64.ln() / (2.0 * simpson);
-    assert!((p.sigma - want).abs() <= 1e-12 * want, "{} vs {want}", p.sigma);
+    assert!(
+        (p.sigma - want).abs() <= 1e-12 * want,
+        "{} vs {want}",
+        p.sigma
+    );
 }

@@ -24,6 +24,8 @@ mod mesh_spheres; // IndexedFaceSets on a sphere become that sphere; other meshe
 mod output; // PNG, EXR, PFM bytes against independent readers; the atomic write
 mod parallel_read; // reading in pieces on several threads gives one reader's scene, warnings and errors
 mod profile_chords; // density profiles' closed-form optical depth against independent quadrature
+mod profiled_gas; // gas with density profiles: closed forms, tolerance, error estimates, mc, against the reference
+mod profiled_reference; // the brute-force reference for profiled gas (numerical density integrals) and its own checks
 mod proto_template; // PROTO instances lowered by a compiled sphere template equal the body's replay
 mod regression; // inputs that once broke an invariant, named after what they guard
 mod render_gas; // gas emission and absorption against closed forms

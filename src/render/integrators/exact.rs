@@ -26,6 +26,16 @@
 //!
 //! Each segment's quadrature is asked for its share `U_seg / U` of [`QUAD_SHARE`] of the
 //! tolerance.
+//!
+//! **Profiled gas** (MODEL.md section 6). A segment with profiled members has closed-form
+//! optical depths but a source that varies along it. Its emission is still closed form when
+//! every member has the same colour (`Segment::emitted`); otherwise it is integrated between
+//! the linear profile's kinks, for the segment's part (its bound `T(0, ta) C_max F` over all
+//! such bounds) of [`EMIT_SHARE`] of the tolerance, taken from the quadrature's share
+//! ([`PROFILED_QUAD_SHARE`] is left for the scattering) in scenes with profiled gas only, so
+//! that constant gas renders as before. Its scattering integrand takes the scatter weight
+//! and the camera transmittance at each node; its unshadowed bound uses
+//! `sum sigma_j a_j <= a_max sigma_t`, whose integral against `T` is closed form.
 
 use glam::DVec3;
 

@@ -22,6 +22,12 @@
 //!   No segment is ever left unsampled: a faint or hidden segment contributes to every sample,
 //!   in proportion to its weight, and so does its variance.
 //!
+//! - **Profiled gas** (MODEL.md section 6): a segment with profiled members is not of constant
+//!   extinction, so its collision point is drawn by inverting its closed-form optical depth
+//!   (`profiled_sample`), with the same pdf `sigma_t(t) T(t_a, t) / F`; the emission of its
+//!   members is then sampled there too when they differ in colour (otherwise it is the closed
+//!   form `C F`).
+//!
 //! The result is unbiased and converges like `1 / sqrt(n)`; it is exact (zero variance) where
 //! there is no scattering. What it cannot see is what no estimator of this kind sees: a light
 //! feature narrower than about `1 / n` of a segment's sampling measure (the rim of a thin
@@ -143,8 +149,9 @@ fn profiled_sample(
     let target = -(-xi * f).ln_1p();
     let t = invert_depth(seg, &s.profiled, target);
     let (sigma, emit) = seg.source_at(&s.profiled, t);
-    if !(sigma > 0.0) {
-        // A point of zero density has probability 0; rounding at a rim can land on one.
+    // A point of zero density has probability 0; rounding at a rim can land on one (and NaN
+    // fails the test too).
+    if sigma.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return DVec3::ZERO;
     }
     let weight = f / sigma;
