@@ -338,7 +338,7 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<Plan, Error> {
 }
 
 /// `NAME` or `NAME:WIDTH` as a profile.
-fn parse_profile(s: &str) -> Result<Profile, String> {
+pub fn parse_profile(s: &str) -> Result<Profile, String> {
     let (name, width) = match s.split_once(':') {
         None => (s, None),
         Some((name, w)) => {

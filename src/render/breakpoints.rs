@@ -11,7 +11,9 @@
 //! integrand `exp(-sigma_j l_j)` fall from 1 to `exp(-tau_j)` within a thin rim of its shadow,
 //! far narrower than the shadow itself. The rim is resolved by more breakpoints: the shadow
 //! boundaries of the concentric spheres on which the light ray's optical depth through `j` is
-//! 2, 8, 32, ... (a chord `2 sqrt(r^2 - h^2)` has depth `tau` at `h^2 = r^2 (1 - (tau/tau_j)^2)`).
+//! 2, 8, 32, ... (a chord `2 sqrt(r^2 - h^2)` has depth `tau` at `h^2 = r^2 (1 - (tau/tau_j)^2)`;
+//! for a profiled shadower, MODEL.md section 6, the chord's depth `sigma0 r J(h / r)` is
+//! solved for `h` by bisection, as `J` falls monotonically with `h`).
 //!
 //! Extra breakpoints cost a little work and never accuracy, so roots are kept without deciding
 //! on which side of the sphere a tangency lies, or which nappe of a cone it is on.
@@ -21,6 +23,7 @@ use glam::{DAffine3, DVec3};
 use super::lights::LightKind;
 use crate::accel::Prim;
 use crate::geom::sphere_roots;
+use crate::scene::Profile;
 
 /// Gas shadowers of at least this optical depth along a diameter get rim breakpoints.
 const RIM_MIN_DEPTH: f64 = 6.0;
@@ -150,16 +153,42 @@ pub fn breakpoints(
     };
     boundary(o, d, c, r, lt, &mut push);
     if p.is_gas() {
-        let depth = 2.0 * p.sigma * r * world_per_object;
+        // The optical depth along a diameter, and the distance from the centre (in radii) at
+        // which a full chord has `tau` of it.
+        let depth = 2.0 * p.sigma * r * world_per_object * p.profile.integral();
         if depth >= RIM_MIN_DEPTH {
             let mut tau = 2.0;
             while tau < depth && tau <= rim_cap {
                 let q = tau / depth;
-                boundary(o, d, c, r * ((1.0 - q) * (1.0 + q)).sqrt(), lt, &mut push);
+                let beta = if p.is_profiled() {
+                    profiled_contour(p.profile, q)
+                } else {
+                    ((1.0 - q) * (1.0 + q)).sqrt()
+                };
+                boundary(o, d, c, r * beta, lt, &mut push);
                 tau *= 4.0;
             }
         }
     }
+}
+
+/// The distance `beta` from the centre (in radii) at which a full chord through a ball of
+/// profile `profile` has the part `q` in (0, 1) of the diameter's optical depth, to about
+/// 1e-4 (a breakpoint need not lie exactly on the contour: it only helps the quadrature): the
+/// chord's depth falls monotonically as `beta` grows.
+fn profiled_contour(profile: Profile, q: f64) -> f64 {
+    let full = |beta: f64| profile.line_integral(beta, -1.0, 1.0);
+    let target = q * full(0.0);
+    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+    for _ in 0..14 {
+        let mid = 0.5 * (lo + hi);
+        if full(mid) > target {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
 }
 
 #[cfg(test)]
@@ -202,6 +231,53 @@ mod tests {
             &mut out,
         );
         assert!(out.iter().any(|t| (t - 1.0).abs() < 1e-12), "{out:?}");
+    }
+
+    /// A dense gaussian shadower's rim breakpoints lie on its own depth contours (where a
+    /// full chord has depth 2, 8, 32, ...), not on a constant sphere's.
+    #[test]
+    fn profiled_rim_breakpoints_sit_on_the_profiles_contours() {
+        let profile = Profile::Gaussian { width: 0.3 };
+        let mut p = unit_ball(0.0);
+        p.gas = true;
+        p.profile = profile;
+        p.sigma = 400.0; // depth 2 sigma0 I_f, about 300, along the diameter
+        let light = LightKind::Directional {
+            to_light: DVec3::Z,
+            scope: crate::scene::LightScope::All,
+            surface_scope: crate::scene::LightScope::All,
+        };
+        let mut out = Vec::new();
+        breakpoints(
+            &p,
+            &[],
+            DVec3::new(-3.0, 0.0, -5.0),
+            DVec3::X,
+            &light,
+            (-10.0, 10.0),
+            1e9,
+            &mut out,
+        );
+        // The chord at offset |x| from the centre, by Simpson's rule (not the closed form).
+        let depth = |x: f64| {
+            let h = (1.0 - x * x).max(0.0).sqrt();
+            let n = 2000;
+            let f = |v: f64| (-(x * x + v * v) / (2.0 * 0.09)).exp();
+            let step = 2.0 * h / n as f64;
+            p.sigma
+                * (0..n)
+                    .map(|k| {
+                        let a = -h + k as f64 * step;
+                        step / 6.0 * (f(a) + 4.0 * f(a + 0.5 * step) + f(a + step))
+                    })
+                    .sum::<f64>()
+        };
+        for tau in [2.0, 8.0, 32.0, 128.0] {
+            let found = out
+                .iter()
+                .any(|&t| (depth(t - 3.0) - tau).abs() < 2e-3 * tau);
+            assert!(found, "no breakpoint at depth {tau}: {out:?}");
+        }
     }
 
     /// Rim breakpoints of a dense gas shadower lie where its optical depth is 2, 8, 32, ...

@@ -100,6 +100,10 @@ pub struct GasArgs {
     /// and the time it would need is projected [default: 120; with --quick 2].
     #[arg(long)]
     pub march_budget: Option<f64>,
+    /// With --scaling: give every cloud sphere this density profile, `NAME[:WIDTH]` as for
+    /// `render --profile` (the same transparency, so the same diameter transmittance).
+    #[arg(long, requires = "scaling", value_parser = crate::render::parse_profile)]
+    pub profile: Option<gtsphere::scene::Profile>,
     /// Write the clouds as DIR/cloud-{thick,thin}-N.wrl (for --sizes and --clouds) and exit
     /// without measuring.
     #[arg(long, value_name = "DIR", conflicts_with = "scaling")]
@@ -538,7 +542,14 @@ pub fn run_scaling(args: &GasArgs) -> Result<ExitCode, Error> {
     for &n in &sizes {
         for &c in &args.clouds {
             let c = Cloud::from(c);
-            let scene = cloud(n, c);
+            let mut scene = cloud(n, c);
+            if let Some(profile) = args.profile {
+                scene.materials = scene
+                    .materials
+                    .iter()
+                    .map(|m| gtsphere::scene::Material { profile, ..m })
+                    .collect();
+            }
             let runs = args.runs.unwrap_or(if n <= 10_000 { 3 } else { 1 });
             eprintln!(
                 "cloud-{}-{n}, {size}x{size}, {threads} thread(s):",
@@ -576,7 +587,8 @@ pub fn run_scaling(args: &GasArgs) -> Result<ExitCode, Error> {
         }
     }
     println!(
-        "bench gas --scaling: cloud-N at {size}x{size} pixel centres, {threads} thread(s), exact at tol {DEFAULT_TOL:e} against tol {REFERENCE_TOL:e}; march steps 0.2/4^k, budget {budget} s\n"
+        "bench gas --scaling: cloud-N{} at {size}x{size} pixel centres, {threads} thread(s), exact at tol {DEFAULT_TOL:e} against tol {REFERENCE_TOL:e}; march steps 0.2/4^k, budget {budget} s\n",
+        args.profile.map_or(String::new(), |p| format!(" ({} profile)", p.name()))
     );
     println!("{}", scaling_table(&rows));
     print!("{}", scaling_goals(&rows));
