@@ -182,29 +182,27 @@ pub fn radiance(
             None => {
                 // Members of different colours and profiles: no closed form. Integrated
                 // between the kinks, for its part of the emission's share.
+                // (A bound of 0 means it emits exactly nothing in f64.)
                 let bound = t_a * seg.emit_max * -(-seg.depth).exp_m1();
-                if bound <= 0.0 {
-                    // It emits exactly nothing in f64.
-                    tau += seg.depth;
-                    continue;
+                if bound > 0.0 {
+                    let share = bound / emission_bound;
+                    pieces.clear();
+                    pieces.extend(kinks.windows(2).map(|w| (w[0], w[1])));
+                    let so_far = value;
+                    let q = integrate(
+                        pieces,
+                        |_, t| {
+                            let (_, emit) = seg.source_at(profiled, t);
+                            t_a * (-seg.depth_to(profiled, t)).exp() * emit
+                        },
+                        |v| EMIT_SHARE * share * allowed(so_far + v),
+                        MAX_INTERVALS,
+                        quad,
+                    );
+                    counters.quadrature_nodes += q.evals;
+                    value += q.value;
+                    error += q.error;
                 }
-                let share = bound / emission_bound;
-                pieces.clear();
-                pieces.extend(kinks.windows(2).map(|w| (w[0], w[1])));
-                let so_far = value;
-                let q = integrate(
-                    pieces,
-                    |_, t| {
-                        let (_, emit) = seg.source_at(profiled, t);
-                        t_a * (-seg.depth_to(profiled, t)).exp() * emit
-                    },
-                    |v| EMIT_SHARE * share * allowed(so_far + v),
-                    MAX_INTERVALS,
-                    quad,
-                );
-                counters.quadrature_nodes += q.evals;
-                value += q.value;
-                error += q.error;
             }
         }
         tau += seg.depth;
@@ -304,25 +302,14 @@ pub fn radiance(
         let limit = tau_cut + NODE_MARGIN;
         let mut deep = false;
         let so_far = value;
-        let along = Along {
+        let gas = RayGas {
             segments,
             members,
             profiled,
         };
         let q = integrate(
             pieces,
-            |k, t| {
-                scattered(
-                    view,
-                    &along,
-                    &meta[k],
-                    active,
-                    o + t * d,
-                    t,
-                    limit,
-                    &mut deep,
-                )
-            },
+            |k, t| scattered(view, &gas, &meta[k], active, o + t * d, t, limit, &mut deep),
             |v| quad_share * weight * allowed(so_far + v),
             MAX_INTERVALS,
             quad,
@@ -363,20 +350,20 @@ fn segment_unshadowed(view: &View, seg: &Segment, members: &[u32], t_a: f64) -> 
     u
 }
 
-/// The integrand of a lit piece at `x = o + t d`. A light ray whose optical depth passes
-/// `limit` stops there and counts as dark (`deep` is set; the caller bounds it).
 /// The camera ray's segments and their members, for the integrand of a profiled segment.
-struct Along<'a> {
+struct RayGas<'a> {
     segments: &'a [Segment],
     members: &'a [u32],
     profiled: &'a [Member],
 }
 
+/// The integrand of a lit piece at `x = o + t d`. A light ray whose optical depth passes
+/// `limit` stops there and counts as dark (`deep` is set; the caller bounds it).
 #[inline]
 #[allow(clippy::too_many_arguments)]
 fn scattered(
     view: &View,
-    along: &Along,
+    gas: &RayGas,
     m: &PieceMeta,
     active: &[Prim],
     x: DVec3,
@@ -401,16 +388,9 @@ fn scattered(
     match m.profiled {
         None => m.coeff * (att * (-(m.sigma * (t - m.ta) + od)).exp()),
         Some(k) => {
-            let seg = &along.segments[k as usize];
-            let a = scatter_at(
-                view,
-                seg,
-                along.members,
-                along.profiled,
-                m.light as usize,
-                t,
-            );
-            m.coeff * a * (att * (-(seg.depth_to(along.profiled, t) + od)).exp())
+            let seg = &gas.segments[k as usize];
+            let a = scatter_at(view, seg, gas.members, gas.profiled, m.light as usize, t);
+            m.coeff * a * (att * (-(seg.depth_to(gas.profiled, t) + od)).exp())
         }
     }
 }
