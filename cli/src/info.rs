@@ -62,6 +62,7 @@ pub fn to_json(path: &Path, s: &Scene, r: &LoadReport) -> serde_json::Value {
         "spheres": s.spheres.len(),
         "opaque": s.spheres.len() - gas,
         "gas": gas,
+        "profiled_gas": s.profiled_gas_count(),
         "ellipsoids": s.ellipsoid_count(),
         "surfaces": s.surface_counts(),
         "materials": s.materials.len(),
@@ -86,6 +87,7 @@ pub fn to_json(path: &Path, s: &Scene, r: &LoadReport) -> serde_json::Value {
         "mb_per_s": mb_per_s(r),
         "nodes": r.nodes,
         "read_pieces": r.read_pieces,
+        "template_instances": r.template_instances,
         "read_again": r.read_again,
         "files": r.files,
         "peak_rss_bytes": crate::memory::peak_rss_bytes(),
@@ -135,6 +137,10 @@ pub fn to_text(path: &Path, s: &Scene, r: &LoadReport) -> String {
         gas,
         s.ellipsoid_count()
     );
+    let profiled = s.profiled_gas_count();
+    if profiled > 0 {
+        let _ = writeln!(o, "            gas with a density profile: {profiled}");
+    }
     if r.mesh_spheres > 0 {
         let _ = writeln!(
             o,

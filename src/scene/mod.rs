@@ -324,6 +324,20 @@ pub struct Bounds {
 }
 
 impl Scene {
+    /// Gas spheres whose density profile is not constant (MODEL.md section 6).
+    pub fn profiled_gas_count(&self) -> usize {
+        if !self.materials.may_have_profiled_gas() {
+            return 0;
+        }
+        self.spheres
+            .iter()
+            .filter(|s| {
+                let m = self.materials.get(s.material as usize);
+                m.is_gas() && m.profile != Profile::Constant
+            })
+            .count()
+    }
+
     pub fn gas_count(&self) -> usize {
         if !self.materials.may_have_gas() {
             return 0;

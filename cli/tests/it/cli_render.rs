@@ -566,6 +566,13 @@ fn profiles_are_named_and_profiled_gas_is_drawn() {
         );
         std::fs::read(dir.join("g.png")).unwrap()
     };
+    // info counts the profiled gas and the instances lowered by template.
+    let info = gtsphere(&["info", "g.wrl", "--json"], &dir);
+    let v: serde_json::Value = serde_json::from_slice(&info.stdout).expect("json");
+    assert_eq!(v["profiled_gas"], 1);
+    assert_eq!(v["template_instances"], 1);
+    let text = String::from_utf8_lossy(&gtsphere(&["info", "g.wrl"], &dir).stdout).to_string();
+    assert!(text.contains("gas with a density profile: 1"), "{text}");
     let gaussian = rendered(&[]);
     let constant = rendered(&["--profile", "constant"]);
     assert_ne!(gaussian, constant);
