@@ -126,7 +126,7 @@ fn gap(b: &Ball, lamp: &Lamp, x: DVec3) -> f64 {
 /// single sign change, found by bisection. (The only flat part, `gap = |c - p| - r` where
 /// the segment's closest point is the light, is at the maximum, so it cannot hide the
 /// minimum from the scan.)
-fn shadow_interval(
+pub fn shadow_interval(
     b: &Ball,
     lamp: &Lamp,
     o: DVec3,

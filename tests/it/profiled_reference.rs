@@ -342,31 +342,10 @@ pub fn line_depth(b: &Ball, o: DVec3, d: DVec3, s0: f64, s1: f64) -> f64 {
     depth_on_line(b.c, b.r, sigma0(b), profile, o, d, s0, s1, 2)
 }
 
-// ---- Shadows (copied from gas_reference, where they are private).
+// ---- Shadows: gas_reference's search (the light path's distance from the centre depends
+// on the sphere's centre and radius alone, not on its gas).
 
-/// Distance from `c` to the light path from `x` (the ray towards a directional light, the
-/// segment to a point light), minus `r`.
-fn gap(c: DVec3, r: f64, lamp: &Lamp, x: DVec3) -> f64 {
-    let q = c - x;
-    let closest = match *lamp {
-        Lamp::Dir { to_light, .. } => to_light * q.dot(to_light).max(0.0),
-        Lamp::Point { p, .. } => {
-            let s = p - x;
-            let l2 = s.length_squared();
-            if l2 == 0.0 {
-                DVec3::ZERO
-            } else {
-                s * (q.dot(s) / l2).clamp(0.0, 1.0)
-            }
-        }
-    };
-    (q - closest).length() - r
-}
-
-/// Where along `[t0, t1]` the light path from `o + t w` enters the sphere `(c, r)`: the
-/// interval `{t : gap(t) < 0}` (None if empty). `gap` is quasiconvex along the ray (a ball's
-/// shadow is convex; see gas_reference): a scan brackets its minimum, golden section refines
-/// it, bisection finds each end.
+/// Where along `[t0, t1]` the light path from `o + t w` enters the sphere `(c, r)`.
 fn shadow_interval(
     c: DVec3,
     r: f64,
@@ -376,61 +355,8 @@ fn shadow_interval(
     t0: f64,
     t1: f64,
 ) -> Option<(f64, f64)> {
-    let g = |t: f64| gap(c, r, lamp, o + t * w);
-    const SCAN: usize = 64;
-    let ts: Vec<f64> = (0..=SCAN)
-        .map(|k| t0 + (t1 - t0) * k as f64 / SCAN as f64)
-        .collect();
-    let gs: Vec<f64> = ts.iter().map(|&t| g(t)).collect();
-    let low = gs.iter().copied().fold(f64::INFINITY, f64::min);
-    let first = gs.iter().position(|&v| v == low).unwrap_or(0);
-    let last = gs.iter().rposition(|&v| v == low).unwrap_or(0);
-    let (mut lo, mut hi) = (ts[first.saturating_sub(1)], ts[(last + 1).min(SCAN)]);
-    let (mut x, mut gx) = (ts[first], low);
-    let ratio = 0.381_966_011_250_105_1;
-    for _ in 0..200 {
-        if gx < 0.0 || hi - lo <= 4.0 * f64::EPSILON * hi.abs().max(lo.abs()) {
-            break;
-        }
-        let u = if x - lo > hi - x {
-            x - ratio * (x - lo)
-        } else {
-            x + ratio * (hi - x)
-        };
-        let gu = g(u);
-        if gu < gx {
-            if u < x {
-                hi = x;
-            } else {
-                lo = x;
-            }
-            (x, gx) = (u, gu);
-        } else if u < x {
-            lo = u;
-        } else {
-            hi = u;
-        }
-    }
-    if gx >= 0.0 {
-        return None;
-    }
-    let edge = |mut inside: f64, mut outside: f64| {
-        for _ in 0..200 {
-            let m = 0.5 * (inside + outside);
-            if m == inside || m == outside {
-                break;
-            }
-            if g(m) < 0.0 {
-                inside = m;
-            } else {
-                outside = m;
-            }
-        }
-        0.5 * (inside + outside)
-    };
-    let start = if gs[0] < 0.0 { t0 } else { edge(x, t0) };
-    let end = if gs[SCAN] < 0.0 { t1 } else { edge(x, t1) };
-    Some((start, end))
+    let ball = gas_reference::Ball { c, r, gas: None };
+    gas_reference::shadow_interval(&ball, lamp, o, w, t0, t1)
 }
 
 // ---- The reference.
