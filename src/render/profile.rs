@@ -259,9 +259,9 @@ impl Chord {
         let b2 = b * b;
         if b2 > 0.0 {
             let dphi = if v0 >= 0.0 {
-                (l * sv / (v1 * u0 + v0 * u1)).asinh()
+                asinh(l * sv / (v1 * u0 + v0 * u1))
             } else {
-                (v1 / b).asinh() + (-v0 / b).asinh()
+                asinh(v1 / b) + asinh(-v0 / b)
             };
             x += b2 * dphi / (2.0 * l);
         }
@@ -291,21 +291,25 @@ impl Chord {
     fn linear_surface(&self, v0: f64, v1: f64, end: bool) -> f64 {
         let h = self.h;
         let u0 = self.u(v0);
-        let chi0 = (self.g(v0) / (h * u0 + v0)).asinh();
+        let chi0 = asinh(self.g(v0) / (h * u0 + v0));
         let (m, d) = if end {
             (0.5 * chi0, 0.5 * chi0)
         } else {
             let u1 = self.u(v1);
-            let chi1 = (self.g(v1) / (h * u1 + v1)).asinh();
-            let d = 0.5 * ((v1 - v0) * (v0 + v1) / (v1 * u0 + v0 * u1)).asinh();
+            let chi1 = asinh(self.g(v1) / (h * u1 + v1));
+            let d = 0.5 * asinh((v1 - v0) * (v0 + v1) / (v1 * u0 + v0 * u1));
             (0.5 * (chi0 + chi1), d)
         };
-        let dt = 2.0 * m.sinh() * d.sinh() * (2.0 * m.cosh() * d.cosh() - 1.0);
-        let da = |k: f64| {
-            let s = (0.5 * k * m).sinh();
-            4.0 * s * s * (k * d).sinh() + 2.0 * sinh_minus_x(k * d)
-        };
-        h * dt + da(1.0) - (1.0 + self.h2) * da(2.0) * 0.25
+        // sinh and cosh of m / 2, m, d and 2 d from two expm1 (`sinh_cosh`) and the doubling
+        // formulas, all of positive terms.
+        let (sm2, cm2) = sinh_cosh(0.5 * m);
+        let (sm, cm) = (2.0 * sm2 * cm2, 1.0 + 2.0 * sm2 * sm2);
+        let (sd, cd) = sinh_cosh(d);
+        let s2d = 2.0 * sd * cd;
+        let dt = 2.0 * sm * sd * (2.0 * cm * cd - 1.0);
+        let da1 = 4.0 * sm2 * sm2 * sd + 2.0 * sinh_minus_x(d);
+        let da2 = 4.0 * sm * sm * s2d + 2.0 * sinh_minus_x(2.0 * d);
+        h * dt + da1 - (1.0 + self.h2) * da2 * 0.25
     }
 
     /// Gaussian profile of width `s`: `f = exp(-(b^2 + v^2) / (2 s^2))`, and with
@@ -450,6 +454,28 @@ fn hermite_mean(m: f64, d: f64) -> f64 {
         }
     }
     sum
+}
+
+/// `(sinh x, cosh x)` for `x >= 0` from one `expm1`, to a few ulps (no cancellation:
+/// `sinh = e (e + 2) / (2 (e + 1))`, `cosh = 1 + e^2 / (2 (e + 1))`, `e = expm1(x)`).
+#[inline]
+fn sinh_cosh(x: f64) -> (f64, f64) {
+    let e = x.exp_m1();
+    let q = 0.5 / (e + 1.0);
+    (e * (e + 2.0) * q, 1.0 + e * e * q)
+}
+
+/// `asinh(x)` to a few ulps, as `log1p(|x| + x^2 / (1 + sqrt(1 + x^2)))` with the sign of
+/// `x`: the standard library's goes through `hypot`, guarded against overflow, at twice the
+/// cost; beyond 1e8 (where `x^2` could overflow) it is used as is.
+#[inline]
+fn asinh(x: f64) -> f64 {
+    let a = x.abs();
+    if a > 1e8 || a.is_nan() {
+        return x.asinh();
+    }
+    let a2 = a * a;
+    (a + a2 / (1.0 + (1.0 + a2).sqrt())).ln_1p().copysign(x)
 }
 
 /// `sinh(x) - x`, to a few ulps: the Taylor series `x^3/3! + x^5/5! + ...` for `|x| <= 2`

@@ -68,10 +68,11 @@ fn bench_quick_writes_csv_table_and_plot() {
     assert!(md.contains("## Throughput"), "{md}");
 
     let csv = read_csv(&dir.join("bench.csv"));
-    let want: [(&str, &[&str]); 3] = [
+    let want: [(&str, &[&str]); 4] = [
         ("opaque", &["surface"]),
         ("emission", &["exact", "march", "mc"]),
         ("lit gas", &["exact", "march", "mc"]),
+        ("profiled gas", &["exact", "march", "mc"]),
     ];
     assert_eq!(csv.len(), want.len(), "{:?}", csv.keys());
     for (scene, integrators) in want {
@@ -97,7 +98,7 @@ fn bench_quick_writes_csv_table_and_plot() {
         }
     }
     // march is first order in the step: each 4x finer step cuts the error by 2x at least.
-    for scene in ["emission", "lit gas"] {
+    for scene in ["emission", "lit gas", "profiled gas"] {
         let e = errors(&csv[scene], "march");
         assert!(e.windows(2).all(|w| w[1] < 0.5 * w[0]), "{scene}: {e:?}");
     }
@@ -108,22 +109,27 @@ fn bench_quick_writes_csv_table_and_plot() {
     }
     // exact with scattering: within each tolerance (it truncates what cannot matter at the
     // tolerance asked for, so a loose tol gives a looser answer), no worse as tol tightens,
-    // ending below both the loosest setting's error and 1e-8.
-    let e = errors(&csv["lit gas"], "exact");
-    let tols: Vec<f64> = csv["lit gas"]
-        .iter()
-        .filter(|r| r.0 == "exact")
-        .map(|r| r.1)
-        .collect();
-    assert!(
-        e.iter().zip(&tols).all(|(&v, &t)| v <= t),
-        "{e:?} at {tols:?}"
-    );
-    assert!(
-        e.windows(2).all(|w| w[1] <= w[0] * 1.5),
-        "exact's error grows as tol tightens: {e:?}"
-    );
-    assert!(e[e.len() - 1] < e[0] && e[e.len() - 1] < 1e-8, "{e:?}");
+    // ending below both the loosest setting's error and 1e-8; with profiles too.
+    for scene in ["lit gas", "profiled gas"] {
+        let e = errors(&csv[scene], "exact");
+        let tols: Vec<f64> = csv[scene]
+            .iter()
+            .filter(|r| r.0 == "exact")
+            .map(|r| r.1)
+            .collect();
+        assert!(
+            e.iter().zip(&tols).all(|(&v, &t)| v <= t),
+            "{scene}: {e:?} at {tols:?}"
+        );
+        assert!(
+            e.windows(2).all(|w| w[1] <= w[0] * 1.5),
+            "{scene}: exact's error grows as tol tightens: {e:?}"
+        );
+        assert!(
+            e[e.len() - 1] < e[0] && e[e.len() - 1] < 1e-8,
+            "{scene}: {e:?}"
+        );
+    }
 
     let png = std::fs::read(dir.join("bench.png")).expect("bench.png");
     assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
