@@ -466,3 +466,79 @@ fn optical_depths_1e_12_and_1e4() {
         "{got} vs {want}"
     );
 }
+
+/// One emitting profiled sphere (`--profile` with `--as-gas SIGMA0`) at the hard ends:
+/// optical depths of 1e-12 and 1e4 along a diameter, a camera at the centre, and a sphere
+/// 1e8 from the origin. Expected, from the chord depths written out here: quadratic
+/// `tau = sigma0 r (4/3) h^3`, linear `sigma0 r (h - beta^2 asinh(h / beta))` (`h` the half
+/// chord in radii at distance `beta`), and from the centre to the surface `sigma0 r I_f`.
+#[test]
+fn profiled_gas_at_tiny_and_huge_depths_from_inside_and_far_away() {
+    use gtsphere::scene::Profile;
+    let c = DVec3::new(0.9, 0.6, 0.3);
+    let setup = |centre: DVec3, sigma0: f64, profile: Profile| {
+        let body = format!(
+            "Transform {{ translation {:e} {:e} {:e} children Shape {{ appearance Appearance {{ material Material {{ emissiveColor 0.9 0.6 0.3 transparency 0.5 }} }} geometry Sphere {{ radius 2 }} }} }}",
+            centre.x, centre.y, centre.z
+        );
+        let (scene, _) = support::scene(&format!("NavigationInfo {{ headlight FALSE }}\n{body}"));
+        let opts = PrepareOptions {
+            as_gas: Some(sigma0),
+            profile: Some(profile),
+        };
+        render::prepare(scene, &opts).expect("prepare")
+    };
+    let r = 2.0;
+    let tau_of = |profile: Profile, sigma0: f64, beta: f64| {
+        let h = (1.0 - beta * beta).sqrt();
+        sigma0
+            * r
+            * match profile {
+                Profile::Quadratic => 4.0 / 3.0 * h * h * h,
+                Profile::Linear if beta == 0.0 => h,
+                Profile::Linear => h - beta * beta * (h / beta).asinh(),
+                _ => unreachable!(),
+            }
+    };
+    for profile in [Profile::Quadratic, Profile::Linear] {
+        for sigma0 in [1e-12, 1e-6, 1.0, 1e4] {
+            let p = setup(DVec3::ZERO, sigma0, profile);
+            for beta in [0.0, 0.3, 0.9] {
+                let o = DVec3::new(beta * r, 0.0, 10.0);
+                let got = ray(&p, o, DVec3::NEG_Z);
+                let want = c * -(-tau_of(profile, sigma0, beta)).exp_m1();
+                let rel = ((got - want).abs() / want).max_element();
+                assert!(
+                    rel <= 1e-13,
+                    "{profile:?} sigma0 {sigma0:e} beta {beta}: {got} vs {want} ({rel:e})"
+                );
+            }
+            // From the centre outwards: half the diameter's depth, sigma0 r I_f.
+            let half = sigma0
+                * r
+                * match profile {
+                    Profile::Quadratic => 2.0 / 3.0,
+                    _ => 0.5,
+                };
+            let got = ray(&p, DVec3::ZERO, DVec3::new(0.6, 0.0, 0.8));
+            let want = c * -(-half).exp_m1();
+            let rel = ((got - want).abs() / want).max_element();
+            assert!(
+                rel <= 1e-13,
+                "{profile:?} sigma0 {sigma0:e} inside: {rel:e}"
+            );
+        }
+        // 1e8 from the origin, seen from 10 away: the ray's own rounding (1e-16 of 1e8 in the
+        // closest approach) is all that is lost.
+        let far = DVec3::new(1e8, -1e8, 1e8);
+        let p = setup(far, 0.5, profile);
+        let o = far + DVec3::new(0.3 * r, 0.0, 10.0);
+        let got = ray(&p, o, DVec3::NEG_Z);
+        let want = c * -(-tau_of(profile, 0.5, 0.3)).exp_m1();
+        let rel = ((got - want).abs() / want).max_element();
+        assert!(
+            rel <= 1e-7,
+            "{profile:?} far away: {got} vs {want} ({rel:e})"
+        );
+    }
+}
