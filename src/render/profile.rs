@@ -230,6 +230,10 @@ impl Chord {
                 self.linear_surface(v0, v1, end)
             }
             // Both halves near the surface: a grazing ray.
+            // (A whole chord, as a light ray from outside has, is symmetric: one half, twice.)
+            Piece::Across(v0, v1) if 1.0 - self.b <= LINEAR_SURFACE && v0 == -v1 => {
+                2.0 * self.linear_surface(0.0, v1, false)
+            }
             Piece::Across(v0, v1) if 1.0 - self.b <= LINEAR_SURFACE => {
                 self.linear_surface(0.0, -v0, false) + self.linear_surface(0.0, v1, false)
             }
@@ -260,6 +264,8 @@ impl Chord {
         if b2 > 0.0 {
             let dphi = if v0 >= 0.0 {
                 asinh(l * sv / (v1 * u0 + v0 * u1))
+            } else if v0 == -v1 {
+                2.0 * asinh(v1 / b)
             } else {
                 asinh(v1 / b) + asinh(-v0 / b)
             };
@@ -331,9 +337,13 @@ impl Chord {
         let k = std::f64::consts::FRAC_1_SQRT_2 / s;
         match piece {
             Piece::Across(v0, v1) => {
-                s * SQRT_PI_OVER_2
-                    * exp_neg_y(u_sq(self.b, 0.0, 0.0), s)
-                    * (erf(v1 * k) + erf(-v0 * k))
+                // erf is odd exactly, so a whole (symmetric) chord takes one erf, same bits.
+                let erfs = if v0 == -v1 {
+                    2.0 * erf(v1 * k)
+                } else {
+                    erf(v1 * k) + erf(-v0 * k)
+                };
+                s * SQRT_PI_OVER_2 * exp_neg_y(u_sq(self.b, 0.0, 0.0), s) * erfs
             }
             Piece::Side(v0, v1, end) => {
                 let l = self.length(v0, v1, end);
