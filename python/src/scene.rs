@@ -82,10 +82,10 @@ impl Scene {
     /// transmits t (glowing its emissive colour, scattering its colour as albedo).
     /// emissive: (N, 3) emissive RGB in [0, 1]; default black.
     /// headlight: a white directional light along each camera's view, as VRML's default.
+    /// background: RGB seen where rays meet nothing.
     /// profile: the gas spheres' density profile, "constant" (default), "linear",
     /// "quadratic" or "gaussian" (with width, in (0, 1] of the radius, default 1/3);
     /// transparency stays the transmittance along a diameter (MODEL.md section 6).
-    /// background: RGB seen where rays meet nothing.
     ///
     /// Arrays are read in place when they are C-contiguous float64 (otherwise numpy converts
     /// them once). A bad value raises ValueError naming the array, index and value, e.g.
