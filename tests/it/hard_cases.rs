@@ -542,3 +542,48 @@ fn profiled_gas_at_tiny_and_huge_depths_from_inside_and_far_away() {
         );
     }
 }
+
+/// A profiled ellipsoid (a quadratic-profile Sphere under `scale 2 1 1`): the profile follows
+/// the ellipsoid's shape, and `transparency` stays the transmittance along a diameter of the
+/// volume-equivalent sphere (`r_eq = 2^(1/3)`, as for constant gas). Along an axis of
+/// half-length `a` the optical depth is `-ln(t) a / r_eq`; off the x axis at a fraction `b`
+/// of the y half-axis, `-ln(t) (2 / r_eq) (1 - b^2)^(3/2)`. Its emission along those lines, and
+/// its shadow on an opaque sphere lit through it along z, against those numbers.
+#[test]
+fn profiled_ellipsoid_emits_and_shadows_along_its_own_shape() {
+    use gtsphere::scene::Profile;
+    let body = "DirectionalLight { direction 0 0 -1 }
+Transform { scale 2 1 1 children Shape { appearance Appearance { material Material { emissiveColor 0.9 0.6 0.3 diffuseColor 0 0 0 transparency 0.5 } } geometry Sphere { } } }
+Transform { translation 0 0 -5 children Shape { appearance Appearance { material Material { diffuseColor 1 1 1 } } geometry Sphere { } } }";
+    let (scene, _) = support::scene(&format!("NavigationInfo {{ headlight FALSE }}\n{body}"));
+    let opts = PrepareOptions {
+        profile: Some(Profile::Quadratic),
+        ..PrepareOptions::default()
+    };
+    let p = render::prepare(scene, &opts).expect("prepare");
+    let k = -(0.5f64.ln()) / 2f64.cbrt();
+    let c = DVec3::new(0.9, 0.6, 0.3);
+    for (o, w, tau) in [
+        (DVec3::new(10.0, 0.0, 0.0), DVec3::NEG_X, 2.0 * k),
+        (DVec3::new(0.0, 10.0, 0.0), DVec3::NEG_Y, k),
+        (
+            DVec3::new(10.0, 0.5, 0.0),
+            DVec3::NEG_X,
+            2.0 * k * 0.75f64.powf(1.5),
+        ),
+    ] {
+        let got = ray(&p, o, w);
+        let want = c * -(-tau).exp_m1();
+        let rel = ((got - want).abs() / want).max_element();
+        assert!(rel <= 1e-13, "{o} {w}: {got} vs {want} ({rel:e})");
+    }
+    // (0, 0, -4) on the opaque sphere, lit along +z through the ellipsoid's z axis (a = 1),
+    // seen from (3, 0, -1) by a ray that meets no gas: N.L = 1, white, no specular.
+    let o = DVec3::new(3.0, 0.0, -1.0);
+    let got = ray(&p, o, (DVec3::new(0.0, 0.0, -4.0) - o).normalize());
+    let want = (-k).exp();
+    assert!(
+        ((got - DVec3::splat(want)).abs() / want).max_element() <= 1e-13,
+        "{got} vs {want}"
+    );
+}
