@@ -209,7 +209,7 @@ impl Segment {
     #[inline]
     pub fn emitted(&self) -> Option<DVec3> {
         if self.profiled.1 > 0 {
-            return self.colour.map(|c| c * -(-self.depth).exp_m1());
+            return self.colour.map(|c| c * self.opacity());
         }
         Some(if self.sigma > 0.0 {
             // emit / sigma is a sigma-weighted mean of the C_j: no 0/0 as sigma > 0 here.
@@ -217,6 +217,13 @@ impl Segment {
         } else {
             DVec3::ZERO
         })
+    }
+
+    /// `1 - exp(-depth)`, the part of the light entering the segment that it absorbs (by
+    /// `expm1`, so that tiny depths keep full relative precision).
+    #[inline]
+    pub fn opacity(&self) -> f64 {
+        -(-self.depth).exp_m1()
     }
 
     /// Whether some member is profiled.

@@ -144,7 +144,7 @@ pub fn radiance(
         let t_a = (-tau).exp();
         unshadowed_by_segment.push(segment_unshadowed(view, seg, members, t_a));
         if seg.emitted().is_none() {
-            emission_bound += t_a * seg.emit_max * -(-seg.depth).exp_m1();
+            emission_bound += t_a * seg.emit_max * seg.opacity();
         }
         tau += seg.depth;
     }
@@ -183,7 +183,7 @@ pub fn radiance(
                 // Members of different colours and profiles: no closed form. Integrated
                 // between the kinks, for its part of the emission's share.
                 // (A bound of 0 means it emits exactly nothing in f64.)
-                let bound = t_a * seg.emit_max * -(-seg.depth).exp_m1();
+                let bound = t_a * seg.emit_max * seg.opacity();
                 if bound > 0.0 {
                     let share = bound / emission_bound;
                     pieces.clear();
@@ -340,7 +340,7 @@ fn segment_unshadowed(view: &View, seg: &Segment, members: &[u32], t_a: f64) -> 
         if seg.is_profiled() {
             // sum sigma_j(t) a_j <= albedo_max sigma_t(t), whose integral against the
             // transmittance is 1 - exp(-depth).
-            u += t_a * PHASE * l.direct.max_element() * seg.albedo_max * -(-seg.depth).exp_m1();
+            u += t_a * PHASE * l.direct.max_element() * seg.albedo_max * seg.opacity();
             continue;
         }
         let a = scatter_for(view, seg, members, i);

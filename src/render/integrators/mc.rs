@@ -141,7 +141,7 @@ fn profiled_sample(
     if !(emits || scatters) {
         return DVec3::ZERO;
     }
-    let f = -(-seg.depth).exp_m1();
+    let f = seg.opacity();
     if f <= 0.0 {
         return DVec3::ZERO;
     }
