@@ -233,15 +233,10 @@ mod tests {
         assert!(out.iter().any(|t| (t - 1.0).abs() < 1e-12), "{out:?}");
     }
 
-    /// A dense gaussian shadower's rim breakpoints lie on its own depth contours (where a
-    /// full chord has depth 2, 8, 32, ...), not on a constant sphere's.
-    #[test]
-    fn profiled_rim_breakpoints_sit_on_the_profiles_contours() {
-        let profile = Profile::Gaussian { width: 0.3 };
-        let mut p = unit_ball(0.0);
-        p.gas = true;
-        p.profile = profile;
-        p.sigma = 400.0; // depth 2 sigma0 I_f, about 300, along the diameter
+    /// `p`'s breakpoints along the camera line `y = 0, z = -5` (along x from x = -3, so that
+    /// `t - 3` is the offset from the centre) for a directional light along +z, every rim
+    /// contour included.
+    fn rim_breakpoints(p: &Prim) -> Vec<f64> {
         let light = LightKind::Directional {
             to_light: DVec3::Z,
             scope: crate::scene::LightScope::All,
@@ -249,7 +244,7 @@ mod tests {
         };
         let mut out = Vec::new();
         breakpoints(
-            &p,
+            p,
             &[],
             DVec3::new(-3.0, 0.0, -5.0),
             DVec3::X,
@@ -258,6 +253,18 @@ mod tests {
             1e9,
             &mut out,
         );
+        out
+    }
+
+    /// A dense gaussian shadower's rim breakpoints lie on its own depth contours (where a
+    /// full chord has depth 2, 8, 32, ...), not on a constant sphere's.
+    #[test]
+    fn profiled_rim_breakpoints_sit_on_the_profiles_contours() {
+        let mut p = unit_ball(0.0);
+        p.gas = true;
+        p.profile = Profile::Gaussian { width: 0.3 };
+        p.sigma = 400.0; // depth 2 sigma0 I_f, about 300, along the diameter
+        let out = rim_breakpoints(&p);
         // The chord at offset |x| from the centre, by Simpson's rule (not the closed form).
         let depth = |x: f64| {
             let h = (1.0 - x * x).max(0.0).sqrt();
@@ -285,23 +292,8 @@ mod tests {
     fn rim_breakpoints_sit_on_the_depth_contours() {
         let sigma = 350.0; // depth 700 along the diameter of the unit ball
         let p = unit_ball(sigma);
-        let light = LightKind::Directional {
-            to_light: DVec3::Z,
-            scope: crate::scene::LightScope::All,
-            surface_scope: crate::scene::LightScope::All,
-        };
-        // The camera line y = 0, z = -5 along x: the chord at offset |x| is 2 sqrt(1 - x^2).
-        let mut out = Vec::new();
-        breakpoints(
-            &p,
-            &[],
-            DVec3::new(-3.0, 0.0, -5.0),
-            DVec3::X,
-            &light,
-            (-10.0, 10.0),
-            1e9,
-            &mut out,
-        );
+        // The chord at offset |x| from the centre is 2 sqrt(1 - x^2).
+        let out = rim_breakpoints(&p);
         for tau in [2.0, 8.0, 32.0, 128.0, 512.0] {
             let found = out.iter().any(|&t| {
                 let x: f64 = t - 3.0;
