@@ -380,6 +380,7 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
         say(format!("{w}"));
     }
     let spheres = scene.spheres.len();
+    crate::memory::retain_freed_for(spheres);
     let surfaces = scene.surfaces.len();
     let headlight = scene.headlight;
     let in_scene = |e: Error| Error::Other(format!("{}: {e}", args.scene.display()));
