@@ -195,9 +195,11 @@ fn digit_run(b: &[u8], k: usize) -> Option<(usize, u64)> {
     Some((n, v))
 }
 
-/// The common number shape, `[+-]? digits (. digits)?` with fewer than 8 digits on each side
-/// and no exponent, read without a byte loop. Returns where it ends and its value, or None
-/// for anything else (which [`number_general`] then reads, with the same result for these).
+/// The common number shape, `[+-]? digits (. digits)?` with fewer than 8 digits before the
+/// point, at most 16 after it and 19 in all, no exponent and a mantissa of at most 2^53, read
+/// without a byte loop (16 fraction digits are what `convert` writes for the colours of
+/// 8-bit tables). Returns where it ends and its value, or None for anything else (which
+/// [`number_general`] then reads, with the same result for these).
 #[inline(always)]
 fn short_decimal(b: &[u8]) -> Option<(usize, Number)> {
     let signed = matches!(b.first(), Some(b'+' | b'-'));
@@ -214,27 +216,49 @@ fn short_decimal(b: &[u8]) -> Option<(usize, Number)> {
         integer = false;
         k += 1;
         let (n2, f) = digit_run(b, k)?;
-        if n2 == 8 {
-            return None;
-        }
         k += n2;
         frac = n2;
         mantissa = int * POW10_INT[n2] + f;
+        if n2 == 8 {
+            // Up to 8 more, at most 19 digits in all (below 2^64), checked against 2^53.
+            let (n3, g) = digit_run(b, k)?;
+            if n1 + 8 + n3 > 19 {
+                return None;
+            }
+            k += n3;
+            frac += n3;
+            mantissa = mantissa * POW10_INT[n3] + g;
+            if mantissa > 1 << 53 {
+                return None;
+            }
+        }
     }
-    // The next byte must end the number: not an identifier character (which takes in an
-    // exponent `e`, hex `x` and errors like "1a"), so the general path agrees.
-    if is_id_first_byte(b[k]) {
-        return None;
+    // The next byte must end the number: not a digit (after 16 fraction digits) nor an
+    // identifier character (which takes in an exponent `e`, hex `x` and errors like "1a"),
+    // so the general path agrees.
+    match b.get(k) {
+        Some(&c) if !c.is_ascii_digit() && !is_id_first_byte(c) => {}
+        _ => return None,
     }
-    // At most 14 digits: the mantissa is below 2^53 and the division by an exact power of
-    // ten is correctly rounded, as in number_general.
+    // The mantissa is at most 2^53 and the power of ten (at most 10^16) is exact, so the one
+    // division is correctly rounded, as in number_general.
     // (Converted through i64, which x86-64 does in one instruction; the value is exact.)
     let v = mantissa as i64 as f64 / POW10[frac];
     let value = if b[0] == b'-' { -v } else { v };
     Some((k, Number { value, integer }))
 }
 
-const POW10_INT: [u64; 8] = [1, 10, 100, 1000, 10_000, 100_000, 1_000_000, 10_000_000];
+const POW10_INT: [u64; 9] = [
+    1,
+    10,
+    100,
+    1000,
+    10_000,
+    100_000,
+    1_000_000,
+    10_000_000,
+    100_000_000,
+];
 
 /// [`number`] for every form: hex, exponents, long digit strings, numbers at the end of the
 /// text.

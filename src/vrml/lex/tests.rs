@@ -100,16 +100,20 @@ fn short_numbers_in_context_agree_with_the_general_reader() {
         "1234567890",
         "0x10     ",
     ];
-    let mut fast = 0;
+    let (mut fast, mut long) = (0, 0);
     for _ in 0..300_000 {
         let mut t = String::new();
         t.push_str(["", "+", "-"][next(3) as usize]);
         for _ in 0..next(10) {
             t.push(char::from(b'0' + next(10) as u8));
         }
+        let mut frac = 0;
         if next(3) != 0 {
             t.push('.');
-            for _ in 0..next(10) {
+            // Up to 20 digits: around the second 8-byte run and its limits (16 fraction
+            // digits, 19 in all, 2^53).
+            frac = next(21);
+            for _ in 0..frac {
                 t.push(char::from(b'0' + next(10) as u8));
             }
         }
@@ -117,9 +121,12 @@ fn short_numbers_in_context_agree_with_the_general_reader() {
         let got = number(&t).map(|(r, n)| (r, n.value.to_bits(), n.integer));
         let want = number_general(&t).map(|(r, n)| (r, n.value.to_bits(), n.integer));
         assert_eq!(got, want, "{t:?}");
-        fast += usize::from(short_decimal(t.as_bytes()).is_some());
+        let short = short_decimal(t.as_bytes()).is_some();
+        fast += usize::from(short);
+        long += usize::from(short && frac >= 8);
     }
-    assert!(fast > 50_000, "{fast}");
+    assert!(fast > 40_000, "{fast}");
+    assert!(long > 10_000, "{long}");
 }
 
 #[test]
