@@ -196,7 +196,7 @@ fn random_file(seed: u64) -> String {
     let mut pick = |n: usize| (next() % n as u64) as usize;
     let mut body_material = String::new();
     let mut iface = String::from(
-        "field SFVec3f p 0 0 0 field SFFloat r 1 field SFColor c 0.8 0.8 0.8 field SFFloat t 0 field SFFloat s 0.2",
+        "field SFVec3f p 0 0 0 field SFFloat r 1 field SFColor c 0.8 0.8 0.8 field SFFloat t 0 field SFFloat s 0.2 field SFNode n NULL field MFFloat m [ ]",
     );
     for (name, is, given) in [
         ("diffuseColor", "c", "0.1 0.2 0.3"),
@@ -228,6 +228,7 @@ fn random_file(seed: u64) -> String {
         iface = iface.replace("SFFloat t 0", "SFFloat t 1.5");
     }
     let mut text = format!("#VRML V2.0 utf8\nPROTO P [ {iface} ] {{ {body} }}\n");
+    let bad_file = pick(4) == 0;
     let groups = [
         "",
         "Transform { scale 2 2 2 children [",
@@ -237,14 +238,28 @@ fn random_file(seed: u64) -> String {
     for _ in 0..(5 + pick(40)) {
         let g = groups[pick(groups.len())];
         let mut inst = String::from("P {");
-        for (f, vals) in [
-            ("p", &["1 2 3", "-1 0 0.5"][..]),
-            ("r", &["0.25", "2", "-1"][..]),
-            ("c", &["0 0 0", "0.5 0.25 1"][..]),
-            ("t", &["0", "0.75", "2"][..]),
-            ("s", &["0.5", "3"][..]),
+        // Mostly plain numbers, which an instance read into its template keeps as they come;
+        // the rest makes it recorded part way (a bracketed list, a node, an unknown field), and
+        // a field may come twice. One file in four has values of the wrong type or length
+        // (errors both ways).
+        let wrong = if bad_file {
+            &["1 2", "\"x\"", "TRUE"][..]
+        } else {
+            &[][..]
+        };
+        for (f, vals, odds) in [
+            ("p", &["1 2 3", "-1 0 0.5"][..], 3),
+            ("r", &["0.25", "2", "-1"][..], 3),
+            ("c", &["0 0 0", "0.5 0.25 1"][..], 3),
+            ("t", &["0", "0.75", "2"][..], 3),
+            ("s", &["0.5", "3"][..], 3),
+            ("n", &["NULL", "Group { }"][..], 6),
+            ("m", &["[ 1 2 3 4 ]", "[ 1 ]", "2"][..], 6),
+            ("q", &["1"][..], 8),
+            ("p", &["4 5 6"][..], 5),
+            (["p", "r", "s"][pick(3)], wrong, 20),
         ] {
-            if pick(3) == 0 {
+            if !vals.is_empty() && pick(odds) == 0 {
                 inst += &format!(" {f} {}", vals[pick(vals.len())]);
             }
         }

@@ -101,6 +101,9 @@ impl Lowerer {
 
     /// Handles any event: records it if something is recording, then lowers it.
     pub(super) fn handle(&mut self, src: &SourceWindow, ev: Event<'_>) -> Result<(), Error> {
+        if self.rec.direct {
+            return self.direct_event(src, ev);
+        }
         // IS inside a PROTO expansion is replaced by the instance's value before anything else.
         if let Event::Field {
             name,

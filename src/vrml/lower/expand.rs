@@ -87,9 +87,10 @@ impl Lowerer {
             // An event (eventIn/eventOut) has no value to substitute.
             return Ok(());
         };
-        // A plain value with nothing recording: lowered at once, as written in scene text.
+        // A plain value with nothing recording (nor an instance read into its template, which
+        // takes it through `dispatch`): lowered at once, as written in scene text.
         if let Rec::Ev(OwnedEvent::Field { value, at: vat, .. }) = &self.rec.arena[range.start] {
-            if !matches!(value, OwnedValue::Is(_)) && self.rec.recorders.is_empty() {
+            if !matches!(value, OwnedValue::Is(_)) && self.rec.idle() {
                 let (v, vat) = (value.clone(), *vat);
                 return self.field(src, name, vat, v.as_value());
             }
@@ -229,7 +230,7 @@ impl Lowerer {
 
     /// Replays an instance's body with its `values` (by interface field), in a namespace of
     /// its own.
-    fn replay_body(
+    pub(super) fn replay_body(
         &mut self,
         src: &SourceWindow,
         proto: Rc<ProtoDecl>,

@@ -63,6 +63,7 @@
 mod chunk;
 mod close;
 mod declare;
+mod direct;
 mod dispatch;
 mod expand;
 mod extern_proto;
@@ -299,6 +300,8 @@ struct Lowerer {
     nodes: u64,
     /// PROTO instances lowered by a sphere template (`template.rs`).
     templated: u64,
+    /// The PROTO instance read straight into its template (`direct`).
+    direct: direct::Direct,
     /// The profile of the `GasParticle` instance being expanded (its Materials take it).
     gas_profile: Option<crate::scene::Profile>,
     /// Recorded events and the recordings under way (`record`).
@@ -409,6 +412,7 @@ impl Lowerer {
             scene: Scene::default(),
             nodes: 0,
             templated: 0,
+            direct: direct::Direct::default(),
             gas_profile: None,
             rec: Recording::default(),
             replay: Replay::default(),

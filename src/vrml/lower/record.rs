@@ -105,14 +105,16 @@ pub(super) struct Recording {
     pub(super) names: Interner,
     /// A buffer for the recordings that end at one event (see `end_slow`).
     done_buf: Done,
+    /// A PROTO instance is being read into its template (`direct`): its events go there.
+    pub(super) direct: bool,
 }
 
 impl Recording {
-    /// Nothing is being recorded and no PROTO declaration is open: events of plain scene text
-    /// may take the fast path (see `dispatch`).
+    /// Nothing is being recorded, no PROTO declaration is open and no instance is read into
+    /// its template: events of plain scene text may take the fast path (see `dispatch`).
     #[inline(always)]
     pub(super) fn idle(&self) -> bool {
-        self.recorders.is_empty() && self.proto_decls == 0
+        self.recorders.is_empty() && self.proto_decls == 0 && !self.direct
     }
 
     /// Appends `ev` to the arena if anything is recording.

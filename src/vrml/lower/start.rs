@@ -174,8 +174,11 @@ impl Lowerer {
         };
         if let Some(proto) = proto {
             if proto.body.is_some() {
-                // Record the instance, expand it when it closes.
-                self.rec.start_here(&ty_rc, def, at, RecKind::Instance);
+                // Read the instance into its template, or record it and expand it when it
+                // closes.
+                if !self.start_direct(&proto, &ty_rc, def, at) {
+                    self.rec.start_here(&ty_rc, def, at, RecKind::Instance);
+                }
             } else {
                 self.diags.skip(ty);
                 self.diags.warn(

@@ -294,6 +294,23 @@ fn radius_ok(r: f64) -> bool {
     r > 0.0 && r.is_finite()
 }
 
+/// What an instance gives one interface field (see [`Lowerer::template_inputs`]).
+pub(super) enum Given<'a> {
+    /// Plain numbers, not bracketed.
+    Numbers(&'a [f64]),
+    /// Anything else: the template cannot take it.
+    Other,
+    /// Not given: the field's default.
+    Absent,
+}
+
+/// An instance's values as the template needs them, read before anything changes.
+pub(super) struct Inputs {
+    translation: Option<DVec3>,
+    material: Option<Material>,
+    radius: f64,
+}
+
 impl Lowerer {
     /// Lowers a PROTO instance by its body's template: `values` are the instance's values
     /// (arena ranges by interface field, as `expand` found them). `None`: replay the body
@@ -305,6 +322,35 @@ impl Lowerer {
         tpl: &SphereTemplate,
         values: &[Option<Range<usize>>],
     ) -> Option<Result<(), Error>> {
+        let arena = &self.rec.arena;
+        let given = |fi: usize| match values.get(fi).cloned().flatten() {
+            None => Given::Absent,
+            Some(range) => match arena.get(range.start) {
+                Some(Rec::Ev(OwnedEvent::Field {
+                    value:
+                        OwnedValue::Numbers {
+                            values,
+                            bracketed: false,
+                            ..
+                        },
+                    ..
+                })) => Given::Numbers(values),
+                _ => Given::Other,
+            },
+        };
+        let inputs = self.template_inputs(src, proto, tpl, given)?;
+        Some(self.lower_template(src, tpl, inputs))
+    }
+
+    /// The instance's values for the template, `given(fi)` by interface field; `None` where
+    /// replaying would do more than lower the sphere (see the module's comment).
+    pub(super) fn template_inputs<'a>(
+        &'a self,
+        src: &SourceWindow,
+        proto: &ProtoDecl,
+        tpl: &SphereTemplate,
+        given: impl Fn(usize) -> Given<'a>,
+    ) -> Option<Inputs> {
         // Where replaying would do more than lower the sphere: a PROTO named like a standard
         // node may stand for the body's nodes; an external PROTO's body sees other PROTOs;
         // the body's Transform may only stand where a grouping node's children do.
@@ -332,33 +378,36 @@ impl Lowerer {
         if self.nodes.saturating_add(tpl.nodes) > limit {
             return None;
         }
-        // The values, read before anything changes.
         let arena = &self.rec.arena;
         let value = |s: &Slot, arity: usize| -> Option<[f64; 3]> {
-            match *s {
-                Slot::Given(v) => Some(v),
-                Slot::Is(fi) => {
-                    let fi = fi as usize;
-                    let range = values
-                        .get(fi)?
-                        .clone()
-                        .or_else(|| proto.fields.get(fi).and_then(|f| f.default.clone()))?;
-                    match arena.get(range.start)? {
-                        Rec::Ev(OwnedEvent::Field {
-                            value:
-                                OwnedValue::Numbers {
-                                    values, bracketed, ..
-                                },
-                            ..
-                        }) if !bracketed && values.len() == arity => {
-                            let mut v = [0.0; 3];
-                            v[..arity].copy_from_slice(values);
-                            Some(v)
+            let numbers = match *s {
+                Slot::Given(v) => return Some(v),
+                Slot::Is(fi) => match given(fi as usize) {
+                    Given::Numbers(v) => v,
+                    Given::Other => return None,
+                    Given::Absent => {
+                        let range = proto.fields.get(fi as usize)?.default.clone()?;
+                        match arena.get(range.start)? {
+                            Rec::Ev(OwnedEvent::Field {
+                                value:
+                                    OwnedValue::Numbers {
+                                        values,
+                                        bracketed: false,
+                                        ..
+                                    },
+                                ..
+                            }) => values,
+                            _ => return None,
                         }
-                        _ => None,
                     }
-                }
+                },
+            };
+            if numbers.len() != arity {
+                return None;
             }
+            let mut v = [0.0; 3];
+            v[..arity].copy_from_slice(numbers);
+            Some(v)
         };
         let translation = match &tpl.translation {
             Some(s) => Some(DVec3::from_array(value(s, 3)?)),
@@ -390,13 +439,27 @@ impl Lowerer {
         if !radius_ok(radius) {
             return None;
         }
+        Some(Inputs {
+            translation,
+            material,
+            radius,
+        })
+    }
+
+    /// Lowers the template's sphere with the instance's `inputs`.
+    pub(super) fn lower_template(
+        &mut self,
+        src: &SourceWindow,
+        tpl: &SphereTemplate,
+        inputs: Inputs,
+    ) -> Result<(), Error> {
         // What replaying does, in its order: the nodes are counted as they start, the
         // Material is stored when it closes, the sphere when the Shape closes, and the
         // Transform moves it when it closes.
         self.nodes += tpl.nodes;
         self.watch_nodes(src.offset());
         let marks = Marks::of(&self.scene);
-        let material = match material {
+        let material = match inputs.material {
             Some(m) => {
                 self.materials.open.push(m);
                 self.close_material()
@@ -405,16 +468,16 @@ impl Lowerer {
         };
         self.scene.spheres.push(Sphere {
             center: DVec3::ZERO,
-            radius,
+            radius: inputs.radius,
             material,
             ellipsoid: None,
             origin: self.origin(tpl.sphere_at),
         });
         let t = TransformFields {
-            translation: translation.unwrap_or(DVec3::ZERO),
+            translation: inputs.translation.unwrap_or(DVec3::ZERO),
             ..TransformFields::default()
         };
         self.templated += 1;
-        Some(self.close_transform(src, &t, marks, tpl.transform_at))
+        self.close_transform(src, &t, marks, tpl.transform_at)
     }
 }

@@ -1,0 +1,222 @@
+//! PROTO instances read straight into their sphere template. An instance of a PROTO with a
+//! [`SphereTemplate`] is normally recorded while it is read (each field as an event in the
+//! arena, its name shared, its value copied) and expanded when it closes. Where nothing
+//! else is recording, its plain numeric field values are instead kept by interface field as
+//! they come, and the template lowers them when the instance closes: what `expand` and
+//! `expand_by_template` do with the recording, without making it.
+//!
+//! Anything else in the instance (a field the PROTO does not have or whose value does not
+//! fit, a node, `IS`, `USE`, a bracketed list) makes the instance recorded after all: the
+//! fields kept so far are recorded as they would have been, and the event goes on as usual
+//! ([`Lowerer::record_direct`]). An instance the template refuses when it closes (see
+//! `template`) is recorded the same way and replayed. So warnings, errors and the scene are
+//! the recording's in every case (`tests/it/proto_template.rs` compares them with replaying
+//! every instance).
+
+use std::rc::Rc;
+
+use super::declare::ProtoDecl;
+use super::fields::is_event;
+use super::open::Name;
+use super::record::{Rec, RecKind};
+use super::Lowerer;
+use crate::error::Error;
+use crate::source::SourceWindow;
+use crate::vrml::schema;
+use crate::vrml::syntax::{Event, Nums, OwnedEvent, OwnedValue, Value};
+
+use super::template::Given;
+
+/// One field value an instance gave, as written (the last of a name counts).
+#[derive(Clone, Copy, Debug)]
+struct GivenField {
+    /// Interface field index.
+    fi: u32,
+    len: u8,
+    integer: bool,
+    at: u64,
+    numbers: [f64; 3],
+}
+
+/// The instance being read into its template.
+struct Reading {
+    proto: Rc<ProtoDecl>,
+    ty: Name,
+    at: u64,
+}
+
+/// The instance read into its template, if any, and the buffer of its values.
+#[derive(Default)]
+pub(super) struct Direct {
+    reading: Option<Reading>,
+    given: Vec<GivenField>,
+}
+
+impl Lowerer {
+    /// Starts reading a PROTO instance (its NodeStart is being handled) into its template
+    /// when it may be; false: record it.
+    pub(super) fn start_direct(
+        &mut self,
+        proto: &Rc<ProtoDecl>,
+        ty: &Name,
+        def: Option<&str>,
+        at: u64,
+    ) -> bool {
+        let may = def.is_none()
+            && proto.sphere.is_some()
+            && proto.gas.is_none()
+            && proto.home.is_none()
+            && !self.opts.replay_every_instance
+            && self.rec.recorders.is_empty()
+            && self.rec.proto_decls == 0
+            && self.direct.reading.is_none();
+        if may {
+            self.direct.reading = Some(Reading {
+                proto: proto.clone(),
+                ty: ty.clone(),
+                at,
+            });
+            self.direct.given.clear();
+            self.rec.direct = true;
+        }
+        may
+    }
+
+    /// An event inside the instance being read into its template.
+    pub(super) fn direct_event(&mut self, src: &SourceWindow, ev: Event<'_>) -> Result<(), Error> {
+        match ev {
+            Event::Field {
+                name,
+                at,
+                value:
+                    Value::Numbers {
+                        values,
+                        integer,
+                        bracketed: false,
+                    },
+            } => {
+                if let Some(g) = self.given_field(name, at, values, integer) {
+                    self.direct.given.push(g);
+                    return Ok(());
+                }
+            }
+            Event::NodeEnd { .. } => return self.finish_direct(src),
+            _ => {}
+        }
+        self.record_direct();
+        self.handle(src, ev)
+    }
+
+    /// A field value the template can take: an interface field of the PROTO's that is not an
+    /// event nor node-valued, with a value of its type (what `expand` checks).
+    fn given_field(
+        &self,
+        name: &str,
+        at: u64,
+        values: &[f64],
+        integer: bool,
+    ) -> Option<GivenField> {
+        let proto = &self.direct.reading.as_ref()?.proto;
+        let fi = proto.public_index(name)?;
+        let f = &proto.fields[fi];
+        if values.len() > 3 || f.ty.is_node() || is_event(f.access) {
+            return None;
+        }
+        let value = Value::Numbers {
+            values,
+            integer,
+            bracketed: false,
+        };
+        schema::check_value(f.ty, &value).ok()?;
+        let mut numbers = [0.0; 3];
+        numbers[..values.len()].copy_from_slice(values);
+        Some(GivenField {
+            fi: fi as u32,
+            len: values.len() as u8,
+            integer,
+            at,
+            numbers,
+        })
+    }
+
+    /// Turns the instance being read into its template into a recorded one: its recorder
+    /// starts at its NodeStart, and the fields kept so far are recorded, as `handle` would
+    /// have done.
+    fn record_direct(&mut self) {
+        self.rec.direct = false;
+        let Some(r) = self.direct.reading.take() else {
+            return;
+        };
+        self.rec.start_here(&r.ty, None, r.at, RecKind::Instance);
+        // (The recorder counts the instance's own node, as after its NodeStart.)
+        let start_event = Event::NodeStart {
+            def: None,
+            ty: &r.ty,
+            at: r.at,
+        };
+        let done = self.rec.end_slow(&start_event);
+        debug_assert!(done.is_empty());
+        self.record_given(&r.proto);
+    }
+
+    /// Records the fields kept so far as `handle` records fields; returns where they are.
+    fn record_given(&mut self, proto: &ProtoDecl) -> std::ops::Range<usize> {
+        let first = self.rec.arena.len();
+        for g in &self.direct.given {
+            let name = self.rec.names.rc(&proto.fields[g.fi as usize].name);
+            self.rec.arena.push(Rec::Ev(OwnedEvent::Field {
+                name,
+                at: g.at,
+                value: OwnedValue::Numbers {
+                    values: Nums::new(&g.numbers[..usize::from(g.len)]),
+                    integer: g.integer,
+                    bracketed: false,
+                },
+            }));
+        }
+        first..self.rec.arena.len()
+    }
+
+    /// The instance's `}`: closes its frame, as `node_end` does, and lowers it by its
+    /// template, or records and replays it where the template refuses.
+    fn finish_direct(&mut self, src: &SourceWindow) -> Result<(), Error> {
+        let frame = self
+            .open
+            .frames
+            .pop()
+            .expect("a PROTO instance's frame is open");
+        if frame.quiet {
+            self.open.quiet -= 1;
+        }
+        let Some(proto) = self.direct.reading.as_ref().map(|r| r.proto.clone()) else {
+            return Ok(());
+        };
+        let Some(tpl) = proto.sphere.clone() else {
+            return Ok(());
+        };
+        let given = &self.direct.given;
+        let lookup = |fi: usize| {
+            // The last value given for the field counts.
+            match given.iter().rev().find(|g| g.fi as usize == fi) {
+                Some(g) => Given::Numbers(&g.numbers[..usize::from(g.len)]),
+                None => Given::Absent,
+            }
+        };
+        if let Some(inputs) = self.template_inputs(src, &proto, &tpl, lookup) {
+            self.direct.reading = None;
+            self.rec.direct = false;
+            return self.lower_template(src, &tpl, inputs);
+        }
+        // Replayed: the values recorded first, where expand finds an instance's.
+        self.direct.reading = None;
+        self.rec.direct = false;
+        let fields = self.record_given(&proto);
+        let mut values = vec![None; proto.fields.len()];
+        for (g, i) in self.direct.given.iter().zip(fields.clone()) {
+            values[g.fi as usize] = Some(i..i + 1);
+        }
+        let r = self.replay_body(src, proto, values, frame.at);
+        self.rec.release(fields.start);
+        r
+    }
+}
