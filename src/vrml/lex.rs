@@ -339,12 +339,18 @@ fn number_general(i: &str) -> Result<(&str, Number), NumberProblem> {
         }
     }
     let exp10 = exp.saturating_sub(frac_digits as i64);
-    let value = if digits <= 19 && mantissa <= 1 << 53 && (-22..=22).contains(&exp10) {
-        let m = mantissa as f64;
-        let v = if exp10 < 0 {
-            m / POW10[exp10.unsigned_abs() as usize]
+    let exact = digits <= 19 && mantissa <= 1 << 53 && (-22..=22).contains(&exp10);
+    let value = if exact || (digits <= 19 && (-19..0).contains(&exp10)) {
+        let v = if exact {
+            let m = mantissa as f64;
+            if exp10 < 0 {
+                m / POW10[exp10.unsigned_abs() as usize]
+            } else {
+                m * POW10[exp10 as usize]
+            }
         } else {
-            m * POW10[exp10 as usize]
+            // 17 to 19 significant digits (shortest round-trip text needs up to 17).
+            divide_by_power_of_ten(mantissa, exp10.unsigned_abs() as u32)
         };
         if b[0] == b'-' {
             -v
@@ -358,6 +364,30 @@ fn number_general(i: &str) -> Result<(&str, Number), NumberProblem> {
         return Err(NumberProblem::OutOfRange);
     }
     Ok((rest, Number { value, integer }))
+}
+
+/// `m / 10^k` correctly rounded (to nearest, ties to even), for `m > 2^53` and `1 <= k <= 19`
+/// (where one f64 division would round twice): the quotient to 64 or more bits in integers,
+/// the remainder as the sticky bit.
+fn divide_by_power_of_ten(m: u64, k: u32) -> f64 {
+    debug_assert!(m > 1 << 53 && (1..=19).contains(&k));
+    let d = u128::from(10u64.pow(k));
+    // m * 2^s in [2^127, 2^128): the quotient has at least 64 bits, since d < 2^64.
+    let s = 64 + m.leading_zeros();
+    let n = u128::from(m) << s;
+    let (q, r) = (n / d, n % d);
+    let bits = 128 - q.leading_zeros();
+    let cut = bits - 53;
+    let mut mant = (q >> cut) as u64;
+    let low = q & ((1u128 << cut) - 1);
+    let half = 1u128 << (cut - 1);
+    if low > half || (low == half && (r != 0 || mant & 1 == 1)) {
+        mant += 1;
+    }
+    // mant * 2^(cut - s), exactly (a carry to 2^53 is still exact; the scale is a normal
+    // power of two, as m / 10^k lies between 2^-11 and 2^64).
+    let e = i64::from(cut) - i64::from(s);
+    mant as f64 * f64::from_bits(((e + 1023) as u64) << 52)
 }
 
 /// A double-quoted string; `\"` and `\\` are escapes, any other `\c` stands for `c`.

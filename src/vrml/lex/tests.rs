@@ -78,6 +78,54 @@ fn generated_numbers_agree_with_std_parse() {
 }
 
 #[test]
+fn seventeen_to_nineteen_digits_agree_with_std_parse() {
+    // Shortest round-trip text of an f64 takes up to 17 digits, whose mantissa is above 2^53:
+    // divided by the power of ten in integers (`divide_by_power_of_ten`), not by str::parse.
+    // Halfway cases first (2^53 + 1 and 2^52 + 1/2 lie between two f64s), then random ones.
+    let mut cases: Vec<String> = [
+        "9007199254740993.0",
+        "9007199254740995.0",
+        "9007199254740993.00",
+        "4503599627370496.5",
+        "4503599627370497.5",
+        "-4503599627370496.50",
+        "0.9999999999999999999",
+        "1844674407370955.1615",
+        "0.10000000000000000555",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    let mut next = random_below(0x51_7CC1_B727_220A);
+    for _ in 0..200_000 {
+        let digits = 17 + next(3) as usize;
+        let point = 1 + next(digits as u64 - 1) as usize;
+        let mut t: String = (0..digits)
+            .map(|_| char::from(b'0' + next(10) as u8))
+            .collect();
+        t.insert(point, '.');
+        // Shortest texts of random f64s too (17 digits where 16 do not read back).
+        let v = f64::from_bits(next(u64::MAX) >> 2) % 1e6;
+        cases.push(t);
+        cases.push(format!("{v:.17}"));
+        // 10^19 against a 55- or 56-bit mantissa leaves the quotient few bits below the last
+        // kept one, so that they are often exactly a half with a remainder beyond them.
+        let m = 20_000_000_000_000_000 + next(79_999_999_999_999_999);
+        cases.push(format!(".00{m}"));
+    }
+    let mut divided = 0;
+    for t in &cases {
+        let want: f64 = t.parse().unwrap();
+        let (rest, n) = number(t).unwrap();
+        assert_eq!(rest, "");
+        assert_eq!(n.value.to_bits(), want.to_bits(), "{t}");
+        let digits = t.bytes().filter(u8::is_ascii_digit).count();
+        divided += usize::from(digits >= 17);
+    }
+    assert!(divided > 300_000, "{divided}");
+}
+
+#[test]
 fn short_numbers_in_context_agree_with_the_general_reader() {
     // number() reads the common shape 8 bytes at a time when 8 bytes are there; it must
     // give what number_general gives for the same text, whatever follows.
