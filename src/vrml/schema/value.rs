@@ -9,12 +9,19 @@ use crate::vrml::syntax::Value;
 
 /// What a value is, for messages (`3 number(s)`, `[ ]`, `IS x`).
 pub(crate) fn type_name(v: &Value) -> String {
-    match v {
-        Value::Numbers { values, .. } => format!("{} number(s)", values.len()),
-        Value::Bools { values, .. } => format!("{} boolean(s)", values.len()),
-        Value::Strings { values, .. } => format!("{} string(s)", values.len()),
-        Value::Empty => "[ ]".into(),
-        Value::Is(n) => format!("IS {n}"),
+    let (n, what, bracketed) = match v {
+        Value::Numbers {
+            values, bracketed, ..
+        } => (values.len(), "number(s)", *bracketed),
+        Value::Bools { values, bracketed } => (values.len(), "boolean(s)", *bracketed),
+        Value::Strings { values, bracketed } => (values.len(), "string(s)", *bracketed),
+        Value::Empty => return "[ ]".into(),
+        Value::Is(n) => return format!("IS {n}"),
+    };
+    if bracketed {
+        format!("[ {n} {what} ]")
+    } else {
+        format!("{n} {what}")
     }
 }
 
@@ -76,7 +83,20 @@ fn value_mismatch(ty: FieldType, v: &Value) -> String {
         Some(k) => format!("{} ({k} number(s) per value)", ty.name()),
         None => ty.name().to_string(),
     };
-    format!("expects {want}, found {}", type_name(v))
+    // Several values of an MF field without brackets: say what is missing.
+    // (Unbracketed strings and booleans are one value each.)
+    let unbracketed = match v {
+        Value::Numbers {
+            values, bracketed, ..
+        } => !bracketed && values.len() > ty.arity().unwrap_or(1),
+        _ => false,
+    };
+    let hint = if ty.is_mf() && unbracketed {
+        " (more than one value needs [ ])"
+    } else {
+        ""
+    };
+    format!("expects {want}, found {}{hint}", type_name(v))
 }
 
 #[cfg(test)]
@@ -140,7 +160,16 @@ mod tests {
                     bracketed: true
                 }
             ),
-            Err("expects SFBool, found 2 boolean(s)".into())
+            Err("expects SFBool, found [ 2 boolean(s) ]".into())
+        );
+        // A list where one value goes, several values of a list without brackets.
+        assert_eq!(
+            check_value(SFVec3f, &numbers(&[1.0, 2.0, 3.0], false, true)),
+            Err("expects SFVec3f (3 number(s) per value), found [ 3 number(s) ]".into())
+        );
+        assert_eq!(
+            check_value(MFFloat, &numbers(&two, false, false)),
+            Err("expects MFFloat (1 number(s) per value), found 2 number(s) (more than one value needs [ ])".into())
         );
         assert_eq!(
             check_value(SFVec3f, &Value::Empty),
