@@ -188,7 +188,8 @@ impl Lowerer {
         if frame.quiet {
             self.open.quiet -= 1;
         }
-        let Some(proto) = self.direct.reading.as_ref().map(|r| r.proto.clone()) else {
+        self.rec.direct = false;
+        let Some(Reading { proto, .. }) = self.direct.reading.take() else {
             return Ok(());
         };
         let Some(tpl) = proto.sphere.clone() else {
@@ -203,13 +204,9 @@ impl Lowerer {
             }
         };
         if let Some(inputs) = self.template_inputs(src, &proto, &tpl, lookup) {
-            self.direct.reading = None;
-            self.rec.direct = false;
             return self.lower_template(src, &tpl, inputs);
         }
         // Replayed: the values recorded first, where expand finds an instance's.
-        self.direct.reading = None;
-        self.rec.direct = false;
         let fields = self.record_given(&proto);
         let mut values = vec![None; proto.fields.len()];
         for (g, i) in self.direct.given.iter().zip(fields.clone()) {
