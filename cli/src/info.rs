@@ -88,6 +88,7 @@ pub fn to_json(path: &Path, s: &Scene, r: &LoadReport) -> serde_json::Value {
         "nodes": r.nodes,
         "read_pieces": r.read_pieces,
         "template_instances": r.template_instances,
+        "whole_sphere_nodes": r.whole_sphere_nodes,
         "read_again": r.read_again,
         "files": r.files,
         "peak_rss_bytes": crate::memory::peak_rss_bytes(),

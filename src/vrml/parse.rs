@@ -666,6 +666,15 @@ impl Parser {
                 }
                 _ => {}
             }
+            // A plain sphere node, read whole if the sink takes it.
+            if first == b'T' && matches!(top, Frame::Top | Frame::List) {
+                if let Some(node) = sphere::sphere_node(self.src.rest()) {
+                    if sink.sphere_node(&self.src, at, &node)? {
+                        self.src.pos += node.len;
+                        continue;
+                    }
+                }
+            }
             match top {
                 Frame::Top | Frame::ProtoBody => self.step(sink, at, ItemIn::Statement)?,
                 Frame::Body => self.step(sink, at, ItemIn::Body)?,
@@ -876,6 +885,8 @@ fn emit<S: Sink + ?Sized>(
         }
     }
 }
+
+pub mod sphere;
 
 #[cfg(test)]
 mod tests;

@@ -98,6 +98,19 @@ pub enum Event<'a> {
 pub trait Sink {
     /// `src` is there to turn offsets into positioned diagnostics.
     fn event(&mut self, src: &SourceWindow, ev: Event<'_>) -> Result<(), Error>;
+
+    /// A plain sphere node read whole (see [`crate::vrml::parse::sphere`]), starting at `at`
+    /// where a node may stand (the top level or a list of nodes): true if the sink took it,
+    /// false to be given its events instead (the default).
+    fn sphere_node(
+        &mut self,
+        src: &SourceWindow,
+        at: u64,
+        node: &crate::vrml::parse::sphere::SphereNode,
+    ) -> Result<bool, Error> {
+        let _ = (src, at, node);
+        Ok(false)
+    }
 }
 
 /// An owned value, for recorded events.

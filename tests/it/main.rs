@@ -38,4 +38,5 @@ mod support; // helpers: load a scene, errors, scratch directories, `Rng` (Split
 mod surface_bvh; // closest and any hit over mixed primitives against testing every one
 mod surface_reference; // the tests' own ray/cylinder, cone, box and triangle
 mod vmd; // VMD's PROTO VMDMat colours, against a hand-worked fixture
-mod writer; // the VRML writer against the reader; both writers format numbers alike
+mod whole_sphere_nodes;
+mod writer; // the VRML writer against the reader; both writers format numbers alike // plain sphere nodes read whole from the text equal their events

@@ -9,7 +9,7 @@ use gtsphere::scene::Scene;
 use gtsphere::vrml::lower::{load_bytes, LoadOptions, LoadReport};
 use proptest::prelude::*;
 
-fn load(text: &str, replay: bool, max_nodes: u64) -> Result<(Scene, LoadReport), String> {
+pub fn load(text: &str, replay: bool, max_nodes: u64) -> Result<(Scene, LoadReport), String> {
     let opts = LoadOptions {
         read_threads: 1,
         replay_every_instance: replay,
@@ -21,10 +21,11 @@ fn load(text: &str, replay: bool, max_nodes: u64) -> Result<(Scene, LoadReport),
 
 /// Loads `text` both ways and checks they agree; the template's report (`None`: an error,
 /// the same both ways).
-fn same_limited(text: &str, max_nodes: u64) -> Option<LoadReport> {
+pub fn same_limited(text: &str, max_nodes: u64) -> Option<LoadReport> {
     match (load(text, true, max_nodes), load(text, false, max_nodes)) {
         (Ok((a, ra)), Ok((b, rb))) => {
             assert_eq!(ra.template_instances, 0);
+            assert_eq!(ra.whole_sphere_nodes, 0);
             assert_eq!(format!("{a:?}"), format!("{b:?}"), "scenes differ:\n{text}");
             assert!(a == b);
             assert_eq!(ra.warnings, rb.warnings, "{text}");
@@ -45,7 +46,7 @@ fn same_limited(text: &str, max_nodes: u64) -> Option<LoadReport> {
     }
 }
 
-fn same(text: &str) -> Option<LoadReport> {
+pub fn same(text: &str) -> Option<LoadReport> {
     same_limited(text, LoadOptions::default().max_nodes)
 }
 

@@ -28,6 +28,8 @@ pub(super) struct Watch {
     pub(super) nodes_at_start: u64,
     /// PROTO instances lowered by a template when the chunk began.
     pub(super) templated_at_start: u64,
+    /// Sphere nodes read whole when the chunk began.
+    pub(super) whole_at_start: u64,
     pub(super) excess: i64,
 }
 
@@ -52,6 +54,7 @@ pub(super) struct Delta {
     skipped: BTreeMap<String, u64>,
     nodes: u64,
     templated: u64,
+    whole_nodes: u64,
     pub(super) excess: i64,
     mesh_spheres: u64,
     point_spheres: u64,
@@ -124,6 +127,7 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Vec<u8>
         imports: Vec::new(),
         nodes_at_start: low.nodes,
         templated_at_start: low.templated,
+        whole_at_start: low.whole_nodes,
         excess: i64::MIN,
     });
     parser.src.jump_to_text(start, text);
@@ -178,6 +182,7 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Vec<u8>
         skipped,
         nodes: low.nodes - watch.nodes_at_start,
         templated: low.templated - watch.templated_at_start,
+        whole_nodes: low.whole_nodes - watch.whole_at_start,
         excess: watch.excess,
         mesh_spheres: low.meshes.spheres - meshes_before.0,
         point_spheres: low.meshes.point_spheres - meshes_before.1,
@@ -285,6 +290,7 @@ impl Lowerer {
         }
         self.nodes += d.nodes;
         self.templated += d.templated;
+        self.whole_nodes += d.whole_nodes;
         self.meshes.spheres += d.mesh_spheres;
         self.meshes.point_spheres += d.point_spheres;
         src.lines_skipped(d.line_starts);

@@ -19,6 +19,15 @@ impl Sink for Lowerer {
     fn event(&mut self, src: &SourceWindow, ev: Event<'_>) -> Result<(), Error> {
         self.dispatch(src, ev)
     }
+
+    fn sphere_node(
+        &mut self,
+        src: &SourceWindow,
+        at: u64,
+        node: &crate::vrml::parse::sphere::SphereNode,
+    ) -> Result<bool, Error> {
+        self.whole_sphere_node(src, at, node)
+    }
 }
 
 impl Lowerer {

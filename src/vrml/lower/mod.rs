@@ -138,7 +138,8 @@ pub struct LoadOptions {
     /// small.
     pub read_chunk_bytes: u64,
     /// Lower every PROTO instance by replaying its body, never by its compiled sphere
-    /// template (the same result, slower; tests compare the two).
+    /// template, and every sphere node event by event, never read whole (the same result,
+    /// slower; tests compare the two).
     #[doc(hidden)]
     pub replay_every_instance: bool,
 }
@@ -189,6 +190,9 @@ pub struct LoadReport {
     /// PROTO instances lowered by their body's sphere template rather than by replaying it
     /// (the same result; see `template.rs`).
     pub template_instances: u64,
+    /// Plain sphere nodes (a Transform holding a Shape with a Sphere) read whole from the
+    /// text rather than event by event (the same result; see `vrml::parse::sphere`).
+    pub whole_sphere_nodes: u64,
 }
 
 /// Refuses options no scene can be lowered with.
@@ -300,6 +304,8 @@ struct Lowerer {
     nodes: u64,
     /// PROTO instances lowered by a sphere template (`template.rs`).
     templated: u64,
+    /// Plain sphere nodes read whole from the text (`template.rs`).
+    whole_nodes: u64,
     /// The PROTO instance read straight into its template (`direct`).
     direct: direct::Direct,
     /// The profile of the `GasParticle` instance being expanded (its Materials take it).
@@ -412,6 +418,7 @@ impl Lowerer {
             scene: Scene::default(),
             nodes: 0,
             templated: 0,
+            whole_nodes: 0,
             direct: direct::Direct::default(),
             gas_profile: None,
             rec: Recording::default(),
@@ -469,6 +476,7 @@ impl Lowerer {
             read_pieces: 0,
             read_again: None,
             template_instances: self.templated,
+            whole_sphere_nodes: self.whole_nodes,
         };
         Ok((self.scene, report))
     }

@@ -24,6 +24,7 @@ use super::Lowerer;
 use crate::error::Error;
 use crate::scene::{Material, Sphere};
 use crate::source::SourceWindow;
+use crate::vrml::parse::sphere::{SphereNode, MATERIAL_FIELDS};
 use crate::vrml::syntax::{OwnedEvent, OwnedValue};
 
 /// Where one value of the template comes from.
@@ -304,6 +305,13 @@ pub(super) enum Given<'a> {
     Absent,
 }
 
+/// Where a sphere node's parts are, and how many nodes it has.
+struct Placed {
+    nodes: u64,
+    transform_at: u64,
+    sphere_at: u64,
+}
+
 /// An instance's values as the template needs them, read before anything changes.
 pub(super) struct Inputs {
     translation: Option<DVec3>,
@@ -351,31 +359,8 @@ impl Lowerer {
         tpl: &SphereTemplate,
         given: impl Fn(usize) -> Given<'a>,
     ) -> Option<Inputs> {
-        // Where replaying would do more than lower the sphere: a PROTO named like a standard
-        // node may stand for the body's nodes; an external PROTO's body sees other PROTOs;
-        // the body's Transform may only stand where a grouping node's children do.
-        if self.scopes.proto_shadows_standard
-            || proto.home.is_some()
-            || self.open.quiet > 0
-            || self.replay.depth >= MAX_REPLAY_DEPTH
-        {
-            return None;
-        }
-        if let Some(ctx) = self.open.fields.last() {
-            let in_children = &*ctx.name == "children"
-                && matches!(
-                    self.open.frames[ctx.frame].kind,
-                    Kind::Group {
-                        inline_urls: None,
-                        ..
-                    }
-                );
-            if !in_children {
-                return None;
-            }
-        }
-        let limit = self.opts.max_nodes.saturating_add(src.bytes_read);
-        if self.nodes.saturating_add(tpl.nodes) > limit {
+        // An external PROTO's body sees other PROTOs.
+        if proto.home.is_some() || !self.sphere_fits_here(src, tpl.nodes) {
             return None;
         }
         let arena = &self.rec.arena;
@@ -446,11 +431,109 @@ impl Lowerer {
         })
     }
 
+    /// Whether a sphere's `nodes` nodes lowered at once here are what lowering them one by
+    /// one would give: not where a PROTO named like a standard node may stand for one of
+    /// them, nor inside a node that is not lowered, nor too deep in replays, nor where the
+    /// Transform is out of place (anywhere but the top level or a grouping node's
+    /// `children`), nor past the node limit.
+    fn sphere_fits_here(&self, src: &SourceWindow, nodes: u64) -> bool {
+        if self.scopes.proto_shadows_standard
+            || self.open.quiet > 0
+            || self.replay.depth >= MAX_REPLAY_DEPTH
+        {
+            return false;
+        }
+        if let Some(ctx) = self.open.fields.last() {
+            let in_children = &*ctx.name == "children"
+                && matches!(
+                    self.open.frames[ctx.frame].kind,
+                    Kind::Group {
+                        inline_urls: None,
+                        ..
+                    }
+                );
+            if !in_children {
+                return false;
+            }
+        }
+        let limit = self.opts.max_nodes.saturating_add(src.bytes_read);
+        self.nodes.saturating_add(nodes) <= limit
+    }
+
+    /// A plain sphere node read whole from the text (see [`crate::vrml::parse::sphere`]) at
+    /// `at`: lowered as its events would be, if nothing is recorded and its values are ones
+    /// that lower without a message. False: its events follow.
+    pub(super) fn whole_sphere_node(
+        &mut self,
+        src: &SourceWindow,
+        at: u64,
+        node: &SphereNode,
+    ) -> Result<bool, Error> {
+        if self.opts.replay_every_instance
+            || !self.rec.idle()
+            || !self.sphere_fits_here(src, node.nodes)
+        {
+            return Ok(false);
+        }
+        let material = if node.material {
+            let mut m = Material::default();
+            for (f, v) in node.material_fields() {
+                let (name, _) = MATERIAL_FIELDS[f];
+                let f = MaterialField::of(name).expect("a Material field");
+                match f {
+                    MaterialField::Diffuse => m.diffuse = DVec3::from_slice(v),
+                    MaterialField::Emissive => m.emissive = DVec3::from_slice(v),
+                    MaterialField::Specular => m.specular = DVec3::from_slice(v),
+                    MaterialField::Shininess if in_range(f, v[0]) => m.shininess = v[0],
+                    MaterialField::AmbientIntensity => m.ambient_intensity = v[0],
+                    MaterialField::Transparency if in_range(f, v[0]) => m.transparency = v[0],
+                    _ => return Ok(false),
+                }
+            }
+            Some(m)
+        } else {
+            None
+        };
+        let radius = node.radius.unwrap_or(1.0);
+        if !radius_ok(radius) {
+            return Ok(false);
+        }
+        let inputs = Inputs {
+            translation: node.translation.map(DVec3::from_array),
+            material,
+            radius,
+        };
+        let placed = Placed {
+            nodes: node.nodes,
+            transform_at: at,
+            sphere_at: at + node.sphere_at as u64,
+        };
+        self.lower_sphere(src, placed, inputs)?;
+        self.whole_nodes += 1;
+        Ok(true)
+    }
+
     /// Lowers the template's sphere with the instance's `inputs`.
     pub(super) fn lower_template(
         &mut self,
         src: &SourceWindow,
         tpl: &SphereTemplate,
+        inputs: Inputs,
+    ) -> Result<(), Error> {
+        let placed = Placed {
+            nodes: tpl.nodes,
+            transform_at: tpl.transform_at,
+            sphere_at: tpl.sphere_at,
+        };
+        self.templated += 1;
+        self.lower_sphere(src, placed, inputs)
+    }
+
+    /// Lowers a sphere node (a Transform holding a Shape with a Sphere) with `inputs`.
+    fn lower_sphere(
+        &mut self,
+        src: &SourceWindow,
+        tpl: Placed,
         inputs: Inputs,
     ) -> Result<(), Error> {
         // What replaying does, in its order: the nodes are counted as they start, the
@@ -477,7 +560,6 @@ impl Lowerer {
             translation: inputs.translation.unwrap_or(DVec3::ZERO),
             ..TransformFields::default()
         };
-        self.templated += 1;
         self.close_transform(src, &t, marks, tpl.transform_at)
     }
 }
