@@ -116,7 +116,7 @@ const SPECIAL_FIRST: [bool; 256] = {
 /// True when `id` cannot be a keyword or a NaN word: its first byte starts none of them. Most
 /// field names and node types pass this one test and skip the string comparisons.
 #[inline(always)]
-fn plain_word(id: &str) -> bool {
+pub(crate) fn plain_word(id: &str) -> bool {
     id.as_bytes()
         .first()
         .is_some_and(|&b| !SPECIAL_FIRST[b as usize])
@@ -129,7 +129,7 @@ fn is_nan_word(id: &str) -> bool {
 }
 
 /// Whether `id` is a keyword (or `field`/`exposedField`) that cannot name a node type.
-fn is_reserved(id: &str) -> bool {
+pub(crate) fn is_reserved(id: &str) -> bool {
     matches!(
         id,
         "DEF"
@@ -666,10 +666,18 @@ impl Parser {
                 }
                 _ => {}
             }
-            // A plain sphere node, read whole if the sink takes it.
-            if first == b'T' && matches!(top, Frame::Top | Frame::List) {
-                if let Some(node) = sphere::sphere_node(self.src.rest()) {
-                    if sink.sphere_node(&self.src, at, &node)? {
+            // A plain sphere node, or a node of plain numbers, read whole if the sink takes it.
+            if matches!(top, Frame::Top | Frame::List) && first.is_ascii_alphabetic() {
+                if first == b'T' {
+                    if let Some(node) = sphere::sphere_node(self.src.rest()) {
+                        if sink.sphere_node(&self.src, at, &node)? {
+                            self.src.pos += node.len;
+                            continue;
+                        }
+                    }
+                }
+                if let Some(node) = sphere::flat_node(self.src.rest()) {
+                    if sink.flat_node(&self.src, at, &node)? {
                         self.src.pos += node.len;
                         continue;
                     }

@@ -111,6 +111,19 @@ pub trait Sink {
         let _ = (src, at, node);
         Ok(false)
     }
+
+    /// A node of plain numbers read whole (see [`crate::vrml::parse::sphere::flat_node`]),
+    /// starting at `at` where a node may stand: true if the sink took it, false to be given
+    /// its events instead (the default).
+    fn flat_node(
+        &mut self,
+        src: &SourceWindow,
+        at: u64,
+        node: &crate::vrml::parse::sphere::FlatNode<'_>,
+    ) -> Result<bool, Error> {
+        let _ = (src, at, node);
+        Ok(false)
+    }
 }
 
 /// An owned value, for recorded events.

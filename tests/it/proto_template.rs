@@ -107,6 +107,13 @@ fn where_replaying_does_more_it_replays() {
             "PROTO Q [ field SFVec3f p 1 2 3 ] { Particle { position IS p } } Q { } Q { p 3 2 1 }",
             2,
         ),
+        // An instance inside another PROTO's body with its own values (read from the body's
+        // events into the template, not from the text), a field given twice (the last
+        // counts).
+        (
+            "PROTO R [ ] { Particle { position 1 2 3 radius 0.5 position 4 5 6 } } R { } R { }",
+            2,
+        ),
         // DEF and USE of an instance: the DEF'd one by template, the USE replays its events.
         ("DEF A Particle { radius 2 } USE A", 2),
         // Inside transforms that rotate and scale: the template's sphere moves as replayed.

@@ -25,7 +25,8 @@ use crate::source::SourceWindow;
 use crate::vrml::schema;
 use crate::vrml::syntax::{Event, Nums, OwnedEvent, OwnedValue, Value};
 
-use super::template::Given;
+use super::template::{Given, SphereTemplate};
+use crate::vrml::parse::sphere::FlatNode;
 
 /// One field value an instance gave, as written (the last of a name counts).
 #[derive(Clone, Copy, Debug)]
@@ -82,6 +83,70 @@ impl Lowerer {
         may
     }
 
+    /// A node of plain numbers read whole from the text (see
+    /// [`crate::vrml::parse::sphere::flat_node`]) at `at`: lowered at once if it is an
+    /// instance that [`Self::start_direct`] would read into its template and that template
+    /// takes, with what its events would have done (the instance's node counted, its values
+    /// checked as `expand` checks them). False: its events follow.
+    pub(super) fn whole_instance(
+        &mut self,
+        src: &SourceWindow,
+        at: u64,
+        node: &FlatNode<'_>,
+    ) -> Result<bool, Error> {
+        if self.opts.replay_every_instance || !self.rec.idle() {
+            return Ok(false);
+        }
+        if schema::node_index(node.ty).is_some() && !self.scopes.proto_shadows_standard {
+            return Ok(false);
+        }
+        let Some(proto) = self.scopes.proto(node.ty) else {
+            return Ok(false);
+        };
+        if proto.body.is_none() || proto.gas.is_some() {
+            return Ok(false);
+        }
+        let Some(tpl) = proto.sphere.clone() else {
+            return Ok(false);
+        };
+        let mut given = std::mem::take(&mut self.direct.given);
+        given.clear();
+        let r = self.whole_instance_with(src, at, node, &proto, &tpl, &mut given);
+        self.direct.given = given;
+        r
+    }
+
+    fn whole_instance_with(
+        &mut self,
+        src: &SourceWindow,
+        at: u64,
+        node: &FlatNode<'_>,
+        proto: &ProtoDecl,
+        tpl: &SphereTemplate,
+        given: &mut Vec<GivenField>,
+    ) -> Result<bool, Error> {
+        for f in node.fields() {
+            let at = at + f.at as u64;
+            match given_field(proto, f.name, at, f.numbers(), f.integer) {
+                Some(g) => given.push(g),
+                None => return Ok(false),
+            }
+        }
+        // The instance's own node is counted before the template's.
+        let limit = self.opts.max_nodes.saturating_add(src.bytes_read);
+        if self.nodes.saturating_add(1 + tpl.nodes) > limit {
+            return Ok(false);
+        }
+        let lookup = |fi: usize| last_given(given, fi);
+        let Some(inputs) = self.template_inputs(src, proto, tpl, lookup) else {
+            return Ok(false);
+        };
+        self.nodes += 1;
+        self.watch_nodes(src.offset());
+        self.lower_template(src, tpl, inputs)?;
+        Ok(true)
+    }
+
     /// An event inside the instance being read into its template.
     pub(super) fn direct_event(&mut self, src: &SourceWindow, ev: Event<'_>) -> Result<(), Error> {
         match ev {
@@ -95,7 +160,8 @@ impl Lowerer {
                         bracketed: false,
                     },
             } => {
-                if let Some(g) = self.given_field(name, at, values, integer) {
+                let proto = self.direct.reading.as_ref().map(|r| &*r.proto);
+                if let Some(g) = proto.and_then(|p| given_field(p, name, at, values, integer)) {
                     self.direct.given.push(g);
                     return Ok(());
                 }
@@ -105,38 +171,6 @@ impl Lowerer {
         }
         self.record_direct();
         self.handle(src, ev)
-    }
-
-    /// A field value the template can take: an interface field of the PROTO's that is not an
-    /// event nor node-valued, with a value of its type (what `expand` checks).
-    fn given_field(
-        &self,
-        name: &str,
-        at: u64,
-        values: &[f64],
-        integer: bool,
-    ) -> Option<GivenField> {
-        let proto = &self.direct.reading.as_ref()?.proto;
-        let fi = proto.public_index(name)?;
-        let f = &proto.fields[fi];
-        if values.len() > 3 || f.ty.is_node() || is_event(f.access) {
-            return None;
-        }
-        let value = Value::Numbers {
-            values,
-            integer,
-            bracketed: false,
-        };
-        schema::check_value(f.ty, &value).ok()?;
-        let mut numbers = [0.0; 3];
-        numbers[..values.len()].copy_from_slice(values);
-        Some(GivenField {
-            fi: fi as u32,
-            len: values.len() as u8,
-            integer,
-            at,
-            numbers,
-        })
     }
 
     /// Turns the instance being read into its template into a recorded one: its recorder
@@ -196,13 +230,7 @@ impl Lowerer {
             return Ok(());
         };
         let given = &self.direct.given;
-        let lookup = |fi: usize| {
-            // The last value given for the field counts.
-            match given.iter().rev().find(|g| g.fi as usize == fi) {
-                Some(g) => Given::Numbers(&g.numbers[..usize::from(g.len)]),
-                None => Given::Absent,
-            }
-        };
+        let lookup = |fi: usize| last_given(given, fi);
         if let Some(inputs) = self.template_inputs(src, &proto, &tpl, lookup) {
             return self.lower_template(src, &tpl, inputs);
         }
@@ -215,5 +243,44 @@ impl Lowerer {
         let r = self.replay_body(src, proto, values, frame.at);
         self.rec.release(fields.start);
         r
+    }
+}
+
+/// A field value the template can take: an interface field of the PROTO's that is not an
+/// event nor node-valued, with a value of its type (what `expand` checks).
+fn given_field(
+    proto: &ProtoDecl,
+    name: &str,
+    at: u64,
+    values: &[f64],
+    integer: bool,
+) -> Option<GivenField> {
+    let fi = proto.public_index(name)?;
+    let f = &proto.fields[fi];
+    if values.len() > 3 || f.ty.is_node() || is_event(f.access) {
+        return None;
+    }
+    let value = Value::Numbers {
+        values,
+        integer,
+        bracketed: false,
+    };
+    schema::check_value(f.ty, &value).ok()?;
+    let mut numbers = [0.0; 3];
+    numbers[..values.len()].copy_from_slice(values);
+    Some(GivenField {
+        fi: fi as u32,
+        len: values.len() as u8,
+        integer,
+        at,
+        numbers,
+    })
+}
+
+/// What the instance gave interface field `fi`: its last value, if any.
+fn last_given(given: &[GivenField], fi: usize) -> Given<'_> {
+    match given.iter().rev().find(|g| g.fi as usize == fi) {
+        Some(g) => Given::Numbers(&g.numbers[..usize::from(g.len)]),
+        None => Given::Absent,
     }
 }

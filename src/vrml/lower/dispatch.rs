@@ -28,6 +28,15 @@ impl Sink for Lowerer {
     ) -> Result<bool, Error> {
         self.whole_sphere_node(src, at, node)
     }
+
+    fn flat_node(
+        &mut self,
+        src: &SourceWindow,
+        at: u64,
+        node: &crate::vrml::parse::sphere::FlatNode<'_>,
+    ) -> Result<bool, Error> {
+        self.whole_instance(src, at, node)
+    }
 }
 
 impl Lowerer {

@@ -79,7 +79,7 @@ pub(super) struct SphereTemplate {
     material: Option<Vec<(MaterialField, Slot)>>,
     radius: Option<Slot>,
     /// Nodes of the first node (what replaying counts).
-    nodes: u64,
+    pub(super) nodes: u64,
 }
 
 /// Reads the body's first node as a template, if it is one.

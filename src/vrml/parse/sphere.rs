@@ -7,8 +7,14 @@
 //! those events would have told it; one that does not (or any other text: a DEF, another
 //! field, a second value of a field, a comment's position does not matter) gets the events
 //! as usual, and nothing was consumed.
+//!
+//! Likewise a node whose fields all hold a few plain numbers ([`FlatNode`]: `Particle {
+//! position x y z radius r color r g b }`, what `convert` writes) is offered to the sink
+//! ([`super::Sink::flat_node`]), which lowers it at once when it is an instance of a PROTO
+//! it can lower by template.
 
 use super::super::lex::{identifier, number, starts_number, ws};
+use super::{is_reserved, plain_word};
 
 /// The Material fields a sphere node may set, with their number of values.
 pub const MATERIAL_FIELDS: [(&str, usize); 6] = [
@@ -207,6 +213,88 @@ impl<'a> Reader<'a> {
     }
 }
 
+/// At most this many fields are taken in a [`FlatNode`].
+const MAX_FLAT_FIELDS: usize = 8;
+
+/// One field of a [`FlatNode`]: its name, where it starts (from the node's start), and its
+/// one to three numbers.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FlatField<'a> {
+    pub name: &'a str,
+    pub at: usize,
+    pub integer: bool,
+    len: u8,
+    numbers: [f64; 3],
+}
+
+impl FlatField<'_> {
+    pub fn numbers(&self) -> &[f64] {
+        &self.numbers[..usize::from(self.len)]
+    }
+}
+
+/// A node (without DEF) whose fields each hold one to three plain numbers, as written.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FlatNode<'a> {
+    pub ty: &'a str,
+    fields: [FlatField<'a>; MAX_FLAT_FIELDS],
+    count: u8,
+    /// The length of its text.
+    pub len: usize,
+}
+
+impl<'a> FlatNode<'a> {
+    /// The fields in the order written.
+    pub fn fields(&self) -> &[FlatField<'a>] {
+        &self.fields[..usize::from(self.count)]
+    }
+}
+
+/// Reads a [`FlatNode`] at the start of `text`. `None`: not one, or the text ends first.
+pub fn flat_node(text: &str) -> Option<FlatNode<'_>> {
+    let (rest, ty) = identifier(text).ok()?;
+    if !plain_word(ty) && is_reserved(ty) {
+        return None;
+    }
+    let mut rest = ws(rest).strip_prefix('{')?;
+    let mut node = FlatNode {
+        ty,
+        ..FlatNode::default()
+    };
+    loop {
+        rest = ws(rest);
+        if let Some(r) = rest.strip_prefix('}') {
+            node.len = text.len() - r.len();
+            return Some(node);
+        }
+        let at = text.len() - rest.len();
+        let (r, name) = identifier(rest).ok()?;
+        if !plain_word(name) && is_reserved(name) {
+            return None;
+        }
+        let mut field = FlatField {
+            name,
+            at,
+            integer: true,
+            ..FlatField::default()
+        };
+        rest = ws(r);
+        while starts_number(rest) {
+            let (r, n) = number(rest).ok()?;
+            *field.numbers.get_mut(usize::from(field.len))? = n.value;
+            field.len += 1;
+            field.integer &= n.integer;
+            rest = ws(r);
+        }
+        // (At the end of the text the value might go on: not read here.)
+        if field.len == 0 || rest.is_empty() {
+            return None;
+        }
+        *node.fields.get_mut(usize::from(node.count))? = field;
+        node.count += 1;
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -232,6 +320,38 @@ mod tests {
         let t = "Transform { children Shape { geometry Sphere { } } } ";
         let n = sphere_node(t).unwrap();
         assert_eq!((n.nodes, n.radius, n.appearance), (3, None, false));
+    }
+
+    #[test]
+    fn flat_nodes_hold_plain_numbers_only() {
+        let t = "Particle { position 1 2.5 -3 radius 0.5 color 1 0 0 } P";
+        let n = flat_node(t).unwrap();
+        assert_eq!((n.ty, &t[n.len..]), ("Particle", " P"));
+        let f = n.fields();
+        assert_eq!(f.len(), 3);
+        assert_eq!(
+            (f[0].name, f[0].numbers(), f[0].integer),
+            ("position", &[1.0, 2.5, -3.0][..], false)
+        );
+        assert_eq!(
+            (&t[f[1].at..f[1].at + 6], f[2].numbers(), f[2].integer),
+            ("radius", &[1.0, 0.0, 0.0][..], true)
+        );
+        assert_eq!(flat_node("Particle { }").unwrap().fields().len(), 0);
+        for t in [
+            "Particle { position 1 2 3 4 }",
+            "Particle { position [ 1 2 3 ] }",
+            "Particle { name \"x\" }",
+            "Particle { on TRUE }",
+            "Particle { child Group { } }",
+            "Particle { radius IS r }",
+            "DEF P Particle { }",
+            "Particle { radius 1 ",
+            "Particle { radius 1",
+            "Particle [ ]",
+        ] {
+            assert_eq!(flat_node(t), None, "{t}");
+        }
     }
 
     #[test]
