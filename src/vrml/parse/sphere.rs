@@ -60,6 +60,7 @@ impl SphereNode {
 
 /// Reads a sphere node at the start of `text` (a `Transform` not preceded by DEF). `None`:
 /// not one, or the text ends first.
+#[inline]
 pub fn sphere_node(text: &str) -> Option<SphereNode> {
     let mut r = Reader {
         all: text,
@@ -251,6 +252,7 @@ impl<'a> FlatNode<'a> {
 }
 
 /// Reads a [`FlatNode`] at the start of `text`. `None`: not one, or the text ends first.
+#[inline]
 pub fn flat_node(text: &str) -> Option<FlatNode<'_>> {
     let (rest, ty) = identifier(text).ok()?;
     if !plain_word(ty) && is_reserved(ty) {
@@ -272,12 +274,11 @@ pub fn flat_node(text: &str) -> Option<FlatNode<'_>> {
         if !plain_word(name) && is_reserved(name) {
             return None;
         }
-        let mut field = FlatField {
-            name,
-            at,
-            integer: true,
-            ..FlatField::default()
-        };
+        // (Filled in place: a node is returned whole, and copies of it cost.)
+        let field = node.fields.get_mut(usize::from(node.count))?;
+        field.name = name;
+        field.at = at;
+        field.integer = true;
         rest = ws(r);
         while starts_number(rest) {
             let (r, n) = number(rest).ok()?;
@@ -290,7 +291,6 @@ pub fn flat_node(text: &str) -> Option<FlatNode<'_>> {
         if field.len == 0 || rest.is_empty() {
             return None;
         }
-        *node.fields.get_mut(usize::from(node.count))? = field;
         node.count += 1;
     }
 }
