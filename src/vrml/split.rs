@@ -129,6 +129,22 @@ fn is_word(b: u8) -> bool {
     !is_ws(b) && !STRUCTURAL[b as usize] && b != b'\'' && b > b' '
 }
 
+/// A few words before a bracket, nearest first (no allocation: the scan asks at every
+/// sibling's brace).
+struct Words<'a> {
+    words: [&'a [u8]; 3],
+    len: usize,
+}
+
+impl<'a> Words<'a> {
+    fn get(&self, j: usize) -> Option<&&'a [u8]> {
+        self.words[..self.len].get(j)
+    }
+    fn first(&self) -> Option<&&'a [u8]> {
+        self.get(0)
+    }
+}
+
 impl Splitter {
     pub fn new(chunk_bytes: u64, prefix_max: u64) -> Self {
         Splitter {
@@ -278,16 +294,19 @@ impl Splitter {
         }
     }
 
-    /// The last `k` words before `hold[i]` (nearest first), if the span holds no string or
-    /// comment.
-    fn words_before(&self, i: usize, k: usize) -> Option<Vec<&[u8]>> {
+    /// The last `k` (at most 3) words before `hold[i]` (nearest first), if the span holds no
+    /// string or comment.
+    fn words_before(&self, i: usize, k: usize) -> Option<Words<'_>> {
         if self.dirty {
             return None;
         }
         let text = &self.hold[self.span.min(i)..i];
-        let mut words = Vec::with_capacity(k);
+        let mut words = Words {
+            words: [&[]; 3],
+            len: 0,
+        };
         let mut end = text.len();
-        while words.len() < k {
+        while words.len < k.min(3) {
             while end > 0 && is_ws(text[end - 1]) {
                 end -= 1;
             }
@@ -298,7 +317,8 @@ impl Splitter {
             if start == end {
                 break;
             }
-            words.push(&text[start..end]);
+            words.words[words.len] = &text[start..end];
+            words.len += 1;
             end = start;
         }
         Some(words)
