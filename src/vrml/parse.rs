@@ -502,6 +502,9 @@ pub struct Parser {
     pub src: SourceWindow,
     stack: Vec<Frame>,
     scratch: Scratch,
+    /// The nodes read whole are read into these (see [`sphere`]).
+    sphere: sphere::SphereNode,
+    flat: sphere::FlatNode,
     /// Stop at the end of the input, wherever it is, instead of requiring the file's end
     /// there (see [`Parser::resume`]).
     pub pause_at_end: bool,
@@ -533,6 +536,8 @@ impl Parser {
             src,
             stack: Vec::new(),
             scratch: Scratch::default(),
+            sphere: sphere::SphereNode::default(),
+            flat: sphere::FlatNode::default(),
             pause_at_end: false,
         }
     }
@@ -668,17 +673,17 @@ impl Parser {
             }
             // A plain sphere node, or a node of plain numbers, read whole if the sink takes it.
             if matches!(top, Frame::Top | Frame::List) && first.is_ascii_alphabetic() {
-                if first == b'T' {
-                    if let Some(node) = sphere::sphere_node(self.src.rest()) {
-                        if sink.sphere_node(&self.src, at, &node)? {
-                            self.src.pos += node.len;
-                            continue;
-                        }
-                    }
+                if first == b'T'
+                    && sphere::read_sphere_node(self.src.rest(), &mut self.sphere)
+                    && sink.sphere_node(&self.src, at, &self.sphere)?
+                {
+                    self.src.pos += self.sphere.len;
+                    continue;
                 }
-                if let Some(node) = sphere::flat_node(self.src.rest()) {
-                    if sink.flat_node(&self.src, at, &node)? {
-                        self.src.pos += node.len;
+                if sphere::read_flat_node(self.src.rest(), &mut self.flat) {
+                    let text = self.src.rest();
+                    if sink.flat_node(&self.src, at, text, &self.flat)? {
+                        self.src.pos += self.flat.len;
                         continue;
                     }
                 }

@@ -113,15 +113,16 @@ pub trait Sink {
     }
 
     /// A node of plain numbers read whole (see [`crate::vrml::parse::sphere::flat_node`]),
-    /// starting at `at` where a node may stand: true if the sink took it, false to be given
-    /// its events instead (the default).
+    /// `text` from its start, at `at` where a node may stand: true if the sink took it,
+    /// false to be given its events instead (the default).
     fn flat_node(
         &mut self,
         src: &SourceWindow,
         at: u64,
-        node: &crate::vrml::parse::sphere::FlatNode<'_>,
+        text: &str,
+        node: &crate::vrml::parse::sphere::FlatNode,
     ) -> Result<bool, Error> {
-        let _ = (src, at, node);
+        let _ = (src, at, text, node);
         Ok(false)
     }
 }

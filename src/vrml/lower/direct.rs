@@ -92,15 +92,17 @@ impl Lowerer {
         &mut self,
         src: &SourceWindow,
         at: u64,
-        node: &FlatNode<'_>,
+        text: &str,
+        node: &FlatNode,
     ) -> Result<bool, Error> {
         if self.opts.replay_every_instance || !self.rec.idle() {
             return Ok(false);
         }
-        if schema::node_index(node.ty).is_some() && !self.scopes.proto_shadows_standard {
+        let ty = node.ty(text);
+        if schema::node_index(ty).is_some() && !self.scopes.proto_shadows_standard {
             return Ok(false);
         }
-        let Some(proto) = self.scopes.proto(node.ty) else {
+        let Some(proto) = self.scopes.proto(ty) else {
             return Ok(false);
         };
         if proto.body.is_none() || proto.gas.is_some() {
@@ -109,29 +111,28 @@ impl Lowerer {
         let Some(tpl) = proto.sphere.clone() else {
             return Ok(false);
         };
-        let mut given = std::mem::take(&mut self.direct.given);
-        given.clear();
-        let r = self.whole_instance_with(src, at, node, &proto, &tpl, &mut given);
-        self.direct.given = given;
-        r
+        self.whole_instance_with(src, at, text, node, &proto, &tpl)
     }
 
     fn whole_instance_with(
         &mut self,
         src: &SourceWindow,
         at: u64,
-        node: &FlatNode<'_>,
+        text: &str,
+        node: &FlatNode,
         proto: &ProtoDecl,
         tpl: &SphereTemplate,
-        given: &mut Vec<GivenField>,
     ) -> Result<bool, Error> {
+        // (No instance is being read into its template here: the buffer is free.)
+        self.direct.given.clear();
         for f in node.fields() {
-            let at = at + f.at as u64;
-            match given_field(proto, f.name, at, f.numbers(), f.integer) {
-                Some(g) => given.push(g),
+            let at = at + u64::from(f.at);
+            match given_field(proto, f.name(text), at, f.numbers(), f.integer) {
+                Some(g) => self.direct.given.push(g),
                 None => return Ok(false),
             }
         }
+        let given = &self.direct.given;
         // The instance's own node is counted before the template's.
         let limit = self.opts.max_nodes.saturating_add(src.bytes_read);
         if self.nodes.saturating_add(1 + tpl.nodes) > limit {

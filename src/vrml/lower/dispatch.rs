@@ -33,9 +33,10 @@ impl Sink for Lowerer {
         &mut self,
         src: &SourceWindow,
         at: u64,
-        node: &crate::vrml::parse::sphere::FlatNode<'_>,
+        text: &str,
+        node: &crate::vrml::parse::sphere::FlatNode,
     ) -> Result<bool, Error> {
-        self.whole_instance(src, at, node)
+        self.whole_instance(src, at, text, node)
     }
 }
 

@@ -30,7 +30,7 @@ pub const MATERIAL_FIELDS: [(&str, usize); 6] = [
 const MAX_MATERIAL_FIELDS: usize = 8;
 
 /// A sphere node's values as written. Offsets are from the start of the Transform.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default)]
 pub struct SphereNode {
     pub translation: Option<[f64; 3]>,
     /// Whether the Shape has an Appearance, and whether that has a Material.
@@ -49,6 +49,20 @@ pub struct SphereNode {
     pub len: usize,
 }
 
+impl PartialEq for SphereNode {
+    /// (What a node read into a buffer holds beyond its fields is not part of it.)
+    fn eq(&self, o: &Self) -> bool {
+        (
+            self.translation,
+            self.appearance,
+            self.material,
+            self.radius,
+        ) == (o.translation, o.appearance, o.material, o.radius)
+            && (self.sphere_at, self.nodes, self.len) == (o.sphere_at, o.nodes, o.len)
+            && self.material_fields().eq(o.material_fields())
+    }
+}
+
 impl SphereNode {
     /// The Material's fields in the order written: which ([`MATERIAL_FIELDS`]) and values.
     pub fn material_fields(&self) -> impl Iterator<Item = (usize, &[f64])> {
@@ -60,25 +74,40 @@ impl SphereNode {
 
 /// Reads a sphere node at the start of `text` (a `Transform` not preceded by DEF). `None`:
 /// not one, or the text ends first.
-#[inline]
 pub fn sphere_node(text: &str) -> Option<SphereNode> {
+    let mut node = SphereNode::default();
+    read_sphere_node(text, &mut node).then_some(node)
+}
+
+/// [`sphere_node`] into `node` (the parser keeps one: a node is a few hundred bytes to copy
+/// for every one read): false if not one.
+#[inline]
+pub fn read_sphere_node(text: &str, node: &mut SphereNode) -> bool {
+    node.translation = None;
+    node.appearance = false;
+    node.material = false;
+    node.material_count = 0;
+    node.radius = None;
+    node.nodes = 0;
     let mut r = Reader {
         all: text,
         rest: text,
-        node: SphereNode::default(),
+        node,
     };
-    r.transform()?;
+    if r.transform().is_none() {
+        return false;
+    }
     r.node.len = text.len() - r.rest.len();
-    Some(r.node)
+    true
 }
 
-struct Reader<'a> {
+struct Reader<'a, 'n> {
     all: &'a str,
     rest: &'a str,
-    node: SphereNode,
+    node: &'n mut SphereNode,
 }
 
-impl<'a> Reader<'a> {
+impl<'a> Reader<'a, '_> {
     /// The next word, after white space.
     fn word(&mut self) -> Option<&'a str> {
         let (rest, id) = identifier(ws(self.rest)).ok()?;
@@ -217,68 +246,99 @@ impl<'a> Reader<'a> {
 /// At most this many fields are taken in a [`FlatNode`].
 const MAX_FLAT_FIELDS: usize = 8;
 
-/// One field of a [`FlatNode`]: its name, where it starts (from the node's start), and its
-/// one to three numbers.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct FlatField<'a> {
-    pub name: &'a str,
-    pub at: usize,
+/// One field of a [`FlatNode`]: where its name starts (from the node's start) and how long
+/// it is, and its one to three numbers.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FlatField {
+    pub at: u32,
+    name_len: u32,
     pub integer: bool,
     len: u8,
     numbers: [f64; 3],
 }
 
-impl FlatField<'_> {
+impl PartialEq for FlatField {
+    fn eq(&self, o: &Self) -> bool {
+        (self.at, self.name_len, self.integer) == (o.at, o.name_len, o.integer)
+            && self.numbers() == o.numbers()
+    }
+}
+
+impl FlatField {
+    /// The field's name in the node's `text`.
+    pub fn name<'t>(&self, text: &'t str) -> &'t str {
+        &text[self.at as usize..(self.at + self.name_len) as usize]
+    }
     pub fn numbers(&self) -> &[f64] {
         &self.numbers[..usize::from(self.len)]
     }
 }
 
-/// A node (without DEF) whose fields each hold one to three plain numbers, as written.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct FlatNode<'a> {
-    pub ty: &'a str,
-    fields: [FlatField<'a>; MAX_FLAT_FIELDS],
+/// A node (without DEF) whose fields each hold one to three plain numbers, as written; its
+/// names are read from its text (so that the parser can keep one to fill).
+#[derive(Clone, Debug, Default)]
+pub struct FlatNode {
+    ty_len: u32,
+    fields: [FlatField; MAX_FLAT_FIELDS],
     count: u8,
     /// The length of its text.
     pub len: usize,
 }
 
-impl<'a> FlatNode<'a> {
+impl PartialEq for FlatNode {
+    /// (What a node read into a buffer holds beyond its fields is not part of it.)
+    fn eq(&self, o: &Self) -> bool {
+        (self.ty_len, self.len) == (o.ty_len, o.len) && self.fields() == o.fields()
+    }
+}
+
+impl FlatNode {
+    /// The node's type in its `text`.
+    pub fn ty<'t>(&self, text: &'t str) -> &'t str {
+        &text[..self.ty_len as usize]
+    }
     /// The fields in the order written.
-    pub fn fields(&self) -> &[FlatField<'a>] {
+    pub fn fields(&self) -> &[FlatField] {
         &self.fields[..usize::from(self.count)]
     }
 }
 
 /// Reads a [`FlatNode`] at the start of `text`. `None`: not one, or the text ends first.
+pub fn flat_node(text: &str) -> Option<FlatNode> {
+    let mut node = FlatNode::default();
+    read_flat_node(text, &mut node).then_some(node)
+}
+
+/// [`flat_node`] into `node` (the parser keeps one): false if not one.
 #[inline]
-pub fn flat_node(text: &str) -> Option<FlatNode<'_>> {
+pub fn read_flat_node(text: &str, node: &mut FlatNode) -> bool {
+    read_flat(text, node).is_some()
+}
+
+fn read_flat(text: &str, node: &mut FlatNode) -> Option<()> {
+    node.count = 0;
     let (rest, ty) = identifier(text).ok()?;
     if !plain_word(ty) && is_reserved(ty) {
         return None;
     }
+    node.ty_len = ty.len() as u32;
     let mut rest = ws(rest).strip_prefix('{')?;
-    let mut node = FlatNode {
-        ty,
-        ..FlatNode::default()
-    };
     loop {
         rest = ws(rest);
         if let Some(r) = rest.strip_prefix('}') {
             node.len = text.len() - r.len();
-            return Some(node);
+            return Some(());
         }
         let at = text.len() - rest.len();
         let (r, name) = identifier(rest).ok()?;
         if !plain_word(name) && is_reserved(name) {
             return None;
         }
-        // (Filled in place: a node is returned whole, and copies of it cost.)
         let field = node.fields.get_mut(usize::from(node.count))?;
-        field.name = name;
-        field.at = at;
+        field.at = u32::try_from(at).ok()?;
+        field.name_len = name.len() as u32;
         field.integer = true;
+        field.len = 0;
         rest = ws(r);
         while starts_number(rest) {
             let (r, n) = number(rest).ok()?;
@@ -326,16 +386,38 @@ mod tests {
     fn flat_nodes_hold_plain_numbers_only() {
         let t = "Particle { position 1 2.5 -3 radius 0.5 color 1 0 0 } P";
         let n = flat_node(t).unwrap();
-        assert_eq!((n.ty, &t[n.len..]), ("Particle", " P"));
+        assert_eq!((n.ty(t), &t[n.len..]), ("Particle", " P"));
         let f = n.fields();
         assert_eq!(f.len(), 3);
         assert_eq!(
-            (f[0].name, f[0].numbers(), f[0].integer),
+            (f[0].name(t), f[0].numbers(), f[0].integer),
             ("position", &[1.0, 2.5, -3.0][..], false)
         );
         assert_eq!(
-            (&t[f[1].at..f[1].at + 6], f[2].numbers(), f[2].integer),
-            ("radius", &[1.0, 0.0, 0.0][..], true)
+            (
+                f[1].name(t),
+                &t[f[1].at as usize..][..6],
+                f[2].numbers(),
+                f[2].integer
+            ),
+            ("radius", "radius", &[1.0, 0.0, 0.0][..], true)
+        );
+        // A node read into the buffer of a longer one keeps nothing of it.
+        let mut buffer = flat_node("Q { a 1 2 3 b 4 c 5 d 6 }").unwrap();
+        assert!(read_flat_node("Particle { b 7 }", &mut buffer));
+        assert_eq!(buffer.fields()[0].numbers(), [7.0]);
+        let mut sphere = sphere_node(
+            "Transform { translation 1 2 3 children Shape { appearance Appearance { material \
+             Material { shininess 0.5 } } geometry Sphere { radius 2 } } }",
+        )
+        .unwrap();
+        assert!(read_sphere_node(
+            "Transform { children Shape { geometry Sphere { } } }",
+            &mut sphere
+        ));
+        assert_eq!(
+            sphere,
+            sphere_node("Transform { children Shape { geometry Sphere { } } }").unwrap()
         );
         assert_eq!(flat_node("Particle { }").unwrap().fields().len(), 0);
         for t in [
