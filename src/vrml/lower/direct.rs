@@ -12,6 +12,10 @@
 //! `template`) is recorded the same way and replayed. So warnings, errors and the scene are
 //! the recording's in every case (`tests/it/proto_template.rs` compares them with replaying
 //! every instance).
+//!
+//! An instance the parser read whole, because its fields all hold plain numbers
+//! ([`crate::vrml::parse::sphere::FlatNode`]), takes the same checks without any events
+//! ([`Lowerer::whole_instance`]); one that fails them is given to the events after all.
 
 use std::rc::Rc;
 

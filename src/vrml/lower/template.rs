@@ -59,6 +59,21 @@ impl MaterialField {
             _ => return None,
         })
     }
+    /// Sets this field of `m` to `v` (its `arity` values), as replaying would without a
+    /// warning; `None` where replaying would warn (a shininess or transparency outside
+    /// [0, 1]).
+    fn set(self, m: &mut Material, v: &[f64]) -> Option<()> {
+        match self {
+            MaterialField::Diffuse => m.diffuse = DVec3::from_slice(v),
+            MaterialField::Emissive => m.emissive = DVec3::from_slice(v),
+            MaterialField::Specular => m.specular = DVec3::from_slice(v),
+            MaterialField::Shininess if in_range(self, v[0]) => m.shininess = v[0],
+            MaterialField::AmbientIntensity => m.ambient_intensity = v[0],
+            MaterialField::Transparency if in_range(self, v[0]) => m.transparency = v[0],
+            _ => return None,
+        }
+        Some(())
+    }
     fn arity(self) -> usize {
         match self {
             MaterialField::Diffuse | MaterialField::Emissive | MaterialField::Specular => 3,
@@ -403,16 +418,7 @@ impl Lowerer {
             Some(fields) => {
                 let mut m = Material::default();
                 for &(f, ref s) in fields {
-                    let v = value(s, f.arity())?;
-                    match f {
-                        MaterialField::Diffuse => m.diffuse = DVec3::from_array(v),
-                        MaterialField::Emissive => m.emissive = DVec3::from_array(v),
-                        MaterialField::Specular => m.specular = DVec3::from_array(v),
-                        MaterialField::Shininess if in_range(f, v[0]) => m.shininess = v[0],
-                        MaterialField::AmbientIntensity => m.ambient_intensity = v[0],
-                        MaterialField::Transparency if in_range(f, v[0]) => m.transparency = v[0],
-                        _ => return None,
-                    }
+                    f.set(&mut m, &value(s, f.arity())?[..f.arity()])?;
                 }
                 Some(m)
             }
@@ -480,14 +486,8 @@ impl Lowerer {
             for (f, v) in node.material_fields() {
                 let (name, _) = MATERIAL_FIELDS[f];
                 let f = MaterialField::of(name).expect("a Material field");
-                match f {
-                    MaterialField::Diffuse => m.diffuse = DVec3::from_slice(v),
-                    MaterialField::Emissive => m.emissive = DVec3::from_slice(v),
-                    MaterialField::Specular => m.specular = DVec3::from_slice(v),
-                    MaterialField::Shininess if in_range(f, v[0]) => m.shininess = v[0],
-                    MaterialField::AmbientIntensity => m.ambient_intensity = v[0],
-                    MaterialField::Transparency if in_range(f, v[0]) => m.transparency = v[0],
-                    _ => return Ok(false),
+                if f.set(&mut m, v).is_none() {
+                    return Ok(false);
                 }
             }
             Some(m)
