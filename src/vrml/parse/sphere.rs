@@ -4,9 +4,9 @@
 //! without brackets, the Appearance, its Material and the radius optional), which exporters
 //! write once per particle, is read in one pass into a [`SphereNode`] and offered to the sink
 //! ([`super::Sink::sphere_node`]) before its events are made. A sink that takes it has what
-//! those events would have told it; one that does not (or any other text: a DEF, another
-//! field, a second value of a field, a comment's position does not matter) gets the events
-//! as usual, and nothing was consumed.
+//! those events would have told it; one that does not gets the events as usual, and nothing
+//! was consumed. So does any other text (a DEF, another field, a field given twice, a list
+//! where one value goes); comments and commas between members make no difference.
 //!
 //! Likewise a node whose fields all hold a few plain numbers ([`FlatNode`]: `Particle {
 //! position x y z radius r color r g b }`, what `convert` writes) is offered to the sink
