@@ -36,7 +36,8 @@ enum Slot {
     Is(u32),
 }
 
-/// A Material field the template sets, in the body's order.
+/// A Material field the template sets, in the body's order: one of
+/// [`MATERIAL_FIELDS`], in that table's order (its name and number of values are there).
 #[derive(Clone, Copy, Debug)]
 enum MaterialField {
     Diffuse,
@@ -48,16 +49,19 @@ enum MaterialField {
 }
 
 impl MaterialField {
+    /// By index into [`MATERIAL_FIELDS`].
+    const ALL: [MaterialField; 6] = [
+        MaterialField::Diffuse,
+        MaterialField::Emissive,
+        MaterialField::Specular,
+        MaterialField::Shininess,
+        MaterialField::AmbientIntensity,
+        MaterialField::Transparency,
+    ];
+
     fn of(name: &str) -> Option<MaterialField> {
-        Some(match name {
-            "diffuseColor" => MaterialField::Diffuse,
-            "emissiveColor" => MaterialField::Emissive,
-            "specularColor" => MaterialField::Specular,
-            "shininess" => MaterialField::Shininess,
-            "ambientIntensity" => MaterialField::AmbientIntensity,
-            "transparency" => MaterialField::Transparency,
-            _ => return None,
-        })
+        let i = MATERIAL_FIELDS.iter().position(|(n, _)| *n == name)?;
+        Some(Self::ALL[i])
     }
     /// Sets this field of `m` to `v` (its `arity` values), as replaying would without a
     /// warning; `None` where replaying would warn (a shininess or transparency outside
@@ -75,10 +79,7 @@ impl MaterialField {
         Some(())
     }
     fn arity(self) -> usize {
-        match self {
-            MaterialField::Diffuse | MaterialField::Emissive | MaterialField::Specular => 3,
-            _ => 1,
-        }
+        MATERIAL_FIELDS[self as usize].1
     }
 }
 
@@ -484,9 +485,7 @@ impl Lowerer {
         let material = if node.material {
             let mut m = Material::default();
             for (f, v) in node.material_fields() {
-                let (name, _) = MATERIAL_FIELDS[f];
-                let f = MaterialField::of(name).expect("a Material field");
-                if f.set(&mut m, v).is_none() {
+                if MaterialField::ALL[f].set(&mut m, v).is_none() {
                     return Ok(false);
                 }
             }
@@ -561,5 +560,22 @@ impl Lowerer {
             ..TransformFields::default()
         };
         self.close_transform(src, &t, marks, tpl.transform_at)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn material_fields_follow_the_parsers_table() {
+        // `arity` and the whole sphere node index MATERIAL_FIELDS by the variant's number.
+        for (i, f) in MaterialField::ALL.iter().enumerate() {
+            assert_eq!(*f as usize, i);
+            assert!(matches!(MaterialField::of(MATERIAL_FIELDS[i].0), Some(g) if g as usize == i));
+        }
+        assert_eq!(MaterialField::Specular.arity(), 3);
+        assert_eq!(MaterialField::Transparency.arity(), 1);
+        assert!(MaterialField::of("diffuse").is_none());
     }
 }
