@@ -67,14 +67,7 @@ impl Lowerer {
         def: Option<&str>,
         at: u64,
     ) -> bool {
-        let may = def.is_none()
-            && proto.sphere.is_some()
-            && proto.gas.is_none()
-            && proto.home.is_none()
-            && !self.opts.replay_every_instance
-            && self.rec.recorders.is_empty()
-            && self.rec.proto_decls == 0
-            && self.direct.reading.is_none();
+        let may = def.is_none() && self.template_may_read(proto);
         if may {
             self.direct.reading = Some(Reading {
                 proto: proto.clone(),
@@ -85,6 +78,17 @@ impl Lowerer {
             self.rec.direct = true;
         }
         may
+    }
+
+    /// Whether an instance of `proto` starting here may be read into its template: it has
+    /// one (and is neither a GasParticle nor another file's PROTO), the option allows it,
+    /// and nothing records, declares a PROTO or is being read into a template.
+    fn template_may_read(&self, proto: &ProtoDecl) -> bool {
+        proto.sphere.is_some()
+            && proto.gas.is_none()
+            && proto.home.is_none()
+            && !self.opts.replay_every_instance
+            && self.rec.idle()
     }
 
     /// A node of plain numbers read whole from the text (see
@@ -99,9 +103,6 @@ impl Lowerer {
         text: &str,
         node: &FlatNode,
     ) -> Result<bool, Error> {
-        if self.opts.replay_every_instance || !self.rec.idle() {
-            return Ok(false);
-        }
         let ty = node.ty(text);
         if schema::node_index(ty).is_some() && !self.scopes.proto_shadows_standard {
             return Ok(false);
@@ -109,7 +110,7 @@ impl Lowerer {
         let Some(proto) = self.scopes.proto(ty) else {
             return Ok(false);
         };
-        if proto.body.is_none() || proto.gas.is_some() {
+        if !self.template_may_read(&proto) {
             return Ok(false);
         }
         let Some(tpl) = proto.sphere.clone() else {
