@@ -55,14 +55,7 @@ impl Lowerer {
             }
         }
         self.rec.hand_back(done);
-        let frame = self
-            .open
-            .frames
-            .pop()
-            .expect("NodeEnd without an open node");
-        if frame.quiet {
-            self.open.quiet -= 1;
-        }
+        let frame = self.open.pop_closing();
         if let Some(range) = choice {
             if let Some(Frame {
                 kind: Kind::Switch { choices, .. },

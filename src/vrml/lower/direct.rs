@@ -220,14 +220,7 @@ impl Lowerer {
     /// The instance's `}`: closes its frame, as `node_end` does, and lowers it by its
     /// template, or records and replays it where the template refuses.
     fn finish_direct(&mut self, src: &SourceWindow) -> Result<(), Error> {
-        let frame = self
-            .open
-            .frames
-            .pop()
-            .expect("a PROTO instance's frame is open");
-        if frame.quiet {
-            self.open.quiet -= 1;
-        }
+        let frame = self.open.pop_closing();
         self.rec.direct = false;
         let Some(Reading { proto, .. }) = self.direct.reading.take() else {
             return Ok(());

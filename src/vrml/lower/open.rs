@@ -202,6 +202,16 @@ impl Open {
         self.quiet += 1;
     }
 
+    /// Pops the innermost frame as its node closes, undoing what [`Self::push_suppressing`]
+    /// counted.
+    pub(super) fn pop_closing(&mut self) -> Frame {
+        let frame = self.frames.pop().expect("a node closes while one is open");
+        if frame.quiet {
+            self.quiet -= 1;
+        }
+        frame
+    }
+
     /// Pushes a frame whose contents are recorded or ignored, not lowered.
     pub(super) fn push_quiet(&mut self, ty: Name, at: u64) {
         self.push_suppressing(Frame {
