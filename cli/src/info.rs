@@ -90,6 +90,7 @@ pub fn to_json(path: &Path, s: &Scene, r: &LoadReport) -> serde_json::Value {
         "template_instances": r.template_instances,
         "whole_sphere_nodes": r.whole_sphere_nodes,
         "read_again": r.read_again,
+        "read_on": r.read_on,
         "files": r.files,
         "peak_rss_bytes": crate::memory::peak_rss_bytes(),
     })
@@ -126,6 +127,9 @@ pub fn to_text(path: &Path, s: &Scene, r: &LoadReport) -> String {
     );
     if r.read_pieces > 0 {
         let _ = writeln!(o, "            in {} pieces at once", r.read_pieces);
+    }
+    if let Some(why) = &r.read_on {
+        let _ = writeln!(o, "            then by one reader {why}");
     }
     if let Some(why) = &r.read_again {
         let _ = writeln!(o, "            by one reader ({why})");

@@ -508,6 +508,9 @@ pub struct Parser {
     /// Stop at the end of the input, wherever it is, instead of requiring the file's end
     /// there (see [`Parser::resume`]).
     pub pause_at_end: bool,
+    /// With `floor` frames open (0: never), stop before a `}` or `]` instead of closing the
+    /// innermost (see [`Run::Floor`]).
+    pub floor: usize,
 }
 
 /// Where [`Parser::resume`] stopped.
@@ -518,6 +521,9 @@ pub enum Run {
     /// At the end of the input, which may be anywhere between items: the driver continues it
     /// ([`SourceWindow::jump`]) or stops there.
     Paused,
+    /// Before a `}` or `]` with [`Parser::floor`] frames open (a piece of a list read apart
+    /// reached the list's end).
+    Floor,
 }
 
 /// A read error (I/O, corrupt gzip) at the point where the text stopped.
@@ -539,6 +545,7 @@ impl Parser {
             sphere: sphere::SphereNode::default(),
             flat: sphere::FlatNode::default(),
             pause_at_end: false,
+            floor: 0,
         }
     }
 
@@ -608,6 +615,11 @@ impl Parser {
         Ok(())
     }
 
+    /// How many frames are open (the top level is one).
+    pub fn depth(&self) -> usize {
+        self.stack.len()
+    }
+
     /// At the end of the input: an error unless every node is closed.
     pub fn end(&self) -> Result<(), Error> {
         let what = match *self.stack.last().unwrap_or(&Frame::Top) {
@@ -633,6 +645,9 @@ impl Parser {
                 self.end()?;
                 return Ok(Run::Done);
             };
+            if matches!(first, b'}' | b']') && self.stack.len() == self.floor {
+                return Ok(Run::Floor);
+            }
             match (top, first) {
                 (Frame::ProtoBody, b'}') => {
                     self.src.pos += 1;

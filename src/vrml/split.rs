@@ -1,5 +1,6 @@
 //! Finding where a large scene file can be read in pieces at once (see
-//! `lower::parallel`): a scan of the text's brackets, strings and comments, no parsing.
+//! `lower::parallel`): a scan of the text's brackets, strings and comments up to where the
+//! pieces start, then guessed cuts, no parsing.
 //!
 //! The pieces are runs of whole sibling nodes of one list, the *region*: the top level of
 //! the file, or the `children` of a grouping node (Group, Transform, Anchor, Billboard,
@@ -10,11 +11,21 @@
 //!
 //! The text splits into a *prefix* (read first, by the main reader and again by every piece's
 //! reader, so that each starts in the state the file is in there: the PROTOs declared, the
-//! DEFs made, the grouping nodes open), the region's *chunks*, and the rest. Every cut is just
-//! after the end of the line on which a sibling node's `}` ends, so that no line is split. The
-//! prefix ends at the region's first cut, which must come within `prefix_max` bytes; a PROTO
-//! statement at the top level ends a top-level region, and an EXTERNPROTO anywhere, or a word
-//! the scan cannot be sure of where it matters, leaves the whole file to one reader.
+//! DEFs made, the grouping nodes open) and *chunks*, to the end of the file. The scan reads
+//! the text until a list has `chunk_bytes` of siblings after its first cut (just after the
+//! end of the line on which a sibling's `}` ends): the prefix ends at that first cut (within
+//! `prefix_max` bytes), and the first chunk at a cut the scan found. An EXTERNPROTO in the
+//! prefix, or a word the scan cannot be sure of where it matters, leaves the whole file to
+//! one reader.
+//!
+//! From there on nothing is scanned (at two threads the scan cost as much as a quarter of
+//! the reading): each further cut is a guess, at the first line after `chunk_bytes` that
+//! starts as the region's first sibling's did (see [`Splitter::cut_ahead`]). The guess may be
+//! wrong (a nested node written at the same indentation, a string across lines), and the
+//! region ends somewhere in the last chunks: the readers check every chunk (it must end, with
+//! nothing declared, exactly between two siblings of the region), and the main reader reads
+//! on by itself from the first chunk that fails the check. Each chunk that passes shows that
+//! the next starts where a sibling does.
 
 use std::sync::Arc;
 
@@ -57,8 +68,9 @@ enum Lex {
 enum Mode {
     /// Looking for a region.
     Seeking,
-    /// Cutting the region at depth `depth` (the top level is depth 0).
-    Region { depth: usize },
+    /// In the region, from its first chunk on: cutting without scanning, where a line looks
+    /// like the start of a sibling (see [`Splitter::cut_ahead`]).
+    Region,
     /// Handing everything on to the main reader.
     Through,
 }
@@ -103,10 +115,12 @@ pub struct Splitter {
     /// Where the next `[`, `]` or `#` is in `hold` (`usize::MAX`: none), and how much of
     /// `hold` was searched for it, if known.
     next_rare: Option<(usize, usize)>,
-    /// In the region: the last chunk's end and the last cut seen.
-    last_cut: u64,
-    last_valid: u64,
+    /// In the region: `\n` and the start of its first sibling's line (its indentation and
+    /// first word), the mark of a likely cut; and how many chunks were handed on.
+    sibling: Vec<u8>,
     chunks: usize,
+    /// Chunks' texts given back to be filled again (see [`Splitter::give_back`]).
+    spare: Vec<Vec<u8>>,
 }
 
 /// Bytes that the scan stops at.
@@ -145,6 +159,31 @@ impl<'a> Words<'a> {
     }
 }
 
+/// `\n` and the indentation and first word of the first line of `text` that has a word
+/// (blank lines and comment lines skipped), or just `\n` if there is none.
+fn sibling_mark(text: &[u8]) -> Vec<u8> {
+    let mut mark = vec![b'\n'];
+    for line in text.split(|&b| b == b'\n') {
+        let indent = line
+            .iter()
+            .take_while(|&&b| b == b' ' || b == b'\t')
+            .count();
+        let word = line[indent..].iter().take_while(|&&b| is_word(b)).count();
+        if word > 0 {
+            mark.extend_from_slice(&line[..indent + word]);
+            break;
+        }
+        if line[indent..]
+            .first()
+            .is_some_and(|&b| b != b'#' && b != b'\r')
+        {
+            // A line that starts with something else (a bracket, a string): no mark.
+            break;
+        }
+    }
+    mark
+}
+
 impl Splitter {
     pub fn new(chunk_bytes: u64, prefix_max: u64) -> Self {
         Splitter {
@@ -164,9 +203,9 @@ impl Splitter {
             after_close: false,
             clean_comment: false,
             next_rare: None,
-            last_cut: 0,
-            last_valid: 0,
+            sibling: Vec::new(),
             chunks: 0,
+            spare: Vec::new(),
         }
     }
 
@@ -190,35 +229,89 @@ impl Splitter {
         }
         self.hold.reserve(block);
         let n = reader.take(block as u64).read_to_end(&mut self.hold)?;
-        self.scanned(out);
+        if self.mode == Mode::Seeking {
+            self.scan(out);
+            // Nothing may pile up without bound: a prefix too long.
+            if self.mode == Mode::Seeking
+                && self.hold.len() as u64 > self.prefix_max + 4 * self.chunk_bytes
+            {
+                self.give_up(out);
+            }
+        }
+        if self.mode == Mode::Region {
+            self.cut_ahead(out);
+        }
         Ok(n)
     }
 
-    /// Scans what was added to `hold`, then bounds what is held.
-    fn scanned(&mut self, out: &mut impl FnMut(Piece)) {
-        self.scan(out);
-        if self.mode == Mode::Through {
-            return;
-        }
-        // Nothing may pile up without bound: a prefix too long, or a sibling too large.
-        let held = self.hold.len() as u64;
-        match self.mode {
-            Mode::Seeking if held > self.prefix_max + 4 * self.chunk_bytes => {
-                self.give_up(out);
-            }
-            Mode::Region { .. } if held > 8 * self.chunk_bytes.max(1 << 20) => {
-                self.end_region(out);
-            }
-            _ => {}
+    /// A chunk's text, done with, to hold the text of another: a buffer whose pages are
+    /// already mapped (a fresh one of a few MB is mapped and faulted in page by page, then
+    /// unmapped when freed: at two reading threads, that was most of the system time).
+    pub fn give_back(&mut self, text: Vec<u8>) {
+        if self.spare.len() < 4 {
+            self.spare.push(text);
         }
     }
 
     /// The end of the text.
     pub fn finish(mut self, out: &mut impl FnMut(Piece)) {
         match self.mode {
-            Mode::Region { .. } => self.end_region(out),
+            Mode::Region => {
+                if !self.hold.is_empty() {
+                    self.chunk(self.base + self.hold.len() as u64, out);
+                }
+                out(Piece::RegionEnd {
+                    chunks: self.chunks,
+                    end: self.base,
+                });
+            }
             Mode::Seeking => self.give_up(out),
             Mode::Through => {}
+        }
+    }
+
+    /// Cuts the region's text held into chunks of at least `chunk_bytes`, each ending where a
+    /// line starts as the region's first sibling's did (its indentation and first word,
+    /// `sibling`) and that word ends: a likely cut, not a certain one (strings, comments and
+    /// brackets are not scanned any more), which the chunks' readers check (each must end
+    /// between two siblings of the region, or the main reader reads on from its start). With
+    /// no such line in `8 * chunk_bytes`, the text held up to its last line's start is cut
+    /// anyway (the check then fails): what is held stays bounded.
+    fn cut_ahead(&mut self, out: &mut impl FnMut(Piece)) {
+        let want = self.chunk_bytes as usize;
+        let cap = 8 * want.max(1 << 20);
+        loop {
+            let from = self.at.max(want.saturating_sub(1));
+            if from >= self.hold.len() {
+                return;
+            }
+            let found = memchr::memmem::find(&self.hold[from..], &self.sibling);
+            match found.map(|i| from + i) {
+                Some(i) => {
+                    let after = i + self.sibling.len();
+                    let Some(&b) = self.hold.get(after) else {
+                        // The line's word may go on: wait for more text.
+                        self.at = i;
+                        return;
+                    };
+                    if self.sibling.len() > 1 && is_word(b) {
+                        self.at = i + 1;
+                        continue;
+                    }
+                    self.chunk(self.base + i as u64 + 1, out);
+                    self.at = 0;
+                }
+                None if self.hold.len() > cap => {
+                    let end = memchr::memrchr(b'\n', &self.hold).map_or(self.hold.len(), |k| k + 1);
+                    self.chunk(self.base + end as u64, out);
+                    self.at = 0;
+                }
+                None => {
+                    // Search again from where a match could still start.
+                    self.at = self.hold.len().saturating_sub(self.sibling.len());
+                    return;
+                }
+            }
         }
     }
 
@@ -230,30 +323,27 @@ impl Splitter {
         }
     }
 
-    fn end_region(&mut self, out: &mut impl FnMut(Piece)) {
-        if self.last_valid > self.last_cut {
-            self.chunk(self.last_valid, out);
-        }
-        out(Piece::RegionEnd {
-            chunks: self.chunks,
-            end: self.last_valid,
-        });
-        self.give_up(out);
-    }
-
     /// Takes the text before offset `end` out of `hold` (copying only what follows it,
     /// usually less), and moves the scan's indices with it.
     fn take_head(&mut self, end: u64) -> Vec<u8> {
         let n = (end - self.base) as usize;
         // Room for the next chunk and the blocks read past its end, so that the text held
         // is not moved again while it grows.
-        let room = (self.chunk_bytes as usize).saturating_add(2 << 20);
-        let mut rest = Vec::with_capacity(room.max(self.hold.len() - n));
+        let room = (self.chunk_bytes as usize)
+            .saturating_add(2 << 20)
+            .max(self.hold.len() - n);
+        let mut rest = match self.spare.pop() {
+            Some(mut v) if v.capacity() >= room => {
+                v.clear();
+                v
+            }
+            _ => Vec::with_capacity(room),
+        };
         rest.extend_from_slice(&self.hold[n..]);
         self.hold.truncate(n);
         self.next_rare = None;
         self.base = end;
-        self.at -= n;
+        self.at = self.at.saturating_sub(n);
         self.span = self.span.saturating_sub(n);
         std::mem::replace(&mut self.hold, rest)
     }
@@ -263,7 +353,6 @@ impl Splitter {
         let start = self.base;
         let text = self.take_head(end);
         out(Piece::Chunk { start, text });
-        self.last_cut = end;
         self.chunks += 1;
     }
 
@@ -325,7 +414,7 @@ impl Splitter {
     }
 
     fn scan(&mut self, out: &mut impl FnMut(Piece)) {
-        while self.at < self.hold.len() && self.mode != Mode::Through {
+        while self.at < self.hold.len() && self.mode == Mode::Seeking {
             let b = self.hold[self.at];
             match self.lex {
                 Lex::String => {
@@ -455,15 +544,8 @@ impl Splitter {
                 .unwrap_or(b"");
             self.grouping_shadowed |= GROUPING.iter().any(|g| g.as_bytes() == name);
             self.proto = Proto::Interface;
-            match self.mode {
-                // The region ends before the PROTO, which is read after it.
-                Mode::Region { depth: 0 } => self.end_region(out),
-                // A region starts after the PROTOs it may instance.
-                _ => self.top_first_cut = None,
-            }
-            if self.mode == Mode::Through {
-                return;
-            }
+            // A region starts after the PROTOs it may instance.
+            self.top_first_cut = None;
             self.stack.push(Frame {
                 list: true,
                 split: false,
@@ -494,13 +576,6 @@ impl Splitter {
             self.give_up(out);
             return;
         }
-        if let Mode::Region { depth } = self.mode {
-            if self.stack.len() + 1 == depth {
-                // The region's list closes.
-                self.end_region(out);
-                return;
-            }
-        }
         if self.stack.is_empty() {
             match self.proto {
                 Proto::Interface if list => {
@@ -521,39 +596,31 @@ impl Splitter {
         }
     }
 
-    /// A cut at offset `c` in the innermost list.
+    /// A cut at offset `c` in the innermost list (while seeking the region: after it, the
+    /// scan stops).
     fn cut(&mut self, c: u64, out: &mut impl FnMut(Piece)) {
-        let depth = self.stack.len();
-        match self.mode {
-            Mode::Region { depth: d } if d == depth => {
-                self.last_valid = c;
-                if c - self.last_cut >= self.chunk_bytes {
-                    self.chunk(c, out);
-                }
-            }
-            Mode::Seeking => {
-                let first = match self.stack.last_mut() {
-                    None => &mut self.top_first_cut,
-                    Some(f) => &mut f.first_cut,
-                };
-                let Some(start) = *first else {
-                    *first = Some(c);
-                    return;
-                };
-                if c - start < self.chunk_bytes || start > self.prefix_max {
-                    return;
-                }
-                // The region starts: the prefix goes to the main reader and to the chunks'.
-                let prefix = self.take_head(start);
-                out(Piece::Prefix(Arc::from(&prefix[..])));
-                out(Piece::Text(prefix));
-                self.mode = Mode::Region { depth };
-                self.last_cut = start;
-                self.last_valid = c;
-                self.chunk(c, out);
-            }
-            _ => {}
+        if self.mode != Mode::Seeking {
+            return;
         }
+        let first = match self.stack.last_mut() {
+            None => &mut self.top_first_cut,
+            Some(f) => &mut f.first_cut,
+        };
+        let Some(start) = *first else {
+            *first = Some(c);
+            return;
+        };
+        if c - start < self.chunk_bytes || start > self.prefix_max {
+            return;
+        }
+        // The region starts: the prefix goes to the main reader and to the chunks'.
+        let prefix = self.take_head(start);
+        out(Piece::Prefix(Arc::from(&prefix[..])));
+        out(Piece::Text(prefix));
+        self.mode = Mode::Region;
+        self.sibling = sibling_mark(&self.hold);
+        self.chunk(c, out);
+        self.at = 0;
     }
 }
 
@@ -603,11 +670,55 @@ mod tests {
                 let (all, chunks) = rejoin(&v);
                 assert_eq!(&all, text);
                 assert!(chunks.len() >= 10, "{} chunks", chunks.len());
-                for c in &chunks {
-                    assert!(c.ends_with('\n'), "{c:?}");
+                // Every chunk but the last (which holds the rest of the file) is whole
+                // siblings of at least 200 bytes, and every one starts a sibling's line.
+                let (last, whole) = chunks.split_last().unwrap();
+                for c in whole {
+                    assert!(c.ends_with('\n') && c.len() >= 200, "{c:?}");
                     assert_eq!(c.matches('{').count(), c.matches('}').count());
                 }
+                assert!(chunks.iter().all(|c| c.starts_with("Transform {")));
+                assert!(last.ends_with(if text == &group { "] }\n" } else { "} }\n" }));
             }
+        }
+    }
+
+    /// In the region the cuts are guessed from its first sibling's line: its indentation and
+    /// word must start the line, whole; with no such line for long, the text is cut anyway.
+    #[test]
+    fn guesses_cuts_from_the_first_siblings_line() {
+        assert_eq!(
+            sibling_mark(b"\n# note\n  \t DEF A Shape {}\n"),
+            b"\n  \t DEF"
+        );
+        assert_eq!(sibling_mark(b"  Shape {}"), b"\n  Shape");
+        assert_eq!(sibling_mark(b"\n  [ x ]\nShape {}"), b"\n");
+        // (The prefix ends after the first sibling: the region starts at the second.)
+        let head = "#VRML V2.0 utf8\nGroup { children [\n  Transform {}\n";
+        // Lines that look like the sibling's but are not: a longer word, other indentation.
+        let node = "  Shape { geometry Sphere {} }\n  ShapeX {}\n    Shape {}\n";
+        let text = format!("{head}{}] }}\n", node.repeat(40));
+        let (all, chunks) = rejoin(&pieces(&text, 100, 9));
+        assert_eq!(all, text);
+        assert!(chunks.len() > 5);
+        assert!(
+            chunks.iter().all(|c| c.starts_with("  Shape { geometry")),
+            "{chunks:?}"
+        );
+        // No line like the first sibling's: cuts at 8 MB (the least bound), at a line's start.
+        let mut text = format!("#VRML V2.0 utf8\n{}", "Shape {}\n".repeat(40_000));
+        text += &"  Group {}\n".repeat(1_000_000);
+        let (all, chunks) = rejoin(&pieces(&text, 100_000, 1 << 16));
+        assert_eq!(all, text);
+        let long: Vec<_> = chunks.iter().filter(|c| c.len() > 100_000 + 20).collect();
+        assert!(!long.is_empty());
+        for c in &long[..long.len() - 1] {
+            assert!(
+                c.len() > 8 << 20 && c.len() <= (8 << 20) + (1 << 16),
+                "{}",
+                c.len()
+            );
+            assert!(c.ends_with('\n'));
         }
     }
 
@@ -647,9 +758,9 @@ mod tests {
         let (all, chunks) = rejoin(&v);
         assert_eq!(all, text);
         assert!(!chunks.is_empty());
-        assert!(chunks
-            .iter()
-            .all(|c| !c.contains("PROTO") && !c.contains('Q')));
+        // The cuts are guessed at lines starting with `P` as a word: not at `PROTO Q` (whose
+        // chunk the reader then turns down) nor at `Q`.
+        assert!(chunks.iter().all(|c| c.starts_with("P {}")));
         let prefix = v.iter().find_map(|p| match p {
             Piece::Prefix(p) => Some(String::from_utf8(p.to_vec()).unwrap()),
             _ => None,

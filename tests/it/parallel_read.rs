@@ -86,8 +86,68 @@ fn the_three_layouts_are_read_in_pieces() {
                 r.read_again
             );
             assert_eq!(r.read_again, None);
+            // The top level's pieces go to the file's end; the Group's list ends in its last
+            // piece, from which the main reader reads on.
+            if text == &group {
+                let on = r.read_on.expect("read on");
+                assert!(on.contains("the list it is in ends in it"), "{on}");
+            } else {
+                assert_eq!(r.read_on, None);
+            }
         }
     }
+}
+
+/// The cuts after the first are guessed at lines that start as the region's first sibling's;
+/// each piece is checked, and the main reader reads on from the first that fails, with the
+/// same result as one reader.
+#[test]
+fn guessed_cuts_are_checked() {
+    let body: String = (0..150).map(particle).collect();
+    let reads_on = |text: &str, why: &str| {
+        for threads in [2, 3] {
+            let r = same(text, threads, 500).expect("loads");
+            assert!(r.read_pieces >= 2 && r.read_again.is_none(), "{r:?}");
+            let on = r.read_on.expect("read on");
+            assert!(on.contains(why), "{on}");
+        }
+    };
+    // Nested nodes at the siblings' indentation: a guessed cut inside a node.
+    let nested: String = (0..150)
+        .map(|i| format!("Group {{ children [\nShape {{}}\n{}] }}\n", particle(i)))
+        .collect();
+    reads_on(
+        &format!(
+            "#VRML V2.0 utf8\n{}{nested}",
+            &body[..body.match_indices('\n').nth(9).unwrap().0 + 1]
+        ),
+        "it ends inside a node",
+    );
+    // Two lists one after the other: a piece may close the first and open the second, and
+    // end as deep as it began.
+    reads_on(
+        &format!(
+            "#VRML V2.0 utf8\nTransform {{ translation 5 0 0 children [\n{body}] }}\nTransform {{ translation -5 0 0 children [\n{body}] }}\n"
+        ),
+        "the list it is in ends in it",
+    );
+    // A PROTO declared among the siblings and instanced after them.
+    reads_on(
+        &format!(
+            "#VRML V2.0 utf8\n{body}PROTO R [ field SFFloat r 1 ] {{ Shape {{ geometry Sphere {{ radius IS r }} }} }}\n{body}R {{ r 2 }}\n"
+        ),
+        "it declares a PROTO",
+    );
+    // Strings across lines, holding lines like a sibling's: a guessed cut inside a string.
+    let strings: String = (0..150)
+        .map(|i| {
+            format!(
+                "{}WorldInfo {{ info [ \"a\nTransform {{ b\" ] }}\n",
+                particle(i)
+            )
+        })
+        .collect();
+    reads_on(&format!("#VRML V2.0 utf8\n{body}{strings}"), "");
 }
 
 #[test]
@@ -190,8 +250,21 @@ fn scene(seed: u64) -> String {
     if wrap {
         text += "Transform { translation 5 0 0 children [\n";
     }
+    let mut declared = false;
     for _ in 0..(20 + rng() % 60) {
         text += &node(&mut rng, 0, &mut defs);
+        // A PROTO among the top level's siblings, and instances of it after.
+        if !wrap && rng() % 40 == 0 {
+            text += "PROTO R [ field SFFloat r 1 ] { Shape { geometry Sphere { radius IS r } } }\n";
+            declared = true;
+        }
+        if declared && rng() % 4 == 0 {
+            text += "R { r 2 }\n";
+        }
+        // A string across lines, one of which starts as a sibling's.
+        if rng() % 30 == 0 {
+            text += "WorldInfo { info [ \"a\nTransform { b\" ] }\n";
+        }
     }
     if wrap {
         text += "] rotation 0 1 0 0.5 }\n";
@@ -287,5 +360,8 @@ fn invalid_utf8_in_a_piece_is_one_readers_warning() {
     assert_eq!(format!("{a:?}"), format!("{b:?}"));
     assert_eq!(ra.warnings, rb.warnings);
     assert_eq!(ra.warnings.len(), 1, "{:?}", ra.warnings);
-    assert!(rb.read_again.is_some());
+    // The main reader reads on by itself from the piece with the bad bytes, and says so.
+    assert!(rb.read_pieces > 0 && rb.read_again.is_none());
+    let on = rb.read_on.expect("read on by one reader");
+    assert!(on.contains("invalid UTF-8"), "{on}");
 }

@@ -15,7 +15,7 @@ use super::Lowerer;
 use crate::error::Error;
 use crate::scene::{EllipsoidId, Light, LightScope, MaterialTable, Sphere, Surface, Viewpoint};
 use crate::source::SourceWindow;
-use crate::vrml::parse::Parser;
+use crate::vrml::parse::{Parser, Run};
 
 /// Watching a chunk's lowering (set on a worker's lowerer once its prefix is read).
 pub(super) struct Watch {
@@ -31,6 +31,9 @@ pub(super) struct Watch {
     /// Sphere nodes read whole when the chunk began.
     pub(super) whole_at_start: u64,
     pub(super) excess: i64,
+    /// The chunk declared a PROTO or EXTERNPROTO in the file's scope, which the chunks after
+    /// it and the main reader would not know.
+    pub(super) declared: bool,
 }
 
 /// What a chunk added, moved to the main thread.
@@ -65,9 +68,12 @@ pub(super) struct Delta {
     line_starts: Vec<u64>,
 }
 
+/// What a chunk added, or why it may not stand (then the main reader reads on from its
+/// start).
 pub(super) type Outcome = Result<Box<Delta>, String>;
 
-/// Lowers one chunk after its prefix, on a worker thread.
+/// Lowers one chunk after its prefix, on a worker thread. Returns its text too, for the main
+/// reader (None if it could not be had back: then the file is read again).
 pub(super) fn lower_chunk(
     opts: &super::LoadOptions,
     name: &Arc<str>,
@@ -75,24 +81,45 @@ pub(super) fn lower_chunk(
     prefix: &Arc<[u8]>,
     start: u64,
     text: Vec<u8>,
-) -> Outcome {
+    spheres: Vec<Sphere>,
+) -> (Outcome, Option<Vec<u8>>) {
+    let text = match String::from_utf8(text) {
+        Ok(t) => t,
+        // (Its messages would need the text before it.)
+        Err(e) => return (Err("it has invalid UTF-8".into()), Some(e.into_bytes())),
+    };
     let mut low = Lowerer::new(opts.clone());
+    // An earlier chunk's list, emptied: its pages are already mapped.
+    debug_assert!(spheres.is_empty());
+    low.scene.spheres = spheres;
     let src = SourceWindow::new(name.clone(), Box::new(Cursor::new(prefix.clone())));
     let mut opened = low.open_file(&src, path);
     let mut parser = Parser::new(src);
     parser.pause_at_end = true;
     let r = parser.begin().and_then(|()| parser.resume(&mut low));
-    let d = r
-        .map_err(|e| format!("its prefix: {}", reason(&e)))
-        .and_then(|_| chunk_delta(&mut low, &mut parser, start, text));
+    let (d, text) = match r {
+        Ok(_) => {
+            let d = chunk_delta(&mut low, &mut parser, start, text);
+            (d, parser.src.take_text_back(start))
+        }
+        Err(e) => (
+            Err(format!("its prefix: {}", reason(&e))),
+            Some(text.into_bytes()),
+        ),
+    };
     low.resume_outside(&mut opened);
-    d
+    (d, text)
 }
 
-/// `v[from..]`, taken (without a copy when that is all of `v`).
-fn tail<T>(v: &mut Vec<T>, from: usize) -> Vec<T> {
-    if from == 0 {
-        std::mem::take(v)
+/// `v[from..]`, taken. When `from` is small (the prefix's few), the head is copied out and
+/// the tail moved down in place rather than the tail copied out: a new buffer of a chunk's
+/// size would be faulted in page by page.
+fn tail<T: Clone>(v: &mut Vec<T>, from: usize) -> Vec<T> {
+    if from <= v.len() / 2 {
+        let mut t = std::mem::take(v);
+        v.extend_from_slice(&t[..from]);
+        t.drain(..from);
+        t
     } else {
         v.split_off(from)
     }
@@ -111,14 +138,13 @@ fn said(d: &[crate::diag::Diagnostic]) -> u64 {
     d.iter().map(|d| 1 + d.repeats).sum()
 }
 
-fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Vec<u8>) -> Outcome {
+fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: String) -> Outcome {
     let base = Marks::of(&low.scene);
     let ellipsoid_base = low.scene.ellipsoids.len();
     let said_before = (said(&low.diags.warnings), said(&low.diags.notes));
     let skipped_before = low.diags.skipped.clone();
     let meshes_before = (low.meshes.spheres, low.meshes.point_spheres);
     let bound_before = (low.bound.navigation_info, low.bound.background);
-    let utf8_before = parser.src.bad_utf8.is_some();
     let files_before = low.scene.files.len();
     let arena_mark = low.rec.arena.len();
     low.rec.pinned = low.rec.pinned.max(arena_mark);
@@ -129,22 +155,30 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Vec<u8>
         templated_at_start: low.templated,
         whole_at_start: low.whole_nodes,
         excess: i64::MIN,
+        declared: false,
     });
-    parser.src.jump_to_text(start, text);
-    parser.resume(low).map_err(|e| reason(&e))?;
+    parser.src.jump_to_string(start, text);
+    // The chunk's cuts were guessed (see `split`): it must hold whole siblings of the list
+    // the prefix leaves open, no more and no less.
+    parser.floor = parser.depth();
+    match parser.resume(low).map_err(|e| reason(&e))? {
+        Run::Floor => return Err("the list it is in ends in it".into()),
+        _ if parser.depth() != parser.floor => return Err("it ends inside a node".into()),
+        _ => {}
+    }
     if (said(&low.diags.warnings), said(&low.diags.notes)) != said_before {
         return Err("it has warnings or notes".into());
     }
     if low.scene.files.len() != files_before {
         return Err("it reads another file".into());
     }
-    if !utf8_before && parser.src.bad_utf8.is_some() {
-        return Err("it has invalid UTF-8".into());
-    }
     if let Some(why) = low.fallback.take() {
         return Err(why);
     }
     let watch = low.watch.take().expect("watching the chunk");
+    if watch.declared {
+        return Err("it declares a PROTO".into());
+    }
     let dirlights = low
         .open
         .innermost_dirlights()
@@ -222,8 +256,13 @@ impl Lowerer {
         }
     }
 
-    /// Puts a chunk's result in place, as if its text had been lowered here.
-    pub(super) fn put_in_place(&mut self, d: Delta, src: &mut SourceWindow) -> Result<(), String> {
+    /// Puts a chunk's result in place, as if its text had been lowered here; gives back its
+    /// list of spheres, emptied, for another chunk.
+    pub(super) fn put_in_place(
+        &mut self,
+        mut d: Delta,
+        src: &mut SourceWindow,
+    ) -> Result<Vec<Sphere>, String> {
         // Stored as they come (their duplicates are merged like any the cache lets through).
         let first = self.scene.materials.len() as u32;
         self.scene.materials.append(&d.materials);
@@ -240,7 +279,7 @@ impl Lowerer {
         let e0 = scene.ellipsoids.len();
         scene.ellipsoids.extend(d.ellipsoids);
         scene.spheres.reserve(d.spheres.len());
-        for mut s in d.spheres {
+        for mut s in d.spheres.drain(..) {
             s.material += first;
             if let Some(id) = s.ellipsoid {
                 let i = id.index();
@@ -297,6 +336,6 @@ impl Lowerer {
         if self.materials.recent.wants_merge(&self.scene.materials) {
             self.merge_materials(0);
         }
-        Ok(())
+        Ok(d.spheres)
     }
 }

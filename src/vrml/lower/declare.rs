@@ -279,6 +279,11 @@ impl Lowerer {
         let decl = Rc::new(decl);
         self.rec.pinned = self.rec.pinned.max(range.end);
         let standard_name = schema::node_index(&name).is_some();
+        if self.scopes.depth() == 1 {
+            if let Some(w) = &mut self.watch {
+                w.declared = true;
+            }
+        }
         self.scopes.declare(name, decl, standard_name);
         Ok(())
     }

@@ -187,6 +187,10 @@ pub struct LoadReport {
     pub read_pieces: usize,
     /// Why a file started in pieces was read again by one reader.
     pub read_again: Option<String>,
+    /// Where and why the main reader read on by itself, after `read_pieces` pieces, when
+    /// the file was read in pieces (a piece's guessed end was wrong, the region ended in it,
+    /// it warned, ...; the result is the same).
+    pub read_on: Option<String>,
     /// PROTO instances lowered by their body's sphere template rather than by replaying it
     /// (the same result; see `template.rs`).
     pub template_instances: u64,
@@ -246,9 +250,10 @@ fn load_in_pieces(
             threads,
             opts.read_chunk_bytes,
         )? {
-            parallel::Parallel::Chunks(n) => {
+            parallel::Parallel::Chunks(n, read_on) => {
                 let (scene, mut report) = low.finish(t0)?;
                 report.read_pieces = n;
+                report.read_on = read_on;
                 return Ok((scene, report));
             }
             parallel::Parallel::Fallback(why) => again = Some(why),
@@ -475,6 +480,7 @@ impl Lowerer {
             notes: self.diags.notes,
             read_pieces: 0,
             read_again: None,
+            read_on: None,
             template_instances: self.templated,
             whole_sphere_nodes: self.whole_nodes,
         };

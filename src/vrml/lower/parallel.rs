@@ -1,18 +1,24 @@
 //! Reading one large file on several threads, with the result one reader would give.
 //!
-//! A scan ([`crate::vrml::split`]) cuts the text into a prefix, a region of whole sibling
-//! nodes cut into chunks, and the rest. The main thread lowers the prefix; each chunk is
-//! lowered on a worker thread by a lowerer that reads the prefix first (so it starts in the
-//! state the file is in there) and hands back what the chunk added: spheres, surfaces,
-//! lights, viewpoints, its material table, counts. The main thread puts the chunks' results
-//! in place in file order (the enclosing grouping nodes, still open, then move and scope them
-//! as they close; the materials the tables repeat, the prefix's among them, are merged like
-//! any duplicates) and reads the rest.
+//! A scan ([`crate::vrml::split`]) cuts the text into a prefix and chunks of whole sibling
+//! nodes of one list (the region), the later cuts guessed. The main thread lowers the prefix;
+//! each chunk is lowered on a worker thread by a lowerer that reads the prefix first (so it
+//! starts in the state the file is in there) and hands back what the chunk added: spheres,
+//! surfaces, lights, viewpoints, its material table, counts; and its text. The main thread
+//! puts the chunks' results in place in file order (the enclosing grouping nodes, still open,
+//! then move and scope them as they close; the materials the tables repeat, the prefix's
+//! among them, are merged like any duplicates) until a chunk's result may not stand, and
+//! from that chunk's start reads the rest itself, from the chunks' texts.
+//!
+//! A chunk's result does not stand (and the main reader reads on from its start) when:
+//! - it does not end exactly between two siblings of the region (a guessed cut was wrong),
+//!   or the region's list ends in it (the rest of the file follows);
+//! - it declares a PROTO or EXTERNPROTO (which later text may instance);
+//! - it warns, notes, fails, reads another file (Inline), or meets invalid UTF-8: its
+//!   messages would need positions and text from outside it, so one reader says them.
 //!
 //! What a chunk reads that depends on an earlier chunk is checked, not assumed. The result is
 //! thrown away and the file read again by one reader (the same answer, slower) when:
-//! - a chunk warns, notes, fails, reads another file (Inline), or meets invalid UTF-8: its
-//!   messages would need positions and text from outside it, so one reader says them;
 //! - a chunk USEs a name the prefix DEF'd that an earlier chunk DEF'd again, or the rest of
 //!   the file USEs or ROUTEs a name any chunk DEF'd;
 //! - the nodes counted might have passed `max_nodes` somewhere (checked against the bytes
@@ -23,6 +29,7 @@ use std::collections::BTreeMap;
 use std::io::Read;
 use std::path::Path;
 use std::rc::Rc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{channel, sync_channel, Receiver, Sender, SyncSender};
 use std::sync::{Arc, Mutex};
 
@@ -31,6 +38,7 @@ use hashbrown::HashSet;
 use super::chunk::{lower_chunk, Outcome};
 use super::Lowerer;
 use crate::error::Error;
+use crate::scene::Sphere;
 use crate::source::SourceWindow;
 use crate::vrml::parse::{Parser, Run};
 use crate::vrml::split::{Piece, Splitter};
@@ -50,15 +58,25 @@ type Job = (usize, u64, Vec<u8>, Arc<[u8]>);
 enum Msg {
     Text(Vec<u8>),
     PrefixEnd,
-    RegionEnd { end: u64 },
     Eof,
     Failed(std::io::Error),
 }
 
+/// A chunk's offset, outcome and text (see [`lower_chunk`]).
+struct ChunkResult {
+    start: u64,
+    out: Outcome,
+    text: Option<Vec<u8>>,
+}
+
 /// What the results channel carries.
 enum Done {
-    Chunk(usize, Outcome),
-    Total(usize),
+    /// A chunk's number and result.
+    Chunk(usize, ChunkResult),
+    /// The region (the rest of the file) was cut into this many chunks and ends here.
+    Total(usize, u64),
+    /// The text could not be read to its end.
+    Failed,
 }
 
 /// The main reader's text: the channel's text, with an end at the prefix's end and at the
@@ -109,7 +127,8 @@ impl ChannelReader {
 
 /// Why a file was read by one reader after all, or how many chunks it was read in.
 pub(super) enum Parallel {
-    Chunks(usize),
+    /// Read in this many chunks, then by the main reader from where and why it says.
+    Chunks(usize, Option<String>),
     Fallback(String),
 }
 
@@ -126,6 +145,16 @@ pub(super) fn load(
     let (text_tx, text_rx) = sync_channel::<Msg>(16);
     let (chunk_tx, chunk_rx) = sync_channel::<Job>(threads);
     let (done_tx, done_rx) = channel::<Done>();
+    // The scan hands on a chunk for each credit, and the main thread gives one back for each
+    // chunk it is done with: what is held (texts, results) stays bounded however far the
+    // scan could run ahead (as when the main thread reads on by itself).
+    let ahead = 2 * threads + 2;
+    let (credit_tx, credit_rx) = sync_channel::<()>(ahead);
+    for _ in 0..ahead {
+        let _ = credit_tx.try_send(());
+    }
+    // Set when the main thread reads on by itself: the chunks still coming are not lowered.
+    let stop = AtomicBool::new(false);
     // Only the workers hold the chunks' receiver: when they stop, the scan does too.
     let chunk_rx = Arc::new(Mutex::new(chunk_rx));
     let worker_rx: Vec<_> = (0..threads).map(|_| chunk_rx.clone()).collect();
@@ -133,17 +162,44 @@ pub(super) fn load(
     let opts = low.opts.clone();
     std::thread::scope(|scope| {
         let splitter_done = done_tx.clone();
-        scope.spawn(move || split(reader, chunk_bytes, text_tx, chunk_tx, splitter_done));
+        let (spare_tx, spare_rx) = channel();
+        let hands = Hands {
+            text: text_tx,
+            chunks: chunk_tx,
+            done: splitter_done,
+            credits: credit_rx,
+            spare: spare_rx,
+        };
+        scope.spawn(move || split(reader, chunk_bytes, hands));
+        let stop = &stop;
+        let spheres: Spare = Arc::default();
         for rx in worker_rx {
             let tx = done_tx.clone();
+            let spheres = spheres.clone();
             let (opts, name) = (opts.clone(), name.clone());
             scope.spawn(move || loop {
                 let job = rx.lock().map_or(None, |r| r.recv().ok());
                 let Some((k, start, text, prefix)) = job else {
                     return;
                 };
-                let out = lower_chunk(&opts, &name, path, &prefix, start, text);
-                if tx.send(Done::Chunk(k, out)).is_err() {
+                let (out, text) = if stop.load(Ordering::Relaxed) {
+                    (Err("not read".into()), Some(text))
+                } else {
+                    let list = spheres.lock().ok().and_then(|mut s| s.pop());
+                    lower_chunk(
+                        &opts,
+                        &name,
+                        path,
+                        &prefix,
+                        start,
+                        text,
+                        list.unwrap_or_default(),
+                    )
+                };
+                if tx
+                    .send(Done::Chunk(k, ChunkResult { start, out, text }))
+                    .is_err()
+                {
                     return;
                 }
             });
@@ -155,21 +211,33 @@ pub(super) fn load(
             at: 0,
             stopped: None,
         })));
-        let r = main_reader(low, name.clone(), path, reader, &done_rx);
-        // Dropping the receivers ends the other threads if they are still going.
-        drop(done_rx);
-        r
+        let results = InOrder {
+            rx: done_rx,
+            waiting: BTreeMap::new(),
+            next: 0,
+            total: None,
+            credits: credit_tx,
+            spare: spare_tx,
+            spheres,
+        };
+        // Dropping the receivers (in `results`) ends the other threads if they are still
+        // going.
+        main_reader(low, name.clone(), path, reader, results, stop)
     })
 }
 
-/// The scan's thread: reads the text and hands it out.
-fn split(
-    mut reader: Box<dyn Read + Send>,
-    chunk_bytes: u64,
+/// Where the scan's thread hands things on.
+struct Hands {
     text: SyncSender<Msg>,
     chunks: SyncSender<Job>,
     done: Sender<Done>,
-) {
+    credits: Receiver<()>,
+    /// Chunks' texts given back (see [`Splitter::give_back`]).
+    spare: Receiver<Vec<u8>>,
+}
+
+/// The scan's thread: reads the text and hands it out.
+fn split(mut reader: Box<dyn Read + Send>, chunk_bytes: u64, to: Hands) {
     let mut s = Splitter::new(chunk_bytes, PREFIX_MAX);
     let mut prefix: Option<Arc<[u8]>> = None;
     let mut k = 0;
@@ -180,38 +248,112 @@ fn split(
             return;
         }
         let sent = match p {
-            Piece::Text(t) => text.send(Msg::Text(t)).is_ok(),
+            Piece::Text(t) => to.text.send(Msg::Text(t)).is_ok(),
             Piece::Prefix(p) => {
                 prefix = Some(p);
                 true
             }
             Piece::Chunk { start, text: t } => {
-                let first = k == 0 && text.send(Msg::PrefixEnd).is_err();
+                let first = k == 0 && to.text.send(Msg::PrefixEnd).is_err();
                 let p = prefix.clone().unwrap_or_else(|| Arc::from(&[][..]));
                 k += 1;
-                !first && chunks.send((k - 1, start, t, p)).is_ok()
+                !first && to.credits.recv().is_ok() && to.chunks.send((k - 1, start, t, p)).is_ok()
             }
-            Piece::RegionEnd { chunks: n, end } => {
-                done.send(Done::Total(n)).is_ok() && text.send(Msg::RegionEnd { end }).is_ok()
-            }
+            Piece::RegionEnd { chunks: n, end } => to.done.send(Done::Total(n, end)).is_ok(),
         };
         ok.set(sent);
     };
     loop {
+        while let Ok(t) = to.spare.try_recv() {
+            s.give_back(t);
+        }
         match s.read_from(&mut reader, BLOCK, &mut hand) {
             Ok(0) => break,
             Ok(_) if !ok.get() => return,
             Ok(_) => {}
             Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
             Err(e) => {
-                s.finish(&mut hand);
-                let _ = text.send(Msg::Failed(e));
+                // Before the region, the main reader meets the error; in it, the file is read
+                // again by one reader, which meets it.
+                let _ = to.done.send(Done::Failed);
+                let _ = to.text.send(Msg::Failed(e));
                 return;
             }
         }
     }
     s.finish(&mut hand);
-    let _ = text.send(Msg::Eof);
+    let _ = to.text.send(Msg::Eof);
+}
+
+/// The chunks' results in file order.
+struct InOrder {
+    rx: Receiver<Done>,
+    waiting: BTreeMap<usize, ChunkResult>,
+    next: usize,
+    /// The number of chunks and the file's end, once the scan is done.
+    total: Option<(usize, u64)>,
+    credits: SyncSender<()>,
+    spare: Sender<Vec<u8>>,
+    /// Chunks' lists of spheres, emptied, for the workers to fill again.
+    spheres: Spare,
+}
+
+/// Emptied lists of spheres, passed from the main thread back to the workers.
+type Spare = Arc<Mutex<Vec<Vec<Sphere>>>>;
+
+impl InOrder {
+    /// The next chunk's offset, outcome and text, or None after the last.
+    fn next(&mut self) -> Result<Option<ChunkResult>, String> {
+        loop {
+            if let Some(r) = self.waiting.remove(&self.next) {
+                self.next += 1;
+                let _ = self.credits.try_send(());
+                return Ok(Some(r));
+            }
+            if self.total.is_some_and(|(n, _)| n == self.next) {
+                return Ok(None);
+            }
+            match self.rx.recv() {
+                Ok(Done::Chunk(k, r)) => {
+                    self.waiting.insert(k, r);
+                }
+                Ok(Done::Total(n, end)) => self.total = Some((n, end)),
+                Ok(Done::Failed) => return Err("the text could not be read".into()),
+                Err(_) => return Err("a reading thread stopped".into()),
+            }
+        }
+    }
+}
+
+/// The text of the chunks from one on, for the main reader reading on by itself.
+struct ChunkTexts {
+    text: Vec<u8>,
+    at: usize,
+    rest: InOrder,
+}
+
+impl Read for ChunkTexts {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        while self.at == self.text.len() {
+            match self.rest.next() {
+                Ok(Some(ChunkResult {
+                    text: Some(text), ..
+                })) => {
+                    self.text = text;
+                    self.at = 0;
+                }
+                Ok(None) => return Ok(0),
+                Ok(Some(ChunkResult { text: None, .. })) => {
+                    return Err(std::io::Error::other("a piece's text was not handed back"))
+                }
+                Err(why) => return Err(std::io::Error::other(why)),
+            }
+        }
+        let n = buf.len().min(self.text.len() - self.at);
+        buf[..n].copy_from_slice(&self.text[self.at..self.at + n]);
+        self.at += n;
+        Ok(n)
+    }
 }
 
 /// The main thread: the prefix, the chunks' results in order, the rest.
@@ -220,7 +362,8 @@ fn main_reader(
     name: Arc<str>,
     path: &Path,
     reader: ChannelReader,
-    done: &Receiver<Done>,
+    results: InOrder,
+    stop: &AtomicBool,
 ) -> Result<Parallel, Error> {
     let src = SourceWindow::new(name, Box::new(reader.clone()));
     let mut opened = low.open_file(&src, path);
@@ -233,28 +376,23 @@ fn main_reader(
         r?;
         parser.end()?;
         low.close_file(opened, &parser.src)?;
-        return Ok(Parallel::Chunks(0));
+        return Ok(Parallel::Chunks(0, None));
     }
     // From here on, a failure's message is one reader's to give.
-    let outcome = (|| -> Result<usize, String> {
+    let outcome = (|| -> Result<(usize, Option<String>), String> {
         r.map_err(|e| e.to_string())?;
-        let chunks = put_chunks_in_place(low, &mut parser.src, done)?;
-        let end = match reader.0.borrow().rx.recv() {
-            Ok(Msg::RegionEnd { end }) => end,
-            _ => return Err("the scan stopped before the region's end".into()),
-        };
-        parser.src.jump(end, Box::new(reader.clone()));
+        let placed = put_chunks_in_place(low, &mut parser.src, results)?;
+        // The rest: from the first chunk whose result did not stand (or the file's end).
+        stop.store(true, Ordering::Relaxed);
+        parser.src.jump(placed.from, Box::new(placed.rest));
         let run = parser.resume(low).map_err(|e| e.to_string())?;
         debug_assert_eq!(run, Run::Paused);
-        if !matches!(reader.take_stop(), Some(Msg::Eof) | None) {
-            return Err("the text stopped early".into());
-        }
         parser.end().map_err(|e| e.to_string())?;
-        Ok(chunks)
+        Ok((placed.count, placed.why))
     })();
     low.resume_outside(&mut opened);
-    let chunks = match outcome {
-        Ok(n) => n,
+    let (chunks, why) = match outcome {
+        Ok(r) => r,
         Err(why) => return Ok(Parallel::Fallback(why)),
     };
     if let Err(e) = low.close_file(opened, &parser.src) {
@@ -262,47 +400,81 @@ fn main_reader(
     }
     Ok(match low.fallback.take() {
         Some(why) => Parallel::Fallback(why),
-        None => Parallel::Chunks(chunks),
+        None => Parallel::Chunks(chunks, why),
     })
 }
 
-/// Receives the chunks' results and puts them in place in file order; returns how many
-/// there were, or why the file must be read by one reader.
+/// The chunks put in place, and where the main reader reads on.
+struct Placed {
+    count: usize,
+    /// Why it reads on by itself before the file's end (with where), if it does.
+    why: Option<String>,
+    /// Where it reads on, and the text from there.
+    from: u64,
+    rest: ChunkTexts,
+}
+
+/// Puts the chunks' results in place in file order, up to the first that may not stand (its
+/// cuts were wrong, the region ends in it, it warns...); or says why the file must be read
+/// again by one reader.
 fn put_chunks_in_place(
     low: &mut Lowerer,
     src: &mut SourceWindow,
-    done: &Receiver<Done>,
-) -> Result<usize, String> {
-    let mut waiting = BTreeMap::new();
-    let mut next = 0;
-    let mut total = None;
+    mut results: InOrder,
+) -> Result<Placed, String> {
+    let mut why = None;
+    let mut placed = 0;
     // Names the chunks put in place so far DEF'd.
     let mut defined: HashSet<String> = HashSet::new();
-    while total != Some(next) {
-        match done.recv() {
-            Ok(Done::Total(n)) => total = Some(n),
-            Ok(Done::Chunk(k, out)) => {
-                waiting.insert(k, out);
+    let (from, text) = loop {
+        let Some(ChunkResult { start, out, text }) = results.next()? else {
+            let end = results.total.map_or(0, |t| t.1);
+            break (end, Vec::new());
+        };
+        let d = match out {
+            Ok(d) => {
+                if let Some(t) = text {
+                    let _ = results.spare.send(t);
+                }
+                d
             }
-            Err(_) => return Err("a reading thread stopped".into()),
+            Err(e) => match text {
+                Some(text) => {
+                    why = Some(format!("from piece {placed} at byte {start}: {e}"));
+                    break (start, text);
+                }
+                None => return Err(format!("chunk {placed}: its text was not handed back")),
+            },
+        };
+        if let Some(n) = d.imports.iter().find(|n| defined.contains(*n)) {
+            return Err(format!(
+                "chunk {placed} USEs '{n}', which an earlier chunk DEF'd again"
+            ));
         }
-        while let Some(out) = waiting.remove(&next) {
-            let d = out.map_err(|why| format!("chunk {next}: {why}"))?;
-            if let Some(n) = d.imports.iter().find(|n| defined.contains(*n)) {
-                return Err(format!(
-                    "chunk {next} USEs '{n}', which an earlier chunk DEF'd again"
-                ));
-            }
-            if low.nodes as i64 + d.excess > low.opts.max_nodes as i64 {
-                return Err("the nodes counted may pass the limit".into());
-            }
-            defined.extend(d.exports.iter().cloned());
-            low.put_in_place(*d, src)?;
-            next += 1;
+        if low.nodes as i64 + d.excess > low.opts.max_nodes as i64 {
+            return Err("the nodes counted may pass the limit".into());
         }
-    }
+        defined.extend(d.exports.iter().cloned());
+        let emptied = low.put_in_place(*d, src)?;
+        if let Ok(mut spare) = results.spheres.lock() {
+            if spare.len() < 4 {
+                spare.push(emptied);
+            }
+        }
+        placed += 1;
+    };
     if !defined.is_empty() {
         low.poison = Some(defined);
     }
-    Ok(next)
+    let rest = ChunkTexts {
+        text,
+        at: 0,
+        rest: results,
+    };
+    Ok(Placed {
+        count: placed,
+        why,
+        from,
+        rest,
+    })
 }
