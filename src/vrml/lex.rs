@@ -196,9 +196,8 @@ fn digit_run(b: &[u8], k: usize) -> Option<(usize, u64)> {
 }
 
 /// The common number shape, `[+-]? digits (. digits)?` with fewer than 8 digits before the
-/// point, at most 16 after it and 19 in all, no exponent and a mantissa of at most 2^53, read
-/// without a byte loop (16 fraction digits are what `convert` writes for the colours of
-/// 8-bit tables). Returns where it ends and its value, or None for anything else (which
+/// point and 19 in all, no exponent, read without a byte loop (`convert` writes the colours
+/// of 8-bit tables with 16 to 18 fraction digits, their shortest round-trip text). Returns where it ends and its value, or None for anything else (which
 /// [`number_general`] then reads, with the same result for these).
 #[inline(always)]
 fn short_decimal(b: &[u8]) -> Option<(usize, Number)> {
@@ -220,7 +219,7 @@ fn short_decimal(b: &[u8]) -> Option<(usize, Number)> {
         frac = n2;
         mantissa = int * POW10_INT[n2] + f;
         if n2 == 8 {
-            // Up to 8 more, at most 19 digits in all (below 2^64), checked against 2^53.
+            // Up to 8 more, then up to 3 more, at most 19 digits in all (below 2^64).
             let (n3, g) = digit_run(b, k)?;
             if n1 + 8 + n3 > 19 {
                 return None;
@@ -228,8 +227,14 @@ fn short_decimal(b: &[u8]) -> Option<(usize, Number)> {
             k += n3;
             frac += n3;
             mantissa = mantissa * POW10_INT[n3] + g;
-            if mantissa > 1 << 53 {
-                return None;
+            if n3 == 8 {
+                let (n4, h) = digit_run(b, k)?;
+                if n1 + 16 + n4 > 19 {
+                    return None;
+                }
+                k += n4;
+                frac += n4;
+                mantissa = mantissa * POW10_INT[n4] + h;
             }
         }
     }
@@ -240,10 +245,15 @@ fn short_decimal(b: &[u8]) -> Option<(usize, Number)> {
         Some(&c) if !c.is_ascii_digit() && !is_id_first_byte(c) => {}
         _ => return None,
     }
-    // The mantissa is at most 2^53 and the power of ten (at most 10^16) is exact, so the one
-    // division is correctly rounded, as in number_general.
+    // A mantissa of at most 2^53 and the power of ten (at most 10^19, exact up to 10^22) are
+    // exact, so the one division is correctly rounded, as in number_general; a larger one
+    // (17 to 19 digits: the shortest text of most f64s) is divided in integers, as there.
     // (Converted through i64, which x86-64 does in one instruction; the value is exact.)
-    let v = mantissa as i64 as f64 / POW10[frac];
+    let v = if mantissa <= 1 << 53 {
+        mantissa as i64 as f64 / POW10[frac]
+    } else {
+        divide_by_power_of_ten(mantissa, frac as u32)
+    };
     let value = if b[0] == b'-' { -v } else { v };
     Some((k, Number { value, integer }))
 }

@@ -80,7 +80,8 @@ fn generated_numbers_agree_with_std_parse() {
 #[test]
 fn seventeen_to_nineteen_digits_agree_with_std_parse() {
     // Shortest round-trip text of an f64 takes up to 17 digits, whose mantissa is above 2^53:
-    // divided by the power of ten in integers (`divide_by_power_of_ten`), not by str::parse.
+    // divided by the power of ten in integers (`divide_by_power_of_ten`), not by str::parse;
+    // at the end of the text by the general reader, before more text by `short_decimal`.
     // Halfway cases first (2^53 + 1 and 2^52 + 1/2 lie between two f64s), then random ones.
     let mut cases: Vec<String> = [
         "9007199254740993.0",
@@ -119,6 +120,11 @@ fn seventeen_to_nineteen_digits_agree_with_std_parse() {
         let (rest, n) = number(t).unwrap();
         assert_eq!(rest, "");
         assert_eq!(n.value.to_bits(), want.to_bits(), "{t}");
+        // With text after it, the number is read 8 bytes at a time (`short_decimal`).
+        let tail = format!("{t} 0.5 0.25 ]");
+        let (rest, n) = number(&tail).unwrap();
+        assert_eq!(rest, " 0.5 0.25 ]");
+        assert_eq!(n.value.to_bits(), want.to_bits(), "{t} (followed)");
         let digits = t.bytes().filter(u8::is_ascii_digit).count();
         divided += usize::from(digits >= 17);
     }
