@@ -249,6 +249,7 @@ fn load_in_pieces(
             open()?,
             threads,
             opts.read_chunk_bytes,
+            size,
         )? {
             parallel::Parallel::Chunks(n, read_on) => {
                 let (scene, mut report) = low.finish(t0)?;

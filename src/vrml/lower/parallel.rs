@@ -141,6 +141,7 @@ pub(super) fn load(
     reader: Box<dyn Read + Send>,
     threads: usize,
     chunk_bytes: u64,
+    size: u64,
 ) -> Result<Parallel, Error> {
     let (text_tx, text_rx) = sync_channel::<Msg>(16);
     let (chunk_tx, chunk_rx) = sync_channel::<Job>(threads);
@@ -222,7 +223,7 @@ pub(super) fn load(
         };
         // Dropping the receivers (in `results`) ends the other threads if they are still
         // going.
-        main_reader(low, name.clone(), path, reader, results, stop)
+        main_reader(low, name.clone(), path, reader, results, stop, size)
     })
 }
 
@@ -364,6 +365,7 @@ fn main_reader(
     reader: ChannelReader,
     results: InOrder,
     stop: &AtomicBool,
+    size: u64,
 ) -> Result<Parallel, Error> {
     let src = SourceWindow::new(name, Box::new(reader.clone()));
     let mut opened = low.open_file(&src, path);
@@ -381,7 +383,7 @@ fn main_reader(
     // From here on, a failure's message is one reader's to give.
     let outcome = (|| -> Result<(usize, Option<String>), String> {
         r.map_err(|e| e.to_string())?;
-        let placed = put_chunks_in_place(low, &mut parser.src, results)?;
+        let placed = put_chunks_in_place(low, &mut parser.src, results, size)?;
         // The rest: from the first chunk whose result did not stand (or the file's end).
         stop.store(true, Ordering::Relaxed);
         parser.src.jump(placed.from, Box::new(placed.rest));
@@ -416,11 +418,12 @@ struct Placed {
 
 /// Puts the chunks' results in place in file order, up to the first that may not stand (its
 /// cuts were wrong, the region ends in it, it warns...); or says why the file must be read
-/// again by one reader.
+/// again by one reader. `size` is the file's (a hint: for the spheres to come).
 fn put_chunks_in_place(
     low: &mut Lowerer,
     src: &mut SourceWindow,
     mut results: InOrder,
+    size: u64,
 ) -> Result<Placed, String> {
     let mut why = None;
     let mut placed = 0;
@@ -431,6 +434,7 @@ fn put_chunks_in_place(
             let end = results.total.map_or(0, |t| t.1);
             break (end, Vec::new());
         };
+        let len = text.as_ref().map_or(0, Vec::len) as u64;
         let d = match out {
             Ok(d) => {
                 if let Some(t) = text {
@@ -455,7 +459,18 @@ fn put_chunks_in_place(
             return Err("the nodes counted may pass the limit".into());
         }
         defined.extend(d.exports.iter().cloned());
+        let before = low.scene.spheres.len();
         let emptied = low.put_in_place(*d, src)?;
+        if placed == 0 {
+            // Room for the spheres of the rest of the file at the first chunk's density, at
+            // once: grown chunk by chunk, the list was copied (and faulted in) again at every
+            // doubling, the other growing lists in the way. (Only address space is taken
+            // beyond what is used; the list is shrunk to fit when the file is read.)
+            let ahead = size.saturating_sub(start + len) as f64;
+            let per_byte = (low.scene.spheres.len() - before) as f64 / len.max(1) as f64;
+            let more = (1.02 * per_byte * ahead) as usize;
+            low.scene.spheres.reserve_exact(more);
+        }
         if let Ok(mut spare) = results.spheres.lock() {
             if spare.len() < 4 {
                 spare.push(emptied);
