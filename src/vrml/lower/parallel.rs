@@ -468,8 +468,9 @@ fn put_chunks_in_place(
             // beyond what is used; the list is shrunk to fit when the file is read.)
             let ahead = size.saturating_sub(start + len) as f64;
             let per_byte = (low.scene.spheres.len() - before) as f64 / len.max(1) as f64;
-            let more = (1.02 * per_byte * ahead) as usize;
-            low.scene.spheres.reserve_exact(more);
+            // (Bounded, and asked for without aborting on failure: it is only a hint.)
+            let more = (1.02 * per_byte * ahead).min(ahead / 8.0) as usize;
+            let _ = low.scene.spheres.try_reserve_exact(more);
         }
         if let Ok(mut spare) = results.spheres.lock() {
             if spare.len() < 4 {
