@@ -218,27 +218,20 @@ fn short_decimal(b: &[u8]) -> Option<(usize, Number)> {
         k += n2;
         frac = n2;
         mantissa = int * POW10_INT[n2] + f;
-        if n2 == 8 {
-            // Up to 8 more, then up to 3 more, at most 19 digits in all (below 2^64).
-            let (n3, g) = digit_run(b, k)?;
-            if n1 + 8 + n3 > 19 {
+        // While a run of 8 was whole, up to 8 more, at most 19 digits in all (below 2^64).
+        let mut run = n2;
+        while run == 8 {
+            let (n, g) = digit_run(b, k)?;
+            if n1 + frac + n > 19 {
                 return None;
             }
-            k += n3;
-            frac += n3;
-            mantissa = mantissa * POW10_INT[n3] + g;
-            if n3 == 8 {
-                let (n4, h) = digit_run(b, k)?;
-                if n1 + 16 + n4 > 19 {
-                    return None;
-                }
-                k += n4;
-                frac += n4;
-                mantissa = mantissa * POW10_INT[n4] + h;
-            }
+            k += n;
+            frac += n;
+            mantissa = mantissa * POW10_INT[n] + g;
+            run = n;
         }
     }
-    // The next byte must end the number: not a digit (after 16 fraction digits) nor an
+    // The next byte must end the number: not a digit (after 19 digits in all) nor an
     // identifier character (which takes in an exponent `e`, hex `x` and errors like "1a"),
     // so the general path agrees.
     match b.get(k) {
