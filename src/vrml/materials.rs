@@ -14,6 +14,8 @@
 //! each content keeps its place, in file order), but a file of a million distinct colours no
 //! longer pays a cache miss into a large table for every Material node while it is read.
 
+use rayon::prelude::*;
+
 use crate::scene::{Material, MaterialTable, Scene};
 
 /// Every field's bits ([`Material::key`]).
@@ -63,6 +65,9 @@ pub(crate) struct RecentMaterials {
     /// Merge again once this many materials are stored (so that a file of many repeated
     /// colours never holds many copies: memory stays within a small factor of the merged set).
     next_merge: usize,
+    /// Merge on the thread pool (the main reader of a file read in pieces, whose merges
+    /// would otherwise be the one part not shared out; one reader stays on one thread).
+    pub(crate) parallel: bool,
 }
 
 impl Default for RecentMaterials {
@@ -72,6 +77,7 @@ impl Default for RecentMaterials {
             evicted: false,
             hashes: Vec::new(),
             next_merge: MERGE_MIN,
+            parallel: false,
         }
     }
 }
@@ -137,7 +143,7 @@ impl RecentMaterials {
             return None;
         }
         let before = mats.len();
-        let moved = merge_equal(mats, &mut self.hashes);
+        let moved = merge_equal(mats, &mut self.hashes, self.parallel);
         if let Some(new_index) = &moved {
             for e in self.slots.iter_mut().filter(|e| **e != 0) {
                 let i = (*e as u32 - 1) as usize;
@@ -179,7 +185,13 @@ impl RecentMaterials {
 /// The materials are split by the top bits of their hashes into buckets of a few thousand,
 /// each deduplicated with a hash table small enough for the L1/L2 caches: one table over a
 /// million materials missed the caches (and the TLB) on every probe.
-fn merge_equal(mats: &mut MaterialTable, hashes: &mut Vec<u64>) -> Option<Vec<u32>> {
+///
+/// With `parallel`, the buckets are deduplicated on the thread pool (the same result).
+fn merge_equal(
+    mats: &mut MaterialTable,
+    hashes: &mut Vec<u64>,
+    parallel: bool,
+) -> Option<Vec<u32>> {
     let n = mats.len();
     if hashes.len() != n {
         *hashes = mats.iter().map(|m| hash_key(&material_key(&m))).collect();
@@ -211,11 +223,8 @@ fn merge_equal(mats: &mut MaterialTable, hashes: &mut Vec<u64>) -> Option<Vec<u3
         pairs[next[b]] = h & !0xFFFF_FFFF | i as u64;
         next[b] += 1;
     }
-    // `first[i]`: the first material equal to material i. Filled in only once a duplicate turns
-    // up; until then every material is its own first.
-    let mut first: Vec<u32> = Vec::new();
-    let mut table: Vec<u32> = Vec::new();
-    for b in 0..1 << bits {
+    // The duplicates in bucket `b`, as (material, the first equal to it), into `out`.
+    let dups_in = |b: usize, table: &mut Vec<u32>, out: &mut Vec<(u32, u32)>| {
         let part = &pairs[starts[b]..starts[b + 1]];
         let size = (2 * part.len()).next_power_of_two();
         let mask = size - 1;
@@ -225,28 +234,49 @@ fn merge_equal(mats: &mut MaterialTable, hashes: &mut Vec<u64>) -> Option<Vec<u3
             let (tag, i) = ((p >> 32) as u32, p as u32);
             // Position + 1 in `part` of a first material; 0 is empty.
             let mut t = tag as usize & mask;
-            let dup = loop {
+            loop {
                 let e = table[t] as usize;
                 if e == 0 {
                     table[t] = k as u32 + 1;
-                    break None;
+                    break;
                 }
                 let q = part[e - 1];
                 let j = q as u32;
                 if (q >> 32) as u32 == tag
                     && material_key(&mats.get(j as usize)) == material_key(&mats.get(i as usize))
                 {
-                    break Some(j);
+                    out.push((i, j));
+                    break;
                 }
                 t = (t + 1) & mask;
-            };
-            if let Some(j) = dup {
-                if first.is_empty() {
-                    first = (0..n as u32).collect();
-                }
-                first[i as usize] = j;
             }
         }
+    };
+    // The buckets are independent (equal materials share a hash): side by side when asked.
+    let dups: Vec<(u32, u32)> = if parallel {
+        (0..1usize << bits)
+            .into_par_iter()
+            .map_init(Vec::new, |table, b| {
+                let mut out = Vec::new();
+                dups_in(b, table, &mut out);
+                out
+            })
+            .flatten_iter()
+            .collect()
+    } else {
+        let (mut table, mut out) = (Vec::new(), Vec::new());
+        for b in 0..1 << bits {
+            dups_in(b, &mut table, &mut out);
+        }
+        out
+    };
+    // `first[i]`: the first material equal to material i.
+    let mut first: Vec<u32> = Vec::new();
+    for (i, j) in dups {
+        if first.is_empty() {
+            first = (0..n as u32).collect();
+        }
+        first[i as usize] = j;
     }
     drop(pairs);
     if first.is_empty() {
@@ -288,7 +318,16 @@ mod tests {
     /// lowering does, and checks the result against sharing done the obvious way: an ordered
     /// map from content to the first entry with it. Returns the most materials stored at once.
     fn check(picks: &[usize]) -> usize {
-        let mut recent = RecentMaterials::default();
+        // The merges one by one and on the thread pool: the same.
+        check_with(picks, true);
+        check_with(picks, false)
+    }
+
+    fn check_with(picks: &[usize], parallel: bool) -> usize {
+        let mut recent = RecentMaterials {
+            parallel,
+            ..RecentMaterials::default()
+        };
         let mut scene = Scene::default();
         let mut most = 0;
         for (k, &p) in picks.iter().enumerate() {

@@ -161,6 +161,9 @@ pub(super) fn load(
     let worker_rx: Vec<_> = (0..threads).map(|_| chunk_rx.clone()).collect();
     drop(chunk_rx);
     let opts = low.opts.clone();
+    // The main reader's merges of the materials are the one part of its work that grows
+    // with the file: on the thread pool.
+    low.materials.recent.parallel = true;
     std::thread::scope(|scope| {
         let splitter_done = done_tx.clone();
         let (spare_tx, spare_rx) = channel();
