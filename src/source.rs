@@ -229,16 +229,9 @@ impl SourceWindow {
         self.reader = reader;
     }
 
-    /// As [`Self::jump`], with the whole rest of the text at hand (a piece read elsewhere):
-    /// it becomes the window as it is, without being read or copied, when it is valid UTF-8.
-    pub fn jump_to_text(&mut self, to: u64, text: Vec<u8>) {
-        match String::from_utf8(text) {
-            Ok(text) => self.jump_to_string(to, text),
-            Err(e) => self.jump(to, Box::new(std::io::Cursor::new(e.into_bytes()))),
-        }
-    }
-
-    /// [`Self::jump_to_text`] with text known to be valid UTF-8.
+    /// As [`Self::jump`], with the whole rest of the text at hand (a piece read elsewhere,
+    /// already checked to be UTF-8): it becomes the window as it is, without being read or
+    /// copied.
     pub fn jump_to_string(&mut self, to: u64, text: String) {
         self.jump(to, Box::new(std::io::empty()));
         self.bytes_read += text.len() as u64;
@@ -247,12 +240,10 @@ impl SourceWindow {
         self.eof = true;
     }
 
-    /// The text given to [`Self::jump_to_text`] at offset `to`, back, if it is still the whole
-    /// window (it was valid UTF-8, and the window has not moved since); the window is then
-    /// empty.
+    /// The text given to [`Self::jump_to_string`] at offset `to`, back, if it is still the
+    /// whole window (the window has not moved since); the window is then empty.
     pub fn take_text_back(&mut self, to: u64) -> Option<Vec<u8>> {
-        let replaced = self.bad_utf8.is_some_and(|b| b >= to);
-        (self.base == to && self.eof && !replaced).then(|| {
+        (self.base == to && self.eof).then(|| {
             self.pos = 0;
             std::mem::take(&mut self.buf).into_bytes()
         })

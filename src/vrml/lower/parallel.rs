@@ -88,7 +88,7 @@ struct Inner {
     rx: Receiver<Msg>,
     text: Vec<u8>,
     at: usize,
-    /// Where the text stopped: the prefix's end, the region's end, or the file's.
+    /// Where the text stopped: the prefix's end, or the file's.
     stopped: Option<Msg>,
 }
 
