@@ -8,8 +8,6 @@ use std::time::Instant;
 use glam::{DAffine3, DVec3, Vec3A};
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
-use obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh;
-use obvhs::cwbvh::CwBvh;
 use obvhs::ploc::PlocBuilder;
 use obvhs::BvhBuildParams;
 use rayon::prelude::*;
@@ -20,24 +18,6 @@ use crate::scene::{EllipsoidId, Profile};
 /// What [`SphereBvh::build_packed`] asks of a primitive: its ellipsoid map (when
 /// [`Packed::is_ellipsoid`]), its extinction and its density profile (when [`Packed::is_gas`]).
 pub type Side<'a> = dyn Fn(&Packed) -> (Option<EllipsoidId>, f64, Profile) + Sync + 'a;
-
-/// Depth of a CWBVH in nodes (internal children of a node sit contiguously at
-/// `child_base_idx`, one per set bit of `imask`).
-fn cwbvh_depth(bvh: &CwBvh) -> usize {
-    if bvh.nodes.is_empty() {
-        return 0;
-    }
-    let mut deepest = 0;
-    let mut stack = vec![(0u32, 1usize)];
-    while let Some((n, depth)) = stack.pop() {
-        deepest = deepest.max(depth);
-        let node = &bvh.nodes[n as usize];
-        for k in 0..node.imask.count_ones() {
-            stack.push((node.child_base_idx + k, depth + 1));
-        }
-    }
-    deepest
-}
 
 /// Reorders `v` so that `v_new[i] = v_old[order[i]]`, following the permutation's cycles
 /// with one bit of bookkeeping per element.
@@ -64,8 +44,12 @@ fn permute_in_place<T: Copy>(v: &mut [T], order: &[u32]) {
     }
 }
 
-/// Sorts `prims` by the Morton code (21 bits per axis) of their centres in the box `lo..hi`,
-/// and returns the chunks to cut the sorted order into (see [`chunk_ranges`]).
+/// Orders `prims` by the Morton code (21 bits per axis) of their centres in the box `lo..hi`
+/// as far as the chunks need, and returns the chunks to cut that order into (see
+/// [`chunk_ranges`]). Within a run of at most `per_chunk` the order is left as it is: a run
+/// is one Morton cell, which [`chunk_ranges`] never splits, and each chunk's PLOC build sorts
+/// its primitives by its own Morton codes anyway. (Sorting on down to single cells was 7 % of
+/// a whole `render` of 1e6 spheres, 2026-12-03; one 8-bit pass is enough for even scenes.)
 fn morton_sort(prims: &mut [Packed], lo: DVec3, hi: DVec3, per_chunk: usize) -> Vec<Range<usize>> {
     fn spread(mut x: u64) -> u64 {
         x &= 0x1f_ffff;
@@ -83,19 +67,34 @@ fn morton_sort(prims: &mut [Packed], lo: DVec3, hi: DVec3, per_chunk: usize) -> 
             spread(q.x as u64) | spread(q.y as u64) << 1 | spread(q.z as u64) << 2
         })
         .collect();
-    radix_sort(prims, &mut codes, 56);
-    chunk_ranges(&codes, per_chunk)
+    sort_and_cut(prims, &mut codes, per_chunk)
+}
+
+/// [`radix_sort`] as far as [`chunk_ranges`] needs, then the chunks: the same as a full sort
+/// gives, each chunk with the same primitives. Where the cells give too many chunks and
+/// [`chunk_ranges`] falls back to fixed counts, which cut inside cells, the sort is finished
+/// first.
+fn sort_and_cut(prims: &mut [Packed], codes: &mut [u64], per_chunk: usize) -> Vec<Range<usize>> {
+    radix_sort(prims, codes, 56, per_chunk);
+    cell_ranges(codes, per_chunk).unwrap_or_else(|| {
+        radix_sort(prims, codes, 56, 1);
+        chunk_ranges(codes, per_chunk)
+    })
 }
 
 /// Sorts `prims` and their `codes` together by the codes' bits below `shift + 8`, in place:
 /// one American-flag pass on bits `shift..shift + 8` (each element is swapped straight into
 /// its bucket, which keeps 256 sequential write streams instead of the random accesses of
 /// following a permutation's cycles: 2.4 s of a 6.5 s build at 1e7 spheres), then the buckets
-/// side by side on the next 8 bits, down to small runs sorted by insertion (stable). The
+/// side by side on the next 8 bits, down to small runs sorted by insertion (stable), or
+/// stopping at runs of at most `enough` (1 for a full sort), which keep their order. The
 /// result depends on nothing but the input (no thread count): equal codes keep an order fixed
 /// by the passes.
-fn radix_sort(prims: &mut [Packed], codes: &mut [u64], shift: u32) {
+fn radix_sort(prims: &mut [Packed], codes: &mut [u64], shift: u32, enough: usize) {
     debug_assert_eq!(prims.len(), codes.len());
+    if prims.len() <= enough {
+        return;
+    }
     if prims.len() <= 32 {
         for i in 1..prims.len() {
             let mut j = i;
@@ -151,7 +150,7 @@ fn radix_sort(prims: &mut [Packed], codes: &mut [u64], shift: u32) {
     }
     let next = shift.saturating_sub(8);
     runs.into_par_iter()
-        .for_each(|(p, c)| radix_sort(p, c, next));
+        .for_each(|(p, c)| radix_sort(p, c, next, enough));
 }
 
 /// Cuts sorted Morton codes into at most [`MAX_CHUNKS`] ranges of at most `per_chunk`.
@@ -164,6 +163,17 @@ fn radix_sort(prims: &mut [Packed], codes: &mut [u64], shift: u32) {
 /// and which a ray therefore has to walk for nothing. Falls back to fixed counts if the
 /// cells give too many chunks (very uneven scenes).
 fn chunk_ranges(codes: &[u64], per_chunk: usize) -> Vec<Range<usize>> {
+    cell_ranges(codes, per_chunk).unwrap_or_else(|| {
+        let n = codes.len();
+        (0..n)
+            .step_by(per_chunk)
+            .map(|at| at..(at + per_chunk).min(n))
+            .collect()
+    })
+}
+
+/// [`chunk_ranges`] at cell boundaries, or `None` when that gives more than [`MAX_CHUNKS`].
+fn cell_ranges(codes: &[u64], per_chunk: usize) -> Option<Vec<Range<usize>>> {
     fn split(codes: &[u64], base: usize, bit: i32, per_chunk: usize, out: &mut Vec<Range<usize>>) {
         if codes.len() <= per_chunk {
             if !codes.is_empty() {
@@ -190,14 +200,7 @@ fn chunk_ranges(codes: &[u64], per_chunk: usize) -> Vec<Range<usize>> {
             _ => merged.push(p),
         }
     }
-    if merged.len() > MAX_CHUNKS {
-        let n = codes.len();
-        merged = (0..n)
-            .step_by(per_chunk)
-            .map(|at| at..(at + per_chunk).min(n))
-            .collect();
-    }
-    merged
+    (merged.len() <= MAX_CHUNKS).then_some(merged)
 }
 
 /// World-space f64 box of a primitive.
@@ -341,16 +344,15 @@ impl SphereBvh {
                 );
                 // The boxes are in the BVH2 now: free them before the conversion's peak.
                 drop(boxes);
-                let mut bvh =
-                    bvh2_to_cwbvh(&bvh2, params.max_prims_per_leaf.clamp(1, 3), true, false);
+                let (mut bvh, depth) = super::wide::collapse(&bvh2, params.max_prims_per_leaf);
                 drop(bvh2);
                 // Leaf order: the traversal reports positions in `primitive_indices`, so the
                 // chunk's spheres are permuted into that order in place and the list is freed.
                 permute_in_place(part, &bvh.primitive_indices);
                 bvh.primitive_indices = Vec::new();
-                // obvhs reserves one node per primitive; about an eighth are used.
+                // The node list was sized for a guess.
                 bvh.nodes.shrink_to_fit();
-                let deep = cwbvh_depth(&bvh) >= 30;
+                let deep = depth >= 30;
                 Chunk {
                     deep,
                     bvh,
@@ -410,7 +412,7 @@ impl SphereBvh {
 
 #[cfg(test)]
 mod tests {
-    use super::{chunk_ranges, permute_in_place, radix_sort, MAX_CHUNKS};
+    use super::{chunk_ranges, permute_in_place, radix_sort, sort_and_cut, MAX_CHUNKS};
     use crate::accel::bvh::Packed;
     use crate::testing::Rng;
     use glam::DVec3;
@@ -445,7 +447,7 @@ mod tests {
             let mut prims: Vec<Packed> = (0..n)
                 .map(|i| Packed::new(DVec3::ZERO, 1.0, 0, i as u32, false, false))
                 .collect();
-            radix_sort(&mut prims, &mut codes, 56);
+            radix_sort(&mut prims, &mut codes, 56, 1);
             let mut want = original.clone();
             want.sort_unstable();
             assert_eq!(codes, want, "n {n} kind {kind}");
@@ -455,6 +457,47 @@ mod tests {
             let mut ids: Vec<u32> = prims.iter().map(|p| p.sphere).collect();
             ids.sort_unstable();
             assert!(ids.iter().enumerate().all(|(i, &v)| v == i as u32));
+        }
+    }
+
+    /// Stopping the sort at runs of `per_chunk` leaves the chunks a full sort gives: the same
+    /// ranges, each with the same codes. Uniform and clustered codes (one top bucket, so the
+    /// deeper passes run), chunks larger and smaller than the buckets, and more cells than
+    /// chunks allowed (the fixed counts, which need the full sort).
+    #[test]
+    fn sorting_as_far_as_the_chunks_need_gives_the_same_chunks() {
+        let mut rng = Rng::new(41);
+        for (n, per, kind) in [
+            (20000, 1000, 0),
+            (20000, 1500, 0),
+            (20000, 300, 0),
+            (20000, 1000, 1),
+            (20000, 20000, 0),
+            (5000, 40, 2),
+        ] {
+            let code = |rng: &mut Rng| match kind {
+                0 => rng.u64() >> 1,
+                1 => (5u64 << 56) | (rng.u64() >> 20),
+                _ => rng.below(7) as u64 * 0x0101_0101_0101,
+            };
+            let codes: Vec<u64> = (0..n).map(|_| code(&mut rng)).collect();
+            let prims: Vec<Packed> = (0..n)
+                .map(|i| Packed::new(DVec3::ZERO, 1.0, 0, i as u32, false, false))
+                .collect();
+            let (mut full, mut full_prims) = (codes.clone(), prims.clone());
+            radix_sort(&mut full_prims, &mut full, 56, 1);
+            let (mut part, mut part_prims) = (codes.clone(), prims);
+            let got = sort_and_cut(&mut part_prims, &mut part, per);
+            for (p, c) in part_prims.iter().zip(&part) {
+                assert_eq!(codes[p.sphere as usize], *c);
+            }
+            let ranges = chunk_ranges(&full, per);
+            assert_eq!(got, ranges, "n {n} per {per} kind {kind}");
+            for r in ranges {
+                let mut got = part[r.clone()].to_vec();
+                got.sort_unstable();
+                assert_eq!(got, full[r], "n {n} per {per} kind {kind}");
+            }
         }
     }
 

@@ -33,6 +33,7 @@
 mod build;
 pub use build::Side;
 mod query;
+mod wide;
 
 use std::time::Duration;
 
