@@ -19,8 +19,8 @@
 //! so that `R` becomes about `2^20`, and every f32 ray starts [`BACKUP`] units before its true
 //! start: every box the true segment meets is then left at `t >= BACKUP > 1e-4`.
 //!
-//! Why chunks. obvhs's build needs about 250 bytes per primitive while it runs (binary nodes,
-//! then the CWBVH conversion tables), more than the whole finished structure. The spheres are
+//! Why chunks. The build needs well over 100 bytes per primitive while it runs (obvhs's
+//! binary nodes, then the conversion's tables), more than the whole finished structure. The spheres are
 //! therefore sorted in Morton order and cut, at Morton cell boundaries where possible, into
 //! at most [`MAX_CHUNKS`] spatially compact chunks, each with its own CWBVH, so that the
 //! build's peak is paid for one chunk at a time.
@@ -28,7 +28,8 @@
 //! chunk that starts beyond its closest hit.
 //!
 //! Layout: this file holds the types and what both sides use; `build.rs` the Morton chunks
-//! and the obvhs builds, `query.rs` the traversals (closest hit, any hit, a region).
+//! and the obvhs builds, `wide.rs` the collapse of obvhs's binary tree into the CWBVH,
+//! `query.rs` the traversals (closest hit, any hit, a region).
 
 mod build;
 pub use build::Side;

@@ -368,10 +368,10 @@ pub(super) fn collapse(bvh2: &Bvh2, max_leaf: u32) -> (CwBvh, usize) {
         node.e = [axes[0].0, axes[1].0, axes[2].0];
         node.primitive_base_idx = prims.len() as u32;
         node.child_base_idx = wide.len() as u32;
-        // Slot of each internal child, in slot order: their wide nodes are laid out so.
+        // The internal children by slot (their wide nodes are laid out in slot order).
         let mut inner = [Part { node: 0, table: 0 }; 8];
         let mut inner_count = 0;
-        // In slot order: the leaves' primitives are listed so.
+        // Children in slot order, as the leaves' primitives are listed.
         let mut by_slot = [None; 8];
         for (k, part) in kids.iter().enumerate() {
             by_slot[slot[k]] = Some(*part);
