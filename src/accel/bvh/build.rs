@@ -417,6 +417,18 @@ mod tests {
     use crate::testing::Rng;
     use glam::DVec3;
 
+    /// `n` Morton codes: uniform (`kind` 0), clustered in one top bucket (1, so the deeper
+    /// passes do the work), or few repeated values (2).
+    fn random_codes(rng: &mut Rng, n: usize, kind: u32) -> Vec<u64> {
+        (0..n)
+            .map(|_| match kind {
+                0 => rng.u64() >> 1,
+                1 => (5u64 << 56) | (rng.u64() >> 20),
+                _ => rng.below(7) as u64 * 0x0101_0101_0101,
+            })
+            .collect()
+    }
+
     fn codes_of(keys: &[(u64, u32)]) -> Vec<u64> {
         keys.iter().map(|k| k.0).collect()
     }
@@ -437,12 +449,7 @@ mod tests {
             (5000, 2),
             (70000, 0),
         ] {
-            let code = |rng: &mut Rng| match kind {
-                0 => rng.u64() >> 1,
-                1 => (5u64 << 56) | (rng.u64() >> 20),
-                _ => rng.below(7) as u64 * 0x0101_0101_0101,
-            };
-            let mut codes: Vec<u64> = (0..n).map(|_| code(&mut rng)).collect();
+            let mut codes = random_codes(&mut rng, n, kind);
             let original = codes.clone();
             let mut prims: Vec<Packed> = (0..n)
                 .map(|i| Packed::new(DVec3::ZERO, 1.0, 0, i as u32, false, false))
@@ -475,12 +482,7 @@ mod tests {
             (20000, 20000, 0),
             (5000, 40, 2),
         ] {
-            let code = |rng: &mut Rng| match kind {
-                0 => rng.u64() >> 1,
-                1 => (5u64 << 56) | (rng.u64() >> 20),
-                _ => rng.below(7) as u64 * 0x0101_0101_0101,
-            };
-            let codes: Vec<u64> = (0..n).map(|_| code(&mut rng)).collect();
+            let codes = random_codes(&mut rng, n, kind);
             let prims: Vec<Packed> = (0..n)
                 .map(|i| Packed::new(DVec3::ZERO, 1.0, 0, i as u32, false, false))
                 .collect();
