@@ -197,8 +197,9 @@ fn digit_run(b: &[u8], k: usize) -> Option<(usize, u64)> {
 
 /// The common number shape, `[+-]? digits (. digits)?` with fewer than 8 digits before the
 /// point and 19 in all, no exponent, read without a byte loop (`convert` writes the colours
-/// of 8-bit tables with 16 to 18 fraction digits, their shortest round-trip text). Returns where it ends and its value, or None for anything else (which
-/// [`number_general`] then reads, with the same result for these).
+/// of 8-bit tables with 16 to 18 fraction digits, their shortest round-trip text). Returns
+/// where it ends and its value, or None for anything else (which [`number_general`] then
+/// reads, with the same result for these).
 #[inline(always)]
 fn short_decimal(b: &[u8]) -> Option<(usize, Number)> {
     let signed = matches!(b.first(), Some(b'+' | b'-'));

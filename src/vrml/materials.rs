@@ -272,11 +272,11 @@ fn merge_equal(
     };
     // `first[i]`: the first material equal to material i.
     let mut first: Vec<u32> = Vec::new();
-    for (i, j) in dups {
-        if first.is_empty() {
-            first = (0..n as u32).collect();
+    if !dups.is_empty() {
+        first = (0..n as u32).collect();
+        for (i, j) in dups {
+            first[i as usize] = j;
         }
-        first[i as usize] = j;
     }
     drop(pairs);
     if first.is_empty() {
