@@ -64,7 +64,10 @@ pub struct SweepBuffers {
 }
 
 /// The first opaque hit along `o + t d` (`t > 0`, spheres seen from outside, or a surface in
-/// front of them) and, in the same traversal, every gas interval in front of the spheres. Intervals are not yet clipped at the hit.
+/// front of them) and, in the same traversal, every gas interval in front of the spheres.
+/// Intervals are not yet clipped at the hit. (A ray entry point: compiled again for AVX2, see
+/// `accel::bvh`.)
+#[multiversion::multiversion(targets("x86_64+avx+avx2+fma+bmi1+bmi2+lzcnt+popcnt"))]
 pub fn gather(prep: &Prepared, o: DVec3, d: DVec3, out: &mut Vec<Interval>) -> Option<OpaqueHit> {
     out.clear();
     let sphere = prep

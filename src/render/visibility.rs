@@ -40,7 +40,8 @@ pub fn visible(prep: &Prepared, x: DVec3, l: DVec3, dist: f64, own: Option<Opaqu
 }
 
 /// [`visible`] against the spheres alone.
-#[inline]
+/// (A ray entry point: compiled again for AVX2, see `accel::bvh`.)
+#[multiversion::multiversion(targets("x86_64+avx+avx2+fma+bmi1+bmi2+lzcnt+popcnt"))]
 pub fn visible_through_spheres(
     bvh: &SphereBvh,
     x: DVec3,

@@ -27,12 +27,25 @@
 //! A ray visits the chunks its f64 box test reaches, nearest first, and stops at the first
 //! chunk that starts beyond its closest hit.
 //!
+//! Why the ray entry points are compiled twice. The build must run on any x86-64, whose
+//! baseline (SSE2) has no 8-wide vectors, no fused multiply-add and no `popcnt` or `lzcnt`
+//! (which the CWBVH traversal uses on every node). The functions that trace rays through
+//! this BVH (`first_sphere`, `visible_through_spheres`, `segments::gather`) are therefore
+//! `#[multiversion]`: compiled once more for AVX2 + FMA + BMI, and chosen at run time by
+//! the CPU (one cached atomic load per call). The traversal, the node test (`node_test.rs`)
+//! and the leaf closures are inlined into them (`#[inline(always)]`), so that they are
+//! compiled for the same instruction set. Nothing changes in the results: the f32 node test
+//! is the same arithmetic (the compiler never fuses a multiply and an add by itself), and
+//! every sphere test is exact in f64 whatever the culling.
+//!
 //! Layout: this file holds the types and what both sides use; `build.rs` the Morton chunks
 //! and the obvhs builds, `wide.rs` the collapse of obvhs's binary tree into the CWBVH,
-//! `query.rs` the traversals (closest hit, any hit, a region).
+//! `query.rs` the traversals (closest hit, any hit, a region), `node_test.rs` the ray test of
+//! one node's eight children.
 
 mod build;
 pub use build::Side;
+mod node_test;
 mod query;
 mod wide;
 

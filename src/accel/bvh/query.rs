@@ -5,6 +5,7 @@
 use glam::{DVec3, UVec2, Vec3A};
 use obvhs::ray::Ray as Ray32;
 
+use super::node_test::child_hits;
 use super::{Chunk, Hit, Prim, SphereBvh, BACKUP, MAX_CHUNKS};
 
 /// The parameter interval where `o + t d` is inside the box `lo..hi`, clipped to
@@ -85,7 +86,7 @@ fn walk_with<S: obvhs::faststack::FastStack<UVec2>>(
             c.bvh,
             node,
             state,
-            node.intersect_ray(&ray, state.oct_inv4),
+            child_hits(node, &ray, state.oct_inv4),
             {
                 match leaf(state.primitive_id) {
                     Step::Go => {}
@@ -178,7 +179,7 @@ impl SphereBvh {
 
     /// The closest primitive whose `test` accepts the ray: `test(index, prim, roots) -> Some(t)` for a
     /// hit at `t` in `(tmin, tmax]`. Returns the smallest such `t`.
-    #[inline]
+    #[inline(always)]
     pub fn closest(
         &self,
         o: DVec3,
@@ -248,7 +249,7 @@ impl SphereBvh {
     /// [`SphereBvh::any`], passing over primitive `skip` without a test: a shadow ray's own
     /// sphere, which its line always meets (so its roots would always be computed, for
     /// nothing).
-    #[inline]
+    #[inline(always)]
     pub fn any_except(
         &self,
         o: DVec3,
@@ -263,22 +264,27 @@ impl SphereBvh {
         let mut blocked = false;
         for &(t0, t1, k) in &list[..n] {
             let c = &self.chunks[k as usize];
-            walk(c, self.ray32(o, d, t0, t1), |i| {
-                let i = c.base + i;
-                if Some(i) == skip {
-                    return Step::Go;
-                }
-                // (Gathered before its roots, unlike `closest`: `roots_of` here measured 6 %
-                // fewer shadow rays a second on `bench trace`, 2026-12-02.)
-                let p = &self.prim(i);
-                match self.roots(p, o, d) {
-                    Some(roots) if blocks(i, p, roots) => {
-                        blocked = true;
-                        Step::Stop
+            walk(
+                c,
+                self.ray32(o, d, t0, t1),
+                // Inlined by hand, as in `closest`: this is the shadow rays' leaf test, and
+                // left out of line it was not compiled for the caller's instruction set
+                // (see mod.rs, "Why the ray entry points are compiled twice").
+                #[inline(always)]
+                |i| {
+                    let i = c.base + i;
+                    if Some(i) == skip {
+                        return Step::Go;
                     }
-                    _ => Step::Go,
-                }
-            });
+                    match self.roots_of(i, o, d) {
+                        Some(roots) if blocks(i, &self.prim(i), roots) => {
+                            blocked = true;
+                            Step::Stop
+                        }
+                        _ => Step::Go,
+                    }
+                },
+            );
             if blocked {
                 return true;
             }

@@ -27,7 +27,8 @@ pub struct OpaqueHit {
 
 /// The first opaque sphere along `o + t d` (`t > tmin`), seen from outside: a sphere whose
 /// first root is behind the origin is culled (MODEL.md: spheres are solid).
-#[inline]
+/// (A ray entry point: compiled again for AVX2, see `accel::bvh`.)
+#[multiversion::multiversion(targets("x86_64+avx+avx2+fma+bmi1+bmi2+lzcnt+popcnt"))]
 fn first_sphere(prep: &Prepared, o: DVec3, d: DVec3, tmin: f64) -> Option<crate::accel::Hit> {
     prep.bvh
         .closest(o, d, tmin, f64::INFINITY, |_, p, (t0, _)| {
