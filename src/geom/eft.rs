@@ -1,7 +1,9 @@
 //! Error-free transformations of f64 arithmetic (Knuth, Dekker, Veltkamp): a sum or product
 //! as its rounded value plus the exact rounding error. The exact sphere test (`sphere.rs`)
-//! and the density profiles' chords (`render::profile`) build on them. No fused multiply-add:
-//! without the `fma` target feature it is a slow library call on x86-64.
+//! and the density profiles' chords (`render::profile`) build on them. Products are Dekker's
+//! by default: without the `fma` target feature a fused multiply-add is a slow library call
+//! on x86-64. Code compiled for FMA (the sphere test's AVX2 clone) picks [`Fused`] instead,
+//! which gives the same exact pairs in two instructions.
 
 /// `a + b = s + e` exactly, `s = fl(a + b)` (Knuth's TwoSum; no branch on magnitudes).
 #[inline(always)]
@@ -38,6 +40,43 @@ pub(crate) fn two_square(a: f64) -> (f64, f64) {
     (p, ((h * h - p) + 2.0 * (h * l)) + l * l)
 }
 
+/// Exact products ([`two_prod`], [`two_square`]) by one method or the other. Both give the
+/// same pair whenever the product neither overflows nor underflows: `p` is the rounded
+/// product and `e = a * b - p` is representable, so there is only one right answer.
+pub(crate) trait ExactProducts {
+    fn prod(a: f64, b: f64) -> (f64, f64);
+    fn square(a: f64) -> (f64, f64);
+}
+
+/// Dekker's products (any x86-64).
+pub(crate) struct Dekker;
+
+/// Products with one fused multiply-add: only for code compiled with the `fma` feature.
+pub(crate) struct Fused;
+
+impl ExactProducts for Dekker {
+    #[inline(always)]
+    fn prod(a: f64, b: f64) -> (f64, f64) {
+        two_prod(a, b)
+    }
+    #[inline(always)]
+    fn square(a: f64) -> (f64, f64) {
+        two_square(a)
+    }
+}
+
+impl ExactProducts for Fused {
+    #[inline(always)]
+    fn prod(a: f64, b: f64) -> (f64, f64) {
+        let p = a * b;
+        (p, a.mul_add(b, -p))
+    }
+    #[inline(always)]
+    fn square(a: f64) -> (f64, f64) {
+        Fused::prod(a, a)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -51,6 +90,8 @@ mod tests {
             let b = (rng.u64() >> 13) as i64 - (1 << 50);
             let (p, e) = two_prod(a as f64, b as f64);
             assert_eq!(two_square(a as f64), two_prod(a as f64, a as f64));
+            assert_eq!(Fused::prod(a as f64, b as f64), (p, e));
+            assert_eq!(Fused::square(a as f64), two_square(a as f64));
             assert_eq!(p as i128 + e as i128, a as i128 * b as i128);
             let (s, e) = two_sum(a as f64 * 1024.0, b as f64 / 64.0);
             // Scale by 64 to make both sides integers.

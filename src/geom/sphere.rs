@@ -11,7 +11,7 @@
 
 use glam::DVec3;
 
-use super::eft::{two_prod, two_square, two_sum};
+use super::eft::{two_sum, Dekker, ExactProducts, Fused};
 
 /// Parameters `t0 <= t1` where the line `o + t d` meets the sphere `|x - c| = r`, or `None` if
 /// it misses.
@@ -38,8 +38,26 @@ pub fn sphere_roots(o: DVec3, d: DVec3, c: DVec3, r: f64) -> Option<(f64, f64)> 
     careful_roots(o, d, c, r)
 }
 
-/// [`sphere_roots`] once a certain miss is ruled out.
+/// [`sphere_roots`] once a certain miss is ruled out. Compiled again for FMA and chosen at
+/// run time: the exact products are then one fused multiply-add each instead of Dekker's
+/// splits (the same values, see [`ExactProducts`]).
+#[multiversion::multiversion(targets("x86_64+avx+avx2+fma+bmi1+bmi2+lzcnt+popcnt"))]
 fn careful_roots(o: DVec3, d: DVec3, c: DVec3, r: f64) -> Option<(f64, f64)> {
+    // Chosen when each clone is compiled, not at run time.
+    multiversion::target::match_target! {
+        "x86_64+fma" => careful_roots_with::<Fused>(o, d, c, r),
+        _ => careful_roots_with::<Dekker>(o, d, c, r),
+    }
+}
+
+/// [`careful_roots`] with the exact products of `P`.
+#[inline(always)]
+pub(crate) fn careful_roots_with<P: ExactProducts>(
+    o: DVec3,
+    d: DVec3,
+    c: DVec3,
+    r: f64,
+) -> Option<(f64, f64)> {
     if !(o.is_finite() && d.is_finite() && c.is_finite() && r.is_finite()) || r < 0.0 {
         return None;
     }
@@ -53,14 +71,14 @@ fn careful_roots(o: DVec3, d: DVec3, c: DVec3, r: f64) -> Option<(f64, f64)> {
         // largest squares above 2^-200, and every split operand below 2^995), so the inputs
         // need no scaling. Scaling by powers of two is exact, so this computes the same
         // sums and products as the scaled path, up to the rounding of the two square roots.
-        return unit_scale_roots(o, d, c, r);
+        return unit_scale_roots::<P>(o, d, c, r);
     }
     // The problem is invariant under o, c, r -> 2^-k (o, c, r) and d -> 2^-m d, with
     // t -> 2^(m-k) t. Powers of two scale exactly, so bring every input to about 1 and no
     // product below can overflow or underflow (even for d ~ 1e-300 or r ~ 1e300).
     let k = exponent(o.abs().max_element().max(c.abs().max_element()).max(r));
     let m = exponent(dmax);
-    let (t0, t1) = unit_scale_roots(
+    let (t0, t1) = unit_scale_roots::<P>(
         scale_down(o, k),
         scale_down(d, m),
         scale_down(c, k),
@@ -125,11 +143,9 @@ pub fn segment_chord(o: DVec3, d: DVec3, c: DVec3, r: f64, ta: f64, tb: f64) -> 
 /// `max |d_i|` in [1, 2), so `a = d.d` is in [1, 12) and nothing below overflows; or for
 /// unscaled inputs within [`SAFE_LO`]..[`SAFE_HI`], where nothing overflows either.
 ///
-/// No fused multiply-add: without an FMA target feature (the build must run on any x86-64),
-/// `f64::mul_add` is a call into a runtime-dispatched routine, and every call spills the
-/// vector registers. Exact products use Dekker's splitting instead ([`two_prod`]).
+/// Exact products by `P` ([`ExactProducts`]): Dekker's splitting unless compiled for FMA.
 #[inline(always)]
-fn unit_scale_roots(o: DVec3, d: DVec3, c: DVec3, r: f64) -> Option<(f64, f64)> {
+fn unit_scale_roots<P: ExactProducts>(o: DVec3, d: DVec3, c: DVec3, r: f64) -> Option<(f64, f64)> {
     // f = o - c = fh + fl exactly (TwoSum). Rounding f would move the line sideways by
     // eps |f|, which is 1e-9 r for a sphere of radius 1e-3 at distance 1e4.
     let (fh, fl) = two_sum3(o, -c);
@@ -141,7 +157,7 @@ fn unit_scale_roots(o: DVec3, d: DVec3, c: DVec3, r: f64) -> Option<(f64, f64)> 
     // ~(eps |f| / r)^2 / 2 (1e-9 for |f| / r = 3e11). One Newton step (v.d = 0 at the exact
     // parameter) gives the correction tl, kept apart from tc so it is not rounded away.
     let tc = -(fh.dot(d) + fl.dot(d)) / a;
-    let v1 = closest_offset(fh, fl, tc, d);
+    let v1 = closest_offset::<P>(fh, fl, tc, d);
     let tl = -v1.dot(d) / a;
     // tl d is the small correction (~eps |f|), so rounding the product first costs
     // ~eps^2 |f|, below v's own error.
@@ -169,7 +185,7 @@ fn unit_scale_roots(o: DVec3, d: DVec3, c: DVec3, r: f64) -> Option<(f64, f64)> 
         // |t_near| <= |t_far| holds exactly; clamping enforces it when q is tiny (a ray
         // nearly tangent at its origin), where rounding in c could make c/q huge.
         let lim = t_far.abs();
-        (dist2_minus_r2(fh, fl, r) / q).clamp(-lim, lim)
+        (dist2_minus_r2::<P>(fh, fl, r) / q).clamp(-lim, lim)
     } else {
         // q == 0: tc + tl == 0 and h == 0, a double root at the origin.
         t_far
@@ -186,9 +202,9 @@ fn unit_scale_roots(o: DVec3, d: DVec3, c: DVec3, r: f64) -> Option<(f64, f64)> 
 /// they cancel, by Sterbenz) and the small tails are added. As accurate as a fused
 /// multiply-add `fma(tc, d, fh) + fl`.
 #[inline(always)]
-fn closest_offset(fh: DVec3, fl: DVec3, tc: f64, d: DVec3) -> DVec3 {
+fn closest_offset<P: ExactProducts>(fh: DVec3, fl: DVec3, tc: f64, d: DVec3) -> DVec3 {
     let one = |dk: f64, fk: f64, lk: f64| {
-        let (p, e) = two_prod(tc, dk);
+        let (p, e) = P::prod(tc, dk);
         (p + fk) + (e + lk)
     };
     DVec3::new(
@@ -202,11 +218,11 @@ fn closest_offset(fh: DVec3, fl: DVec3, tc: f64, d: DVec3) -> DVec3 {
 /// cancels to nearly 0 (origin on the sphere): every square is split exactly into two f64s
 /// (TwoProduct) and the large parts are summed with TwoSum (Ogita, Rump, Oishi "Sum2").
 #[inline(always)]
-fn dist2_minus_r2(fh: DVec3, fl: DVec3, r: f64) -> f64 {
-    let (px, ex) = two_square(fh.x);
-    let (py, ey) = two_square(fh.y);
-    let (pz, ez) = two_square(fh.z);
-    let (pr, er) = two_square(r);
+fn dist2_minus_r2<P: ExactProducts>(fh: DVec3, fl: DVec3, r: f64) -> f64 {
+    let (px, ex) = P::square(fh.x);
+    let (py, ey) = P::square(fh.y);
+    let (pz, ez) = P::square(fh.z);
+    let (pr, er) = P::square(r);
     let (s, e1) = two_sum(px, py);
     let (s, e2) = two_sum(s, pz);
     let (s, e3) = two_sum(s, -pr);
@@ -287,6 +303,53 @@ mod tests {
         assert_eq!(scalbn(1.0, 5000), f64::INFINITY);
         assert_eq!(scalbn(-1.0, -5000), -0.0);
         assert_eq!(scalbn(3.0, 0), 3.0);
+    }
+
+    /// The FMA clone's exact products give the same roots, bit for bit, as Dekker's, on
+    /// hits, grazing rays, origins on and near the surface, tiny far spheres and inputs
+    /// that need scaling (outside 2^-100..2^100).
+    #[test]
+    fn fused_products_give_the_same_roots_as_dekkers() {
+        let mut rng = crate::testing::Rng::new(41);
+        let unit = |rng: &mut crate::testing::Rng| {
+            let v = DVec3::new(rng.f() - 0.5, rng.f() - 0.5, rng.f() - 0.5);
+            if v.length() > 1e-3 {
+                v.normalize()
+            } else {
+                DVec3::X
+            }
+        };
+        let (mut hits, mut grazing) = (0, 0);
+        for k in 0..40_000 {
+            let scale = 10f64.powf(rng.range(-140.0, 140.0) * f64::from(k % 4 == 0));
+            let r = scale * rng.log10(-6.0, 1.0);
+            let c = scale * 100.0 * DVec3::new(rng.f() - 0.5, rng.f() - 0.5, rng.f() - 0.5);
+            let d = unit(&mut rng) * rng.log10(-3.0, 3.0);
+            // The origin: anywhere, on the sphere, or placed so the line passes at a chosen
+            // distance from the centre (about r, for grazing rays).
+            let o = match k % 3 {
+                0 => c + scale * 1e3 * unit(&mut rng),
+                1 => c + r * unit(&mut rng),
+                _ => {
+                    let side = unit(&mut rng).cross(d).normalize_or(DVec3::Y);
+                    let miss = r * (1.0 + rng.range(-1e-12, 1e-12) * f64::from(k % 2 == 0));
+                    c + miss * side - d * rng.range(-1e3, 1e3) * scale
+                }
+            };
+            let fused = careful_roots_with::<Fused>(o, d, c, r);
+            let dekker = careful_roots_with::<Dekker>(o, d, c, r);
+            let bits = |x: Option<(f64, f64)>| x.map(|(a, b)| (a.to_bits(), b.to_bits()));
+            assert_eq!(bits(fused), bits(dekker), "{o:?} {d:?} {c:?} {r:e}");
+            hits += usize::from(dekker.is_some());
+            grazing += usize::from(
+                dekker.is_some_and(|(a, b)| (b - a).abs() < 1e-5 * (a.abs() + b.abs())),
+            );
+        }
+        // The cases above are not all misses, and some are nearly tangent.
+        assert!(
+            hits > 15_000 && grazing > 5_000,
+            "{hits} hits, {grazing} grazing"
+        );
     }
 
     #[test]
