@@ -52,7 +52,7 @@ fn careful_roots(o: DVec3, d: DVec3, c: DVec3, r: f64) -> Option<(f64, f64)> {
 
 /// [`careful_roots`] with the exact products of `P`.
 #[inline(always)]
-pub(crate) fn careful_roots_with<P: ExactProducts>(
+fn careful_roots_with<P: ExactProducts>(
     o: DVec3,
     d: DVec3,
     c: DVec3,

@@ -17,6 +17,15 @@ use obvhs::ray::Ray;
 /// mod.rs says why the frame makes it harmless.
 const EPSILON: f32 = 1e-4;
 
+/// obvhs's `ray_get_octant_inv4` (private there): for each axis, a bit set in every byte when
+/// the ray's direction is not negative (x 4, y 2, z 1), for `get_child_and_index_bits`.
+#[inline(always)]
+pub(super) fn octant_inv4(direction: Vec3A) -> u32 {
+    (if direction.x < 0.0 { 0 } else { 0x0404_0404 })
+        | (if direction.y < 0.0 { 0 } else { 0x0202_0202 })
+        | (if direction.z < 0.0 { 0 } else { 0x0101_0101 })
+}
+
 /// The traversal's hit mask for `node`: for each child box the ray meets within
 /// `[EPSILON, ray.tmax]`, the child's bits (`get_child_and_index_bits`) shifted into place:
 /// the internal children in the top byte in traversal order, the leaf children's primitives
@@ -116,19 +125,7 @@ mod tests {
                     next() * 3.0
                 };
                 let ray = Ray::new(origin, dir.normalize(), 0.0, tmax);
-                let oct = (if ray.direction.x < 0.0 {
-                    0
-                } else {
-                    0x0404_0404
-                }) | (if ray.direction.y < 0.0 {
-                    0
-                } else {
-                    0x0202_0202
-                }) | (if ray.direction.z < 0.0 {
-                    0
-                } else {
-                    0x0101_0101
-                });
+                let oct = octant_inv4(ray.direction);
                 for node in &bvh.nodes {
                     let ours = child_hits(node, &ray, oct);
                     assert_eq!(ours, node.intersect_ray(&ray, oct), "{node:?} {ray:?}");

@@ -5,7 +5,7 @@
 use glam::{DVec3, UVec2, Vec3A};
 use obvhs::ray::Ray as Ray32;
 
-use super::node_test::child_hits;
+use super::node_test::{child_hits, octant_inv4};
 use super::{Chunk, Hit, Prim, SphereBvh, BACKUP, MAX_CHUNKS};
 
 /// The parameter interval where `o + t d` is inside the box `lo..hi`, clipped to
@@ -51,10 +51,7 @@ impl<S> Walk<S> {
     /// `new_traversal` would also build, and zero, a stack of its own that we do not use.)
     #[inline(always)]
     fn start(c: &Chunk, direction: Vec3A, stack: S) -> Walk<S> {
-        // obvhs's `ray_get_octant_inv4` (private there).
-        let oct_inv4 = (if direction.x < 0.0 { 0 } else { 0x0404_0404 })
-            | (if direction.y < 0.0 { 0 } else { 0x0202_0202 })
-            | (if direction.z < 0.0 { 0 } else { 0x0101_0101 });
+        let oct_inv4 = octant_inv4(direction);
         Walk {
             stack,
             current_group: if c.bvh.nodes.is_empty() {
