@@ -20,10 +20,10 @@
 //! start: every box the true segment meets is then left at `t >= BACKUP > 1e-4`.
 //!
 //! Why chunks. The build needs well over 100 bytes per primitive while it runs (obvhs's
-//! binary nodes, then the conversion's tables), more than the whole finished structure. The spheres are
-//! therefore sorted in Morton order and cut, at Morton cell boundaries where possible, into
-//! at most [`MAX_CHUNKS`] spatially compact chunks, each with its own CWBVH, so that the
-//! build's peak is paid for one chunk at a time.
+//! binary nodes, then the conversion's tables), more than the whole finished structure. The
+//! spheres are therefore sorted in Morton order and cut, at Morton cell boundaries where
+//! possible, into at most [`MAX_CHUNKS`] spatially compact chunks, each with its own CWBVH, so
+//! that the build's peak is paid for one chunk at a time.
 //! A ray visits the chunks its f64 box test reaches, nearest first, and stops at the first
 //! chunk that starts beyond its closest hit.
 //!

@@ -73,48 +73,50 @@ pub(super) fn child_hits(node: &CwBvhNode, ray: &Ray, oct_inv4: u32) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::accel::bvh::wide::collapse;
+    use crate::accel::bvh::wide::tests::{bvh2, random_boxes};
     use crate::testing::Rng;
     use glam::vec3a;
-    use obvhs::aabb::Aabb;
-    use obvhs::cwbvh::CwBvh;
-    use obvhs::BvhBuildParams;
-
-    /// A CWBVH over `n` random boxes in `[-1, 1]^3` with sizes over three decades.
-    fn random_cwbvh(n: usize, seed: u64) -> CwBvh {
-        let mut rng = Rng::new(seed);
-        let boxes: Vec<Aabb> = (0..n)
-            .map(|_| {
-                let c = vec3a(rng.f() as f32, rng.f() as f32, rng.f() as f32) * 2.0 - 1.0;
-                let r = rng.log10(-3.0, 0.0) as f32;
-                Aabb::new(c - r, c + r)
-            })
-            .collect();
-        obvhs::cwbvh::builder::build_cwbvh(
-            &boxes,
-            BvhBuildParams::very_fast_build(),
-            &mut std::time::Duration::default(),
-        )
-    }
 
     /// The same masks as obvhs's `intersect_ray` (an independent implementation of the same
-    /// test) on every node of random trees, for rays from all octants, axis-parallel ones
-    /// and ones with `tmax` cutting through the boxes.
+    /// test) on every node of the trees our collapse builds over the collapse tests' random
+    /// boxes, for rays from all octants, axis-parallel ones and ones with `tmax` cutting
+    /// through the boxes.
     #[test]
     fn masks_match_obvhs() {
         let mut rng = Rng::new(7);
-        let mut next = move || rng.f() as f32;
         let mut compared = 0;
         let mut hit = 0;
-        for (n, seed) in [(50, 1), (3000, 2), (20000, 3)] {
-            let bvh = random_cwbvh(n, seed);
+        for (n, kind) in [
+            (50, 0),
+            (3000, 0),
+            (20000, 0),
+            (300, 1),
+            (2000, 2),
+            (500, 3),
+        ] {
+            let boxes = random_boxes(&mut rng, n, kind);
+            let (bvh, _) = collapse(&bvh2(&boxes), 3);
+            let (lo, hi) = boxes.iter().fold(
+                (Vec3A::splat(f32::INFINITY), Vec3A::splat(f32::NEG_INFINITY)),
+                |(lo, hi), b| (lo.min(b.min), hi.max(b.max)),
+            );
+            let size = (hi - lo).max_element();
             for _ in 0..400 {
-                let origin = vec3a(next(), next(), next()) * 4.0 - 2.0;
+                let mut next = || rng.f() as f32;
+                // Origins in and around the boxes' bounds.
+                let origin = lo + (hi - lo) * vec3a(next(), next(), next()) * 1.4 - (hi - lo) * 0.2;
                 let mut dir = vec3a(next(), next(), next()) * 2.0 - 1.0;
-                // Some rays along an axis or in a coordinate plane.
+                // Most rays aimed at a box (most boxes are small), some along an axis or in
+                // a coordinate plane.
                 match (next() * 8.0) as u32 {
                     0 => dir = vec3a(dir.x, 0.0, 0.0),
                     1 => dir = vec3a(0.0, dir.y, dir.z),
-                    _ => {}
+                    2 => {}
+                    _ => {
+                        let b = &boxes[(next() * n as f32) as usize % n];
+                        dir = b.center() - origin;
+                    }
                 }
                 if dir == Vec3A::ZERO {
                     continue;
@@ -122,7 +124,7 @@ mod tests {
                 let tmax = if next() < 0.5 {
                     f32::INFINITY
                 } else {
-                    next() * 3.0
+                    next() * 1.5 * size
                 };
                 let ray = Ray::new(origin, dir.normalize(), 0.0, tmax);
                 let oct = octant_inv4(ray.direction);

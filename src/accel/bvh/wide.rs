@@ -418,7 +418,7 @@ pub(super) fn collapse(bvh2: &Bvh2, max_leaf: u32) -> (CwBvh, usize) {
 }
 
 #[cfg(test)]
-mod tests {
+pub(in crate::accel::bvh) mod tests {
     use super::collapse;
     use crate::testing::Rng;
     use glam::Vec3A;
@@ -431,7 +431,7 @@ mod tests {
     use obvhs::BvhBuildParams;
 
     /// The binary tree the renderer builds (build.rs: PLOC, then reinsertion).
-    fn bvh2(boxes: &[Aabb]) -> Bvh2 {
+    pub(in crate::accel::bvh) fn bvh2(boxes: &[Aabb]) -> Bvh2 {
         let params = BvhBuildParams::very_fast_build();
         let mut bvh2 = PlocBuilder::with_capacity(boxes.len()).build(
             params.ploc_search_distance,
@@ -509,7 +509,9 @@ mod tests {
         deepest
     }
 
-    fn random_boxes(rng: &mut Rng, n: usize, kind: u32) -> Vec<Aabb> {
+    /// `n` boxes: uniform in `[0, 100]^3` (`kind` 0), coincident (1), far from the origin at
+    /// f32's coarse spacing (2), or points (3); radii over six decades.
+    pub(in crate::accel::bvh) fn random_boxes(rng: &mut Rng, n: usize, kind: u32) -> Vec<Aabb> {
         (0..n)
             .map(|_| {
                 let c = match kind {
