@@ -21,6 +21,9 @@ use super::Material;
 /// Slots of the direct-mapped cache that finds a stored record equal to a new one.
 const SLOTS: usize = 1024;
 
+/// Slots of the channel value cache (4 KiB).
+const CHANNEL_SLOTS: usize = 1024;
+
 /// Tags a packed entry (else: an index into `MaterialTable::wide`).
 const PACKED: u64 = 1 << 63;
 const CHANNEL_BITS: u32 = 18;
@@ -46,6 +49,12 @@ pub struct MaterialTable {
     /// A cache from a record's content to its index in `rest` + 1 (0: empty). Only a search
     /// aid: a record it misses is stored again, which costs memory, never a wrong material.
     recent: Option<Box<[u32; SLOTS]>>,
+    /// A cache from a channel value's bits to its index in `palette` + 1 (0: empty), looked
+    /// at before `palette_index` (a hash map probe for each of three channels was most of a
+    /// push).
+    recent_channels: Option<Box<[u32; CHANNEL_SLOTS]>>,
+    /// The record found or stored last, looked at before the cache (most files have one).
+    last_record: u32,
 }
 
 /// The bits of everything but the diffuse colour.
@@ -59,10 +68,17 @@ fn rest_key(m: &Material) -> [u64; 12] {
 /// The two slots of the record cache a key may sit in (two, so that two records used in turn
 /// that hash to one slot do not evict each other and get stored again at every turn).
 fn slots(key: &[u64; 12]) -> [usize; 2] {
-    let mut h: u64 = 0;
-    for &k in key {
-        h = (h.rotate_left(23) ^ k).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    // Three independent lanes (a third of one chain's dependent multiplications).
+    let mut lanes = [0u64; 3];
+    for words in key.chunks_exact(3) {
+        for (h, &k) in lanes.iter_mut().zip(words) {
+            *h = (h.rotate_left(23) ^ k).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        }
     }
+    let mut h = lanes[0] ^ lanes[1].rotate_left(21) ^ lanes[2].rotate_left(42);
+    h ^= h >> 29;
+    h = h.wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    h ^= h >> 32;
     [(h >> 40) as usize % SLOTS, (h >> 20) as usize % SLOTS]
 }
 
@@ -100,6 +116,24 @@ impl MaterialTable {
 
     /// The palette index of value `v`, added if new and there is room.
     fn channel(&mut self, v: f64) -> Option<u64> {
+        let bits = v.to_bits();
+        let slot = (bits.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 54) as usize % CHANNEL_SLOTS;
+        let recent = self
+            .recent_channels
+            .get_or_insert_with(|| Box::new([0; CHANNEL_SLOTS]));
+        let e = recent[slot] as usize;
+        if e != 0 && self.palette[e - 1].to_bits() == bits {
+            return Some(e as u64 - 1);
+        }
+        let k = self.channel_slow(v)?;
+        if let Some(recent) = &mut self.recent_channels {
+            recent[slot] = k as u32 + 1;
+        }
+        Some(k)
+    }
+
+    /// [`Self::channel`] past its cache.
+    fn channel_slow(&mut self, v: f64) -> Option<u64> {
         let palette = &self.palette;
         let index = self.palette_index.get_or_insert_with(|| {
             palette
@@ -155,6 +189,14 @@ impl MaterialTable {
     /// the cache finds none.
     fn record(&mut self, m: &Material) -> u32 {
         let key = rest_key(m);
+        let last = self.last_record;
+        if self
+            .rest
+            .get(last as usize)
+            .is_some_and(|l| rest_key(l) == key)
+        {
+            return last;
+        }
         let [a, b] = slots(&key);
         let recent = self.recent.get_or_insert_with(|| Box::new([0; SLOTS]));
         let rest = &self.rest;
@@ -163,6 +205,7 @@ impl MaterialTable {
             e => (rest_key(&rest[e as usize - 1]) == key).then_some(e - 1),
         };
         if let Some(r) = at(a).or_else(|| at(b)) {
+            self.last_record = r;
             return r;
         }
         let r = self.rest.len() as u32;
@@ -177,6 +220,7 @@ impl MaterialTable {
             a
         };
         recent[s] = r + 1;
+        self.last_record = r;
         r
     }
 
@@ -252,6 +296,7 @@ impl MaterialTable {
         self.rest.shrink_to_fit();
         self.palette_index = None;
         self.recent = None;
+        self.recent_channels = None;
     }
 
     pub fn iter(&self) -> impl ExactSizeIterator<Item = Material> + '_ {
@@ -267,6 +312,10 @@ impl MaterialTable {
             + self.wide.capacity() * size_of::<(DVec3, u32)>()
             + self.rest.capacity() * size_of::<Material>()
             + self.recent.as_ref().map_or(0, |_| SLOTS * size_of::<u32>())
+            + self
+                .recent_channels
+                .as_ref()
+                .map_or(0, |_| CHANNEL_SLOTS * size_of::<u32>())
     }
 }
 

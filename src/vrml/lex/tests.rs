@@ -91,6 +91,11 @@ fn seventeen_to_nineteen_digits_agree_with_std_parse() {
         "4503599627370497.5",
         "-4503599627370496.50",
         "0.9999999999999999999",
+        // 1 - 6e-17 rounds down to 1 - 2^-53, though its f64 estimate is 1: the midpoint
+        // below a power of two is a quarter unit away (19 digits with the 0, so that the
+        // integer division takes it, not str::parse).
+        "0.999999999999999940",
+        "-0.999999999999999940",
         "1844674407370955.1615",
         "0.10000000000000000555",
     ]

@@ -109,6 +109,7 @@ struct Reader<'a, 'n> {
 
 impl<'a> Reader<'a, '_> {
     /// The next word, after white space.
+    #[inline(always)]
     fn word(&mut self) -> Option<&'a str> {
         let (rest, id) = identifier(ws(self.rest)).ok()?;
         self.rest = rest;
@@ -116,6 +117,7 @@ impl<'a> Reader<'a, '_> {
     }
 
     /// The next byte after white space, if it is `c` (consumed).
+    #[inline(always)]
     fn byte(&mut self, c: u8) -> bool {
         let r = ws(self.rest);
         if r.as_bytes().first() == Some(&c) {
@@ -127,6 +129,7 @@ impl<'a> Reader<'a, '_> {
     }
 
     /// Exactly `n` numbers (no more follow), as one field value.
+    #[inline(always)]
     fn numbers(&mut self, n: usize) -> Option<[f64; 3]> {
         let mut v = [0.0; 3];
         for x in v.iter_mut().take(n) {
@@ -143,12 +146,14 @@ impl<'a> Reader<'a, '_> {
     }
 
     /// `Type {` with this type; returns where the type starts.
+    #[inline(always)]
     fn open(&mut self, ty: &str) -> Option<usize> {
         let at = self.all.len() - ws(self.rest).len();
         (self.word()? == ty && self.byte(b'{')).then_some(at)
     }
 
     /// The members of a node up to its `}`, each word read by `member`.
+    #[inline(always)]
     fn members(&mut self, mut member: impl FnMut(&mut Self, &str) -> Option<()>) -> Option<()> {
         loop {
             if self.byte(b'}') {
