@@ -65,17 +65,24 @@ fn rest_key(m: &Material) -> [u64; 12] {
     ]
 }
 
-/// The two slots of the record cache a key may sit in (two, so that two records used in turn
-/// that hash to one slot do not evict each other and get stored again at every turn).
-fn slots(key: &[u64; 12]) -> [usize; 2] {
-    // Three independent lanes (a third of one chain's dependent multiplications).
-    let mut lanes = [0u64; 3];
-    for words in key.chunks_exact(3) {
-        for (h, &k) in lanes.iter_mut().zip(words) {
+/// A multiply-xor mix of `words` (fixed: the same on every call and every run) in three
+/// independent lanes, words 0, 3, 6, ... in the first: a third of the dependent
+/// multiplications of one chain, which sat before every material's cache lookup. Not yet
+/// avalanched: callers finish it for the bits they use.
+pub(crate) fn mix_in_lanes(words: &[u64]) -> u64 {
+    let mut lanes = [0u64, 1, 2];
+    for chunk in words.chunks(3) {
+        for (h, &k) in lanes.iter_mut().zip(chunk) {
             *h = (h.rotate_left(23) ^ k).wrapping_mul(0x9E37_79B9_7F4A_7C15);
         }
     }
-    let mut h = lanes[0] ^ lanes[1].rotate_left(21) ^ lanes[2].rotate_left(42);
+    lanes[0] ^ lanes[1].rotate_left(21) ^ lanes[2].rotate_left(42)
+}
+
+/// The two slots of the record cache a key may sit in (two, so that two records used in turn
+/// that hash to one slot do not evict each other and get stored again at every turn).
+fn slots(key: &[u64; 12]) -> [usize; 2] {
+    let mut h = mix_in_lanes(key);
     h ^= h >> 29;
     h = h.wrapping_mul(0xBF58_476D_1CE4_E5B9);
     h ^= h >> 32;

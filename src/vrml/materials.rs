@@ -16,27 +16,18 @@
 
 use rayon::prelude::*;
 
-use crate::scene::{Material, MaterialTable, Scene};
+use crate::scene::{mix_in_lanes, Material, MaterialTable, Scene};
 
 /// Every field's bits ([`Material::key`]).
 fn material_key(m: &Material) -> [u64; 15] {
     m.key()
 }
 
-/// A fixed (same on every call and every run) hash of a material's key: a multiply-xor mix
-/// in three independent lanes (words 0, 3, 6, ... in one; a third of the dependent
-/// multiplications of one chain, which sat on the path of every Material read), then a final
-/// avalanche so that every input bit reaches both the low bits (cache slots) and the high
-/// bits (tags).
+/// A fixed (same on every call and every run) hash of a material's key: the lanes' mix, then
+/// a final avalanche so that every input bit reaches both the low bits (cache slots) and the
+/// high bits (tags).
 fn hash_key(key: &[u64; 15]) -> u64 {
-    const K: u64 = 0x9E37_79B9_7F4A_7C15;
-    let mut lanes = [0u64, 1, 2];
-    for words in key.chunks_exact(3) {
-        for (h, &k) in lanes.iter_mut().zip(words) {
-            *h = (h.rotate_left(23) ^ k).wrapping_mul(K);
-        }
-    }
-    let mut h = lanes[0] ^ lanes[1].rotate_left(21) ^ lanes[2].rotate_left(42);
+    let mut h = mix_in_lanes(key);
     h ^= h >> 33;
     h = h.wrapping_mul(0xFF51_AFD7_ED55_8CCD);
     h ^= h >> 33;
