@@ -144,6 +144,50 @@ fn where_replaying_does_more_it_replays() {
 }
 
 #[test]
+fn instances_of_several_protos_in_turn_are_the_replay() {
+    // Instances read whole remember the last PROTO found by name and the fields the last
+    // instance gave, in its order: two PROTOs whose fields share names but not types, in
+    // turn, in varying orders, a field given twice, one PROTO declared again under the same
+    // name, and a wrong value after a run of right ones.
+    let a = "PROTO A [ field SFVec3f p 0 0 0 field SFFloat r 1 field SFColor c 1 1 1 ] \
+             { Transform { translation IS p children Shape { appearance Appearance { \
+             material Material { diffuseColor IS c } } geometry Sphere { radius IS r } } } }";
+    let b = "PROTO B [ field SFFloat p 1 field SFVec3f r 0 0 0 field MFFloat c [ ] ] \
+             { Transform { translation IS r children Shape { geometry Sphere { radius IS p } } } }";
+    let a2 = "PROTO A [ field SFFloat r 1 field SFVec3f p 0 0 0 ] \
+              { Transform { translation IS p children Shape { geometry Sphere { radius IS r } } } }";
+    let body = [
+        "A { p 1 2 3 r 0.5 c 1 0 0 }",
+        "B { p 0.5 r 1 2 3 }",
+        "A { p 1 2 3 r 0.5 c 0 1 0 }",
+        "B { p 0.25 r 3 2 1 c 7 }",
+        "A { r 2 p 1 1 1 }",
+        "A { r 2 p 1 1 1 r 3 }",
+        "A { p 1 2 3 p 4 5 6 c 0 0 1 }",
+        "B { r 1 1 1 p 2 }",
+        "A { p 1 2 3 r 0.5 c 0 1 0 }",
+        a2,
+        "A { p 1 2 3 r 0.5 }",
+        "A { r 0.5 p 3 2 1 }",
+    ];
+    let text = format!("#VRML V2.0 utf8\n{a}\n{b}\n{}\n", body.join("\n"));
+    let r = same(&text).expect("loads");
+    assert_eq!(r.template_instances, 11);
+    // A value of the wrong length once the fields are known (an error both ways), and the
+    // other PROTO's field of that name in the same place (which takes it).
+    for tail in [
+        "A { p 1 2 r 0.5 }",
+        "B { p 1 2 3 }",
+        "B { p 2 r 1 2 3 } A { p 2 r 1 }",
+    ] {
+        let text = format!(
+            "#VRML V2.0 utf8\n{a}\n{b}\nA {{ p 1 2 3 r 0.5 }} B {{ p 2 r 1 2 3 }}\n{tail}\n"
+        );
+        same(&text);
+    }
+}
+
+#[test]
 fn the_node_limit_is_the_replays() {
     // Ten instances USEd fifty times: far more nodes than bytes, so that the limit (max_nodes
     // plus one per byte read) is reached inside an instance, at each node in turn.

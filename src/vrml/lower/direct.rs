@@ -29,7 +29,7 @@ use crate::source::SourceWindow;
 use crate::vrml::schema;
 use crate::vrml::syntax::{Event, Nums, OwnedEvent, OwnedValue, Value};
 
-use super::template::{Given, SphereTemplate};
+use super::template::{padded3, Given, SphereTemplate};
 use crate::vrml::parse::sphere::FlatNode;
 
 /// One field value an instance gave, as written (the last of a name counts).
@@ -55,6 +55,76 @@ struct Reading {
 pub(super) struct Direct {
     reading: Option<Reading>,
     given: Vec<GivenField>,
+    memo: FieldMemo,
+}
+
+/// The interface fields the last instance read whole gave, in its order, and what value each
+/// takes: the next instance of the same PROTO (a file of a million instances writes the same
+/// fields in the same order) tries them first, with one name comparison, before the search
+/// by name and the type check of [`given_field`].
+#[derive(Default)]
+struct FieldMemo {
+    proto: Option<Rc<ProtoDecl>>,
+    order: Vec<Fits>,
+}
+
+/// An interface field and the plain numbers its type takes (what [`schema::check_value`]
+/// accepts of an unbracketed value): `len` of them, integers where `integer`.
+#[derive(Clone, Copy)]
+struct Fits {
+    fi: u32,
+    len: u8,
+    integer: bool,
+}
+
+impl FieldMemo {
+    /// The field at `k` in the instance, if the last instance of `proto` gave `name` there
+    /// and `values` fit it: what [`given_field`] would return (the first interface field of
+    /// that name, which an instance may set, and a value of its type).
+    #[inline(always)]
+    fn given(
+        &self,
+        proto: &ProtoDecl,
+        k: usize,
+        name: &str,
+        at: u64,
+        values: &[f64],
+        integer: bool,
+    ) -> Option<GivenField> {
+        let m = *self.order.get(k)?;
+        let f = &proto.fields[m.fi as usize];
+        if values.len() != usize::from(m.len)
+            || (m.integer && !integer)
+            || !schema::same_bytes(f.name.as_bytes(), name.as_bytes())
+        {
+            return None;
+        }
+        Some(GivenField {
+            fi: m.fi,
+            len: m.len,
+            integer,
+            at,
+            numbers: padded3(values),
+        })
+    }
+
+    /// Remembers that the instance gave field `fi` at `k` (`proto`'s instances from now on).
+    fn learn(&mut self, proto: &Rc<ProtoDecl>, k: usize, fi: u32) {
+        if !self.proto.as_ref().is_some_and(|p| Rc::ptr_eq(p, proto)) {
+            self.proto = Some(proto.clone());
+            self.order.clear();
+        }
+        let ty = proto.fields[fi as usize].ty;
+        let fits = ty.arity().filter(|&n| n <= 3).map(|n| Fits {
+            fi,
+            len: n as u8,
+            integer: ty.is_integer(),
+        });
+        self.order.truncate(k);
+        if let (Some(m), true) = (fits, self.order.len() == k) {
+            self.order.push(m);
+        }
+    }
 }
 
 impl Lowerer {
@@ -107,7 +177,7 @@ impl Lowerer {
         if schema::node_index(ty).is_some() && !self.scopes.proto_shadows_standard {
             return Ok(false);
         }
-        let Some(proto) = self.scopes.proto(ty) else {
+        let Some(proto) = self.scopes.proto_memo(ty) else {
             return Ok(false);
         };
         if !self.template_may_read(&proto) {
@@ -125,17 +195,29 @@ impl Lowerer {
         at: u64,
         text: &str,
         node: &FlatNode,
-        proto: &ProtoDecl,
+        proto: &Rc<ProtoDecl>,
         tpl: &SphereTemplate,
     ) -> Result<bool, Error> {
         // (No instance is being read into its template here: the buffer is free.)
         self.direct.given.clear();
-        for f in node.fields() {
-            let at = at + u64::from(f.at);
-            match given_field(proto, f.name(text), at, f.numbers(), f.integer) {
-                Some(g) => self.direct.given.push(g),
-                None => return Ok(false),
-            }
+        let memo = &mut self.direct.memo;
+        let known = memo.proto.as_ref().is_some_and(|p| Rc::ptr_eq(p, proto));
+        for (k, f) in node.fields().iter().enumerate() {
+            let (at, name) = (at + u64::from(f.at), f.name(text));
+            let fast = known
+                .then(|| memo.given(proto, k, name, at, f.numbers(), f.integer))
+                .flatten();
+            let g = match fast {
+                Some(g) => g,
+                None => match given_field(proto, name, at, f.numbers(), f.integer) {
+                    Some(g) => {
+                        memo.learn(proto, k, g.fi);
+                        g
+                    }
+                    None => return Ok(false),
+                },
+            };
+            self.direct.given.push(g);
         }
         let given = &self.direct.given;
         // The instance's own node is counted before the template's.
@@ -265,14 +347,12 @@ fn given_field(
         bracketed: false,
     };
     schema::check_value(f.ty, &value).ok()?;
-    let mut numbers = [0.0; 3];
-    numbers[..values.len()].copy_from_slice(values);
     Some(GivenField {
         fi: fi as u32,
         len: values.len() as u8,
         integer,
         at,
-        numbers,
+        numbers: padded3(values),
     })
 }
 

@@ -14,6 +14,7 @@ use std::rc::Rc;
 use hashbrown::HashMap;
 
 use super::declare::ProtoDecl;
+use crate::vrml::schema::same_bytes;
 
 /// A DEF: the arena range of its node's events, and its node type.
 #[derive(Clone, Debug)]
@@ -45,11 +46,16 @@ pub(super) struct Scopes {
     /// A PROTO was declared with a standard node type's name: standard types must then be
     /// looked up among the PROTOs too (otherwise they cannot name one).
     pub(super) proto_shadows_standard: bool,
+    /// The last name [`Self::proto_memo`] looked up and what it found (a file of a million
+    /// instances names the same PROTO a million times). Forgotten whenever the namespaces
+    /// change.
+    memo: Option<(String, Rc<ProtoDecl>)>,
 }
 
 impl Scopes {
     /// Enters a file's namespace.
     pub(super) fn push_file(&mut self) {
+        self.memo = None;
         self.stack.push(Scope {
             file_root: true,
             ..Scope::default()
@@ -58,12 +64,14 @@ impl Scopes {
 
     /// Enters a PROTO body expansion's namespace.
     pub(super) fn push_body(&mut self) {
+        self.memo = None;
         self.stack.push(Scope::default());
     }
 
     /// Enters the file scope of an external PROTO's body: the PROTOs of its file, and none
     /// of those around the instance.
     pub(super) fn push_home(&mut self, home: Rc<Protos>) {
+        self.memo = None;
         self.stack.push(Scope {
             file_root: true,
             home: Some(home),
@@ -72,11 +80,13 @@ impl Scopes {
     }
 
     pub(super) fn pop(&mut self) {
+        self.memo = None;
         self.stack.pop();
     }
 
     /// Leaves a file's namespace, keeping the PROTOs it declared.
     pub(super) fn pop_protos(&mut self) -> Protos {
+        self.memo = None;
         self.stack.pop().map(|s| s.protos).unwrap_or_default()
     }
 
@@ -89,16 +99,19 @@ impl Scopes {
     /// [`Self::restore`]): an instance's value is read in the instance's namespace, not in
     /// the namespaces of the body it is substituted into.
     pub(super) fn take_above(&mut self, depth: usize) -> Vec<Scope> {
+        self.memo = None;
         self.stack.split_off(depth.min(self.stack.len()))
     }
 
     /// Leaves the namespaces entered since there were `depth`.
     pub(super) fn leave_to(&mut self, depth: usize) {
+        self.memo = None;
         self.stack.truncate(depth);
     }
 
     /// Puts back the namespaces [`Self::take_above`] took.
     pub(super) fn restore(&mut self, scopes: Vec<Scope>) {
+        self.memo = None;
         self.stack.extend(scopes);
     }
 
@@ -119,6 +132,21 @@ impl Scopes {
             }
         }
         None
+    }
+
+    /// [`Self::proto`], remembering the last name looked up while the namespaces stay the same.
+    pub(super) fn proto_memo(&mut self, name: &str) -> Option<Rc<ProtoDecl>> {
+        if let Some((n, p)) = &self.memo {
+            if same_bytes(n.as_bytes(), name.as_bytes()) {
+                return Some(p.clone());
+            }
+        }
+        let p = self.proto(name)?;
+        let mut n = self.memo.take().map(|(n, _)| n).unwrap_or_default();
+        n.clear();
+        n.push_str(name);
+        self.memo = Some((n, p.clone()));
+        Some(p)
     }
 
     /// The names the file's namespace has defined from arena position `mark` on.
@@ -156,6 +184,7 @@ impl Scopes {
 
     /// A PROTO declaration has ended: its name now means it.
     pub(super) fn declare(&mut self, name: Rc<str>, decl: Rc<ProtoDecl>, standard_name: bool) {
+        self.memo = None;
         self.proto_shadows_standard |= standard_name;
         if let Some(s) = self.stack.last_mut() {
             s.protos.insert(name, decl);

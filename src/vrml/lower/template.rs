@@ -200,11 +200,7 @@ impl<'a> Matcher<'a> {
             }
             OwnedValue::Numbers {
                 values, bracketed, ..
-            } if !bracketed && values.len() == arity => {
-                let mut v = [0.0; 3];
-                v[..arity].copy_from_slice(values);
-                Some(Slot::Given(v))
-            }
+            } if !bracketed && values.len() == arity => Some(Slot::Given(padded3(values))),
             _ => None,
         }
     }
@@ -312,6 +308,19 @@ fn radius_ok(r: f64) -> bool {
 }
 
 /// What an instance gives one interface field (see [`Lowerer::template_inputs`]).
+/// Up to three numbers in a fixed array, the rest zero. (Element by element: copying a slice
+/// of varying length called `memcpy`, six times a particle in the PROTO layout.)
+#[inline(always)]
+pub(super) fn padded3(values: &[f64]) -> [f64; 3] {
+    let mut v = [0.0; 3];
+    for (i, x) in v.iter_mut().enumerate() {
+        if let Some(&y) = values.get(i) {
+            *x = y;
+        }
+    }
+    v
+}
+
 pub(super) enum Given<'a> {
     /// Plain numbers, not bracketed.
     Numbers(&'a [f64]),
@@ -406,9 +415,7 @@ impl Lowerer {
             if numbers.len() != arity {
                 return None;
             }
-            let mut v = [0.0; 3];
-            v[..arity].copy_from_slice(numbers);
-            Some(v)
+            Some(padded3(numbers))
         };
         let translation = match &tpl.translation {
             Some(s) => Some(DVec3::from_array(value(s, 3)?)),

@@ -96,7 +96,7 @@ pub fn node_index(name: &str) -> Option<usize> {
 /// `a == b` for names: those of 4 to 16 bytes (almost all) are compared as two overlapping
 /// words instead of through a `memcmp` call.
 #[inline(always)]
-fn same_bytes(a: &[u8], b: &[u8]) -> bool {
+pub(crate) fn same_bytes(a: &[u8], b: &[u8]) -> bool {
     let n = a.len();
     if n != b.len() {
         return false;

@@ -11,6 +11,7 @@ mod lookup;
 mod tables;
 mod value;
 
+pub(crate) use lookup::same_bytes;
 pub use lookup::{node_index, node_spec, NodeSpec};
 pub use tables::NODES;
 pub(crate) use value::{check_value, type_name};
