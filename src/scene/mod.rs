@@ -8,8 +8,8 @@ mod surface;
 use glam::{DAffine3, DQuat, DVec3};
 
 pub use build::{Radii, SphereArrays};
-pub(crate) use material_table::mix_in_lanes;
 pub use material_table::MaterialTable;
+pub(crate) use material_table::{mix_in_lanes, same_words};
 pub use profile::{Profile, DEFAULT_WIDTH};
 pub use surface::{Mapping, Surface, SurfaceCounts, SurfaceShape, Triangle};
 

@@ -16,7 +16,7 @@
 
 use rayon::prelude::*;
 
-use crate::scene::{mix_in_lanes, Material, MaterialTable, Scene};
+use crate::scene::{mix_in_lanes, same_words, Material, MaterialTable, Scene};
 
 /// Every field's bits ([`Material::key`]).
 fn material_key(m: &Material) -> [u64; 15] {
@@ -90,7 +90,7 @@ impl RecentMaterials {
         let e = self.slots[slot];
         if e != 0 {
             let i = (e as u32).wrapping_sub(1);
-            if e & !0xFFFF_FFFF == tag && material_key(&mats.get(i as usize)) == key {
+            if e & !0xFFFF_FFFF == tag && same_words(&material_key(&mats.get(i as usize)), &key) {
                 return i;
             }
             self.evicted = true;
@@ -239,7 +239,10 @@ fn merge_equal(
                 let q = part[e - 1];
                 let j = q as u32;
                 if (q >> 32) as u32 == tag
-                    && material_key(&mats.get(j as usize)) == material_key(&mats.get(i as usize))
+                    && same_words(
+                        &material_key(&mats.get(j as usize)),
+                        &material_key(&mats.get(i as usize)),
+                    )
                 {
                     out.push((i, j));
                     break;
