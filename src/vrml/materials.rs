@@ -163,8 +163,18 @@ impl RecentMaterials {
         let moved = self.merge(&mut scene.materials);
         scene.materials.shrink_to_fit();
         if let Some(new_index) = moved {
-            for s in &mut scene.spheres {
-                s.material = new_index[s.material as usize];
+            // (A million spheres' lookups, side by side on the thread pool when reading was:
+            // the read's last serial step after the merge.)
+            if self.parallel {
+                scene
+                    .spheres
+                    .par_iter_mut()
+                    .with_min_len(1 << 14)
+                    .for_each(|s| s.material = new_index[s.material as usize]);
+            } else {
+                for s in &mut scene.spheres {
+                    s.material = new_index[s.material as usize];
+                }
             }
             for s in &mut scene.surfaces {
                 s.material = new_index[s.material as usize];

@@ -63,7 +63,7 @@ fn particle(i: usize) -> String {
 }
 
 #[test]
-fn the_three_layouts_are_read_in_pieces() {
+fn the_three_layouts_and_ellipsoids_are_read_in_pieces() {
     let flat: String = (0..300).map(particle).collect();
     let flat = format!("#VRML V2.0 utf8\n{flat}");
     let group: String = (0..300).map(particle).collect();
@@ -76,7 +76,16 @@ fn the_three_layouts_are_read_in_pieces() {
     for i in 0..300 {
         proto += &format!("P {{ c {i} 0 1 r 0.{} k 0.5 0.{} 1 }}\n", 1 + i % 9, i % 10);
     }
-    for text in [&flat, &group, &proto] {
+    // Each particle an ellipsoid of its own: every piece's ellipsoids are numbered on from
+    // those of the pieces before it.
+    let scaled: String = (0..300)
+        .map(|i| {
+            let s = 1.0 + (i % 7) as f64 / 4.0;
+            format!("Transform {{ scale {s} 1 2 children {} }}\n", particle(i))
+        })
+        .collect();
+    let scaled = format!("#VRML V2.0 utf8\n{scaled}");
+    for text in [&flat, &group, &proto, &scaled] {
         for threads in [2, 3] {
             let r = same(text, threads, 500).expect("loads");
             assert!(

@@ -278,17 +278,22 @@ impl Lowerer {
         );
         let e0 = scene.ellipsoids.len();
         scene.ellipsoids.extend(d.ellipsoids);
-        scene.spheres.reserve(d.spheres.len());
-        for mut s in d.spheres.drain(..) {
+        // One pass that the compiler turns into a plain copy loop (no capacity check or early
+        // return per sphere: a million spheres' push loop was 6 % of a two-thread read's CPU).
+        let base = d.ellipsoid_base;
+        let mut foreign = false;
+        scene.spheres.extend(d.spheres.drain(..).map(|mut s| {
             s.material += first;
             if let Some(id) = s.ellipsoid {
                 let i = id.index();
-                if i < d.ellipsoid_base {
-                    return Err("a sphere of the chunk is an ellipsoid of its prefix".into());
-                }
-                s.ellipsoid = EllipsoidId::new(i - d.ellipsoid_base + e0);
+                foreign |= i < base;
+                s.ellipsoid = EllipsoidId::new((i + e0).wrapping_sub(base));
             }
-            scene.spheres.push(s);
+            s
+        }));
+        if foreign {
+            // (The whole file is then read again by one reader: what was put in place goes.)
+            return Err("a sphere of the chunk is an ellipsoid of its prefix".into());
         }
         for mut s in d.surfaces {
             s.material += first;
