@@ -11,6 +11,7 @@ use nom::combinator::{opt, recognize};
 use nom::error::{Error, ErrorKind};
 use nom::sequence::preceded;
 use nom::{IResult, Parser};
+use std::cell::Cell;
 
 /// Skips white space: blanks, tabs, CR, LF, commas and `#` comments to the end of the line.
 #[inline(always)]
@@ -258,7 +259,7 @@ fn short_decimal(b: &[u8]) -> Option<(usize, Number)> {
     let v = if mantissa <= 1 << 53 {
         mantissa as i64 as f64 / POW10[frac]
     } else {
-        divide_by_power_of_ten(mantissa, frac as u32)
+        recent_quotient(mantissa, frac as u32)
     };
     // The sign as a bit, not a branch (coordinates' signs are random); `-` of 0 is -0.0.
     let value = f64::from_bits(v.to_bits() | (u64::from(b[0] == b'-') << 63));
@@ -380,6 +381,35 @@ fn number_general(i: &str) -> Result<(&str, Number), NumberProblem> {
         return Err(NumberProblem::OutOfRange);
     }
     Ok((rest, Number { value, integer }))
+}
+
+/// Slots of [`RECENT_QUOTIENTS`].
+const QUOTIENT_SLOTS: usize = 256;
+
+thread_local! {
+    /// The last mantissa and power of ten [`divide_by_power_of_ten`] was given in each slot,
+    /// and its value: a file's long numbers are often few distinct ones (`convert` writes an
+    /// 8-bit table's colours as their 16 to 18 digit shortest text), each read a million
+    /// times. (Mantissas here are above 2^53, so the zero of an empty slot never matches.)
+    static RECENT_QUOTIENTS: [Cell<(u64, u32, f64)>; QUOTIENT_SLOTS] =
+        const { [const { Cell::new((0, 0, 0.0)) }; QUOTIENT_SLOTS] };
+}
+
+/// [`divide_by_power_of_ten`], remembered: a slot's value is the one computed for its
+/// mantissa and power, so the result is the same bit for bit.
+#[inline]
+fn recent_quotient(m: u64, k: u32) -> f64 {
+    let slot = (m.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 56) as usize ^ k as usize;
+    RECENT_QUOTIENTS.with(|r| {
+        let c = &r[slot % QUOTIENT_SLOTS];
+        let (cm, ck, v) = c.get();
+        if cm == m && ck == k {
+            return v;
+        }
+        let v = divide_by_power_of_ten(m, k);
+        c.set((m, k, v));
+        v
+    })
 }
 
 /// `m / 10^k` correctly rounded (to nearest, ties to even), for `m > 2^53` and `1 <= k <= 19`

@@ -134,6 +134,36 @@ fn seventeen_to_nineteen_digits_agree_with_std_parse() {
         divided += usize::from(digits >= 17);
     }
     assert!(divided > 300_000, "{divided}");
+    // Again, backwards: what the reader remembers of the quotients (`recent_quotient`) is
+    // what it computed.
+    for t in cases.iter().rev() {
+        let want: f64 = t.parse().unwrap();
+        let (_, n) = number(&format!("{t} 1")).unwrap();
+        assert_eq!(n.value.to_bits(), want.to_bits(), "{t} (again)");
+    }
+}
+
+#[test]
+fn a_few_long_numbers_read_many_times_agree_with_std_parse() {
+    // What `convert` writes for an 8-bit colour table: k/255 in its shortest text (16 to 18
+    // digits), each colour many times, in any order; with the same digits and the point
+    // moved (the same mantissa over another power of ten).
+    let mut texts: Vec<String> = (0..256).map(|k| format!("{}", k as f64 / 255.0)).collect();
+    let moved: Vec<String> = texts
+        .iter()
+        .filter(|t| t.len() > 12)
+        .map(|t| format!("{}.{}", &t[2..4], &t[4..]))
+        .collect();
+    texts.extend(moved);
+    let long = texts.iter().filter(|t| t.len() >= 18).count();
+    assert!(long > 150, "{long}");
+    let mut next = random_below(0x2545_F491_4F6C_DD1D);
+    for _ in 0..100_000 {
+        let t = &texts[next(texts.len() as u64) as usize];
+        let want: f64 = t.parse().unwrap();
+        let (_, n) = number(&format!("{t} 0.5 ]")).unwrap();
+        assert_eq!(n.value.to_bits(), want.to_bits(), "{t}");
+    }
 }
 
 #[test]
