@@ -307,7 +307,6 @@ fn radius_ok(r: f64) -> bool {
     r > 0.0 && r.is_finite()
 }
 
-/// What an instance gives one interface field (see [`Lowerer::template_inputs`]).
 /// Up to three numbers in a fixed array, the rest zero. (Element by element: copying a slice
 /// of varying length called `memcpy`, six times a particle in the PROTO layout.)
 #[inline(always)]
@@ -321,6 +320,7 @@ pub(super) fn padded3(values: &[f64]) -> [f64; 3] {
     v
 }
 
+/// What an instance gives one interface field (see [`Lowerer::template_inputs`]).
 pub(super) enum Given<'a> {
     /// Plain numbers, not bracketed.
     Numbers(&'a [f64]),
