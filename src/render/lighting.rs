@@ -9,7 +9,7 @@ use glam::DVec3;
 
 use super::integrators::surface::Opaque;
 use super::lights::{in_scope, in_surface_scope, towards, LightSource};
-use super::visibility::visible;
+use super::visibility::{visible, visible_after, Blockers};
 use super::{Counters, Prepared, View};
 use crate::scene::Material;
 
@@ -49,7 +49,15 @@ fn lights(l: &LightSource, on: Opaque, index: u32) -> bool {
 }
 
 /// Radiance leaving `sp` towards the viewer.
-pub fn shade(prep: &View, m: &Material, sp: &SurfacePoint, counters: &mut Counters) -> DVec3 {
+/// `blockers` holds the spheres that last blocked each light's rays (see
+/// [`Blockers`]): the neighbouring pixel's, when the caller keeps it from pixel to pixel.
+pub fn shade(
+    prep: &View,
+    m: &Material,
+    sp: &SurfacePoint,
+    blockers: &mut Blockers,
+    counters: &mut Counters,
+) -> DVec3 {
     // A triangle's geometric normal and Color there; a sphere's or a solid's normal is both.
     let (geometric, color) = match sp.on {
         Opaque::Sphere(_) => (sp.n, None),
@@ -62,7 +70,7 @@ pub fn shade(prep: &View, m: &Material, sp: &SurfacePoint, counters: &mut Counte
         return diffuse;
     }
     let mut sum = m.emissive;
-    for l in &prep.lights {
+    for (k, l) in prep.lights.iter().enumerate() {
         if !lights(l, sp.on, index) {
             continue;
         }
@@ -78,7 +86,10 @@ pub fn shade(prep: &View, m: &Material, sp: &SurfacePoint, counters: &mut Counte
             continue;
         }
         counters.shadow_rays += 1;
-        let vis = visible(prep, sp.x, dir, dist, Some(sp.on));
+        let vis = match blockers.slot(k) {
+            Some(last) => visible_after(prep, sp.x, dir, dist, Some(sp.on), last),
+            None => visible(prep, sp.x, dir, dist, Some(sp.on)),
+        };
         if vis == 0.0 {
             continue;
         }

@@ -252,6 +252,127 @@ fn benchmark_scene_shadows_match_brute_force() {
     assert!(checked > 2000 && lit > 500, "{checked} {lit}");
 }
 
+/// Shadow rays that first try the sphere that blocked the previous ray towards the same light
+/// ([`visible_after`]): the same answers as the brute-force loop, pixel after pixel with the
+/// slots carried over (so that the last blocker often blocks again, and answers alone), and
+/// with slots spoiled on purpose: the point's own sphere (which a ray into it meets at a root
+/// of either sign near 0), a sphere out of the scene, a random one.
+#[test]
+fn shadow_rays_after_the_last_blocker_match_brute_force() {
+    use gtsphere::render::integrators::surface::{first_hit, surface_point, Opaque};
+    use gtsphere::render::lights::towards;
+    use gtsphere::render::visibility::{visible_after, Blockers};
+    use gtsphere::render::RenderOptions;
+    use gtsphere::scenes::random_spheres;
+    let scene = random_spheres(20_000);
+    let spheres: Vec<(DVec3, f64)> = scene.spheres.iter().map(|s| (s.center, s.radius)).collect();
+    let prep = crate::support::prepare(scene);
+    let view = crate::support::view(&prep, &RenderOptions::default());
+    let cam = view.camera;
+    let n = prep.bvh.len() as u32;
+    let blocks = |x: DVec3, dir: DVec3, dist: f64, k: usize| {
+        sphere_roots(x, dir, spheres[k].0, spheres[k].1)
+            .is_some_and(|(t0, _)| t0 > 0.0 && t0 < dist)
+    };
+    let mut rng = Rng(11);
+    let mut blockers = Blockers::default();
+    let (mut answered_by_slot, mut spoiled, mut checked) = (0, 0, 0);
+    // The middle 64 x 64 pixels of a 256 x 256 image: a sphere spans a few pixels.
+    for j in 96..160 {
+        for i in 96..160 {
+            let (o, d) = cam.ray((i as f64 + 0.5) / 256.0, (j as f64 + 0.5) / 256.0);
+            let Some(h) = first_hit(&prep, o, d, 0.0) else {
+                continue;
+            };
+            let sp = surface_point(&prep, o, d, h);
+            let own = sp.scene_index(&prep) as usize;
+            let Opaque::Sphere(own_prim) = sp.on else {
+                panic!("the scene has only spheres");
+            };
+            for (k, l) in view.lights.iter().enumerate() {
+                let (dir, dist, _) = towards(l, sp.x).unwrap();
+                let slot = blockers.slot(k).unwrap();
+                match (rng.f() * 20.0) as u32 {
+                    0 => *slot = Some(own_prim),
+                    1 => *slot = Some(n + (rng.f() * 5.0) as u32),
+                    2 => *slot = Some((rng.f() * f64::from(n)) as u32),
+                    _ => {}
+                }
+                spoiled += usize::from(*slot == Some(own_prim));
+                let by_slot = slot.is_some_and(|p| {
+                    p < n
+                        && p != own_prim
+                        && blocks(sp.x, dir, dist, prep.bvh.prim(p).sphere as usize)
+                });
+                let got = visible_after(&prep, sp.x, dir, dist, Some(sp.on), slot) > 0.0;
+                let want = (0..spheres.len()).all(|s| s == own || !blocks(sp.x, dir, dist, s));
+                assert_eq!(got, want, "pixel ({i},{j}), light {k}");
+                checked += 1;
+                answered_by_slot += usize::from(by_slot);
+            }
+        }
+    }
+    // The slots do answer many rays alone, and the own-sphere spoiling happened.
+    assert!(
+        checked > 2000 && answered_by_slot > checked / 10 && spoiled > 100,
+        "{checked} {answered_by_slot} {spoiled}"
+    );
+}
+
+/// With gas spheres among the opaque ones, a slot naming a gas sphere (whose optical depth
+/// only adds up) never stops a ray: the same transmittance as without slots, bit for bit.
+#[test]
+fn last_blockers_leave_gas_transmittance_unchanged() {
+    use gtsphere::render::visibility::{visible, visible_after};
+    use gtsphere::scene::Material;
+    let mut scene = gtsphere::scenes::random_spheres(3000);
+    let gas = Material {
+        transparency: 0.3,
+        ..Material::default()
+    };
+    let mut materials: Vec<Material> = (0..scene.materials.len())
+        .map(|i| scene.materials.get(i))
+        .collect();
+    materials.push(gas);
+    scene.materials = materials.into();
+    let gas_index = scene.materials.len() as u32 - 1;
+    for (i, s) in scene.spheres.iter_mut().enumerate() {
+        if i % 3 == 0 {
+            s.material = gas_index;
+        }
+    }
+    let prep = crate::support::prepare(scene);
+    let n = prep.bvh.len() as u32;
+    let mut rng = Rng(5);
+    let (mut partial, mut blocked) = (0, 0);
+    let mut last = None;
+    for _ in 0..4000 {
+        let x = DVec3::new(rng.f(), rng.f(), rng.f()) * 2.4 - 1.2;
+        let mut l = rng.unit();
+        let dist = if rng.f() < 0.5 {
+            f64::INFINITY
+        } else {
+            3.0 * rng.f()
+        };
+        let pick = (rng.f() * f64::from(n)) as u32;
+        match (rng.f() * 4.0) as u32 {
+            // Aimed through a gas sphere that the slot names.
+            0 | 1 if prep.bvh.prim(pick).is_gas() => {
+                l = (prep.bvh.prim(pick).center - x).normalize();
+                last = Some(pick);
+            }
+            2 => last = Some(pick),
+            _ => {}
+        }
+        let want = visible(&prep, x, l, dist, None);
+        let got = visible_after(&prep, x, l, dist, None, &mut last);
+        assert_eq!(got.to_bits(), want.to_bits(), "{x} {l} {dist}");
+        partial += usize::from(want > 0.0 && want < 1.0);
+        blocked += usize::from(want == 0.0);
+    }
+    assert!(partial > 300 && blocked > 300, "{partial} {blocked}");
+}
+
 /// Degenerate sets make deep trees (obvhs's own traversal stack holds 32 entries and drops
 /// the rest silently): 600 concentric and 300 coincident spheres are all found.
 #[test]

@@ -353,6 +353,9 @@ fn shadow_edge_lies_where_geometry_puts_it() {
     // Distance from the blocker's centre to the light line through x (x's y, z vs the centre's).
     let gap = |x: DVec3| ((x.y - cb.y).powi(2) + (x.z - cb.z).powi(2)).sqrt() - rb;
     let mut checked = 0;
+    // Kept from ray to ray, as the renderer keeps it from pixel to pixel: the blocker found
+    // for a point just inside the shadow is tried first for the point just outside.
+    let mut blockers = gtsphere::render::visibility::Blockers::default();
     for k in 0..40 {
         // Walk along a meridian of the receiver's lit side (x > 0) and bisect for the edge.
         let phi = 0.3 + 0.05 * k as f64;
@@ -390,7 +393,7 @@ fn shadow_edge_lies_where_geometry_puts_it() {
             let inside = gap(x) < 0.0;
             let d = (x - o).normalize();
             let mut c = Counters::default();
-            let e = surface::radiance(&view, o, d, &mut c);
+            let e = surface::radiance(&view, o, d, &mut blockers, &mut c);
             let want = if inside { 0.0 } else { x.dot(l) };
             assert!(
                 (e.value.x - want).abs() < 1e-6,

@@ -53,6 +53,8 @@ pub struct Scratch {
     pub quad: super::quadrature::QuadScratch,
     /// The exact integrator's unshadowed scattering bound of each segment.
     pub unshadowed_by_segment: Vec<f64>,
+    /// The spheres that last blocked each light's shadow rays (opaque scenes).
+    pub blockers: super::visibility::Blockers,
 }
 
 /// The camera ray's radiance with the chosen integrator. Scenes without gas always take the
@@ -66,7 +68,7 @@ pub fn radiance(
     counters: &mut Counters,
 ) -> Estimate {
     if view.gas_spheres == 0 {
-        return surface::radiance(view, o, d, counters);
+        return surface::radiance(view, o, d, &mut scratch.blockers, counters);
     }
     match view.integrator {
         Integrator::Exact => exact::radiance(view, o, d, scratch, counters),
@@ -106,7 +108,15 @@ pub fn behind(view: &View, o: DVec3, d: DVec3, hit: Option<OpaqueHit>, c: &mut C
         None => view.background,
         Some(h) => {
             let sp = surface::surface_point(view, o, d, h);
-            shade(view, &surface::material_of(view, h.on), &sp, c)
+            // (No blockers kept: behind gas, the shading is a small part of the work.)
+            let mut blockers = super::visibility::Blockers::default();
+            shade(
+                view,
+                &surface::material_of(view, h.on),
+                &sp,
+                &mut blockers,
+                c,
+            )
         }
     }
 }

@@ -7,6 +7,7 @@ use glam::DVec3;
 use super::Estimate;
 use crate::geom::ellipsoid_normal;
 use crate::render::lighting::{shade, SurfacePoint};
+use crate::render::visibility::Blockers;
 use crate::render::{Counters, Prepared, View};
 
 /// What an opaque hit is on.
@@ -104,7 +105,14 @@ pub fn material_of(prep: &Prepared, on: Opaque) -> crate::scene::Material {
     prep.materials.get(m as usize)
 }
 
-pub fn radiance(prep: &View, o: DVec3, d: DVec3, counters: &mut Counters) -> Estimate {
+/// `blockers`: see [`shade`] (kept from pixel to pixel by the caller).
+pub fn radiance(
+    prep: &View,
+    o: DVec3,
+    d: DVec3,
+    blockers: &mut Blockers,
+    counters: &mut Counters,
+) -> Estimate {
     counters.camera_rays += 1;
     match first_hit(prep, o, d, 0.0) {
         None => Estimate {
@@ -115,7 +123,7 @@ pub fn radiance(prep: &View, o: DVec3, d: DVec3, counters: &mut Counters) -> Est
         Some(hit) => {
             let sp = surface_point(prep, o, d, hit);
             Estimate {
-                value: shade(prep, &material_of(prep, hit.on), &sp, counters),
+                value: shade(prep, &material_of(prep, hit.on), &sp, blockers, counters),
                 error: 0.0,
                 covered: true,
             }
