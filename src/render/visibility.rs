@@ -6,7 +6,7 @@ use glam::DVec3;
 
 use super::integrators::surface::Opaque;
 use super::Prepared;
-use crate::accel::SphereBvh;
+use crate::accel::{Prim, SphereBvh};
 
 /// Visibility from `x` towards a light at unit direction `l`, distance `dist` (infinite for a
 /// directional light). `own` is what `x` lies on, if anything: its own shadow is exact
@@ -23,22 +23,34 @@ pub fn visible(prep: &Prepared, x: DVec3, l: DVec3, dist: f64, own: Option<Opaqu
     visible_after(prep, x, l, dist, own, &mut None)
 }
 
-/// The opaque spheres that last blocked a shadow ray towards each of the first
-/// [`Blockers::LIGHTS`] lights (by index in the view), to be tried before the BVH: a shadow ray
-/// from a point next to the last one is often blocked by the same sphere, and then one exact
-/// sphere test answers it. Speed only: [`visible_after`] answers exactly what [`visible`]
-/// does, whatever the slots hold (any sphere index, of any scene, or none).
+/// The opaque spheres that last blocked a shadow ray towards each light, to be tried before
+/// the BVH: a shadow ray from a point next to the last one is often blocked by the same
+/// sphere, and then one exact sphere test answers it. Light `k` has slot `k %`
+/// [`Blockers::SLOTS`] (lights beyond that share). Speed only: [`visible_after`] answers
+/// exactly what [`visible`] does, whatever a slot holds (any sphere index, of any scene, or
+/// none).
 #[derive(Clone, Copy, Debug, Default)]
-pub struct Blockers([Option<u32>; Blockers::LIGHTS]);
+pub struct Blockers([Option<u32>; Blockers::SLOTS]);
 
 impl Blockers {
-    /// Lights with a slot; the others' rays go straight to the BVH.
-    pub const LIGHTS: usize = 8;
+    pub const SLOTS: usize = 8;
 
-    /// Light `k`'s slot, if it has one.
+    /// Light `k`'s slot.
     #[inline]
-    pub fn slot(&mut self, k: usize) -> Option<&mut Option<u32>> {
-        self.0.get_mut(k)
+    pub fn slot(&mut self, k: usize) -> &mut Option<u32> {
+        &mut self.0[k % Self::SLOTS]
+    }
+
+    /// The slots of lights `k` and `k + 1`, for [`visible_after_pair`].
+    #[inline]
+    pub fn pair(&mut self, k: usize) -> [&mut Option<u32>; 2] {
+        let (a, b) = (k % Self::SLOTS, (k + 1) % Self::SLOTS);
+        let (lo, hi) = self.0.split_at_mut(a.max(b));
+        if a < b {
+            [&mut lo[a], &mut hi[0]]
+        } else {
+            [&mut hi[0], &mut lo[b]]
+        }
     }
 }
 
@@ -85,42 +97,175 @@ pub fn visible_through_spheres(
     own: Option<u32>,
     last: &mut Option<u32>,
 ) -> f64 {
-    // The last blocker first, with the test the traversal's closure makes below (never the
-    // point's own sphere, which the traversal skips; never gas, whose depth only adds up).
-    if let Some(i) = last.filter(|&i| Some(i) != own && (i as usize) < bvh.len()) {
-        if !bvh.packed()[i as usize].is_gas() {
-            if let Some((t0, _)) = bvh.roots_of(i, x, l) {
-                if t0 > 0.0 && t0 < dist {
-                    return 0.0;
-                }
-            }
-        }
+    through_spheres(bvh, x, l, dist, own, last)
+}
+
+/// The body of [`visible_through_spheres`], inlined into each entry point.
+#[inline(always)]
+fn through_spheres(
+    bvh: &SphereBvh,
+    x: DVec3,
+    l: DVec3,
+    dist: f64,
+    own: Option<u32>,
+    last: &mut Option<u32>,
+) -> f64 {
+    if blocked_by_last(bvh, x, l, dist, own, *last) {
+        return 0.0;
     }
-    let mut tau = 0.0;
-    let mut blocker = None;
-    let blocked = bvh.any_except(x, l, 0.0, dist, own, |i, p, (t0, t1)| {
+    let mut along = Along::default();
+    let blocked = bvh.any_except(x, l, 0.0, dist, own, |i, p, roots| {
+        along.meets(bvh, i, p, roots, x, l, dist)
+    });
+    along.finish(blocked, last)
+}
+
+/// Whether `last` names an opaque sphere, other than the point's own, that blocks the ray:
+/// the test the traversal's closure makes ([`Along::meets`]). Never the own sphere, which the
+/// traversal skips; never gas, whose depth only adds up.
+#[inline(always)]
+fn blocked_by_last(
+    bvh: &SphereBvh,
+    x: DVec3,
+    l: DVec3,
+    dist: f64,
+    own: Option<u32>,
+    last: Option<u32>,
+) -> bool {
+    last.filter(|&i| Some(i) != own && (i as usize) < bvh.len())
+        .is_some_and(|i| {
+            !bvh.packed()[i as usize].is_gas()
+                && bvh
+                    .roots_of(i, x, l)
+                    .is_some_and(|(t0, _)| t0 > 0.0 && t0 < dist)
+        })
+}
+
+/// What a shadow ray has met so far: the optical depth of the gas, and the opaque sphere that
+/// blocked it.
+#[derive(Default)]
+struct Along {
+    tau: f64,
+    blocker: Option<u32>,
+}
+
+impl Along {
+    /// Takes in primitive `i` with line roots `(t0, t1)`; true when the ray need go no further.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn meets(
+        &mut self,
+        bvh: &SphereBvh,
+        i: u32,
+        p: &Prim,
+        (t0, t1): (f64, f64),
+        x: DVec3,
+        l: DVec3,
+        dist: f64,
+    ) -> bool {
         if p.is_gas() {
             let (a, b) = (t0.max(0.0), t1.min(dist));
             if b > a {
-                tau += super::density::part_depth(bvh, p, x, l, (a, b));
+                self.tau += super::density::part_depth(bvh, p, x, l, (a, b));
             }
             // Past this, exp(-tau) is 0 in f64 whatever else the ray meets: stop (exactly the
             // same answer, for less work through dense gas).
-            tau > 746.0
+            self.tau > 746.0
         } else {
             let blocks = t0 > 0.0 && t0 < dist;
             if blocks {
-                blocker = Some(i);
+                self.blocker = Some(i);
             }
             blocks
         }
-    });
-    if blocker.is_some() {
-        *last = blocker;
     }
-    if blocked {
-        0.0
-    } else {
-        (-tau).exp()
+
+    /// The visibility, once the walk is over (`blocked`: it stopped early); the blocker, if
+    /// any, goes into `last`.
+    #[inline(always)]
+    fn finish(self, blocked: bool, last: &mut Option<u32>) -> f64 {
+        if self.blocker.is_some() {
+            *last = self.blocker;
+        }
+        if blocked {
+            0.0
+        } else {
+            (-self.tau).exp()
+        }
+    }
+}
+
+/// [`visible_after`] of two rays from the same point `x` (towards two lights: direction and
+/// distance, each with its own slot), traced together (see `accel::bvh::pair`): each answer is
+/// [`visible_after`]'s, bit for bit.
+#[inline]
+pub fn visible_after_pair(
+    prep: &Prepared,
+    x: DVec3,
+    own: Option<Opaque>,
+    rays: [(DVec3, f64); 2],
+    last: [&mut Option<u32>; 2],
+) -> [f64; 2] {
+    let [(la, da), (lb, db)] = rays;
+    let [last_a, last_b] = last;
+    if !prep.surfaces.is_empty() {
+        return [
+            visible_after(prep, x, la, da, own, last_a),
+            visible_after(prep, x, lb, db, own, last_b),
+        ];
+    }
+    let own_sphere = match own {
+        Some(Opaque::Sphere(p)) => Some(p),
+        _ => None,
+    };
+    visible_pair_through_spheres(&prep.bvh, x, rays, own_sphere, [last_a, last_b])
+}
+
+/// [`visible_after_pair`] against the spheres alone.
+/// (A ray entry point: compiled again for AVX2, see `accel::bvh`.)
+#[multiversion::multiversion(targets("x86_64+avx+avx2+fma+bmi1+bmi2+lzcnt+popcnt"))]
+pub fn visible_pair_through_spheres(
+    bvh: &SphereBvh,
+    x: DVec3,
+    rays: [(DVec3, f64); 2],
+    own: Option<u32>,
+    last: [&mut Option<u32>; 2],
+) -> [f64; 2] {
+    let [(la, da), (lb, db)] = rays;
+    let [last_a, last_b] = last;
+    // A ray its last blocker answers goes no further; the other then goes alone.
+    match (
+        blocked_by_last(bvh, x, la, da, own, *last_a),
+        blocked_by_last(bvh, x, lb, db, own, *last_b),
+    ) {
+        (true, true) => return [0.0, 0.0],
+        (true, false) => return [0.0, through_spheres(bvh, x, lb, db, own, last_b)],
+        (false, true) => return [through_spheres(bvh, x, la, da, own, last_a), 0.0],
+        (false, false) => {}
+    }
+    let mut along = [Along::default(), Along::default()];
+    let blocked = bvh.any_except_pair(
+        [(x, la, 0.0, da, own), (x, lb, 0.0, db, own)],
+        |k, i, p, roots| along[k].meets(bvh, i, p, roots, x, rays[k].0, rays[k].1),
+    );
+    let [a, b] = along;
+    [a.finish(blocked[0], last_a), b.finish(blocked[1], last_b)]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Blockers;
+
+    /// Light `k`'s slot is the same through `slot` and `pair`, and a pair's two slots are
+    /// distinct, also where the slots wrap around.
+    #[test]
+    fn pairs_of_slots_are_the_lights_own() {
+        for k in 0..3 * Blockers::SLOTS {
+            let mut b = Blockers::default();
+            let [x, y] = b.pair(k);
+            *x = Some(1);
+            *y = Some(2);
+            assert_eq!((*b.slot(k), *b.slot(k + 1)), (Some(1), Some(2)), "k {k}");
+        }
     }
 }

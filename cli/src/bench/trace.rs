@@ -16,7 +16,7 @@ use crate::memory::peak_rss_bytes;
 use gtsphere::error::Error;
 use gtsphere::render::integrators::surface::{first_hit, surface_point};
 use gtsphere::render::lights::towards;
-use gtsphere::render::visibility::{visible, visible_after, Blockers};
+use gtsphere::render::visibility::{visible_after, visible_after_pair, Blockers};
 use gtsphere::render::{prepare, render, Counters, PrepareOptions, RenderOptions, SamplerKind};
 use gtsphere::scenes::random_spheres;
 
@@ -48,9 +48,10 @@ fn one_run(n: usize, size: u32, threads: usize) -> Result<Run, Error> {
 
     // Passes 1 and 2, one thread, a band of 16 rows at a time (so the hit list stays small):
     // camera rays, then one shadow ray per hit and light. N.L <= 0 is traced too, as the
-    // Embree reference does, so that the counts compare. Shadow rays towards each light try
-    // the sphere that blocked the previous one first, as the renderer's do (an exact test;
-    // Embree has no such cache). Within a band, pixels go in 16x16
+    // Embree reference does, so that the counts compare. As in the renderer's shading, the
+    // rays towards two lights are traced together (interleaved walks), and each light's ray
+    // first tries the sphere that blocked the previous one (an exact test; Embree traces
+    // one ray at a time, with no such cache). Within a band, pixels go in 16x16
     // tiles, the order the renderer uses (render/tiles.rs): neighbouring rays share BVH
     // nodes and spheres while they are still in cache.
     let (mut camera_s, mut shadow_s) = (0.0, 0.0);
@@ -77,14 +78,33 @@ fn one_run(n: usize, size: u32, threads: usize) -> Result<Run, Error> {
         hit_count += hits.len() as u64;
         let t1 = Instant::now();
         for sp in &hits {
-            for (k, l) in view.lights.iter().enumerate() {
-                if let Some((dir, dist, _)) = towards(l, sp.x) {
-                    shadow_rays += 1;
-                    let v = match blockers.slot(k) {
-                        Some(last) => visible_after(&prep, sp.x, dir, dist, Some(sp.on), last),
-                        None => visible(&prep, sp.x, dir, dist, Some(sp.on)),
-                    };
-                    lit[k] += u64::from(v > 0.0 && sp.n.dot(dir) > 0.0);
+            // Two lights' rays at a time, traced together, as the renderer's shading does.
+            for k in (0..view.lights.len()).step_by(2) {
+                let ray = |k: usize| view.lights.get(k).and_then(|l| towards(l, sp.x));
+                let (a, b) = (ray(k), ray(k + 1));
+                let own = Some(sp.on);
+                let vis = match (a, b) {
+                    (Some(a), Some(b)) => {
+                        let rays = [(a.0, a.1), (b.0, b.1)];
+                        visible_after_pair(&prep, sp.x, own, rays, blockers.pair(k))
+                    }
+                    (Some(a), None) => [
+                        visible_after(&prep, sp.x, a.0, a.1, own, blockers.slot(k)),
+                        0.0,
+                    ],
+                    (None, Some(b)) => {
+                        let last = blockers.slot(k + 1);
+                        [0.0, visible_after(&prep, sp.x, b.0, b.1, own, last)]
+                    }
+                    (None, None) => [0.0; 2],
+                };
+                for (j, r) in [a, b].into_iter().enumerate() {
+                    if let Some((dir, _, _)) = r {
+                        shadow_rays += 1;
+                        if let Some(lit) = lit.get_mut(k + j) {
+                            *lit += u64::from(vis[j] > 0.0 && sp.n.dot(dir) > 0.0);
+                        }
+                    }
                 }
             }
         }

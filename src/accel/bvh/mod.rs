@@ -49,6 +49,8 @@
 mod build;
 pub use build::Side;
 mod node_test;
+mod pair;
+pub use pair::AnyRay;
 mod query;
 mod wide;
 

@@ -113,7 +113,7 @@ impl SphereBvh {
     /// The f32 ray for chunk `c` over `[t0, t1]` (already clipped to the chunk's box): it
     /// starts at the entry point, so its f32 origin lies inside the scene.
     #[inline]
-    fn ray32(&self, o: DVec3, d: DVec3, t0: f64, t1: f64) -> Ray32 {
+    pub(super) fn ray32(&self, o: DVec3, d: DVec3, t0: f64, t1: f64) -> Ray32 {
         // `+ 0.0` turns -0.0 into +0.0: obvhs picks a node's near planes from the sign test
         // `d < 0` but divides by the signed zero, so a -0.0 component would invert the slab.
         let dir = d.as_vec3a() + Vec3A::ZERO;
@@ -136,7 +136,7 @@ impl SphereBvh {
     /// written to the front of `list`; returns how many. (Filled in place, not returned:
     /// returning the array copied it on every ray.)
     #[inline(always)]
-    fn chunks_on(
+    pub(super) fn chunks_on(
         &self,
         o: DVec3,
         d: DVec3,
