@@ -245,6 +245,14 @@ fn grazing_rays_through_the_bvh() {
     assert!(hit > 100 && miss > 100, "hit {hit} miss {miss}");
 }
 
+/// The benchmark scene of `gtsphere bench trace` at 20 000 spheres, prepared, and its
+/// spheres (centre and radius) for brute force.
+fn benchmark_scene() -> (Vec<(DVec3, f64)>, gtsphere::render::Prepared) {
+    let scene = gtsphere::scenes::random_spheres(20_000);
+    let spheres = scene.spheres.iter().map(|s| (s.center, s.radius)).collect();
+    (spheres, crate::support::prepare(scene))
+}
+
 /// The benchmark scene of `gtsphere bench trace` at 20 000 spheres: camera hits and shadow
 /// visibility through the renderer's own functions against a brute-force loop.
 #[test]
@@ -253,10 +261,7 @@ fn benchmark_scene_shadows_match_brute_force() {
     use gtsphere::render::lights::towards;
     use gtsphere::render::visibility::visible;
     use gtsphere::render::RenderOptions;
-    use gtsphere::scenes::random_spheres;
-    let scene = random_spheres(20_000);
-    let spheres: Vec<(DVec3, f64)> = scene.spheres.iter().map(|s| (s.center, s.radius)).collect();
-    let prep = crate::support::prepare(scene);
+    let (spheres, prep) = benchmark_scene();
     let view = crate::support::view(&prep, &RenderOptions::default());
     let cam = view.camera;
     let (mut lit, mut checked) = (0, 0);
@@ -296,10 +301,7 @@ fn shadow_rays_after_the_last_blocker_match_brute_force() {
     use gtsphere::render::lights::towards;
     use gtsphere::render::visibility::{visible_after, visible_after_pair, Blockers};
     use gtsphere::render::RenderOptions;
-    use gtsphere::scenes::random_spheres;
-    let scene = random_spheres(20_000);
-    let spheres: Vec<(DVec3, f64)> = scene.spheres.iter().map(|s| (s.center, s.radius)).collect();
-    let prep = crate::support::prepare(scene);
+    let (spheres, prep) = benchmark_scene();
     let view = crate::support::view(&prep, &RenderOptions::default());
     let cam = view.camera;
     let n = prep.bvh.len() as u32;

@@ -18,6 +18,7 @@ use obvhs::faststack::{FastStack, StackStack};
 use obvhs::ray::Ray as Ray32;
 
 use super::node_test::{child_hits, octant_inv4};
+use super::query::root_group;
 use super::{Chunk, Prim, SphereBvh, MAX_CHUNKS};
 
 /// One ray's walk through one chunk's CWBVH, a step at a time.
@@ -41,11 +42,7 @@ impl<'a> Walker<'a> {
             base: c.base,
             oct_inv4: octant_inv4(ray.direction),
             ray,
-            group: if c.bvh.nodes.is_empty() {
-                UVec2::ZERO
-            } else {
-                UVec2::new(0, 0x8000_0000)
-            },
+            group: root_group(c),
             prims: UVec2::ZERO,
             stack: StackStack::default(),
         }

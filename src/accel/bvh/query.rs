@@ -54,16 +54,22 @@ impl<S> Walk<S> {
         let oct_inv4 = octant_inv4(direction);
         Walk {
             stack,
-            current_group: if c.bvh.nodes.is_empty() {
-                UVec2::ZERO
-            } else {
-                UVec2::new(0, 0x8000_0000)
-            },
+            current_group: root_group(c),
             primitive_group: UVec2::ZERO,
             oct_inv4,
             primitive_id: 0,
             hitmask: 0,
         }
+    }
+}
+
+/// The node group a walk of chunk `c` starts from: its root alone (none if it is empty).
+#[inline(always)]
+pub(super) fn root_group(c: &Chunk) -> UVec2 {
+    if c.bvh.nodes.is_empty() {
+        UVec2::ZERO
+    } else {
+        UVec2::new(0, 0x8000_0000)
     }
 }
 
