@@ -9,7 +9,7 @@ use glam::DVec3;
 
 use super::integrators::surface::Opaque;
 use super::lights::{in_scope, in_surface_scope, towards, LightSource};
-use super::visibility::{visible_after, visible_after_pair, Blockers};
+use super::visibility::{visible_two, Blockers};
 use super::{Counters, Prepared, View};
 use crate::scene::Material;
 
@@ -82,7 +82,7 @@ pub fn shade(
         return diffuse;
     }
     // Each light's terms in the lights' order; the shadow rays of two lights at a time are
-    // traced together (`visible_after_pair`), which gives each the same answer sooner.
+    // traced together (`visible_two`), which gives each the same answer sooner.
     let term = |k: usize| -> Option<Term> {
         let l = &prep.lights[k];
         if !lights(l, sp.on, index) {
@@ -108,23 +108,8 @@ pub fn shade(
             term(k),
             (k + 1 < prep.lights.len()).then(|| term(k + 1)).flatten(),
         ];
-        let [a, b] = terms.map(|t| t.filter(|t| t.ray));
-        let own = Some(sp.on);
-        let vis = match (a, b) {
-            (Some(a), Some(b)) => {
-                let rays = [(a.dir, a.dist), (b.dir, b.dist)];
-                visible_after_pair(prep, sp.x, own, rays, blockers.pair(k))
-            }
-            (Some(a), None) => [
-                visible_after(prep, sp.x, a.dir, a.dist, own, blockers.slot(k)),
-                0.0,
-            ],
-            (None, Some(b)) => {
-                let last = blockers.slot(k + 1);
-                [0.0, visible_after(prep, sp.x, b.dir, b.dist, own, last)]
-            }
-            (None, None) => [0.0; 2],
-        };
+        let rays = terms.map(|t| t.filter(|t| t.ray).map(|t| (t.dir, t.dist)));
+        let vis = visible_two(prep, sp.x, Some(sp.on), k, rays, blockers);
         for (j, t) in terms.into_iter().enumerate() {
             let Some(t) = t else {
                 continue;

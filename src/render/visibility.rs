@@ -79,11 +79,16 @@ pub fn visible_after(
             return 0.0;
         }
     }
-    let own_sphere = match own {
+    visible_through_spheres(&prep.bvh, x, l, dist, own_sphere(own), last)
+}
+
+/// The sphere (primitive index) a point lies on, if it lies on one.
+#[inline]
+fn own_sphere(own: Option<Opaque>) -> Option<u32> {
+    match own {
         Some(Opaque::Sphere(p)) => Some(p),
         _ => None,
-    };
-    visible_through_spheres(&prep.bvh, x, l, dist, own_sphere, last)
+    }
 }
 
 /// [`visible_after`] against the spheres alone.
@@ -113,6 +118,19 @@ fn through_spheres(
     if blocked_by_last(bvh, x, l, dist, own, *last) {
         return 0.0;
     }
+    walk_spheres(bvh, x, l, dist, own, last)
+}
+
+/// [`through_spheres`] once the slot `last` is known not to block: the BVH's walk.
+#[inline(always)]
+fn walk_spheres(
+    bvh: &SphereBvh,
+    x: DVec3,
+    l: DVec3,
+    dist: f64,
+    own: Option<u32>,
+    last: &mut Option<u32>,
+) -> f64 {
     let mut along = Along::default();
     let blocked = bvh.any_except(x, l, 0.0, dist, own, |i, p, roots| {
         along.meets(bvh, i, p, roots, x, l, dist)
@@ -214,11 +232,28 @@ pub fn visible_after_pair(
             visible_after(prep, x, lb, db, own, last_b),
         ];
     }
-    let own_sphere = match own {
-        Some(Opaque::Sphere(p)) => Some(p),
-        _ => None,
-    };
-    visible_pair_through_spheres(&prep.bvh, x, rays, own_sphere, [last_a, last_b])
+    visible_pair_through_spheres(&prep.bvh, x, rays, own_sphere(own), [last_a, last_b])
+}
+
+/// The visibilities of lights `k` and `k + 1` from `x`, given the ray each needs (direction
+/// and distance; `None` where it needs none, and then 0), each first trying its slot in
+/// `blockers`, the two traced together when both are there: the shading's and the
+/// benchmark's way of asking.
+#[inline]
+pub fn visible_two(
+    prep: &Prepared,
+    x: DVec3,
+    own: Option<Opaque>,
+    k: usize,
+    rays: [Option<(DVec3, f64)>; 2],
+    blockers: &mut Blockers,
+) -> [f64; 2] {
+    match rays {
+        [Some(a), Some(b)] => visible_after_pair(prep, x, own, [a, b], blockers.pair(k)),
+        [Some((l, d)), None] => [visible_after(prep, x, l, d, own, blockers.slot(k)), 0.0],
+        [None, Some((l, d))] => [0.0, visible_after(prep, x, l, d, own, blockers.slot(k + 1))],
+        [None, None] => [0.0; 2],
+    }
 }
 
 /// [`visible_after_pair`] against the spheres alone.
@@ -239,8 +274,8 @@ pub fn visible_pair_through_spheres(
         blocked_by_last(bvh, x, lb, db, own, *last_b),
     ) {
         (true, true) => return [0.0, 0.0],
-        (true, false) => return [0.0, through_spheres(bvh, x, lb, db, own, last_b)],
-        (false, true) => return [through_spheres(bvh, x, la, da, own, last_a), 0.0],
+        (true, false) => return [0.0, walk_spheres(bvh, x, lb, db, own, last_b)],
+        (false, true) => return [walk_spheres(bvh, x, la, da, own, last_a), 0.0],
         (false, false) => {}
     }
     let mut along = [Along::default(), Along::default()];

@@ -16,7 +16,7 @@ use crate::memory::peak_rss_bytes;
 use gtsphere::error::Error;
 use gtsphere::render::integrators::surface::{first_hit, surface_point};
 use gtsphere::render::lights::towards;
-use gtsphere::render::visibility::{visible_after, visible_after_pair, Blockers};
+use gtsphere::render::visibility::{visible_two, Blockers};
 use gtsphere::render::{prepare, render, Counters, PrepareOptions, RenderOptions, SamplerKind};
 use gtsphere::scenes::random_spheres;
 
@@ -82,22 +82,8 @@ fn one_run(n: usize, size: u32, threads: usize) -> Result<Run, Error> {
             for k in (0..view.lights.len()).step_by(2) {
                 let ray = |k: usize| view.lights.get(k).and_then(|l| towards(l, sp.x));
                 let (a, b) = (ray(k), ray(k + 1));
-                let own = Some(sp.on);
-                let vis = match (a, b) {
-                    (Some(a), Some(b)) => {
-                        let rays = [(a.0, a.1), (b.0, b.1)];
-                        visible_after_pair(&prep, sp.x, own, rays, blockers.pair(k))
-                    }
-                    (Some(a), None) => [
-                        visible_after(&prep, sp.x, a.0, a.1, own, blockers.slot(k)),
-                        0.0,
-                    ],
-                    (None, Some(b)) => {
-                        let last = blockers.slot(k + 1);
-                        [0.0, visible_after(&prep, sp.x, b.0, b.1, own, last)]
-                    }
-                    (None, None) => [0.0; 2],
-                };
+                let rays = [a, b].map(|r| r.map(|(dir, dist, _)| (dir, dist)));
+                let vis = visible_two(&prep, sp.x, Some(sp.on), k, rays, &mut blockers);
                 for (j, r) in [a, b].into_iter().enumerate() {
                     if let Some((dir, _, _)) = r {
                         shadow_rays += 1;
