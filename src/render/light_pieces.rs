@@ -35,7 +35,7 @@
 //! shadowers only add depth), so no shadower found later can make it lit.
 //! In a thick cloud a few bands make nearly every piece dark, whatever lies beyond.
 
-use glam::{DVec3, UVec2};
+use glam::DVec3;
 
 use super::breakpoints::breakpoints;
 use super::density::gas_depth;
@@ -85,7 +85,7 @@ pub struct Buffers {
     spans: Vec<(f64, f64)>,
     order: Vec<u32>,
     live: Vec<u32>,
-    stack: Vec<UVec2>,
+    stack: Vec<u32>,
     pieces: Vec<Piece>,
     /// Surfaces (not spheres) that may shadow the segment, and the sorted, disjoint parts
     /// of the segment they block.

@@ -9,7 +9,7 @@ use glam::DVec3;
 
 use super::integrators::surface::Opaque;
 use super::lights::{in_scope, in_surface_scope, towards, LightSource};
-use super::visibility::{visible_two, Blockers};
+use super::visibility::{visible_after, Blockers};
 use super::{Counters, Prepared, View};
 use crate::scene::Material;
 
@@ -37,18 +37,6 @@ impl SurfacePoint {
             Opaque::Surface(i) => i,
         }
     }
-}
-
-/// One light's share at a point, before its shadow ray: direction and distance to it, its
-/// attenuation, N.L, and whether its direct term needs a shadow ray (false where the surface
-/// shadows itself or the light has no direct part).
-#[derive(Clone, Copy)]
-struct Term {
-    dir: DVec3,
-    dist: f64,
-    att: f64,
-    ndotl: f64,
-    ray: bool,
 }
 
 /// Whether light `l` may light what the point is on (VRML scoping of DirectionalLights).
@@ -81,52 +69,30 @@ pub fn shade(
         // VRML 4.14.2: no Material means unlit, lights ignored: white, or the Color node's.
         return diffuse;
     }
-    // Each light's terms in the lights' order; the shadow rays of two lights at a time are
-    // traced together (`visible_two`), which gives each the same answer sooner.
-    let term = |k: usize| -> Option<Term> {
-        let l = &prep.lights[k];
+    let mut sum = m.emissive;
+    for (k, l) in prep.lights.iter().enumerate() {
         if !lights(l, sp.on, index) {
-            return None;
+            continue;
         }
-        let (dir, dist, att) = towards(l, sp.x)?;
+        let Some((dir, dist, att)) = towards(l, sp.x) else {
+            continue;
+        };
+        sum += att * l.ambient * m.ambient_intensity * diffuse;
         // A convex surface shadows itself exactly where N.L <= 0; then V_i = 0 and the whole
         // direct term (diffuse and specular) vanishes. A face lit from behind its geometric
         // normal is in its own shadow, whatever its shading normal says.
         let ndotl = sp.n.dot(dir);
-        let ray = ndotl > 0.0 && geometric.dot(dir) > 0.0 && l.direct != DVec3::ZERO;
-        Some(Term {
-            dir,
-            dist,
-            att,
-            ndotl,
-            ray,
-        })
-    };
-    let mut sum = m.emissive;
-    for k in (0..prep.lights.len()).step_by(2) {
-        let terms = [
-            term(k),
-            (k + 1 < prep.lights.len()).then(|| term(k + 1)).flatten(),
-        ];
-        let rays = terms.map(|t| t.filter(|t| t.ray).map(|t| (t.dir, t.dist)));
-        let vis = visible_two(prep, sp.x, Some(sp.on), k, rays, blockers);
-        for (j, t) in terms.into_iter().enumerate() {
-            let Some(t) = t else {
-                continue;
-            };
-            let l = &prep.lights[k + j];
-            sum += t.att * l.ambient * m.ambient_intensity * diffuse;
-            if !t.ray {
-                continue;
-            }
-            counters.shadow_rays += 1;
-            if vis[j] == 0.0 {
-                continue;
-            }
-            let h = (t.dir + sp.v).normalize_or_zero();
-            let spec = sp.n.dot(h).max(0.0).powf(128.0 * m.shininess);
-            sum += t.att * vis[j] * l.direct * (diffuse * t.ndotl + m.specular * spec);
+        if ndotl <= 0.0 || geometric.dot(dir) <= 0.0 || l.direct == DVec3::ZERO {
+            continue;
         }
+        counters.shadow_rays += 1;
+        let vis = visible_after(prep, sp.x, dir, dist, Some(sp.on), blockers.slot(k));
+        if vis == 0.0 {
+            continue;
+        }
+        let h = (dir + sp.v).normalize_or_zero();
+        let spec = sp.n.dot(h).max(0.0).powf(128.0 * m.shininess);
+        sum += att * vis * l.direct * (diffuse * ndotl + m.specular * spec);
     }
     sum
 }

@@ -25,7 +25,7 @@
 //! (2026-12-02, cloud-N at N = 1e3 to 1e6), sharing made queries 10-15 % slower, so a grid
 //! query is always the span's own.
 
-use glam::{DVec3, UVec2};
+use glam::DVec3;
 
 use super::light_grid::LightGrid;
 use super::lights::LightKind;
@@ -294,7 +294,7 @@ fn touches(region: &Region, p: &impl Ball, slack: f64) -> bool {
 }
 
 /// Appends to `out` every primitive that meets `region`.
-pub fn gather(bvh: &SphereBvh, region: &Region, out: &mut Vec<u32>, stack: &mut Vec<UVec2>) {
+pub fn gather(bvh: &SphereBvh, region: &Region, out: &mut Vec<u32>, stack: &mut Vec<u32>) {
     let slack = slack(bvh, region);
     bvh.near_region(
         |lo, hi| region.may_meet_box(lo, hi, slack),
@@ -444,7 +444,7 @@ impl BandCache {
         (u0, u1): (f64, f64),
         t_end: f64,
         out: &mut Vec<u32>,
-        stack: &mut Vec<UVec2>,
+        stack: &mut Vec<u32>,
     ) {
         if let Some(g) = grid {
             // A grid query costs what the span's own band holds: no descent to share.

@@ -40,18 +40,6 @@ impl Blockers {
     pub fn slot(&mut self, k: usize) -> &mut Option<u32> {
         &mut self.0[k % Self::SLOTS]
     }
-
-    /// The slots of lights `k` and `k + 1`, for [`visible_after_pair`].
-    #[inline]
-    pub fn pair(&mut self, k: usize) -> [&mut Option<u32>; 2] {
-        let (a, b) = (k % Self::SLOTS, (k + 1) % Self::SLOTS);
-        let (lo, hi) = self.0.split_at_mut(a.max(b));
-        if a < b {
-            [&mut lo[a], &mut hi[0]]
-        } else {
-            [&mut hi[0], &mut lo[b]]
-        }
-    }
 }
 
 /// [`visible`], first trying the sphere in `last` (the one that blocked the previous ray
@@ -102,35 +90,9 @@ pub fn visible_through_spheres(
     own: Option<u32>,
     last: &mut Option<u32>,
 ) -> f64 {
-    through_spheres(bvh, x, l, dist, own, last)
-}
-
-/// The body of [`visible_through_spheres`], inlined into each entry point.
-#[inline(always)]
-fn through_spheres(
-    bvh: &SphereBvh,
-    x: DVec3,
-    l: DVec3,
-    dist: f64,
-    own: Option<u32>,
-    last: &mut Option<u32>,
-) -> f64 {
     if blocked_by_last(bvh, x, l, dist, own, *last) {
         return 0.0;
     }
-    walk_spheres(bvh, x, l, dist, own, last)
-}
-
-/// [`through_spheres`] once the slot `last` is known not to block: the BVH's walk.
-#[inline(always)]
-fn walk_spheres(
-    bvh: &SphereBvh,
-    x: DVec3,
-    l: DVec3,
-    dist: f64,
-    own: Option<u32>,
-    last: &mut Option<u32>,
-) -> f64 {
     let mut along = Along::default();
     let blocked = bvh.any_except(x, l, 0.0, dist, own, |i, p, roots| {
         along.meets(bvh, i, p, roots, x, l, dist)
@@ -209,98 +171,6 @@ impl Along {
             0.0
         } else {
             (-self.tau).exp()
-        }
-    }
-}
-
-/// [`visible_after`] of two rays from the same point `x` (towards two lights: direction and
-/// distance, each with its own slot), traced together (see `accel::bvh::pair`): each answer is
-/// [`visible_after`]'s, bit for bit.
-#[inline]
-pub fn visible_after_pair(
-    prep: &Prepared,
-    x: DVec3,
-    own: Option<Opaque>,
-    rays: [(DVec3, f64); 2],
-    last: [&mut Option<u32>; 2],
-) -> [f64; 2] {
-    let [(la, da), (lb, db)] = rays;
-    let [last_a, last_b] = last;
-    if !prep.surfaces.is_empty() {
-        return [
-            visible_after(prep, x, la, da, own, last_a),
-            visible_after(prep, x, lb, db, own, last_b),
-        ];
-    }
-    visible_pair_through_spheres(&prep.bvh, x, rays, own_sphere(own), [last_a, last_b])
-}
-
-/// The visibilities of lights `k` and `k + 1` from `x`, given the ray each needs (direction
-/// and distance; `None` where it needs none, and then 0), each first trying its slot in
-/// `blockers`, the two traced together when both are there: the shading's and the
-/// benchmark's way of asking.
-#[inline]
-pub fn visible_two(
-    prep: &Prepared,
-    x: DVec3,
-    own: Option<Opaque>,
-    k: usize,
-    rays: [Option<(DVec3, f64)>; 2],
-    blockers: &mut Blockers,
-) -> [f64; 2] {
-    match rays {
-        [Some(a), Some(b)] => visible_after_pair(prep, x, own, [a, b], blockers.pair(k)),
-        [Some((l, d)), None] => [visible_after(prep, x, l, d, own, blockers.slot(k)), 0.0],
-        [None, Some((l, d))] => [0.0, visible_after(prep, x, l, d, own, blockers.slot(k + 1))],
-        [None, None] => [0.0; 2],
-    }
-}
-
-/// [`visible_after_pair`] against the spheres alone.
-/// (A ray entry point: compiled again for AVX2, see `accel::bvh`.)
-#[multiversion::multiversion(targets("x86_64+avx+avx2+fma+bmi1+bmi2+lzcnt+popcnt"))]
-pub fn visible_pair_through_spheres(
-    bvh: &SphereBvh,
-    x: DVec3,
-    rays: [(DVec3, f64); 2],
-    own: Option<u32>,
-    last: [&mut Option<u32>; 2],
-) -> [f64; 2] {
-    let [(la, da), (lb, db)] = rays;
-    let [last_a, last_b] = last;
-    // A ray its last blocker answers goes no further; the other then goes alone.
-    match (
-        blocked_by_last(bvh, x, la, da, own, *last_a),
-        blocked_by_last(bvh, x, lb, db, own, *last_b),
-    ) {
-        (true, true) => return [0.0, 0.0],
-        (true, false) => return [0.0, walk_spheres(bvh, x, lb, db, own, last_b)],
-        (false, true) => return [walk_spheres(bvh, x, la, da, own, last_a), 0.0],
-        (false, false) => {}
-    }
-    let mut along = [Along::default(), Along::default()];
-    let blocked = bvh.any_except_pair(
-        [(x, la, 0.0, da, own), (x, lb, 0.0, db, own)],
-        |k, i, p, roots| along[k].meets(bvh, i, p, roots, x, rays[k].0, rays[k].1),
-    );
-    let [a, b] = along;
-    [a.finish(blocked[0], last_a), b.finish(blocked[1], last_b)]
-}
-
-#[cfg(test)]
-mod tests {
-    use super::Blockers;
-
-    /// Light `k`'s slot is the same through `slot` and `pair`, and a pair's two slots are
-    /// distinct, also where the slots wrap around.
-    #[test]
-    fn pairs_of_slots_are_the_lights_own() {
-        for k in 0..3 * Blockers::SLOTS {
-            let mut b = Blockers::default();
-            let [x, y] = b.pair(k);
-            *x = Some(1);
-            *y = Some(2);
-            assert_eq!((*b.slot(k), *b.slot(k + 1)), (Some(1), Some(2)), "k {k}");
         }
     }
 }

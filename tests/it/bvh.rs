@@ -5,7 +5,6 @@
 use std::collections::BTreeSet;
 
 use glam::DVec3;
-use gtsphere::accel::bvh::AnyRay;
 use gtsphere::accel::{Prim, SphereBvh};
 use gtsphere::geom::sphere_roots;
 
@@ -85,9 +84,7 @@ fn check_regions(ps: &[Prim], bvh: &SphereBvh, offset: DVec3, extent: f64, rng: 
 fn check_rays(seed: u64, ps: &[Prim], bvh: &SphereBvh, offset: DVec3, extent: f64, rng: &mut Rng) {
     let n = ps.len();
     let mut hits = 0;
-    // The previous ray's any-hit query and its brute-force answer, for the pair below.
-    let mut previous: Option<(AnyRay, bool)> = None;
-    let mut blocked_pairs = [0; 2];
+    let mut blocked_skipping = [0; 2];
     for k in 0..400 {
         // Origins: inside the cloud, just outside, and far away (1e4 extents).
         let dist = [0.0, 2.0, 1e4][k % 3] * extent;
@@ -125,8 +122,7 @@ fn check_rays(seed: u64, ps: &[Prim], bvh: &SphereBvh, offset: DVec3, extent: f6
         let got_any = bvh.any(o, d, 0.0, tmax, |_, _, (t0, _)| t0 > 0.0 && t0 < tmax);
         assert_eq!(got_any, brute_any, "any: seed {seed} ray {k}");
 
-        // Two any-hit queries walked together (this ray's and the previous one's), each
-        // passing over a primitive of its own.
+        // An any-hit query passing over a primitive (as a shadow ray does its own sphere).
         let skip = (rng.f() * n as f64) as u32 % n as u32;
         let skipped = bvh.prim(skip).sphere;
         let brute_skip = ps.iter().any(|p| {
@@ -134,20 +130,15 @@ fn check_rays(seed: u64, ps: &[Prim], bvh: &SphereBvh, offset: DVec3, extent: f6
                 && sphere_roots(o, d, p.center, p.radius)
                     .is_some_and(|(t0, _)| t0 > 0.0 && t0 < tmax)
         });
-        let this: AnyRay = (o, d, 0.0, tmax, Some(skip));
-        if let Some((before, want)) = previous {
-            let tmaxes = [before.3, tmax];
-            let got = bvh.any_except_pair([before, this], |k, _, _, (t0, _)| {
-                t0 > 0.0 && t0 < tmaxes[k]
-            });
-            assert_eq!(
-                got,
-                [want, brute_skip],
-                "pair: seed {seed} rays {k} and before"
+        let got = bvh.any_except(o, d, 0.0, tmax, Some(skip), |i, _, (t0, _)| {
+            assert_ne!(
+                i, skip,
+                "seed {seed} ray {k}: the skipped primitive was offered"
             );
-            blocked_pairs[usize::from(want)] += 1;
-        }
-        previous = Some((this, brute_skip));
+            t0 > 0.0 && t0 < tmax
+        });
+        assert_eq!(got, brute_skip, "any_except: seed {seed} ray {k}");
+        blocked_skipping[usize::from(got)] += 1;
 
         let brute_all: BTreeSet<u32> = ps
             .iter()
@@ -165,10 +156,10 @@ fn check_rays(seed: u64, ps: &[Prim], bvh: &SphereBvh, offset: DVec3, extent: f6
         assert_eq!(got_all, brute_all, "all: seed {seed} ray {k}");
     }
     assert!(hits > 40, "only {hits} rays hit: the test lost its teeth");
-    // (A scene of one sphere, which every pair passes over, has no blocked pairs.)
+    // Both answers occur (a scene of one sphere, passed over, blocks nothing).
     assert!(
-        n < 10 || blocked_pairs.iter().all(|&b| b > 20),
-        "{blocked_pairs:?}"
+        n < 10 || blocked_skipping.iter().all(|&b| b > 20),
+        "{blocked_skipping:?}"
     );
 }
 
@@ -299,7 +290,7 @@ fn benchmark_scene_shadows_match_brute_force() {
 fn shadow_rays_after_the_last_blocker_match_brute_force() {
     use gtsphere::render::integrators::surface::{first_hit, surface_point, Opaque};
     use gtsphere::render::lights::towards;
-    use gtsphere::render::visibility::{visible_after, visible_after_pair, Blockers};
+    use gtsphere::render::visibility::{visible_after, Blockers};
     use gtsphere::render::RenderOptions;
     let (spheres, prep) = benchmark_scene();
     let view = crate::support::view(&prep, &RenderOptions::default());
@@ -324,8 +315,6 @@ fn shadow_rays_after_the_last_blocker_match_brute_force() {
             let Opaque::Sphere(own_prim) = sp.on else {
                 panic!("the scene has only spheres");
             };
-            // Odd pixels trace the two lights' rays together.
-            let mut rays = Vec::new();
             for (k, l) in view.lights.iter().enumerate() {
                 let (dir, dist, _) = towards(l, sp.x).unwrap();
                 let slot = blockers.slot(k);
@@ -342,22 +331,10 @@ fn shadow_rays_after_the_last_blocker_match_brute_force() {
                         && blocks(sp.x, dir, dist, prep.bvh.prim(p).sphere as usize)
                 });
                 let want = (0..spheres.len()).all(|s| s == own || !blocks(sp.x, dir, dist, s));
-                if i % 2 == 0 {
-                    let got = visible_after(&prep, sp.x, dir, dist, Some(sp.on), slot) > 0.0;
-                    assert_eq!(got, want, "pixel ({i},{j}), light {k}");
-                }
-                rays.push(((dir, dist), want));
+                let got = visible_after(&prep, sp.x, dir, dist, Some(sp.on), slot) > 0.0;
+                assert_eq!(got, want, "pixel ({i},{j}), light {k}");
                 checked += 1;
                 answered_by_slot += usize::from(by_slot);
-            }
-            if i % 2 == 1 {
-                let pair = [rays[0].0, rays[1].0];
-                let got = visible_after_pair(&prep, sp.x, Some(sp.on), pair, blockers.pair(0));
-                assert_eq!(
-                    [got[0] > 0.0, got[1] > 0.0],
-                    [rays[0].1, rays[1].1],
-                    "pixel ({i},{j})"
-                );
             }
         }
     }
@@ -369,11 +346,11 @@ fn shadow_rays_after_the_last_blocker_match_brute_force() {
 }
 
 /// With gas spheres (constant and linear density) among the opaque ones, a slot naming a gas
-/// sphere (whose optical depth only adds up) never stops a ray, and two rays traced together
-/// each add up their own depths: the same transmittance as one ray without slots, bit for bit.
+/// sphere (whose optical depth only adds up) never stops a ray: the same transmittance as
+/// without slots, bit for bit.
 #[test]
 fn last_blockers_leave_gas_transmittance_unchanged() {
-    use gtsphere::render::visibility::{visible, visible_after, visible_after_pair};
+    use gtsphere::render::visibility::{visible, visible_after};
     use gtsphere::scene::Material;
     let mut scene = gtsphere::scenes::random_spheres(3000);
     let gas = Material {
@@ -424,13 +401,6 @@ fn last_blockers_leave_gas_transmittance_unchanged() {
         let want = visible(&prep, x, l, dist, None);
         let got = visible_after(&prep, x, l, dist, None, &mut last);
         assert_eq!(got.to_bits(), want.to_bits(), "{x} {l} {dist}");
-        // Paired with a ray the other way, the slot kept for it.
-        let (m, far) = (-l, 3.0 * rng.f());
-        let rays = [(l, dist), (m, far)];
-        let mut other = last;
-        let pair = visible_after_pair(&prep, x, None, rays, [&mut last, &mut other]);
-        let want_other = visible(&prep, x, m, far, None);
-        assert_eq!(pair.map(f64::to_bits), [want, want_other].map(f64::to_bits));
         partial += usize::from(want > 0.0 && want < 1.0);
         blocked += usize::from(want == 0.0);
     }
@@ -489,11 +459,4 @@ fn concentric_and_coincident_spheres_are_all_found() {
         10.0,
         |_, _, (t0, _)| t0 > 0.0
     ));
-    // The same two queries walked as a pair (this tree is deeper than the walker's stack).
-    let rays = [
-        (DVec3::ZERO, DVec3::Y, 0.0, f64::INFINITY, None),
-        (DVec3::new(2.0, 5.0, 0.0), DVec3::NEG_Y, 0.0, 10.0, None),
-    ];
-    let got = bvh.any_except_pair(rays, |_, _, _, (t0, _)| t0 > 0.0);
-    assert_eq!(got, [false, true]);
 }

@@ -16,7 +16,7 @@ use crate::memory::peak_rss_bytes;
 use gtsphere::error::Error;
 use gtsphere::render::integrators::surface::{first_hit, surface_point};
 use gtsphere::render::lights::towards;
-use gtsphere::render::visibility::{visible_two, Blockers};
+use gtsphere::render::visibility::{visible_after, Blockers};
 use gtsphere::render::{prepare, render, Counters, PrepareOptions, RenderOptions, SamplerKind};
 use gtsphere::scenes::random_spheres;
 
@@ -78,18 +78,13 @@ fn one_run(n: usize, size: u32, threads: usize) -> Result<Run, Error> {
         hit_count += hits.len() as u64;
         let t1 = Instant::now();
         for sp in &hits {
-            // Two lights' rays at a time, traced together, as the renderer's shading does.
-            for k in (0..view.lights.len()).step_by(2) {
-                let ray = |k: usize| view.lights.get(k).and_then(|l| towards(l, sp.x));
-                let (a, b) = (ray(k), ray(k + 1));
-                let rays = [a, b].map(|r| r.map(|(dir, dist, _)| (dir, dist)));
-                let vis = visible_two(&prep, sp.x, Some(sp.on), k, rays, &mut blockers);
-                for (j, r) in [a, b].into_iter().enumerate() {
-                    if let Some((dir, _, _)) = r {
-                        shadow_rays += 1;
-                        if let Some(lit) = lit.get_mut(k + j) {
-                            *lit += u64::from(vis[j] > 0.0 && sp.n.dot(dir) > 0.0);
-                        }
+            for (k, l) in view.lights.iter().enumerate() {
+                if let Some((dir, dist, _)) = towards(l, sp.x) {
+                    shadow_rays += 1;
+                    let slot = blockers.slot(k);
+                    let v = visible_after(&prep, sp.x, dir, dist, Some(sp.on), slot);
+                    if let Some(lit) = lit.get_mut(k) {
+                        *lit += u64::from(v > 0.0 && sp.n.dot(dir) > 0.0);
                     }
                 }
             }

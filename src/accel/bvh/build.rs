@@ -323,8 +323,8 @@ impl SphereBvh {
                     })
                     .collect();
                 // obvhs's build_cwbvh, step by step: its debug-build validation asserts a
-                // depth below 32, which degenerate sets (concentric spheres) exceed; we
-                // handle those (`Chunk::deep`) instead.
+                // depth below 32, which degenerate sets (concentric spheres) exceed; our
+                // walks size their stacks by `Chunk::depth` instead.
                 // obvhs's very fast preset (PLOC's smallest search radius, little
                 // reinsertion): measured 2026-12-02 against `fast_build`, builds 13 % faster at
                 // 1e7 spheres and traces `bench trace`'s rays 7 % faster (camera rays 2.71
@@ -350,16 +350,27 @@ impl SphereBvh {
                 // chunk's spheres are permuted into that order in place and the list is freed.
                 permute_in_place(part, &bvh.primitive_indices);
                 bvh.primitive_indices = Vec::new();
-                // The node list was sized for a guess.
+                debug_assert!(part.len() <= super::node8::MAX_CHUNK_PRIMS);
                 bvh.nodes.shrink_to_fit();
-                let deep = depth >= 30;
-                Chunk {
-                    deep,
-                    bvh,
-                    base: base as u32,
-                    lo: clo - pad * 2.0,
-                    hi: chi + pad * 2.0,
-                }
+                (
+                    bvh.nodes,
+                    depth,
+                    base as u32,
+                    clo - pad * 2.0,
+                    chi + pad * 2.0,
+                )
+            })
+            .collect::<Vec<_>>()
+            // Decoded once every chunk is built (the decoded nodes are 2.8 times the
+            // compressed ones), each chunk's compressed nodes freed as it is done: the peak
+            // stays the build's, not the build's plus the decoded trees.
+            .into_par_iter()
+            .map(|(compressed, depth, base, lo, hi)| Chunk {
+                nodes: super::node8::decode(&compressed),
+                depth,
+                base,
+                lo,
+                hi,
             })
             .collect();
         // The side arrays, in leaf order, only when some primitive needs them.

@@ -1,56 +1,55 @@
-//! The sphere BVH: obvhs's compressed wide BVH (CWBVH) over f32 boxes, with every sphere test
-//! done exactly in f64 by the caller's closure (STYLE habit 6: the BVH knows boxes, the caller
-//! knows spheres).
+//! The sphere BVH: a wide BVH over f32 boxes, built with obvhs and collapsed into its
+//! compressed wide format (CWBVH), then decoded into plain f32 eight-wide nodes that rays walk
+//! (node8.rs says why); every sphere test is done exactly in f64 by the caller's closure
+//! (STYLE habit 6: the BVH knows boxes, the caller knows spheres).
 //!
 //! Why the f32 boxes are safe. Before anything is rounded to f32, coordinates are taken
 //! relative to the centre `O` of the scene's f64 bounding box, whose half-diagonal is `R`, and a
 //! ray is first clipped in f64 to that (padded) box, so its f32 origin lies within about `R` of
 //! `O` and its f32 parameter range is at most about `2R`. Every rounding the traversal makes
-//! (the f32 origin and direction, the node's quantised child boxes, obvhs's slab arithmetic and
-//! its clamping of `1/d` to `1/f32::EPSILON` for near-axis-parallel rays) moves a box face by
-//! at most a few `2^-24 R`. Each primitive box is padded by [`PAD_ULPS`] `* 2^-24 * R`, far
+//! (the f32 origin and direction, the quantised child boxes, the slab arithmetic, and obvhs's
+//! clamping of `1/d` to `1/f32::EPSILON` for near-axis-parallel rays) moves a box face by at
+//! most a few `2^-24 R`. Each primitive box is padded by [`PAD_ULPS`] `* 2^-24 * R`, far
 //! beyond that, so a box the exact ray meets is never culled. Padding only costs extra exact
 //! tests, never a wrong answer; the f64 closure decides every hit.
 //!
-//! Why a scaled frame. obvhs's node test clamps a box's entry to at least `1e-4` (an absolute
-//! epsilon, `cwbvh::node::EPSILON`), so a box the ray leaves within `1e-4` of its origin is
-//! culled: a whole scene smaller than that would vanish, and a shadow ray could miss a thin
-//! sliver of a neighbouring sphere. The f32 frame is therefore scaled by a power of two (exact)
-//! so that `R` becomes about `2^20`, and every f32 ray starts [`BACKUP`] units before its true
-//! start: every box the true segment meets is then left at `t >= BACKUP > 1e-4`.
+//! Why a scaled frame. The f32 frame is scaled by a power of two (exact) so that `R` becomes
+//! about `2^20`, whatever the scene's size: the node test clamps a box's entry at 0, and every
+//! f32 ray starts [`BACKUP`] units before its true start, so that the rounding of its f32
+//! origin cannot put a box the true segment meets behind it. (obvhs's own node test, used
+//! until 2026-12-04, clamped the entry at an absolute `1e-4`; the frame made that harmless
+//! too.)
 //!
 //! Why chunks. The build needs well over 100 bytes per primitive while it runs (obvhs's
 //! binary nodes, then the conversion's tables), more than the whole finished structure. The
 //! spheres are therefore sorted in Morton order and cut, at Morton cell boundaries where
-//! possible, into at most [`MAX_CHUNKS`] spatially compact chunks, each with its own CWBVH, so
-//! that the build's peak is paid for one chunk at a time.
+//! possible, into at most [`MAX_CHUNKS`] spatially compact chunks, each with its own tree, so
+//! that the build's peak is paid for one chunk at a time (and the trees are decoded only
+//! once every chunk is built).
 //! A ray visits the chunks its f64 box test reaches, nearest first, and stops at the first
 //! chunk that starts beyond its closest hit.
 //!
 //! Why the ray entry points are compiled twice. The build must run on any x86-64, whose
-//! baseline (SSE2) has no 8-wide vectors, no fused multiply-add and no `popcnt` or `lzcnt`
-//! (which the CWBVH traversal uses on every node). The functions that trace rays through
-//! this BVH (`first_sphere`, `visible_through_spheres`, `segments::gather`) are therefore
-//! `#[multiversion]`: compiled once more for AVX2 + FMA + BMI, and chosen at run time by
-//! the CPU (one cached atomic load per call). The traversal, the node test (`node_test.rs`)
-//! and the leaf closures are inlined into them (`#[inline(always)]`), so that they are
-//! compiled for the same instruction set; the sphere test's careful path (`geom::sphere`),
-//! too large to inline, is dispatched the same way on its own. Nothing changes in the
-//! results: the f32 node test is the same arithmetic (the compiler never fuses a multiply
-//! and an add by itself), and every sphere test is exact in f64 whatever the culling.
-//! (Compiling the whole program for this machine's AVX-512 measured no faster than the AVX2
-//! clones, 2026-12-04.)
+//! baseline (SSE2) has no 8-wide vectors, no fused multiply-add and no `popcnt` or `tzcnt`.
+//! The functions that trace rays through this BVH (`first_sphere`, `visible_through_spheres`,
+//! `segments::gather`) are therefore `#[multiversion]`: compiled once more for AVX2 + FMA +
+//! BMI, and chosen at run time by the CPU (one cached atomic load per call). The walk, the
+//! node test (node8.rs) and the leaf closures are inlined into them (`#[inline(always)]`), so
+//! that they are compiled for the same instruction set; the sphere test's careful path
+//! (`geom::sphere`), too large to inline, is dispatched the same way on its own. Nothing
+//! changes in the results: the f32 node test is the same arithmetic in both (the compiler
+//! never fuses a multiply and an add by itself), and every sphere test is exact in f64
+//! whatever the culling. (Compiling the whole program for this machine's AVX-512 measured no
+//! faster than the AVX2 clones, 2026-12-04.)
 //!
 //! Layout: this file holds the types and what both sides use; `build.rs` the Morton chunks
 //! and the obvhs builds, `wide.rs` the collapse of obvhs's binary tree into the CWBVH,
-//! `query.rs` the traversals (closest hit, any hit, a region), `node_test.rs` the ray test of
-//! one node's eight children.
+//! `node8.rs` the decoded nodes, their ray test and the walk, `query.rs` the queries on top
+//! (closest hit, any hit, all hits, a region).
 
 mod build;
 pub use build::Side;
-mod node_test;
-mod pair;
-pub use pair::AnyRay;
+mod node8;
 mod query;
 mod wide;
 
@@ -58,7 +57,6 @@ use std::time::Duration;
 
 use glam::{DAffine3, DVec3};
 use obvhs::aabb::Aabb;
-use obvhs::cwbvh::CwBvh;
 use obvhs::Boundable;
 
 use crate::geom::{ellipsoid_roots, sphere_roots};
@@ -211,13 +209,12 @@ impl Boundable for PaddedBox {
     }
 }
 
-/// One chunk: a CWBVH over `prims[base..base + len]`, and its padded f64 box.
+/// One chunk: the decoded CWBVH over `prims[base..base + len]` (see node8.rs), and its padded
+/// f64 box.
 struct Chunk {
-    bvh: CwBvh,
-    /// Deeper than obvhs's fixed 32-entry traversal stack (which silently overwrites its top
-    /// entry when full): traverse with a growable stack instead. Happens only for degenerate
-    /// sets, such as hundreds of concentric or coincident spheres.
-    deep: bool,
+    nodes: Vec<node8::Node8>,
+    /// The tree's depth in nodes, for the size of a walk's stack.
+    depth: usize,
     base: u32,
     lo: DVec3,
     hi: DVec3,
@@ -260,7 +257,7 @@ impl SphereBvh {
     pub fn heap_bytes(&self) -> usize {
         self.chunks
             .iter()
-            .map(|c| c.bvh.nodes.capacity() * std::mem::size_of::<obvhs::cwbvh::node::CwBvhNode>())
+            .map(|c| c.nodes.capacity() * std::mem::size_of::<node8::Node8>())
             .sum::<usize>()
             + self.packed.capacity() * std::mem::size_of::<Packed>()
             + self.sigmas.capacity() * std::mem::size_of::<f64>()

@@ -1,11 +1,11 @@
-//! Traversals: the chunks a ray reaches (f64 slab test), each chunk's CWBVH walked with
-//! obvhs's `traverse!` and a stack of our choosing, and the closest-hit, any-hit and
-//! region queries on top (every primitive test in f64 by the caller's closure).
+//! Queries: the chunks a ray reaches (f64 slab test), each chunk's nodes walked (node8.rs),
+//! and the closest-hit, any-hit, all-hits and region queries on top (every primitive test in
+//! f64 by the caller's closure).
 
-use glam::{DVec3, UVec2, Vec3A};
+use glam::{DVec3, Vec3A};
 use obvhs::ray::Ray as Ray32;
 
-use super::node_test::{child_hits, octant_inv4};
+use super::node8::{self, leaf_range, stack_len, Step, STACK};
 use super::{Chunk, Hit, Prim, SphereBvh, BACKUP, MAX_CHUNKS};
 
 /// The parameter interval where `o + t d` is inside the box `lo..hi`, clipped to
@@ -28,90 +28,13 @@ fn slab(lo: DVec3, hi: DVec3, o: DVec3, inv: DVec3, tmin: f64, tmax: f64) -> Opt
     (t0 <= t1).then_some((t0, t1))
 }
 
-/// What a leaf visit tells the traversal.
-enum Step {
-    Go,
-    /// Go on, with the ray's f32 `tmax` lowered to this.
-    Shrink(f32),
-    Stop,
-}
-
-/// Traversal state for `obvhs::traverse!` with a stack of our choosing.
-struct Walk<S> {
-    stack: S,
-    current_group: UVec2,
-    primitive_group: UVec2,
-    oct_inv4: u32,
-    primitive_id: u32,
-    hitmask: u32,
-}
-
-impl<S> Walk<S> {
-    /// The state at chunk `c`'s root, children ordered for `direction`. (obvhs's
-    /// `new_traversal` would also build, and zero, a stack of its own that we do not use.)
-    #[inline(always)]
-    fn start(c: &Chunk, direction: Vec3A, stack: S) -> Walk<S> {
-        let oct_inv4 = octant_inv4(direction);
-        Walk {
-            stack,
-            current_group: root_group(c),
-            primitive_group: UVec2::ZERO,
-            oct_inv4,
-            primitive_id: 0,
-            hitmask: 0,
-        }
-    }
-}
-
-/// The node group a walk of chunk `c` starts from: its root alone (none if it is empty).
+/// Walks chunk `c` along `ray` (see [`node8::walk`]).
 #[inline(always)]
-pub(super) fn root_group(c: &Chunk) -> UVec2 {
-    if c.bvh.nodes.is_empty() {
-        UVec2::ZERO
+fn walk<const ORDERED: bool>(c: &Chunk, ray: &Ray32, leaf: impl FnMut(u32) -> Step) -> bool {
+    if stack_len(c.depth) <= STACK {
+        node8::walk::<ORDERED>(&c.nodes, ray, &mut [(0, 0.0); STACK], leaf)
     } else {
-        UVec2::new(0, 0x8000_0000)
-    }
-}
-
-/// Walks chunk `c` along `ray`, calling `leaf(primitive index in the chunk)` for every
-/// primitive in a leaf the ray reaches.
-#[inline(always)]
-fn walk_with<S: obvhs::faststack::FastStack<UVec2>>(
-    c: &Chunk,
-    stack: S,
-    mut ray: Ray32,
-    mut leaf: impl FnMut(u32) -> Step,
-) {
-    let mut state = Walk::start(c, ray.direction, stack);
-    let mut node;
-    'done: {
-        obvhs::traverse!(
-            c.bvh,
-            node,
-            state,
-            child_hits(node, &ray, state.oct_inv4),
-            {
-                match leaf(state.primitive_id) {
-                    Step::Go => {}
-                    Step::Shrink(t) => ray.tmax = ray.tmax.min(t),
-                    Step::Stop => break 'done,
-                }
-            }
-        );
-    }
-}
-
-#[inline(always)]
-fn walk(c: &Chunk, ray: Ray32, leaf: impl FnMut(u32) -> Step) {
-    if c.deep {
-        walk_with(c, Vec::with_capacity(64), ray, leaf);
-    } else {
-        walk_with(
-            c,
-            obvhs::faststack::StackStack::<UVec2, 32>::default(),
-            ray,
-            leaf,
-        );
+        node8::walk::<ORDERED>(&c.nodes, ray, &mut vec![(0, 0.0); stack_len(c.depth)], leaf)
     }
 }
 
@@ -120,8 +43,9 @@ impl SphereBvh {
     /// starts at the entry point, so its f32 origin lies inside the scene.
     #[inline]
     pub(super) fn ray32(&self, o: DVec3, d: DVec3, t0: f64, t1: f64) -> Ray32 {
-        // `+ 0.0` turns -0.0 into +0.0: obvhs picks a node's near planes from the sign test
-        // `d < 0` but divides by the signed zero, so a -0.0 component would invert the slab.
+        // `+ 0.0` turns -0.0 into +0.0. (obvhs's node test, used until 2026-12-04, picked the
+        // near planes from `d < 0` but divided by the signed zero; ours picks them from the sign
+        // of `1/d` itself, so either zero is safe.)
         let dir = d.as_vec3a() + Vec3A::ZERO;
         let start = ((o + t0 * d - self.origin) * self.scale).as_vec3a() - BACKUP * dir;
         // Widen the f32 range: the f32 exit must not fall short of the f64 one.
@@ -203,9 +127,9 @@ impl SphereBvh {
             let ray = self.ray32(o, d, t0, t1.min(best_t));
             // Inlined by hand: left to itself the compiler stopped inlining this closure once it
             // gathered packed primitives, and camera rays lost 5 % (`bench trace`, 2026-12-02).
-            walk(
+            walk::<true>(
                 c,
-                ray,
+                &ray,
                 #[inline(always)]
                 |i| {
                     let i = c.base + i;
@@ -267,9 +191,9 @@ impl SphereBvh {
         let mut blocked = false;
         for &(t0, t1, k) in &list[..n] {
             let c = &self.chunks[k as usize];
-            walk(
+            walk::<false>(
                 c,
-                self.ray32(o, d, t0, t1),
+                &self.ray32(o, d, t0, t1),
                 // Inlined by hand, as in `closest`: this is the shadow rays' leaf test, and
                 // left out of line it was not compiled for the caller's instruction set
                 // (see mod.rs, "Why the ray entry points are compiled twice").
@@ -305,46 +229,44 @@ impl SphereBvh {
         &self,
         near: impl Fn(DVec3, DVec3) -> bool,
         mut visit: impl FnMut(u32, &Prim),
-        stack: &mut Vec<UVec2>,
+        stack: &mut Vec<u32>,
     ) {
         let inv = 1.0 / self.scale;
         let pad = DVec3::splat(2.0 * self.pad);
         for c in &self.chunks {
-            if c.bvh.nodes.is_empty() || !near(c.lo, c.hi) {
+            if c.nodes.is_empty() || !near(c.lo, c.hi) {
                 continue;
             }
             stack.clear();
-            let mut state = Walk::start(c, Vec3A::X, std::mem::take(stack));
-            let mut node: &obvhs::cwbvh::node::CwBvhNode;
-            obvhs::traverse!(
-                c.bvh,
-                node,
-                state,
-                {
-                    let (bits, index) = node.get_child_and_index_bits(state.oct_inv4);
-                    let mut mask = 0u32;
-                    for child in 0..8 {
-                        if node.is_child_empty(child) {
-                            continue;
-                        }
-                        // The child box in world space, padded again for the f32 rounding of
-                        // its decoding.
-                        let b = node.child_aabb(child);
-                        let lo = b.min.as_dvec3() * inv + self.origin - pad;
-                        let hi = b.max.as_dvec3() * inv + self.origin + pad;
-                        if near(lo, hi) {
-                            mask |= obvhs::cwbvh::node::extract_byte64(bits, child)
-                                << obvhs::cwbvh::node::extract_byte64(index, child);
+            stack.push(0);
+            while let Some(index) = stack.pop() {
+                let node = &c.nodes[index as usize];
+                for child in 0..8 {
+                    let f32_box = |b: &[[f32; 8]; 3]| {
+                        DVec3::new(b[0][child].into(), b[1][child].into(), b[2][child].into())
+                    };
+                    let (lo, hi) = (f32_box(&node.lo), f32_box(&node.hi));
+                    if !(lo.cmple(hi).all()) {
+                        // An empty lane.
+                        continue;
+                    }
+                    // The child box in world space, padded again for the f32 rounding of its
+                    // decoding.
+                    if !near(lo * inv + self.origin - pad, hi * inv + self.origin + pad) {
+                        continue;
+                    }
+                    let r = node.child[child];
+                    match leaf_range(r) {
+                        None => stack.push(r),
+                        Some(prims) => {
+                            for i in prims {
+                                let i = c.base + i;
+                                visit(i, &self.prim(i));
+                            }
                         }
                     }
-                    mask
-                },
-                {
-                    let i = c.base + state.primitive_id;
-                    visit(i, &self.prim(i));
                 }
-            );
-            *stack = state.stack;
+            }
         }
     }
 
@@ -362,7 +284,7 @@ impl SphereBvh {
         let n = self.chunks_on(o, d, tmin, tmax, &mut list);
         for &(t0, t1, k) in &list[..n] {
             let c = &self.chunks[k as usize];
-            walk(c, self.ray32(o, d, t0, t1), |i| {
+            walk::<false>(c, &self.ray32(o, d, t0, t1), |i| {
                 let i = c.base + i;
                 if let Some(roots) = self.roots_of(i, o, d) {
                     visit(i, &self.prim(i), roots);
