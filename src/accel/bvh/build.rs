@@ -350,6 +350,7 @@ impl SphereBvh {
                 // chunk's spheres are permuted into that order in place and the list is freed.
                 permute_in_place(part, &bvh.primitive_indices);
                 bvh.primitive_indices = Vec::new();
+                // (A chunk holds at most 2^17 or a sixteenth of the primitives, fewer than 2^32.)
                 debug_assert!(part.len() <= super::node8::MAX_CHUNK_PRIMS);
                 bvh.nodes.shrink_to_fit();
                 (
