@@ -411,6 +411,7 @@ impl SphereBvh {
             profiles,
             ellipsoids: ellipsoid_maps,
             to_object,
+            chunk_boxes: super::ChunkBoxes::of(&chunks),
             chunks,
             origin,
             scale,

@@ -220,8 +220,31 @@ struct Chunk {
     hi: DVec3,
 }
 
+/// Chunk boxes as arrays per axis, so that the slab tests of four chunks are one SIMD pass.
+#[derive(Clone, Copy, Debug, Default)]
+struct ChunkBoxes {
+    lo: [[f64; MAX_CHUNKS]; 3],
+    hi: [[f64; MAX_CHUNKS]; 3],
+}
+
+impl ChunkBoxes {
+    fn of(chunks: &[Chunk]) -> ChunkBoxes {
+        let mut b = ChunkBoxes::default();
+        for (k, c) in chunks.iter().enumerate() {
+            for a in 0..3 {
+                b.lo[a][k] = c.lo[a];
+                b.hi[a][k] = c.hi[a];
+            }
+        }
+        b
+    }
+}
+
 pub struct SphereBvh {
     chunks: Vec<Chunk>,
+    /// The chunks' boxes again, axis by axis (lane `k` is chunk `k`), for testing them all
+    /// at once.
+    chunk_boxes: ChunkBoxes,
     /// Primitives, chunk after chunk, each chunk in its BVH's leaf order: traversal index `i`
     /// of chunk `c` is `packed[c.base + i]`.
     packed: Vec<Packed>,
