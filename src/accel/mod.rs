@@ -2,4 +2,4 @@
 
 pub mod bvh;
 
-pub use bvh::{Ball, Hit, Packed, Prim, SphereBvh};
+pub use bvh::{Ball, Hit, Packed, PacketStack, Prim, SphereBvh, PACKET};

@@ -12,6 +12,7 @@ pub mod light_grid;
 pub mod light_pieces;
 pub mod lighting;
 pub mod lights;
+pub mod packets;
 pub mod profile;
 pub mod quadrature;
 pub mod sampler;

@@ -9,6 +9,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::integrators::{self, surface, Scratch};
+use super::packets::{BandHits, BAND};
 use super::sampler::{offsets, Rng};
 use super::Integrator;
 use super::{Camera, Counters, Film, Prepared, RenderOptions, View};
@@ -75,11 +76,11 @@ impl Progress for Cancel {
 fn render_pixel(
     view: &View,
     opts: &RenderOptions,
-    i: u32,
-    j: u32,
+    (i, j): (u32, u32),
     samples: &mut Vec<(f64, f64)>,
     scratch: &mut Scratch,
     counters: &mut Counters,
+    hits: Option<&[Option<surface::OpaqueHit>]>,
 ) -> PixelOut {
     let (w, h) = (f64::from(opts.width), f64::from(opts.height));
     let pixel = u64::from(j) * u64::from(opts.width) + u64::from(i);
@@ -103,7 +104,11 @@ fn render_pixel(
     let mut rng = Rng::new(opts.seed ^ 0x6D63_5F70_6174_6873, pixel);
     for (k, &(sx, sy)) in samples.iter().enumerate() {
         let (o, d) = cam.ray((f64::from(i) + sx) / w, (f64::from(j) + sy) / h);
-        let e = integrators::radiance(view, o, d, &mut rng, scratch, counters);
+        let e = match hits {
+            // Traced already, in a packet (scenes without gas only).
+            Some(h) => surface::radiance_of_hit(view, o, d, h[k], &mut scratch.blockers, counters),
+            None => integrators::radiance(view, o, d, &mut rng, scratch, counters),
+        };
         sum += e.value;
         err += e.error;
         covered += u32::from(e.covered);
@@ -196,22 +201,33 @@ pub fn render_view(
             let mut scratch = Scratch::default();
             let mut px = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
             let mut hits = Vec::new();
-            'rows: for j in y0..y1 {
-                for i in x0..x1 {
-                    if progress.cancelled() {
-                        break 'rows;
-                    }
-                    px.push(render_pixel(
-                        view,
-                        opts,
-                        i,
-                        j,
-                        &mut samples,
-                        &mut scratch,
-                        &mut counters,
-                    ));
-                    if opts.aovs.any() {
-                        hits.push(centre_hit(view, opts, i, j));
+            // Without gas, every camera ray's first hit is all the tracing before shading:
+            // a band's are traced first, four by four pixels in a packet.
+            let packets = view.gas_spheres == 0;
+            let mut band = BandHits::default();
+            'rows: for b0 in (y0..y1).step_by(BAND as usize) {
+                let b1 = (b0 + BAND).min(y1);
+                if packets && !progress.cancelled() {
+                    band.trace(view, opts, (x0, x1), (b0, b1));
+                }
+                for j in b0..b1 {
+                    for i in x0..x1 {
+                        if progress.cancelled() {
+                            break 'rows;
+                        }
+                        let at = ((j - b0) * (x1 - x0) + (i - x0)) as usize;
+                        px.push(render_pixel(
+                            view,
+                            opts,
+                            (i, j),
+                            &mut samples,
+                            &mut scratch,
+                            &mut counters,
+                            packets.then(|| band.of_pixel(at)),
+                        ));
+                        if opts.aovs.any() {
+                            hits.push(centre_hit(view, opts, i, j));
+                        }
                     }
                 }
             }

@@ -55,6 +55,7 @@ fn check_scene(seed: u64, n: usize, offset: DVec3, extent: f64, r_lo: f64, r_hi:
     let many = SphereBvh::build_chunked(ps.clone(), &[], 1);
     for bvh in [&one, &few, &many] {
         check_rays(seed, &ps, bvh, offset, extent, &mut rng);
+        check_packets(seed, &ps, bvh, offset, extent, &mut rng);
         check_regions(&ps, bvh, offset, extent, &mut rng);
     }
 }
@@ -163,6 +164,85 @@ fn check_rays(seed: u64, ps: &[Prim], bvh: &SphereBvh, offset: DVec3, extent: f6
     );
 }
 
+/// `closest_packet` against brute force and against `closest` one ray at a time: coherent
+/// packets from one origin (a camera tile's pixels, from wide to a millionth of a sphere
+/// apart), parallel rays from a grid of origins, rays straddling an axis plane (mixed
+/// direction signs), and unrelated rays, from inside the cloud, near it and far away.
+fn check_packets(
+    seed: u64,
+    ps: &[Prim],
+    bvh: &SphereBvh,
+    offset: DVec3,
+    extent: f64,
+    rng: &mut Rng,
+) {
+    let n = ps.len();
+    let mut stack = gtsphere::accel::PacketStack::default();
+    let mut hits = 0;
+    for k in 0..120 {
+        let dist = [0.0, 2.0, 1e4][k % 3] * extent;
+        let o = offset + rng.unit() * dist + (DVec3::new(rng.f(), rng.f(), rng.f()) - 0.5) * extent;
+        let p = &ps[(rng.f() * n as f64) as usize % n];
+        // The packet's centre aims at a sphere's centre or its rim.
+        let aim = p.center + rng.unit() * p.radius * [0.0, 0.5, 1.0 - 1e-9][k % 3];
+        let axis = (aim - o).normalize();
+        let (u, v) = (
+            axis.cross(rng.unit()).normalize(),
+            axis.cross(rng.unit()).normalize(),
+        );
+        let spread = [1e-6, 0.3, 1.0, 5.0][(k / 3) % 4] * p.radius / (aim - o).length().max(1e-300);
+        let count = 1 + (rng.f() * 16.0) as usize % 16;
+        let mut os = vec![o; count];
+        let mut ds = vec![axis; count];
+        for j in 0..count {
+            let (a, b) = ((j % 4) as f64 - 1.5, (j / 4) as f64 - 1.5);
+            match (k / 12) % 5 {
+                // One origin, a grid of directions.
+                0 | 1 => ds[j] = (axis + (a * u + b * v) * spread).normalize(),
+                // Parallel rays from a grid of origins.
+                2 => os[j] = o + (a * u + b * v) * p.radius * 0.7,
+                // Straddling the plane x = 0 of directions (some x components of either sign).
+                3 => ds[j] = DVec3::new((a + b) * 1e-3, axis.y, axis.z).normalize(),
+                // Unrelated rays.
+                _ => {
+                    os[j] = offset + rng.unit() * dist;
+                    ds[j] = rng.unit();
+                }
+            }
+        }
+        let rays: Vec<(DVec3, DVec3)> = os.iter().copied().zip(ds.iter().copied()).collect();
+        let mut got = [None; gtsphere::accel::PACKET];
+        bvh.closest_packet(
+            &rays,
+            0.0,
+            f64::INFINITY,
+            &mut got,
+            &mut stack,
+            |_, _, _, (t0, _)| (t0 > 0.0).then_some(t0),
+        );
+        for j in 0..count {
+            let (o, d) = (os[j], ds[j]);
+            let want = brute_closest(ps, o, d);
+            let one = bvh
+                .closest(o, d, 0.0, f64::INFINITY, |_, _, (t0, _)| {
+                    (t0 > 0.0).then_some(t0)
+                })
+                .map(|h| (h.t, bvh.prim(h.prim).sphere));
+            let got = got[j].map(|h| (h.t, bvh.prim(h.prim).sphere));
+            assert_eq!(
+                got, want,
+                "packet: seed {seed} packet {k} ray {j} o {o} d {d}"
+            );
+            assert_eq!(one, want);
+            hits += usize::from(want.is_some());
+        }
+    }
+    assert!(
+        hits > 100,
+        "only {hits} packet rays hit: the test lost its teeth"
+    );
+}
+
 #[test]
 fn bvh_matches_brute_force_unit_scene() {
     check_scene(1, 2000, DVec3::ZERO, 1.0, 0.005, 0.05);
@@ -234,6 +314,44 @@ fn grazing_rays_through_the_bvh() {
         }
     }
     assert!(hit > 100 && miss > 100, "hit {hit} miss {miss}");
+
+    // The same grazing rays sixteen at a time: one origin, directions a millionth of the
+    // sphere apart, so they walk as one packet.
+    let mut stack = gtsphere::accel::PacketStack::default();
+    let (mut hit, mut miss) = (0, 0);
+    for k in 0..200 {
+        let axis = c.normalize();
+        let side = axis.cross(rng.unit()).normalize();
+        let rays: Vec<(DVec3, DVec3)> = (0..16)
+            .map(|_| {
+                let off = r * (1.0 + (rng.f() * 2.0 - 1.0) * 1e-9);
+                (DVec3::ZERO, (c + side * off).normalize())
+            })
+            .collect();
+        let mut got = [None; gtsphere::accel::PACKET];
+        bvh.closest_packet(
+            &rays,
+            0.0,
+            f64::INFINITY,
+            &mut got,
+            &mut stack,
+            |_, _, _, (t0, _)| (t0 > 0.0).then_some(t0),
+        );
+        for (j, &(o, d)) in rays.iter().enumerate() {
+            let want = brute_closest(&ps, o, d);
+            assert_eq!(
+                got[j].map(|h| (h.t, bvh.prim(h.prim).sphere)),
+                want,
+                "packet {k} ray {j}"
+            );
+            if want.is_some() {
+                hit += 1;
+            } else {
+                miss += 1;
+            }
+        }
+    }
+    assert!(hit > 200 && miss > 200, "packets: hit {hit} miss {miss}");
 }
 
 /// The benchmark scene of `gtsphere bench trace` at 20 000 spheres, prepared, and its
@@ -279,6 +397,50 @@ fn benchmark_scene_shadows_match_brute_force() {
         }
     }
     assert!(checked > 2000 && lit > 500, "{checked} {lit}");
+}
+
+/// The benchmark scene's camera rays four by four pixels in a packet, as the renderer traces
+/// them (`first_hits`), with jittered samples: the same first hits as the brute-force loop.
+#[test]
+fn benchmark_scene_camera_packets_match_brute_force() {
+    use gtsphere::accel::{PacketStack, PACKET};
+    use gtsphere::render::integrators::surface::{first_hits, Opaque};
+    use gtsphere::render::RenderOptions;
+    let (spheres, prep) = benchmark_scene();
+    let view = crate::support::view(&prep, &RenderOptions::default());
+    let cam = view.camera;
+    let mut rng = Rng(77);
+    let mut stack = PacketStack::default();
+    let mut hits = 0;
+    for by in (0..96).step_by(4) {
+        for bx in (0..96).step_by(4) {
+            let mut rays = Vec::new();
+            for j in by..by + 4 {
+                for i in bx..bx + 4 {
+                    rays.push(cam.ray((i as f64 + rng.f()) / 96.0, (j as f64 + rng.f()) / 96.0));
+                }
+            }
+            let mut got = [None; PACKET];
+            first_hits(&prep, &rays, 0.0, &mut got, &mut stack);
+            for (k, &(o, d)) in rays.iter().enumerate() {
+                let want = spheres
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(s, &(c, r))| {
+                        let (t0, _) = sphere_roots(o, d, c, r)?;
+                        (t0 > 0.0).then_some((t0, s))
+                    })
+                    .min_by(|a, b| a.0.total_cmp(&b.0));
+                let got = got[k].map(|h| match h.on {
+                    Opaque::Sphere(p) => (h.t, prep.bvh.prim(p).sphere as usize),
+                    Opaque::Surface(_) => unreachable!("the scene has only spheres"),
+                });
+                assert_eq!(got, want, "packet ({bx},{by}) ray {k}");
+                hits += usize::from(want.is_some());
+            }
+        }
+    }
+    assert!(hits > 3000, "{hits}");
 }
 
 /// Shadow rays that first try the sphere that blocked the previous ray towards the same light

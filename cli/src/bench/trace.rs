@@ -13,8 +13,10 @@ use std::time::Instant;
 
 use super::measure::median;
 use crate::memory::peak_rss_bytes;
+use glam::DVec3;
+use gtsphere::accel::{PacketStack, PACKET};
 use gtsphere::error::Error;
-use gtsphere::render::integrators::surface::{first_hit, surface_point};
+use gtsphere::render::integrators::surface::{first_hits, surface_point};
 use gtsphere::render::lights::towards;
 use gtsphere::render::visibility::{visible_after, Blockers};
 use gtsphere::render::{prepare, render, Counters, PrepareOptions, RenderOptions, SamplerKind};
@@ -48,28 +50,53 @@ fn one_run(n: usize, size: u32, threads: usize) -> Result<Run, Error> {
 
     // Passes 1 and 2, one thread, a band of 16 rows at a time (so the hit list stays small):
     // camera rays, then one shadow ray per hit and light. N.L <= 0 is traced too, as the
-    // Embree reference does, so that the counts compare. As in the renderer's shading, the
-    // rays towards two lights are traced together (interleaved walks), and each light's ray
-    // first tries the sphere that blocked the previous one (an exact test; Embree traces
-    // one ray at a time, with no such cache). Within a band, pixels go in 16x16
-    // tiles, the order the renderer uses (render/tiles.rs): neighbouring rays share BVH
-    // nodes and spheres while they are still in cache.
+    // Embree reference does, so that the counts compare. As in the renderer, camera rays go
+    // in 16x16 tiles, traced four by four pixels in a packet (Embree's harness traces one
+    // `rtcIntersect1` at a time), and each light's shadow ray first tries the sphere that
+    // blocked the previous one (an exact test; Embree has no such cache): neighbouring rays
+    // share BVH nodes and spheres while they are still in cache.
     let (mut camera_s, mut shadow_s) = (0.0, 0.0);
     let mut lit = [0u64; 2];
     let mut shadow_rays = 0u64;
     let mut hit_count = 0u64;
     let mut hits = Vec::new();
+    let mut stack = PacketStack::default();
     // Each light's last blocker, tried first, as the renderer does from pixel to pixel.
     let mut blockers = Blockers::default();
     for band in (0..size).step_by(16) {
         let t0 = Instant::now();
         hits.clear();
         for x0 in (0..size).step_by(16) {
-            for j in band..(band + 16).min(size) {
-                for i in x0..(x0 + 16).min(size) {
-                    let (o, d) = cam.ray((f64::from(i) + 0.5) / w, (f64::from(j) + 0.5) / w);
-                    if let Some(h) = first_hit(&prep, o, d, 0.0) {
-                        hits.push(surface_point(&prep, o, d, h));
+            // As the renderer does (render/packets.rs): four rows at a time, their camera
+            // rays traced four by four pixels in a packet, the hits then taken row by row
+            // (the order the renderer shades them in, and so traces their shadow rays).
+            for y in (band..(band + 16).min(size)).step_by(4) {
+                let y1 = (y + 4).min(size);
+                let x1 = (x0 + 16).min(size);
+                let cols = (x1 - x0) as usize;
+                let mut rays = [(DVec3::ZERO, DVec3::ZERO); 64];
+                let mut found = [None; 64];
+                for x in (x0..x1).step_by(4) {
+                    let mut packet = [(DVec3::ZERO, DVec3::X); PACKET];
+                    let mut at = [0; PACKET];
+                    let mut n = 0;
+                    for j in y..y1 {
+                        for i in x..(x + 4).min(x1) {
+                            packet[n] = cam.ray((f64::from(i) + 0.5) / w, (f64::from(j) + 0.5) / w);
+                            at[n] = (j - y) as usize * cols + (i - x0) as usize;
+                            rays[at[n]] = packet[n];
+                            n += 1;
+                        }
+                    }
+                    let mut got = [None; PACKET];
+                    first_hits(&prep, &packet[..n], 0.0, &mut got, &mut stack);
+                    for k in 0..n {
+                        found[at[k]] = got[k];
+                    }
+                }
+                for k in 0..(y1 - y) as usize * cols {
+                    if let Some(h) = found[k] {
+                        hits.push(surface_point(&prep, rays[k].0, rays[k].1, h));
                     }
                 }
             }

@@ -50,6 +50,8 @@
 mod build;
 pub use build::Side;
 mod node8;
+mod packet;
+pub use packet::{PacketStack, PACKET};
 mod query;
 mod wide;
 

@@ -5,6 +5,7 @@
 use glam::DVec3;
 
 use super::Estimate;
+use crate::accel::PacketStack;
 use crate::geom::ellipsoid_normal;
 use crate::render::lighting::{shade, SurfacePoint};
 use crate::render::visibility::Blockers;
@@ -35,6 +36,46 @@ fn first_sphere(prep: &Prepared, o: DVec3, d: DVec3, tmin: f64) -> Option<crate:
         .closest(o, d, tmin, f64::INFINITY, |_, p, (t0, _)| {
             (!p.is_gas() && t0 > tmin).then_some(t0)
         })
+}
+
+/// [`first_sphere`] of up to [`crate::accel::PACKET`] rays at once (`rays[k] = (o, d)`, all
+/// with `t > tmin`), written to `hits[k]`: the same hits, the rays walked as one packet.
+#[multiversion::multiversion(targets("x86_64+avx+avx2+fma+bmi1+bmi2+lzcnt+popcnt"))]
+fn first_spheres(
+    prep: &Prepared,
+    rays: &[(DVec3, DVec3)],
+    tmin: f64,
+    hits: &mut [Option<crate::accel::Hit>],
+    stack: &mut PacketStack,
+) {
+    prep.bvh.closest_packet(
+        rays,
+        tmin,
+        f64::INFINITY,
+        hits,
+        stack,
+        |_, _, p, (t0, _)| (!p.is_gas() && t0 > tmin).then_some(t0),
+    )
+}
+
+/// [`first_hit`] of up to [`crate::accel::PACKET`] coherent rays (a camera tile's
+/// neighbouring pixels) at once, written to `hits[k]`: the same hits as one ray at a time.
+pub fn first_hits(
+    prep: &Prepared,
+    rays: &[(DVec3, DVec3)],
+    tmin: f64,
+    hits: &mut [Option<OpaqueHit>],
+    stack: &mut PacketStack,
+) {
+    let mut spheres = [None; crate::accel::PACKET];
+    first_spheres(prep, rays, tmin, &mut spheres, stack);
+    for (k, &(o, d)) in rays.iter().enumerate() {
+        let sphere = spheres[k].map(|h| OpaqueHit {
+            t: h.t,
+            on: Opaque::Sphere(h.prim),
+        });
+        hits[k] = nearer_surface(prep, o, d, tmin, sphere);
+    }
 }
 
 /// The first opaque surface along `o + t d` (`t > tmin`): a sphere, or a surface in front of it.
@@ -113,8 +154,20 @@ pub fn radiance(
     blockers: &mut Blockers,
     counters: &mut Counters,
 ) -> Estimate {
+    radiance_of_hit(prep, o, d, first_hit(prep, o, d, 0.0), blockers, counters)
+}
+
+/// [`radiance`] of a camera ray whose first hit is already known (traced in a packet).
+pub fn radiance_of_hit(
+    prep: &View,
+    o: DVec3,
+    d: DVec3,
+    hit: Option<OpaqueHit>,
+    blockers: &mut Blockers,
+    counters: &mut Counters,
+) -> Estimate {
     counters.camera_rays += 1;
-    match first_hit(prep, o, d, 0.0) {
+    match hit {
         None => Estimate {
             value: prep.background,
             error: 0.0,
