@@ -247,7 +247,20 @@ pub(super) fn walk<const ORDERED: bool>(
     let mut cur = 0;
     loop {
         let next = match leaf_range(cur) {
-            None => probe.children::<ORDERED>(&nodes[cur as usize], tmax, stack, &mut sp),
+            None => {
+                let before = sp;
+                let next = probe.children::<ORDERED>(&nodes[cur as usize], tmax, stack, &mut sp);
+                if !ORDERED {
+                    // Touch the waiting inner children now, so that their loads overlap
+                    // with the walk of the first.
+                    for &(r, _) in &stack[before..sp] {
+                        if r & LEAF == 0 {
+                            std::hint::black_box(nodes[r as usize].lo[0][0]);
+                        }
+                    }
+                }
+                next
+            }
             Some(prims) => {
                 for p in prims {
                     match leaf(p) {
