@@ -31,9 +31,10 @@
 //!
 //! Why the ray entry points are compiled twice. The build must run on any x86-64, whose
 //! baseline (SSE2) has no 8-wide vectors, no fused multiply-add and no `popcnt` or `tzcnt`.
-//! The functions that trace rays through this BVH (`first_sphere`, `visible_through_spheres`,
-//! `segments::gather`) are therefore `#[multiversion]`: compiled once more for AVX2 + FMA +
-//! BMI, and chosen at run time by the CPU (one cached atomic load per call). The walk, the
+//! The functions that trace rays through this BVH (`first_sphere`, `first_spheres`,
+//! `visible_through_spheres`, `segments::gather`) are therefore `#[multiversion]`: compiled
+//! once more for AVX2 + FMA + BMI, and chosen at run time by the CPU (one cached atomic load
+//! per call). The walk, the
 //! node test (node8.rs) and the leaf closures are inlined into them (`#[inline(always)]`), so
 //! that they are compiled for the same instruction set; the sphere test's careful path
 //! (`geom::sphere`), too large to inline, is dispatched the same way on its own. Nothing
@@ -44,8 +45,9 @@
 //!
 //! Layout: this file holds the types and what both sides use; `build.rs` the Morton chunks
 //! and the obvhs builds, `wide.rs` the collapse of obvhs's binary tree into the CWBVH,
-//! `node8.rs` the decoded nodes, their ray test and the walk, `query.rs` the queries on top
-//! (closest hit, any hit, all hits, a region).
+//! `node8.rs` the decoded nodes, their ray test and the walk, `packet.rs` the walk of a packet
+//! of coherent rays, `query.rs` the queries on top (closest hit, any hit, all hits, a region,
+//! and the closest hits of a packet).
 
 mod build;
 pub use build::Side;
