@@ -54,8 +54,11 @@ impl BandHits {
         let cols = (x1 - x0) as usize;
         let rows = (y1 - y0) as usize;
         for c0 in (0..cols).step_by(BAND as usize) {
-            let block =
-                || (0..rows).flat_map(move |r| (c0..(c0 + 4).min(cols)).map(move |c| r * cols + c));
+            let block = || {
+                (0..rows).flat_map(move |r| {
+                    (c0..(c0 + BAND as usize).min(cols)).map(move |c| r * cols + c)
+                })
+            };
             let most = block()
                 .map(|p| self.starts[p + 1] - self.starts[p])
                 .max()
