@@ -164,6 +164,27 @@ fn check_rays(seed: u64, ps: &[Prim], bvh: &SphereBvh, offset: DVec3, extent: f6
     );
 }
 
+/// `closest_packet`'s answers as `brute_closest` gives them (one-sided, from `t > 0`).
+fn packet_closest(
+    bvh: &SphereBvh,
+    rays: &[(DVec3, DVec3)],
+    stack: &mut gtsphere::accel::PacketStack,
+) -> Vec<Option<(f64, u32)>> {
+    let mut got = [None; gtsphere::accel::PACKET];
+    bvh.closest_packet(
+        rays,
+        0.0,
+        f64::INFINITY,
+        &mut got,
+        stack,
+        |_, _, _, (t0, _)| (t0 > 0.0).then_some(t0),
+    );
+    got[..rays.len()]
+        .iter()
+        .map(|h| h.map(|h| (h.t, bvh.prim(h.prim).sphere)))
+        .collect()
+}
+
 /// `closest_packet` against brute force and against `closest` one ray at a time: coherent
 /// packets from one origin (a camera tile's pixels, from wide to a millionth of a sphere
 /// apart), parallel rays from a grid of origins, rays straddling an axis plane (mixed
@@ -211,15 +232,7 @@ fn check_packets(
             }
         }
         let rays: Vec<(DVec3, DVec3)> = os.iter().copied().zip(ds.iter().copied()).collect();
-        let mut got = [None; gtsphere::accel::PACKET];
-        bvh.closest_packet(
-            &rays,
-            0.0,
-            f64::INFINITY,
-            &mut got,
-            &mut stack,
-            |_, _, _, (t0, _)| (t0 > 0.0).then_some(t0),
-        );
+        let got = packet_closest(bvh, &rays, &mut stack);
         for j in 0..count {
             let (o, d) = (os[j], ds[j]);
             let want = brute_closest(ps, o, d);
@@ -228,7 +241,7 @@ fn check_packets(
                     (t0 > 0.0).then_some(t0)
                 })
                 .map(|h| (h.t, bvh.prim(h.prim).sphere));
-            let got = got[j].map(|h| (h.t, bvh.prim(h.prim).sphere));
+            let got = got[j];
             assert_eq!(
                 got, want,
                 "packet: seed {seed} packet {k} ray {j} o {o} d {d}"
@@ -328,22 +341,10 @@ fn grazing_rays_through_the_bvh() {
                 (DVec3::ZERO, (c + side * off).normalize())
             })
             .collect();
-        let mut got = [None; gtsphere::accel::PACKET];
-        bvh.closest_packet(
-            &rays,
-            0.0,
-            f64::INFINITY,
-            &mut got,
-            &mut stack,
-            |_, _, _, (t0, _)| (t0 > 0.0).then_some(t0),
-        );
+        let got = packet_closest(&bvh, &rays, &mut stack);
         for (j, &(o, d)) in rays.iter().enumerate() {
             let want = brute_closest(&ps, o, d);
-            assert_eq!(
-                got[j].map(|h| (h.t, bvh.prim(h.prim).sphere)),
-                want,
-                "packet {k} ray {j}"
-            );
+            assert_eq!(got[j], want, "packet {k} ray {j}");
             if want.is_some() {
                 hit += 1;
             } else {

@@ -46,13 +46,14 @@
 //! Layout: this file holds the types and what both sides use; `build.rs` the Morton chunks
 //! and the obvhs builds, `wide.rs` the collapse of obvhs's binary tree into the CWBVH,
 //! `node8.rs` the decoded nodes, their ray test and the walk, `packet.rs` the walk of a packet
-//! of coherent rays, `query.rs` the queries on top (closest hit, any hit, all hits, a region,
-//! and the closest hits of a packet).
+//! of coherent rays, `query.rs` the queries on top (closest hit, any hit, all hits, a region),
+//! `packet_query.rs` the closest hits of a packet.
 
 mod build;
 pub use build::Side;
 mod node8;
 mod packet;
+mod packet_query;
 pub use packet::{PacketStack, PACKET};
 mod query;
 mod wide;

@@ -57,8 +57,12 @@ impl Rays {
         true
     }
 
-    /// The sign of each axis's inverse direction, when every ray has the same.
+    /// The sign of each axis's inverse direction, when the packet holds rays and every ray
+    /// has the same.
     pub fn common_signs(&self) -> Option<[bool; 3]> {
+        if self.count == 0 {
+            return None;
+        }
         let mut neg = [false; 3];
         for (a, n) in neg.iter_mut().enumerate() {
             let inv = &self.inv[a][..self.count];

@@ -6,7 +6,6 @@ use glam::{DVec3, Vec3A};
 use obvhs::ray::Ray as Ray32;
 
 use super::node8::{self, leaf_range, stack_len, Step, STACK};
-use super::packet::{self, PacketStack, Rays, PACKET};
 use super::{Chunk, Hit, Prim, SphereBvh, BACKUP, MAX_CHUNKS};
 
 /// One axis of the slab test: `(t0, t1)` clipped to where `o + t d` lies between the planes
@@ -29,7 +28,11 @@ fn slab(lo: DVec3, hi: DVec3, o: DVec3, inv: DVec3, tmin: f64, tmax: f64) -> Opt
 
 /// Walks chunk `c` along `ray` (see [`node8::walk`]).
 #[inline(always)]
-fn walk<const ORDERED: bool>(c: &Chunk, ray: &Ray32, leaf: impl FnMut(u32) -> Step) -> bool {
+pub(super) fn walk<const ORDERED: bool>(
+    c: &Chunk,
+    ray: &Ray32,
+    leaf: impl FnMut(u32) -> Step,
+) -> bool {
     if stack_len(c.depth) <= STACK {
         node8::walk::<ORDERED>(&c.nodes, ray, &mut [(0, 0.0); STACK], leaf)
     } else {
@@ -56,7 +59,7 @@ impl SphereBvh {
     /// The f32 ray parameter of world parameter `t` on a ray from [`SphereBvh::ray32`] that
     /// started at `t0`, rounded up so that no closer box is culled.
     #[inline]
-    fn t32_above(&self, t: f64, t0: f64) -> f32 {
+    pub(super) fn t32_above(&self, t: f64, t0: f64) -> f32 {
         let r = ((t - t0) * self.scale) as f32 + BACKUP;
         r + r.abs() * 4.0 * f32::EPSILON + f32::MIN_POSITIVE
     }
@@ -141,161 +144,22 @@ impl SphereBvh {
             if t0 > best_t {
                 break;
             }
-            let c = &self.chunks[k as usize];
-            let ray = self.ray32(o, d, t0, t1.min(best_t));
-            // Inlined by hand: left to itself the compiler stopped inlining this closure once it
-            // gathered packed primitives, and camera rays lost 5 % (`bench trace`, 2026-12-02).
-            walk::<true>(
-                c,
-                &ray,
-                #[inline(always)]
-                |i| {
-                    let i = c.base + i;
-                    if let Some(roots) = self.roots_of(i, o, d) {
-                        let p = &self.prim(i);
-                        if let Some(t) = test(i, p, roots) {
-                            // Ties (coincident spheres) go to the earlier sphere in the
-                            // scene, whatever the traversal order.
-                            let better = match best {
-                                None => t <= tmax,
-                                Some(b) => {
-                                    t < b.t
-                                        || (t == b.t
-                                            && p.sphere < self.packed[b.prim as usize].sphere)
-                                }
-                            };
-                            if t > tmin && better {
-                                best = Some(Hit { t, prim: i });
-                                return Step::Shrink(self.t32_above(t, t0));
-                            }
-                        }
-                    }
-                    Step::Go
-                },
+            self.closest_in(
+                k as usize,
+                (o, d),
+                (tmin, tmax),
+                (t0, t1.min(best_t)),
+                &mut best,
+                &mut test,
             );
         }
         best
     }
 
-    /// [`SphereBvh::closest`] for up to [`PACKET`] rays at once (`rays[k] = (o, d)`: `o + t d`, all over
-    /// `[tmin, tmax]`), each ray's answer written to `best[k]`: the same answers as one ray at
-    /// a time, found by walking each chunk once for all the rays that reach it (packet.rs).
-    /// `test(ray, index, prim, roots)` is as `closest`'s. Rays whose directions differ in sign
-    /// on some axis, or whose entries into a chunk lie far apart, walk that chunk one at a
-    /// time.
-    #[inline(always)]
-    pub fn closest_packet(
-        &self,
-        rays: &[(DVec3, DVec3)],
-        tmin: f64,
-        tmax: f64,
-        best: &mut [Option<Hit>],
-        stack: &mut PacketStack,
-        mut test: impl FnMut(usize, u32, &Prim, (f64, f64)) -> Option<f64>,
-    ) {
-        let n = rays.len();
-        assert!(n <= PACKET && best.len() >= n);
-        let o: [DVec3; PACKET] = std::array::from_fn(|k| rays.get(k).map_or(DVec3::ZERO, |r| r.0));
-        let d: [DVec3; PACKET] = std::array::from_fn(|k| rays.get(k).map_or(DVec3::X, |r| r.1));
-        best[..n].fill(None);
-        // Each chunk's entry and exit per ray (NaN where the ray does not reach it).
-        let mut enter = [[f64::NAN; PACKET]; MAX_CHUNKS];
-        let mut leave = [[f64::NAN; PACKET]; MAX_CHUNKS];
-        let mut first = [f64::INFINITY; MAX_CHUNKS];
-        let mut list = [(0.0, 0.0, 0u32); MAX_CHUNKS];
-        for k in 0..n {
-            let m = self.chunks_on(o[k], d[k], tmin, tmax, &mut list);
-            for &(t0, t1, c) in &list[..m] {
-                let c = c as usize;
-                enter[c][k] = t0;
-                leave[c][k] = t1;
-                first[c] = first[c].min(t0);
-            }
-        }
-        let mut order: [usize; MAX_CHUNKS] = std::array::from_fn(|c| c);
-        let count = self.chunks.len();
-        order[..count].sort_unstable_by(|&a, &b| first[a].total_cmp(&first[b]));
-        for &c in &order[..count] {
-            if first[c] == f64::INFINITY {
-                break;
-            }
-            let chunk = &self.chunks[c];
-            // The rays still looking in this chunk: they reach it before their closest hit.
-            let mut slots = [0usize; PACKET];
-            let mut active = 0;
-            let mut start = f64::INFINITY;
-            for k in 0..n {
-                let t0 = enter[c][k];
-                if t0 <= best[k].map_or(tmax, |h| h.t) {
-                    slots[active] = k;
-                    active += 1;
-                    start = start.min(t0);
-                }
-            }
-            // One frame for the packet: parameters from `start`. A ray entering the chunk
-            // further than the chunk's size after `start` would put its f32 origin far
-            // outside the scene; it walks alone.
-            let size = (chunk.hi - chunk.lo).length();
-            let mut packet = Rays::new();
-            let mut members = [0usize; PACKET];
-            for &k in &slots[..active] {
-                let t1 = leave[c][k].min(best[k].map_or(tmax, |h| h.t));
-                if active > 1 && enter[c][k] - start <= size {
-                    members[packet.count] = k;
-                    packet.push(&self.ray32(o[k], d[k], start, t1));
-                } else {
-                    self.closest_in(
-                        c,
-                        o[k],
-                        d[k],
-                        tmin,
-                        tmax,
-                        enter[c][k],
-                        t1,
-                        &mut best[k],
-                        |i, p, r| test(k, i, p, r),
-                    );
-                }
-            }
-            if packet.count == 0 {
-                continue;
-            }
-            let Some(negative) = packet.common_signs() else {
-                for &k in &members[..packet.count] {
-                    let t1 = leave[c][k].min(best[k].map_or(tmax, |h| h.t));
-                    self.closest_in(
-                        c,
-                        o[k],
-                        d[k],
-                        tmin,
-                        tmax,
-                        enter[c][k],
-                        t1,
-                        &mut best[k],
-                        |i, p, r| test(k, i, p, r),
-                    );
-                }
-                continue;
-            };
-            packet::walk(&chunk.nodes, &mut packet, negative, stack, |slot, i| {
-                let k = members[slot];
-                let i = chunk.base + i;
-                let roots = self.roots_of(i, o[k], d[k])?;
-                let p = &self.prim(i);
-                let t = test(k, i, p, roots)?;
-                if t > tmin && self.better(t, p, best[k], tmax) {
-                    best[k] = Some(Hit { t, prim: i });
-                    return Some(self.t32_above(t, start));
-                }
-                None
-            });
-        }
-    }
-
     /// Whether a hit at `t` on `p` beats `best` (ties, between coincident spheres, go to the
     /// earlier sphere in the scene, whatever the traversal order).
     #[inline(always)]
-    fn better(&self, t: f64, p: &Prim, best: Option<Hit>, tmax: f64) -> bool {
+    pub(super) fn better(&self, t: f64, p: &Prim, best: Option<Hit>, tmax: f64) -> bool {
         match best {
             None => t <= tmax,
             Some(b) => t < b.t || (t == b.t && p.sphere < self.packed[b.prim as usize].sphere),
@@ -304,17 +168,16 @@ impl SphereBvh {
 
     /// The closest hit of one ray in chunk `c`, entered at `t0` and walked to `t1`, lowering
     /// `best`.
+    /// (Every closure inlined by hand: left to itself the compiler stopped inlining the leaf
+    /// closure once it gathered packed primitives, and camera rays lost 5 %, `bench trace`,
+    /// 2026-12-02.)
     #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
-    fn closest_in(
+    pub(super) fn closest_in(
         &self,
         c: usize,
-        o: DVec3,
-        d: DVec3,
-        tmin: f64,
-        tmax: f64,
-        t0: f64,
-        t1: f64,
+        (o, d): (DVec3, DVec3),
+        (tmin, tmax): (f64, f64),
+        (t0, t1): (f64, f64),
         best: &mut Option<Hit>,
         mut test: impl FnMut(u32, &Prim, (f64, f64)) -> Option<f64>,
     ) {
