@@ -64,15 +64,15 @@ impl SphereBvh {
                 }
             }
             // One frame for the packet: parameters from `start`. A ray entering the chunk
-            // further than the chunk's size after `start` would put its f32 origin far
-            // outside the scene; it walks alone.
+            // further than the chunk's size after `start` (in distance) would put its f32
+            // origin far outside the scene; it walks alone.
             let size = (chunk.hi - chunk.lo).length();
             let mut packet = Rays::new();
             let mut members = [0usize; PACKET];
             let mut alone = [0usize; PACKET];
             let mut lone = 0;
             for &k in &slots[..active] {
-                if active > 1 && enter[c][k] - start <= size {
+                if active > 1 && (enter[c][k] - start) * d[k].length() <= size {
                     let t1 = leave[c][k].min(best[k].map_or(tmax, |h| h.t));
                     members[packet.count] = k;
                     packet.push(&self.ray32(o[k], d[k], start, t1));
