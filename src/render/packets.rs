@@ -85,8 +85,10 @@ impl BandHits {
         }
     }
 
-    /// The hits of pixel `p` of the band (row-major), one per sample.
-    pub fn of_pixel(&self, p: usize) -> &[Option<OpaqueHit>] {
-        &self.hits[self.starts[p]..self.starts[p + 1]]
+    /// The camera rays `(o, d)` of pixel `p` of the band (row-major) and their hits, one
+    /// per sample.
+    pub fn of_pixel(&self, p: usize) -> (&[(DVec3, DVec3)], &[Option<OpaqueHit>]) {
+        let samples = self.starts[p]..self.starts[p + 1];
+        (&self.rays[samples.clone()], &self.hits[samples])
     }
 }

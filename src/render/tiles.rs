@@ -80,7 +80,7 @@ fn render_pixel(
     samples: &mut Vec<(f64, f64)>,
     scratch: &mut Scratch,
     counters: &mut Counters,
-    hits: Option<&[Option<surface::OpaqueHit>]>,
+    band: Option<(&BandHits, usize)>,
 ) -> PixelOut {
     let (w, h) = (f64::from(opts.width), f64::from(opts.height));
     let pixel = u64::from(j) * u64::from(opts.width) + u64::from(i);
@@ -103,11 +103,17 @@ fn render_pixel(
     // sample positions' stream.
     let mut rng = Rng::new(opts.seed ^ 0x6D63_5F70_6174_6873, pixel);
     for (k, &(sx, sy)) in samples.iter().enumerate() {
-        let (o, d) = cam.ray((f64::from(i) + sx) / w, (f64::from(j) + sy) / h);
-        let e = match hits {
+        let e = match band {
             // Traced already, in a packet (scenes without gas only).
-            Some(h) => surface::radiance_of_hit(view, o, d, h[k], &mut scratch.blockers, counters),
-            None => integrators::radiance(view, o, d, &mut rng, scratch, counters),
+            Some((band, at)) => {
+                let (rays, hits) = band.of_pixel(at);
+                let (o, d) = rays[k];
+                surface::radiance_of_hit(view, o, d, hits[k], &mut scratch.blockers, counters)
+            }
+            None => {
+                let (o, d) = cam.ray((f64::from(i) + sx) / w, (f64::from(j) + sy) / h);
+                integrators::radiance(view, o, d, &mut rng, scratch, counters)
+            }
         };
         sum += e.value;
         err += e.error;
@@ -223,7 +229,7 @@ pub fn render_view(
                             &mut samples,
                             &mut scratch,
                             &mut counters,
-                            packets.then(|| band.of_pixel(at)),
+                            packets.then_some((&band, at)),
                         ));
                         if opts.aovs.any() {
                             hits.push(centre_hit(view, opts, i, j));

@@ -13,11 +13,10 @@ use std::time::Instant;
 
 use super::measure::median;
 use crate::memory::peak_rss_bytes;
-use glam::DVec3;
-use gtsphere::accel::{PacketStack, PACKET};
 use gtsphere::error::Error;
-use gtsphere::render::integrators::surface::{first_hits, surface_point};
+use gtsphere::render::integrators::surface::surface_point;
 use gtsphere::render::lights::towards;
+use gtsphere::render::packets::BandHits;
 use gtsphere::render::visibility::{visible_after, Blockers};
 use gtsphere::render::{prepare, render, Counters, PrepareOptions, RenderOptions, SamplerKind};
 use gtsphere::scenes::random_spheres;
@@ -45,8 +44,6 @@ fn one_run(n: usize, size: u32, threads: usize) -> Result<Run, Error> {
     let prep = prepare(random_spheres(n), &PrepareOptions::default())?;
     let peak_prepare = peak_rss_bytes().unwrap_or(0);
     let view = prep.view(&prep.default_camera(size, size)?, &opts)?;
-    let cam = view.camera;
-    let w = f64::from(size);
 
     // Passes 1 and 2, one thread, a band of 16 rows at a time (so the hit list stays small):
     // camera rays, then one shadow ray per hit and light. N.L <= 0 is traced too, as the
@@ -60,7 +57,7 @@ fn one_run(n: usize, size: u32, threads: usize) -> Result<Run, Error> {
     let mut shadow_rays = 0u64;
     let mut hit_count = 0u64;
     let mut hits = Vec::new();
-    let mut stack = PacketStack::default();
+    let mut rows = BandHits::default();
     // Each light's last blocker, tried first, as the renderer does from pixel to pixel.
     let mut blockers = Blockers::default();
     for band in (0..size).step_by(16) {
@@ -71,32 +68,12 @@ fn one_run(n: usize, size: u32, threads: usize) -> Result<Run, Error> {
             // rays traced four by four pixels in a packet, the hits then taken row by row
             // (the order the renderer shades them in, and so traces their shadow rays).
             for y in (band..(band + 16).min(size)).step_by(4) {
-                let y1 = (y + 4).min(size);
-                let x1 = (x0 + 16).min(size);
-                let cols = (x1 - x0) as usize;
-                let mut rays = [(DVec3::ZERO, DVec3::ZERO); 64];
-                let mut found = [None; 64];
-                for x in (x0..x1).step_by(4) {
-                    let mut packet = [(DVec3::ZERO, DVec3::X); PACKET];
-                    let mut at = [0; PACKET];
-                    let mut n = 0;
-                    for j in y..y1 {
-                        for i in x..(x + 4).min(x1) {
-                            packet[n] = cam.ray((f64::from(i) + 0.5) / w, (f64::from(j) + 0.5) / w);
-                            at[n] = (j - y) as usize * cols + (i - x0) as usize;
-                            rays[at[n]] = packet[n];
-                            n += 1;
-                        }
-                    }
-                    let mut got = [None; PACKET];
-                    first_hits(&prep, &packet[..n], 0.0, &mut got, &mut stack);
-                    for k in 0..n {
-                        found[at[k]] = got[k];
-                    }
-                }
-                for k in 0..(y1 - y) as usize * cols {
-                    if let Some(h) = found[k] {
-                        hits.push(surface_point(&prep, rays[k].0, rays[k].1, h));
+                let (x1, y1) = ((x0 + 16).min(size), (y + 4).min(size));
+                rows.trace(&view, &opts, (x0, x1), (y, y1));
+                for p in 0..((x1 - x0) * (y1 - y)) as usize {
+                    let (rays, found) = rows.of_pixel(p);
+                    if let Some(h) = found[0] {
+                        hits.push(surface_point(&prep, rays[0].0, rays[0].1, h));
                     }
                 }
             }

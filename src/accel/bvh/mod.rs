@@ -34,9 +34,9 @@
 //! The functions that trace rays through this BVH (`first_sphere`, `first_spheres`,
 //! `visible_through_spheres`, `segments::gather`) are therefore `#[multiversion]`: compiled
 //! once more for AVX2 + FMA + BMI, and chosen at run time by the CPU (one cached atomic load
-//! per call). The walk, the
-//! node test (node8.rs) and the leaf closures are inlined into them (`#[inline(always)]`), so
-//! that they are compiled for the same instruction set; the sphere test's careful path
+//! per call). The walks (node8.rs, packet.rs), their node tests and the leaf closures are
+//! inlined into them (`#[inline(always)]`), so that they are compiled for the same
+//! instruction set; the sphere test's careful path
 //! (`geom::sphere`), too large to inline, is dispatched the same way on its own. Nothing
 //! changes in the results: the f32 node test is the same arithmetic in both (the compiler
 //! never fuses a multiply and an add by itself), and every sphere test is exact in f64

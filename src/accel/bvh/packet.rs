@@ -49,19 +49,15 @@ impl Rays {
         }
     }
 
-    /// Adds a ray; false when the packet is full.
-    pub fn push(&mut self, ray: &Ray32) -> bool {
+    /// Adds a ray (the caller holds at most [`PACKET`]).
+    pub fn push(&mut self, ray: &Ray32) {
         let k = self.count;
-        if k == PACKET {
-            return false;
-        }
         for a in 0..3 {
             self.origin[a][k] = ray.origin[a];
             self.inv[a][k] = ray.inv_direction[a];
         }
         self.tmax[k] = ray.tmax;
         self.count += 1;
-        true
     }
 
     /// The sign of each axis's inverse direction, when the packet holds rays and every ray
