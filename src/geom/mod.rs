@@ -17,4 +17,4 @@ pub use mesh::{
     components, crease_normals, faces, first_bad_index, newell_normal, triangulate, Component,
 };
 pub use nearest::median_nearest_distance;
-pub use sphere::{segment_chord, sphere_roots};
+pub use sphere::{enters_between, segment_chord, sphere_roots};

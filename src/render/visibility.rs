@@ -6,7 +6,7 @@ use glam::DVec3;
 
 use super::integrators::surface::Opaque;
 use super::Prepared;
-use crate::accel::{Prim, SphereBvh};
+use crate::accel::SphereBvh;
 
 /// Visibility from `x` towards a light at unit direction `l`, distance `dist` (infinite for a
 /// directional light). `own` is what `x` lies on, if anything: its own shadow is exact
@@ -94,9 +94,16 @@ pub fn visible_through_spheres(
         return 0.0;
     }
     let mut along = Along::default();
-    let blocked = bvh.any_except(x, l, 0.0, dist, own, |i, p, roots| {
-        along.meets(bvh, i, p, roots, x, l, dist)
-    });
+    let blocked = bvh.any_prim_except(
+        x,
+        l,
+        0.0,
+        dist,
+        own,
+        // (Inlined by hand: left out of line, the closure was compiled for plain x86-64.)
+        #[inline(always)]
+        |i| along.meets(bvh, i, x, l, dist),
+    );
     along.finish(blocked, last)
 }
 
@@ -120,10 +127,7 @@ fn blocked_by_last(
     if Some(i) == own || i as usize >= bvh.len() || bvh.packed()[i as usize].is_gas() {
         return false;
     }
-    match bvh.roots_of(i, x, l) {
-        Some((t0, _)) => t0 > 0.0 && t0 < dist,
-        None => false,
-    }
+    bvh.enters_between(i, x, l, dist)
 }
 
 /// What a shadow ray has met so far: the optical depth of the gas, and the opaque sphere that
@@ -135,29 +139,24 @@ struct Along {
 }
 
 impl Along {
-    /// Takes in primitive `i` with line roots `(t0, t1)`; true when the ray need go no further.
-    #[allow(clippy::too_many_arguments)]
+    /// Takes in primitive `i`, whose box the ray reaches; true when the ray need go no
+    /// further. A gas sphere's chord needs its roots; an opaque one asks only whether the ray
+    /// enters it before the light ([`SphereBvh::enters_between`]).
     #[inline(always)]
-    fn meets(
-        &mut self,
-        bvh: &SphereBvh,
-        i: u32,
-        p: &Prim,
-        (t0, t1): (f64, f64),
-        x: DVec3,
-        l: DVec3,
-        dist: f64,
-    ) -> bool {
-        if p.is_gas() {
+    fn meets(&mut self, bvh: &SphereBvh, i: u32, x: DVec3, l: DVec3, dist: f64) -> bool {
+        if bvh.packed()[i as usize].is_gas() {
+            let Some((t0, t1)) = bvh.roots_of(i, x, l) else {
+                return false;
+            };
             let (a, b) = (t0.max(0.0), t1.min(dist));
             if b > a {
-                self.tau += super::density::part_depth(bvh, p, x, l, (a, b));
+                self.tau += super::density::part_depth(bvh, &bvh.prim(i), x, l, (a, b));
             }
             // Past this, exp(-tau) is 0 in f64 whatever else the ray meets: stop (exactly the
             // same answer, for less work through dense gas).
             self.tau > 746.0
         } else {
-            let blocks = t0 > 0.0 && t0 < dist;
+            let blocks = bvh.enters_between(i, x, l, dist);
             if blocks {
                 self.blocker = Some(i);
             }

@@ -6,7 +6,9 @@ mod exact;
 
 use exact::{bracket_error, bracket_ulps, Exact};
 use glam::{DAffine3, DMat3, DQuat, DVec3};
-use gtsphere::geom::{ellipsoid_normal, ellipsoid_roots, segment_chord, sphere_roots};
+use gtsphere::geom::{
+    ellipsoid_normal, ellipsoid_roots, enters_between, segment_chord, sphere_roots,
+};
 
 use crate::support::Rng;
 
@@ -527,4 +529,94 @@ fn segment_chord_matches_sampling() {
         let tol = 2.0 * (tb - ta).max(0.0) / n as f64 + 1e-12 * (ta.abs() + tb.abs());
         assert!((got - want).abs() <= tol, "{got} vs {want} (tol {tol})");
     }
+}
+
+/// `enters_between` (the shadow rays' test of an opaque sphere, which skips the careful roots
+/// when a plain estimate is clear by a margin) answers exactly as the careful roots do, on
+/// lines made to sit at its margins: entries near 0 (origins on or near the surface, as a
+/// shadow ray leaving a touching or overlapping sphere), near `dist` (the light just before
+/// or behind the sphere), closest approaches near `0.999 r` (where the estimate stops) and
+/// near tangency, directions of any length, infinite `dist`. Where the exact oracle's entry is
+/// clear of 0 and `dist`, both agree with it.
+#[test]
+fn enters_between_decides_as_the_careful_roots_do() {
+    let mut rng = Rng(0x5eed_0008);
+    let (mut cases, mut entering, mut oracle_checked) = (0, 0, 0);
+    for i in 0..40_000 {
+        let r = rng.log_uniform(1e-4, 1e4);
+        let c = rng.dir() * rng.log_uniform(1e-3, 1e6);
+        let k = i % 5;
+        // The origin: on or near the surface (k = 0, 1), or anywhere around.
+        let o = if k <= 1 {
+            let off = if k == 0 {
+                0.0
+            } else {
+                rng.sign() * rng.log_uniform(1e-16, 1e-3)
+            };
+            c + rng.dir() * r * (1.0 + off)
+        } else {
+            c + rng.dir() * r * rng.log_uniform(1e-2, 1e4)
+        };
+        // Aimed at a point `rho` from the centre across the line of sight: around 0.999 r
+        // (k = 2), near tangency (k = 3), or anywhere within 1.2 r.
+        let u = (c - o).normalize_or(DVec3::X);
+        let rho = match k {
+            2 => 0.999 * (1.0 + rng.sign() * rng.log_uniform(1e-12, 1e-2)),
+            3 => 1.0 - rng.sign() * rng.log_uniform(1e-15, 1e-6),
+            _ => rng.range(0.0, 1.2),
+        };
+        let aim = c + rng.perp(u) * r * rho;
+        let mut d = (aim - o) * rng.log_uniform(1e-3, 1e3);
+        if rng.u64() % 3 == 0 {
+            // Away from the sphere too (an entry behind the origin).
+            d = -d;
+        }
+        if rng.u64() % 50 == 0 {
+            d *= rng.log_uniform(1e-200, 1e200);
+        }
+        if d == DVec3::ZERO || !d.is_finite() {
+            continue;
+        }
+        // The light: infinitely far, anywhere, or within a hair of the careful entry.
+        let t0 = sphere_roots(o, d, c, r).map(|(t0, _)| t0);
+        let dist = match (rng.u64() % 4, t0) {
+            (0, _) => f64::INFINITY,
+            (1, Some(t0)) => t0 * (1.0 + rng.sign() * rng.log_uniform(1e-16, 1e-4)),
+            (2, Some(t0)) => t0,
+            _ => rng.log_uniform(1e-3, 1e3) * r / d.length(),
+        };
+        let want = t0.is_some_and(|t0| t0 > 0.0 && t0 < dist);
+        assert_eq!(
+            enters_between(o, d, c, r, dist),
+            want,
+            "o {o:?} d {d:?} c {c:?} r {r:e} dist {dist:e}"
+        );
+        cases += 1;
+        entering += usize::from(want);
+        // Against the exact entry, where it is clear of both ends by 1e-12 of the scale.
+        if d.length() < 1e100 && d.length() > 1e-100 {
+            let e = Exact::new(o, d, c, r);
+            let scale = ((o - c).length() + r) / d.length();
+            let clear = |t: f64| (t.abs() > 1e-12 * scale) && (t - dist).abs() > 1e-12 * scale;
+            match e.roots() {
+                Some([(lo, hi), _]) if clear(lo) && clear(hi) && e.margin() > 1e-12 => {
+                    assert_eq!(
+                        want,
+                        lo > 0.0 && hi < dist,
+                        "oracle: o {o:?} d {d:?} c {c:?}"
+                    );
+                    oracle_checked += 1;
+                }
+                None if e.margin() < -1e-12 => {
+                    assert!(!want);
+                    oracle_checked += 1;
+                }
+                _ => {}
+            }
+        }
+    }
+    eprintln!(
+        "{cases} lines, {entering} entering, {oracle_checked} checked against the exact entry"
+    );
+    assert!(cases > 35_000 && entering > 5_000 && oracle_checked > 20_000);
 }

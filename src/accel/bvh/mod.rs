@@ -64,7 +64,7 @@ use glam::{DAffine3, DVec3};
 use obvhs::aabb::Aabb;
 use obvhs::Boundable;
 
-use crate::geom::{ellipsoid_roots, sphere_roots};
+use crate::geom::{ellipsoid_roots, enters_between, sphere_roots};
 use crate::scene::Profile;
 
 /// How far (in scaled f32 units) each f32 ray starts before its true start.
@@ -355,6 +355,19 @@ impl SphereBvh {
             self.roots(&self.prim(i), o, d)
         } else {
             sphere_roots(o, d, q.center, q.radius)
+        }
+    }
+
+    /// Whether the line `o + t d` enters primitive `i` strictly between `t = 0` and `dist`:
+    /// the roots' answer ([`crate::geom::enters_between`] for a sphere, which computes its
+    /// careful roots only when the answer is close to call).
+    #[inline(always)]
+    pub(crate) fn enters_between(&self, i: u32, o: DVec3, d: DVec3, dist: f64) -> bool {
+        let q = &self.packed[i as usize];
+        if q.is_ellipsoid() {
+            matches!(self.roots(&self.prim(i), o, d), Some((t0, _)) if t0 > 0.0 && t0 < dist)
+        } else {
+            enters_between(o, d, q.center, q.radius, dist)
         }
     }
 

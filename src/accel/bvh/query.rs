@@ -229,6 +229,34 @@ impl SphereBvh {
         skip: Option<u32>,
         mut blocks: impl FnMut(u32, &Prim, (f64, f64)) -> bool,
     ) -> bool {
+        self.any_prim_except(
+            o,
+            d,
+            tmin,
+            tmax,
+            skip,
+            #[inline(always)]
+            |i| match self.roots_of(i, o, d) {
+                Some(roots) => blocks(i, &self.prim(i), roots),
+                None => false,
+            },
+        )
+    }
+
+    /// Whether `blocks(prim_index)` holds for any primitive whose box the ray segment
+    /// `[tmin, tmax]` reaches, other than `skip`; stops at the first. `blocks` makes its own
+    /// test of the primitive (shadow rays ask [`SphereBvh::enters_between`] of an opaque one,
+    /// which needs no roots).
+    #[inline(always)]
+    pub(crate) fn any_prim_except(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        tmin: f64,
+        tmax: f64,
+        skip: Option<u32>,
+        mut blocks: impl FnMut(u32) -> bool,
+    ) -> bool {
         let mut list = [(0.0, 0.0, 0u32); MAX_CHUNKS];
         let n = self.chunks_on(o, d, tmin, tmax, &mut list);
         let mut blocked = false;
@@ -243,15 +271,11 @@ impl SphereBvh {
                 #[inline(always)]
                 |i| {
                     let i = c.base + i;
-                    if Some(i) == skip {
-                        return Step::Go;
-                    }
-                    match self.roots_of(i, o, d) {
-                        Some(roots) if blocks(i, &self.prim(i), roots) => {
-                            blocked = true;
-                            Step::Stop
-                        }
-                        _ => Step::Go,
+                    if Some(i) != skip && blocks(i) {
+                        blocked = true;
+                        Step::Stop
+                    } else {
+                        Step::Go
                     }
                 },
             );
