@@ -348,6 +348,22 @@ impl Splitter {
         std::mem::replace(&mut self.hold, rest)
     }
 
+    /// Takes the text before offset `end` (the prefix, at most `prefix_max` bytes) out of
+    /// `hold` by copying it and moving the rest down in place, and moves the scan's indices
+    /// with it. ([`Self::take_head`] would copy the rest, the first chunk's whole text, into
+    /// a fresh buffer: at the start, when nothing else runs, that copy and its page faults
+    /// cost a third as long as the scan before it.)
+    fn split_off_prefix(&mut self, end: u64) -> Vec<u8> {
+        let n = (end - self.base) as usize;
+        let prefix = self.hold[..n].to_vec();
+        self.hold.drain(..n);
+        self.next_rare = None;
+        self.base = end;
+        self.at = self.at.saturating_sub(n);
+        self.span = self.span.saturating_sub(n);
+        prefix
+    }
+
     /// Hands on the region's text up to `end` as a chunk.
     fn chunk(&mut self, end: u64, out: &mut impl FnMut(Piece)) {
         let start = self.base;
@@ -614,7 +630,7 @@ impl Splitter {
             return;
         }
         // The region starts: the prefix goes to the main reader and to the chunks'.
-        let prefix = self.take_head(start);
+        let prefix = self.split_off_prefix(start);
         out(Piece::Prefix(Arc::from(&prefix[..])));
         out(Piece::Text(prefix));
         self.mode = Mode::Region;
