@@ -95,10 +95,8 @@ pub fn visible_through_spheres(
     }
     let mut along = Along::default();
     let blocked = bvh.any_prim_except(
-        x,
-        l,
-        0.0,
-        dist,
+        (x, l),
+        (0.0, dist),
         own,
         // (Inlined by hand: left out of line, the closure was compiled for plain x86-64.)
         #[inline(always)]

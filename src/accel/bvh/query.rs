@@ -230,10 +230,8 @@ impl SphereBvh {
         mut blocks: impl FnMut(u32, &Prim, (f64, f64)) -> bool,
     ) -> bool {
         self.any_prim_except(
-            o,
-            d,
-            tmin,
-            tmax,
+            (o, d),
+            (tmin, tmax),
             skip,
             #[inline(always)]
             |i| match self.roots_of(i, o, d) {
@@ -250,10 +248,8 @@ impl SphereBvh {
     #[inline(always)]
     pub(crate) fn any_prim_except(
         &self,
-        o: DVec3,
-        d: DVec3,
-        tmin: f64,
-        tmax: f64,
+        (o, d): (DVec3, DVec3),
+        (tmin, tmax): (f64, f64),
         skip: Option<u32>,
         mut blocks: impl FnMut(u32) -> bool,
     ) -> bool {
