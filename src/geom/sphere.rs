@@ -92,31 +92,93 @@ fn careful_roots_with<P: ExactProducts>(
 const SAFE_LO: f64 = 7.888609052210118e-31;
 const SAFE_HI: f64 = 1.2676506002282294e30;
 
-/// A cheap, certain rejection of lines that pass well clear of the sphere (most candidate
-/// tests in a BVH leaf), before the careful path below.
+/// The line's closest approach to the centre in plain f64, the cheap estimates below start
+/// from: `f = o - c`, `a = d.d`, `tc = -(f.d)/a` and `v = f + tc d`, with `size = |f|_1 + r`
+/// and `e_v = 64 u size` (`u = 2^-53`).
 ///
-/// In plain f64, `f = o - c`, `tc = -(f.d)/(d.d)` and `v = f + tc d` give the closest-approach
-/// distance `|v|` with an absolute error below `16 u (|f| + r)`, `u = 2^-53`: `f` is off by at
-/// most `u |f|` per component, `tc` by `~8 u |f| / |d|` (which moves `v` along `d` and changes
-/// `|v|` by at most that times `|d|`), and forming `v` and its length adds `~6 u |f|`
-/// (`|tc d| <= |f|`). A line whose computed distance exceeds `r` by 4x that bound misses for
-/// sure. Magnitudes are limited so that no square overflows or underflows.
-///
-/// No square roots: `|f|` is bounded by its 1-norm (the margin only grows), and `|v| > m` is
-/// tested as `v.v > m^2`, whose roundings move the comparison by ~2 eps `(|f| + r)`, well
-/// inside the 4x margin.
+/// `|v|` has an absolute error below `16 u (|f| + r)`: `f` is off by at most `u |f|` per
+/// component, `tc` by `~8 u |f| / |d|` (which moves `v` along `d` and changes `|v|` by at most
+/// that times `|d|`), and forming `v` and its length adds `~6 u |f|` (`|tc d| <= |f|`). `e_v`
+/// is 4x that bound (`|f|` bounded by its 1-norm, so the margin only grows).
+struct Approach {
+    a: f64,
+    tc: f64,
+    v: DVec3,
+    size: f64,
+    e_v: f64,
+}
+
+impl Approach {
+    /// `None` where the magnitudes leave the range in which no square overflows or
+    /// underflows (then the bounds do not hold).
+    #[inline(always)]
+    fn of(o: DVec3, d: DVec3, c: DVec3, r: f64) -> Option<Approach> {
+        let f = o - c;
+        let a = d.dot(d);
+        let ff = f.dot(f);
+        if !(a > 1e-280 && a < 1e280 && ff > 1e-280 && ff < 1e280 && r < 1e139) {
+            return None;
+        }
+        let tc = -f.dot(d) / a;
+        let v = f + tc * d;
+        let size = f.abs().element_sum() + r;
+        Some(Approach {
+            a,
+            tc,
+            v,
+            size,
+            e_v: 64.0 * (0.5 * f64::EPSILON) * size,
+        })
+    }
+
+    /// A cheap, certain rejection of lines that pass well clear of the sphere (most candidate
+    /// tests in a BVH leaf), before the careful path: the computed distance exceeds `r` by
+    /// `e_v`. No square roots: `|v| > m` is tested as `v.v > m^2`, whose roundings move the
+    /// comparison by ~2 eps `(|f| + r)`, well inside the 4x margin.
+    #[inline(always)]
+    fn misses(&self, r: f64) -> bool {
+        let m = r + self.e_v;
+        self.v.dot(self.v) > m * m
+    }
+
+    /// [`enters_between`] from the estimate of the entry `tc - h`, when its margin allows:
+    /// `None` when the line passes outside `0.999 r` of the centre (or may), when the entry
+    /// lies within the margin of 0 or `dist`, or when `r` is tiny (then the careful roots
+    /// decide).
+    ///
+    /// Bounds, in units of `u`: with `|v|` within `e_v / 4` of exact, the half chord
+    /// `sqrt(r^2 - |v|^2)` is at least `0.044 r` once `|v| + e_v <= 0.999 r`, and moves by at
+    /// most `3 r e_v / (2 * 0.044 r) < 35 e_v` for an error `e_v` in `|v|`; `tc` is within
+    /// `8 |f| / |d|`; roundings of the square roots, the division and the difference add a
+    /// few `u` of `|tc| + h`.
+    #[inline(always)]
+    fn clearly_enters_between(&self, r: f64, dist: f64) -> Option<bool> {
+        // (`r` is not NaN: `Approach::of` refused it.)
+        if r <= 1e-139 {
+            return None;
+        }
+        let len = self.v.length();
+        if len + self.e_v > 0.999 * r {
+            return None;
+        }
+        let norm = self.a.sqrt();
+        let h = (r - len).sqrt() * (r + len).sqrt() / norm;
+        let t0 = self.tc - h;
+        let margin = 1e-10 * (self.size / norm + self.tc.abs() + h);
+        if t0 > margin && t0 < dist - margin {
+            Some(true)
+        } else if t0 < -margin || t0 > dist + margin {
+            Some(false)
+        } else {
+            None
+        }
+    }
+}
+
+/// [`Approach::misses`], for a line not yet estimated.
 #[inline]
 fn certainly_misses(o: DVec3, d: DVec3, c: DVec3, r: f64) -> bool {
-    let f = o - c;
-    let a = d.dot(d);
-    let ff = f.dot(f);
-    if !(a > 1e-280 && a < 1e280 && ff > 1e-280 && ff < 1e280 && r < 1e139) {
-        return false;
-    }
-    let tc = -f.dot(d) / a;
-    let v = f + tc * d;
-    let m = r + 64.0 * (0.5 * f64::EPSILON) * (f.abs().element_sum() + r);
-    v.dot(v) > m * m
+    Approach::of(o, d, c, r).is_some_and(|p| p.misses(r))
 }
 
 /// Whether the line `o + t d` enters the sphere `|x - c| = r` strictly between `t = 0` and
@@ -126,60 +188,22 @@ fn certainly_misses(o: DVec3, d: DVec3, c: DVec3, r: f64) -> bool {
 /// f64 estimate of the entry is too close to 0 or `dist`, or the line too close to tangent,
 /// to call.
 ///
-/// The estimate (see [`clearly_enters_between`]) is off from the exact entry by at most
-/// `~2200 u ((|f|_1 + r) / |d|) + 4 u |t0|` (`u = 2^-53`, `f = o - c`) on lines that pass
-/// within `0.999 r` of the centre, and [`sphere_roots`]' entry by at most
+/// The estimate (see [`Approach::clearly_enters_between`]) is off from the exact entry by at
+/// most `~2200 u ((|f|_1 + r) / |d|) + 4 u |t0|` (`u = 2^-53`, `f = o - c`) on lines that
+/// pass within `0.999 r` of the centre, and [`sphere_roots`]' entry by at most
 /// `~4 u (|t0| + 23 r / |d|)` there (its half chord is at least `0.04 r`). The margin
 /// asked for is `1e-10` times those scales, over a hundred times their sum: wherever the
-/// estimate decides, the careful roots decide the same.
+/// estimate decides, the careful roots decide the same. The closest approach is computed
+/// once for the certain miss and the estimate.
 #[inline(always)]
 pub fn enters_between(o: DVec3, d: DVec3, c: DVec3, r: f64, dist: f64) -> bool {
-    if certainly_misses(o, d, c, r) {
+    let approach = Approach::of(o, d, c, r);
+    if approach.as_ref().is_some_and(|p| p.misses(r)) {
         return false;
     }
-    match clearly_enters_between(o, d, c, r, dist) {
+    match approach.and_then(|p| p.clearly_enters_between(r, dist)) {
         Some(enters) => enters,
         None => matches!(careful_roots(o, d, c, r), Some((t0, _)) if t0 > 0.0 && t0 < dist),
-    }
-}
-
-/// [`enters_between`] from a plain f64 estimate, when its margin allows: `None` when the
-/// line passes outside `0.999 r` of the centre (or may), when the entry lies within the
-/// margin of 0 or `dist`, or when the magnitudes leave the range where the error bounds
-/// hold (then the careful roots decide).
-///
-/// Bounds, in units of `u = 2^-53`: `|v|` (the closest approach) is within `16 (|f| + r)`
-/// of exact (see [`certainly_misses`]); taking `64 (|f|_1 + r)` as `e_v`, the half chord
-/// `sqrt(r^2 - |v|^2)` is at least `0.044 r` once `|v| + e_v <= 0.999 r`, and moves by at
-/// most `3 r e_v / (2 * 0.044 r) < 35 e_v` for an error `e_v` in `|v|`; `tc` is within
-/// `8 |f| / |d|`; roundings of the square roots, the division and the difference add a few
-/// `u` of `|tc| + h`.
-#[inline(always)]
-fn clearly_enters_between(o: DVec3, d: DVec3, c: DVec3, r: f64, dist: f64) -> Option<bool> {
-    let f = o - c;
-    let a = d.dot(d);
-    let ff = f.dot(f);
-    if !(a > 1e-280 && a < 1e280 && ff > 1e-280 && ff < 1e280 && r > 1e-139 && r < 1e139) {
-        return None;
-    }
-    let tc = -f.dot(d) / a;
-    let v = f + tc * d;
-    let len = v.length();
-    let size = f.abs().element_sum() + r;
-    let e_v = 64.0 * (0.5 * f64::EPSILON) * size;
-    if len + e_v > 0.999 * r {
-        return None;
-    }
-    let norm = a.sqrt();
-    let h = (r - len).sqrt() * (r + len).sqrt() / norm;
-    let t0 = tc - h;
-    let margin = 1e-10 * (size / norm + tc.abs() + h);
-    if t0 > margin && t0 < dist - margin {
-        Some(true)
-    } else if t0 < -margin || t0 > dist + margin {
-        Some(false)
-    } else {
-        None
     }
 }
 
@@ -395,7 +419,8 @@ mod tests {
                 continue;
             }
             met += 1;
-            if let Some(enters) = clearly_enters_between(x, l, c, r, dist) {
+            let estimate = Approach::of(x, l, c, r).and_then(|p| p.clearly_enters_between(r, dist));
+            if let Some(enters) = estimate {
                 decided += 1;
                 assert_eq!(enters, careful.is_some_and(|(t0, _)| t0 > 0.0 && t0 < dist));
             }
