@@ -341,10 +341,7 @@ impl Splitter {
         };
         rest.extend_from_slice(&self.hold[n..]);
         self.hold.truncate(n);
-        self.next_rare = None;
-        self.base = end;
-        self.at = self.at.saturating_sub(n);
-        self.span = self.span.saturating_sub(n);
+        self.head_taken(end);
         std::mem::replace(&mut self.hold, rest)
     }
 
@@ -357,11 +354,17 @@ impl Splitter {
         let n = (end - self.base) as usize;
         let prefix = self.hold[..n].to_vec();
         self.hold.drain(..n);
+        self.head_taken(end);
+        prefix
+    }
+
+    /// The scan's indices into `hold`, once the text before offset `end` has left it.
+    fn head_taken(&mut self, end: u64) {
+        let n = (end - self.base) as usize;
         self.next_rare = None;
         self.base = end;
         self.at = self.at.saturating_sub(n);
         self.span = self.span.saturating_sub(n);
-        prefix
     }
 
     /// Hands on the region's text up to `end` as a chunk.
