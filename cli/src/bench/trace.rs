@@ -16,7 +16,7 @@ use crate::memory::peak_rss_bytes;
 use gtsphere::error::Error;
 use gtsphere::render::integrators::surface::surface_point;
 use gtsphere::render::lights::towards;
-use gtsphere::render::packets::BandHits;
+use gtsphere::render::packets::{BandHits, BAND};
 use gtsphere::render::visibility::{visible_after, Blockers};
 use gtsphere::render::{prepare, render, Counters, PrepareOptions, RenderOptions, SamplerKind};
 use gtsphere::scenes::random_spheres;
@@ -67,8 +67,8 @@ fn one_run(n: usize, size: u32, threads: usize) -> Result<Run, Error> {
             // As the renderer does (render/packets.rs): four rows at a time, their camera
             // rays traced four by four pixels in a packet, the hits then taken row by row
             // (the order the renderer shades them in, and so traces their shadow rays).
-            for y in (band..(band + 16).min(size)).step_by(4) {
-                let (x1, y1) = ((x0 + 16).min(size), (y + 4).min(size));
+            for y in (band..(band + 16).min(size)).step_by(BAND as usize) {
+                let (x1, y1) = ((x0 + 16).min(size), (y + BAND).min(size));
                 rows.trace(&view, &opts, (x0, x1), (y, y1));
                 for p in 0..((x1 - x0) * (y1 - y)) as usize {
                     let (rays, found) = rows.of_pixel(p);
