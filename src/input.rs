@@ -9,7 +9,7 @@ use std::sync::Arc;
 use crate::error::Error;
 use crate::source::SourceWindow;
 
-const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];
+pub(crate) const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];
 
 /// Wraps a reader, decompressing it when it starts with the gzip magic number.
 pub fn sniff(reader: impl Read + Send + 'static) -> std::io::Result<Box<dyn Read + Send>> {

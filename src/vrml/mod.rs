@@ -1,5 +1,6 @@
 //! VRML97: lexer, streaming parser, node field tables, and lowering to the scene IR.
 
+pub(crate) mod cut_file;
 pub mod lex;
 pub mod lower;
 mod materials;

@@ -26,6 +26,9 @@
 //! nothing declared, exactly between two siblings of the region), and the main reader reads
 //! on by itself from the first chunk that fails the check. Each chunk that passes shows that
 //! the next starts where a sibling does.
+//!
+//! For a plain file, the scan stops once the region is found ([`Splitter::region_at`]) and
+//! the rest is cut in the file the same way ([`crate::vrml::cut_file`]).
 
 use std::sync::Arc;
 
@@ -38,6 +41,9 @@ pub enum Piece {
     Prefix(Arc<[u8]>),
     /// A run of whole siblings of the region, starting at offset `start`.
     Chunk { start: u64, text: Vec<u8> },
+    /// The same, left in the file (bytes `start..end`) for the chunk's reader to read (see
+    /// [`crate::vrml::cut_file`]).
+    Range { start: u64, end: u64 },
     /// The region ends at `end`, after `chunks` chunks; the main reader's text goes on from
     /// there.
     RegionEnd { chunks: usize, end: u64 },
@@ -123,6 +129,15 @@ pub struct Splitter {
     spare: Vec<Vec<u8>>,
 }
 
+/// Where the region's cutting has got to, for cutting the rest of it in the file itself (see
+/// [`crate::vrml::cut_file`]): the offset after the last chunk handed on, the mark of a likely
+/// cut (see [`Splitter::cut_ahead`]), and the chunks handed on.
+pub struct RegionAt {
+    pub base: u64,
+    pub sibling: Vec<u8>,
+    pub chunks: usize,
+}
+
 /// Bytes that the scan stops at.
 const STRUCTURAL: [bool; 256] = {
     let mut t = [false; 256];
@@ -139,7 +154,7 @@ fn is_ws(b: u8) -> bool {
     matches!(b, b' ' | b'\t' | b'\r' | b'\n' | b',')
 }
 
-fn is_word(b: u8) -> bool {
+pub(crate) fn is_word(b: u8) -> bool {
     !is_ws(b) && !STRUCTURAL[b as usize] && b != b'\'' && b > b' '
 }
 
@@ -251,6 +266,19 @@ impl Splitter {
         if self.spare.len() < 4 {
             self.spare.push(text);
         }
+    }
+
+    /// Once in the region: where its cutting has got to, the text held after that dropped
+    /// (the rest is cut in the file).
+    pub fn region_at(&mut self) -> Option<RegionAt> {
+        (self.mode == Mode::Region).then(|| {
+            self.hold.clear();
+            RegionAt {
+                base: self.base,
+                sibling: self.sibling.clone(),
+                chunks: self.chunks,
+            }
+        })
     }
 
     /// The end of the text.
@@ -669,7 +697,7 @@ mod tests {
                     all.extend_from_slice(text);
                     chunks.push(String::from_utf8(text.clone()).unwrap());
                 }
-                Piece::Prefix(_) | Piece::RegionEnd { .. } => {}
+                Piece::Prefix(_) | Piece::RegionEnd { .. } | Piece::Range { .. } => {}
             }
         }
         (String::from_utf8(all).unwrap(), chunks)

@@ -295,6 +295,116 @@ proptest! {
     }
 }
 
+/// Loads `text` from a file by one reader and in pieces (a plain file's chunks after the
+/// first are read from the file by their readers, see `vrml::cut_file`; gzip, as a stream),
+/// and checks that the two agree bit for bit. Returns the pieces' report.
+fn same_on_disk(text: &str, threads: usize, chunk: u64, gzip: bool) -> Option<LoadReport> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    static FILES: AtomicUsize = AtomicUsize::new(0);
+    let k = FILES.fetch_add(1, Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("gtsphere-pieces-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("scene{k}.wrl"));
+    let bytes = if gzip {
+        use std::io::Write;
+        let mut e = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+        e.write_all(text.as_bytes()).unwrap();
+        e.finish().unwrap()
+    } else {
+        text.as_bytes().to_vec()
+    };
+    std::fs::write(&path, bytes).unwrap();
+    let load = |threads| {
+        let opts = LoadOptions {
+            read_threads: threads,
+            read_chunk_bytes: chunk,
+            ..LoadOptions::default()
+        };
+        gtsphere::vrml::lower::load_path(&path, &opts).map_err(|e| e.to_string())
+    };
+    let (one, many) = (load(1), load(threads));
+    std::fs::remove_file(&path).unwrap();
+    match (one, many) {
+        (Ok((a, ra)), Ok((b, rb))) => {
+            assert_eq!(format!("{a:?}"), format!("{b:?}"), "scenes differ:\n{text}");
+            assert_eq!(ra.warnings, rb.warnings, "{text}");
+            assert_eq!(ra.notes, rb.notes);
+            assert_eq!((&ra.skipped, ra.nodes), (&rb.skipped, rb.nodes));
+            assert_eq!((ra.bytes, ra.mesh_spheres), (rb.bytes, rb.mesh_spheres));
+            Some(rb)
+        }
+        (Err(a), Err(b)) => {
+            assert_eq!(a, b, "{text}");
+            None
+        }
+        (a, b) => panic!(
+            "one reader: {:?}\nin pieces: {:?}\n{text}",
+            a.is_ok(),
+            b.is_ok()
+        ),
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(80))]
+    #[test]
+    fn pieces_read_from_the_file_agree_with_one_reader(
+        seed in any::<u64>(),
+        chunk in 64u64..1500,
+        threads in 2usize..4,
+        gzip in proptest::bool::weighted(0.2),
+    ) {
+        same_on_disk(&scene(seed), threads, chunk, gzip);
+    }
+}
+
+#[test]
+fn files_on_disk_are_read_in_pieces_from_the_file() {
+    // Two layouts, and files whose pieces break off (a warning in a piece, invalid UTF-8 in
+    // a piece): kept, or read on from the file, as from memory.
+    let body: String = (0..300).map(particle).collect();
+    let flat = format!("#VRML V2.0 utf8\n{body}");
+    let group = format!("#VRML V2.0 utf8\nGroup {{ children [\n{body}] }}\n");
+    for text in [&flat, &group] {
+        let r = same_on_disk(text, 2, 700, false).expect("loads");
+        assert!(r.read_pieces > 10 && r.read_again.is_none(), "{r:?}");
+        // The top level's pieces go to the file's end; the Group's list ends in its last.
+        match r.read_on {
+            Some(on) => assert!(text == &group && on.contains("ends in it"), "{on}"),
+            None => assert!(text == &flat),
+        }
+    }
+    let broken = format!("{flat}Frobnicate {{ }}\n{body}");
+    let r = same_on_disk(&broken, 3, 700, false).expect("loads");
+    assert!(r.read_on.is_some() && r.read_again.is_none(), "{r:?}");
+    let mut bytes = flat.clone().into_bytes();
+    bytes.extend_from_slice(b"WorldInfo { title \"caf\xE9\" }\n");
+    bytes.extend_from_slice(body.as_bytes());
+    let dir = std::env::temp_dir().join(format!("gtsphere-pieces-utf8-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("bad.wrl");
+    std::fs::write(&path, &bytes).unwrap();
+    let load = |threads| {
+        let opts = LoadOptions {
+            read_threads: threads,
+            read_chunk_bytes: 700,
+            ..LoadOptions::default()
+        };
+        gtsphere::vrml::lower::load_path(&path, &opts).map_err(|e| e.to_string())
+    };
+    match (load(1), load(2)) {
+        (Ok((a, ra)), Ok((b, rb))) => {
+            assert_eq!(format!("{a:?}"), format!("{b:?}"));
+            assert_eq!(ra.warnings, rb.warnings);
+            let on = rb.read_on.expect("read on");
+            assert!(on.contains("UTF-8"), "{on}");
+        }
+        (Err(a), Err(b)) => assert_eq!(a, b),
+        (a, b) => panic!("{:?} / {:?}", a.is_ok(), b.is_ok()),
+    }
+    std::fs::remove_file(&path).unwrap();
+}
+
 #[test]
 fn random_scenes_take_both_paths() {
     // The property above would pass if nothing were ever read in pieces, or if nothing were

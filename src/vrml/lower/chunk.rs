@@ -4,7 +4,7 @@
 //! the nodes it counted) and the one on the main reader (the names chunks DEF'd).
 
 use std::collections::BTreeMap;
-use std::io::Cursor;
+use std::io::{Cursor, Read, Seek, SeekFrom};
 use std::path::Path;
 use std::sync::Arc;
 
@@ -72,21 +72,34 @@ pub(super) struct Delta {
 /// start).
 pub(super) type Outcome = Result<Box<Delta>, String>;
 
-/// Lowers one chunk after its prefix, on a worker thread. Returns its text too, for the main
-/// reader (None if it could not be had back: then the file is read again).
+/// A chunk's text: handed on by the scan, or left in the file, which the chunk's reader
+/// reads itself (from its start to this end; see [`crate::vrml::cut_file`]).
+pub(super) enum ChunkText {
+    Held(Vec<u8>),
+    InFile(u64),
+}
+
+/// Lowers one chunk after its prefix, on a worker thread. Returns its text too when it was
+/// handed on, for the main reader (None if it could not be had back: then the file is read
+/// again).
 pub(super) fn lower_chunk(
     opts: &super::LoadOptions,
-    name: &Arc<str>,
-    path: &Path,
+    (name, path): (&Arc<str>, &Path),
     prefix: &Arc<[u8]>,
     start: u64,
-    text: Vec<u8>,
+    text: ChunkText,
     spheres: Vec<Sphere>,
 ) -> (Outcome, Option<Vec<u8>>) {
-    let text = match String::from_utf8(text) {
-        Ok(t) => t,
-        // (Its messages would need the text before it.)
-        Err(e) => return (Err("it has invalid UTF-8".into()), Some(e.into_bytes())),
+    let source = match text {
+        ChunkText::Held(text) => match String::from_utf8(text) {
+            Ok(t) => Source::Text(t),
+            // (Its messages would need the text before it.)
+            Err(e) => return (Err("it has invalid UTF-8".into()), Some(e.into_bytes())),
+        },
+        ChunkText::InFile(end) => match open_range(path, start, end) {
+            Ok(r) => Source::Reader(r),
+            Err(e) => return (Err(format!("it could not be read: {e}")), None),
+        },
     };
     let mut low = Lowerer::new(opts.clone());
     // An earlier chunk's list, emptied: its pages are already mapped.
@@ -97,18 +110,42 @@ pub(super) fn lower_chunk(
     let mut parser = Parser::new(src);
     parser.pause_at_end = true;
     let r = parser.begin().and_then(|()| parser.resume(&mut low));
+    let held = matches!(source, Source::Text(_));
     let (d, text) = match r {
         Ok(_) => {
-            let d = chunk_delta(&mut low, &mut parser, start, text);
-            (d, parser.src.take_text_back(start))
+            let d = chunk_delta(&mut low, &mut parser, start, source);
+            (
+                d,
+                if held {
+                    parser.src.take_text_back(start)
+                } else {
+                    None
+                },
+            )
         }
         Err(e) => (
             Err(format!("its prefix: {}", reason(&e))),
-            Some(text.into_bytes()),
+            match source {
+                Source::Text(t) => Some(t.into_bytes()),
+                Source::Reader(_) => None,
+            },
         ),
     };
     low.resume_outside(&mut opened);
     (d, text)
+}
+
+/// Where a chunk's reader reads the chunk from.
+enum Source {
+    Text(String),
+    Reader(Box<dyn Read>),
+}
+
+/// Bytes `start..end` of the file at `path`.
+fn open_range(path: &Path, start: u64, end: u64) -> std::io::Result<Box<dyn Read>> {
+    let mut f = std::fs::File::open(path)?;
+    f.seek(SeekFrom::Start(start))?;
+    Ok(Box::new(f.take(end.saturating_sub(start))))
 }
 
 /// `v[from..]`, taken. When `from` is small (the prefix's few), the head is copied out and
@@ -138,7 +175,7 @@ fn said(d: &[crate::diag::Diagnostic]) -> u64 {
     d.iter().map(|d| 1 + d.repeats).sum()
 }
 
-fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: String) -> Outcome {
+fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source) -> Outcome {
     let base = Marks::of(&low.scene);
     let ellipsoid_base = low.scene.ellipsoids.len();
     let said_before = (said(&low.diags.warnings), said(&low.diags.notes));
@@ -157,7 +194,11 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: String)
         excess: i64::MIN,
         declared: false,
     });
-    parser.src.jump_to_string(start, text);
+    let bad_utf8 = parser.src.bad_utf8;
+    match text {
+        Source::Text(text) => parser.src.jump_to_string(start, text),
+        Source::Reader(r) => parser.src.jump(start, r),
+    }
     // The chunk's cuts were guessed (see `split`): it must hold whole siblings of the list
     // the prefix leaves open, no more and no less.
     parser.floor = parser.depth();
@@ -165,6 +206,9 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: String)
         Run::Floor => return Err("the list it is in ends in it".into()),
         _ if parser.depth() != parser.floor => return Err("it ends inside a node".into()),
         _ => {}
+    }
+    if parser.src.bad_utf8 != bad_utf8 {
+        return Err("it has invalid UTF-8".into());
     }
     if (said(&low.diags.warnings), said(&low.diags.notes)) != said_before {
         return Err("it has warnings or notes".into());

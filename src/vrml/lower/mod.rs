@@ -222,14 +222,14 @@ pub fn load_path(path: &Path, opts: &LoadOptions) -> Result<(Scene, LoadReport),
         };
         crate::input::sniff(std::fs::File::open(path).map_err(io)?).map_err(io)
     };
-    load_in_pieces(name, path, size, open, opts, t0)
+    load_in_pieces((name, path, true), size, open, opts, t0)
 }
 
 /// Reads in pieces when that may pay (see [`parallel`]), else (or when the pieces' result
-/// is thrown away) as one stream; `open` gives the decompressed text each time.
+/// is thrown away) as one stream; `open` gives the decompressed text each time. `on_disk`:
+/// the text is the file at `path` (whose pieces its readers may then read themselves).
 fn load_in_pieces(
-    name: Arc<str>,
-    path: &Path,
+    (name, path, on_disk): (Arc<str>, &Path, bool),
     size: u64,
     open: impl Fn() -> Result<Box<dyn std::io::Read + Send>, Error>,
     opts: &LoadOptions,
@@ -248,8 +248,8 @@ fn load_in_pieces(
             path,
             open()?,
             threads,
-            opts.read_chunk_bytes,
-            size,
+            (opts.read_chunk_bytes, size),
+            on_disk,
         )? {
             parallel::Parallel::Chunks(n, read_on) => {
                 let (scene, mut report) = low.finish(t0)?;
@@ -292,7 +292,13 @@ pub fn load_bytes(
             source: e,
         })
     };
-    load_in_pieces(Arc::from(name), Path::new(name), size, open, opts, t0)
+    load_in_pieces(
+        (Arc::from(name), Path::new(name), false),
+        size,
+        open,
+        opts,
+        t0,
+    )
 }
 
 /// Loads scene text held in memory; `name` is used in messages and to resolve Inlines.
