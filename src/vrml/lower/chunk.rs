@@ -4,7 +4,7 @@
 //! the nodes it counted) and the one on the main reader (the names chunks DEF'd).
 
 use std::collections::BTreeMap;
-use std::io::{Cursor, Read, Seek, SeekFrom};
+use std::io::{Cursor, Read};
 use std::path::Path;
 use std::sync::Arc;
 
@@ -73,10 +73,49 @@ pub(super) struct Delta {
 pub(super) type Outcome = Result<Box<Delta>, String>;
 
 /// A chunk's text: handed on by the scan, or left in the file, which the chunk's reader
-/// reads itself (from its start to this end; see [`crate::vrml::cut_file`]).
+/// reads itself (see [`crate::vrml::cut_file`]).
 pub(super) enum ChunkText {
     Held(Vec<u8>),
-    InFile(u64),
+    InFile(FileRange),
+}
+
+/// Bytes `at..end` of a file, read without moving its cursor (so that every reader shares
+/// the one file the scan opened, whatever happens to its name meanwhile).
+pub(super) struct FileRange {
+    pub(super) file: Arc<std::fs::File>,
+    pub(super) at: u64,
+    pub(super) end: u64,
+}
+
+impl Read for FileRange {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = buf.len().min(self.end.saturating_sub(self.at) as usize);
+        if n == 0 {
+            return Ok(0);
+        }
+        let k = read_at(&self.file, &mut buf[..n], self.at)?;
+        self.at += k as u64;
+        Ok(k)
+    }
+}
+
+/// Reads at `offset` of `file` without moving its cursor.
+pub(super) fn read_at(file: &std::fs::File, buf: &mut [u8], offset: u64) -> std::io::Result<usize> {
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::FileExt::read_at(file, buf, offset)
+    }
+    #[cfg(windows)]
+    {
+        std::os::windows::fs::FileExt::seek_read(file, buf, offset)
+    }
+    #[cfg(not(any(unix, windows)))]
+    {
+        let _ = (file, buf, offset);
+        Err(std::io::Error::other(
+            "positional reads are not supported here",
+        ))
+    }
 }
 
 /// Lowers one chunk after its prefix, on a worker thread. Returns its text too when it was
@@ -96,10 +135,7 @@ pub(super) fn lower_chunk(
             // (Its messages would need the text before it.)
             Err(e) => return (Err("it has invalid UTF-8".into()), Some(e.into_bytes())),
         },
-        ChunkText::InFile(end) => match open_range(path, start, end) {
-            Ok(r) => Source::Reader(r),
-            Err(e) => return (Err(format!("it could not be read: {e}")), None),
-        },
+        ChunkText::InFile(range) => Source::Reader(Box::new(range)),
     };
     let mut low = Lowerer::new(opts.clone());
     // An earlier chunk's list, emptied: its pages are already mapped.
@@ -139,13 +175,6 @@ pub(super) fn lower_chunk(
 enum Source {
     Text(String),
     Reader(Box<dyn Read>),
-}
-
-/// Bytes `start..end` of the file at `path`.
-fn open_range(path: &Path, start: u64, end: u64) -> std::io::Result<Box<dyn Read>> {
-    let mut f = std::fs::File::open(path)?;
-    f.seek(SeekFrom::Start(start))?;
-    Ok(Box::new(f.take(end.saturating_sub(start))))
 }
 
 /// `v[from..]`, taken. When `from` is small (the prefix's few), the head is copied out and

@@ -32,7 +32,7 @@
 //! - the main thread fails after the chunks (its message is one reader's to give).
 
 use std::collections::BTreeMap;
-use std::io::{Read, Seek, SeekFrom};
+use std::io::Read;
 use std::path::Path;
 use std::rc::Rc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -41,7 +41,7 @@ use std::sync::{Arc, Mutex};
 
 use hashbrown::HashSet;
 
-use super::chunk::{lower_chunk, ChunkText, Outcome};
+use super::chunk::{lower_chunk, read_at, ChunkText, FileRange, Outcome};
 use super::Lowerer;
 use crate::error::Error;
 use crate::scene::Sphere;
@@ -151,8 +151,11 @@ pub(super) fn load(
     on_disk: bool,
 ) -> Result<Parallel, Error> {
     // A plain file on disk: the region's chunks are left in it for their readers.
-    let in_file = if on_disk { plain_file(path) } else { None };
-    let direct = in_file.is_some();
+    let in_file = if on_disk {
+        plain_file(path).map(Arc::new)
+    } else {
+        None
+    };
     let (text_tx, text_rx) = sync_channel::<Msg>(16);
     let (chunk_tx, chunk_rx) = sync_channel::<Job>(threads);
     let (done_tx, done_rx) = channel::<Done>();
@@ -184,7 +187,8 @@ pub(super) fn load(
             credits: credit_rx,
             spare: spare_rx,
         };
-        scope.spawn(move || split(reader, (chunk_bytes, in_file), hands));
+        let scan_file = in_file.clone();
+        scope.spawn(move || split(reader, (chunk_bytes, scan_file), hands));
         let stop = &stop;
         let spheres: Spare = Arc::default();
         for rx in worker_rx {
@@ -239,7 +243,7 @@ pub(super) fn load(
         };
         // Dropping the receivers (in `results`) ends the other threads if they are still
         // going.
-        let sizes = (size, direct);
+        let sizes = (size, in_file);
         main_reader(low, (name.clone(), path), reader, results, stop, sizes)
     })
 }
@@ -259,7 +263,7 @@ struct Hands {
 /// [`crate::vrml::cut_file`]).
 fn split(
     mut reader: Box<dyn Read + Send>,
-    (chunk_bytes, in_file): (u64, Option<std::fs::File>),
+    (chunk_bytes, in_file): (u64, Option<Arc<std::fs::File>>),
     to: Hands,
 ) {
     let mut s = Splitter::new(chunk_bytes, PREFIX_MAX);
@@ -281,7 +285,13 @@ fn split(
                 hand_chunk(&to, &mut k, &prefix, start, ChunkText::Held(t))
             }
             Piece::Range { start, end } => {
-                hand_chunk(&to, &mut k, &prefix, start, ChunkText::InFile(end))
+                let file = in_file.clone().expect("a range only of a file");
+                let range = FileRange {
+                    file,
+                    at: start,
+                    end,
+                };
+                hand_chunk(&to, &mut k, &prefix, start, ChunkText::InFile(range))
             }
             Piece::RegionEnd { chunks: n, end } => to.done.send(Done::Total(n, end)).is_ok(),
         };
@@ -350,25 +360,6 @@ fn plain_file(path: &Path) -> Option<std::fs::File> {
     let mut head = [0u8; 2];
     let n = read_at(&file, &mut head, 0).ok()?;
     (n < 2 || head != crate::input::GZIP_MAGIC).then_some(file)
-}
-
-/// Reads at `offset` of `file` without moving its cursor.
-fn read_at(file: &std::fs::File, buf: &mut [u8], offset: u64) -> std::io::Result<usize> {
-    #[cfg(unix)]
-    {
-        std::os::unix::fs::FileExt::read_at(file, buf, offset)
-    }
-    #[cfg(windows)]
-    {
-        std::os::windows::fs::FileExt::seek_read(file, buf, offset)
-    }
-    #[cfg(not(any(unix, windows)))]
-    {
-        let _ = (file, buf, offset);
-        Err(std::io::Error::other(
-            "positional reads are not supported here",
-        ))
-    }
 }
 
 /// The chunks' results in file order.
@@ -449,7 +440,7 @@ fn main_reader(
     reader: ChannelReader,
     results: InOrder,
     stop: &AtomicBool,
-    (size, direct): (u64, bool),
+    (size, in_file): (u64, Option<Arc<std::fs::File>>),
 ) -> Result<Parallel, Error> {
     let src = SourceWindow::new(name, Box::new(reader.clone()));
     let mut opened = low.open_file(&src, path);
@@ -467,7 +458,6 @@ fn main_reader(
     // From here on, a failure's message is one reader's to give.
     let outcome = (|| -> Result<(usize, Option<String>), String> {
         r.map_err(|e| e.to_string())?;
-        let in_file = direct.then_some(path);
         let placed = put_chunks_in_place(low, &mut parser.src, results, (size, in_file))?;
         // The rest: from the first chunk whose result did not stand (or the file's end).
         stop.store(true, Ordering::Relaxed);
@@ -509,7 +499,7 @@ fn put_chunks_in_place(
     low: &mut Lowerer,
     src: &mut SourceWindow,
     mut results: InOrder,
-    (size, in_file): (u64, Option<&Path>),
+    (size, in_file): (u64, Option<Arc<std::fs::File>>),
 ) -> Result<Placed, String> {
     let mut why = None;
     let mut placed = 0;
@@ -574,11 +564,11 @@ fn put_chunks_in_place(
     }
     let rest: Box<dyn Read> = match in_file {
         // (The chunks still coming are not waited for: dropping `results` stops them.)
-        Some(path) => {
-            let mut f = std::fs::File::open(path).map_err(|e| e.to_string())?;
-            f.seek(SeekFrom::Start(from)).map_err(|e| e.to_string())?;
-            Box::new(f)
-        }
+        Some(file) => Box::new(FileRange {
+            file,
+            at: from,
+            end: u64::MAX,
+        }),
         None => Box::new(ChunkTexts {
             text,
             at: 0,
