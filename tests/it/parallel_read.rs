@@ -21,8 +21,12 @@ fn load(text: &str, threads: usize, chunk: u64) -> Result<(Scene, LoadReport), S
 /// Loads `text` by one reader and in pieces, and checks that the two agree bit for bit.
 /// Returns the pieces' report.
 fn same(text: &str, threads: usize, chunk: u64) -> Option<LoadReport> {
-    let one = load(text, 1, chunk);
-    let many = load(text, threads, chunk);
+    agree(load(text, 1, chunk), load(text, threads, chunk), text)
+}
+
+/// One reader's result and the pieces' agree bit for bit (scene, messages, counts).
+type Loaded = Result<(Scene, LoadReport), String>;
+fn agree(one: Loaded, many: Loaded, text: &str) -> Option<LoadReport> {
     match (one, many) {
         (Ok((a, ra)), Ok((b, rb))) => {
             assert_eq!(ra.read_pieces, 0);
@@ -324,25 +328,7 @@ fn same_on_disk(text: &str, threads: usize, chunk: u64, gzip: bool) -> Option<Lo
     };
     let (one, many) = (load(1), load(threads));
     std::fs::remove_file(&path).unwrap();
-    match (one, many) {
-        (Ok((a, ra)), Ok((b, rb))) => {
-            assert_eq!(format!("{a:?}"), format!("{b:?}"), "scenes differ:\n{text}");
-            assert_eq!(ra.warnings, rb.warnings, "{text}");
-            assert_eq!(ra.notes, rb.notes);
-            assert_eq!((&ra.skipped, ra.nodes), (&rb.skipped, rb.nodes));
-            assert_eq!((ra.bytes, ra.mesh_spheres), (rb.bytes, rb.mesh_spheres));
-            Some(rb)
-        }
-        (Err(a), Err(b)) => {
-            assert_eq!(a, b, "{text}");
-            None
-        }
-        (a, b) => panic!(
-            "one reader: {:?}\nin pieces: {:?}\n{text}",
-            a.is_ok(),
-            b.is_ok()
-        ),
-    }
+    agree(one, many, text)
 }
 
 proptest! {

@@ -285,7 +285,10 @@ fn split(
                 hand_chunk(&to, &mut k, &prefix, start, ChunkText::Held(t))
             }
             Piece::Range { start, end } => {
-                let file = in_file.clone().expect("a range only of a file");
+                // (Ranges come only from cutting in the file.)
+                let Some(file) = in_file.clone() else {
+                    return ok.set(false);
+                };
                 let range = FileRange {
                     file,
                     at: start,
