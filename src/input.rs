@@ -1,5 +1,5 @@
 //! Opening scene files: plain or gzip-compressed (`.wrz`, `.wrl.gz`, or any file that starts
-//! with the gzip magic number), read as a stream.
+//! with the gzip magic number), read as a stream; and plain files read at any offset.
 
 use std::fs::File;
 use std::io::{BufRead, BufReader, Read};
@@ -9,7 +9,7 @@ use std::sync::Arc;
 use crate::error::Error;
 use crate::source::SourceWindow;
 
-pub(crate) const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];
+const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];
 
 /// Wraps a reader, decompressing it when it starts with the gzip magic number.
 pub fn sniff(reader: impl Read + Send + 'static) -> std::io::Result<Box<dyn Read + Send>> {
@@ -19,6 +19,57 @@ pub fn sniff(reader: impl Read + Send + 'static) -> std::io::Result<Box<dyn Read
         Ok(Box::new(flate2::bufread::MultiGzDecoder::new(br)))
     } else {
         Ok(Box::new(br))
+    }
+}
+
+/// The file at `path` opened, if it is plain text (not gzip: that is read as a stream, see
+/// [`sniff`]) and can be read at any offset (see [`read_at`]).
+pub(crate) fn open_plain(path: &Path) -> Option<File> {
+    if !cfg!(any(unix, windows)) {
+        return None;
+    }
+    let file = File::open(path).ok()?;
+    let mut head = [0u8; 2];
+    let n = read_at(&file, &mut head, 0).ok()?;
+    (n < 2 || head != GZIP_MAGIC).then_some(file)
+}
+
+/// Bytes `at..end` of a file, read without moving its cursor (so that several readers share
+/// one open file, whatever happens to its name meanwhile).
+pub(crate) struct FileRange {
+    pub(crate) file: Arc<File>,
+    pub(crate) at: u64,
+    pub(crate) end: u64,
+}
+
+impl Read for FileRange {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = buf.len().min(self.end.saturating_sub(self.at) as usize);
+        if n == 0 {
+            return Ok(0);
+        }
+        let k = read_at(&self.file, &mut buf[..n], self.at)?;
+        self.at += k as u64;
+        Ok(k)
+    }
+}
+
+/// Reads at `offset` of `file` without moving its cursor.
+pub(crate) fn read_at(file: &File, buf: &mut [u8], offset: u64) -> std::io::Result<usize> {
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::FileExt::read_at(file, buf, offset)
+    }
+    #[cfg(windows)]
+    {
+        std::os::windows::fs::FileExt::seek_read(file, buf, offset)
+    }
+    #[cfg(not(any(unix, windows)))]
+    {
+        let _ = (file, buf, offset);
+        Err(std::io::Error::other(
+            "positional reads are not supported here",
+        ))
     }
 }
 

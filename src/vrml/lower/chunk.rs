@@ -13,6 +13,7 @@ use glam::{DAffine3, DVec3};
 use super::open::Marks;
 use super::Lowerer;
 use crate::error::Error;
+use crate::input::FileRange;
 use crate::scene::{EllipsoidId, Light, LightScope, MaterialTable, Sphere, Surface, Viewpoint};
 use crate::source::SourceWindow;
 use crate::vrml::parse::{Parser, Run};
@@ -77,45 +78,6 @@ pub(super) type Outcome = Result<Box<Delta>, String>;
 pub(super) enum ChunkText {
     Held(Vec<u8>),
     InFile(FileRange),
-}
-
-/// Bytes `at..end` of a file, read without moving its cursor (so that every reader shares
-/// the one file the scan opened, whatever happens to its name meanwhile).
-pub(super) struct FileRange {
-    pub(super) file: Arc<std::fs::File>,
-    pub(super) at: u64,
-    pub(super) end: u64,
-}
-
-impl Read for FileRange {
-    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
-        let n = buf.len().min(self.end.saturating_sub(self.at) as usize);
-        if n == 0 {
-            return Ok(0);
-        }
-        let k = read_at(&self.file, &mut buf[..n], self.at)?;
-        self.at += k as u64;
-        Ok(k)
-    }
-}
-
-/// Reads at `offset` of `file` without moving its cursor.
-pub(super) fn read_at(file: &std::fs::File, buf: &mut [u8], offset: u64) -> std::io::Result<usize> {
-    #[cfg(unix)]
-    {
-        std::os::unix::fs::FileExt::read_at(file, buf, offset)
-    }
-    #[cfg(windows)]
-    {
-        std::os::windows::fs::FileExt::seek_read(file, buf, offset)
-    }
-    #[cfg(not(any(unix, windows)))]
-    {
-        let _ = (file, buf, offset);
-        Err(std::io::Error::other(
-            "positional reads are not supported here",
-        ))
-    }
 }
 
 /// Lowers one chunk after its prefix, on a worker thread. Returns its text too when it was

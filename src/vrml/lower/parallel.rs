@@ -41,9 +41,10 @@ use std::sync::{Arc, Mutex};
 
 use hashbrown::HashSet;
 
-use super::chunk::{lower_chunk, read_at, ChunkText, FileRange, Outcome};
+use super::chunk::{lower_chunk, ChunkText, Outcome};
 use super::Lowerer;
 use crate::error::Error;
+use crate::input::{open_plain, read_at, FileRange};
 use crate::scene::Sphere;
 use crate::source::SourceWindow;
 use crate::vrml::cut_file::cut_in_file;
@@ -152,7 +153,7 @@ pub(super) fn load(
 ) -> Result<Parallel, Error> {
     // A plain file on disk: the region's chunks are left in it for their readers.
     let in_file = if on_disk {
-        plain_file(path).map(Arc::new)
+        open_plain(path).map(Arc::new)
     } else {
         None
     };
@@ -351,18 +352,6 @@ fn hand_chunk(
     let p = prefix.clone().unwrap_or_else(|| Arc::from(&[][..]));
     *k += 1;
     !first && to.credits.recv().is_ok() && to.chunks.send((*k - 1, start, text, p)).is_ok()
-}
-
-/// The file at `path`, if it can be opened and is plain text (not gzip: that is read as a
-/// stream), and the chunks can be read from it in place.
-fn plain_file(path: &Path) -> Option<std::fs::File> {
-    if !cfg!(any(unix, windows)) {
-        return None;
-    }
-    let file = std::fs::File::open(path).ok()?;
-    let mut head = [0u8; 2];
-    let n = read_at(&file, &mut head, 0).ok()?;
-    (n < 2 || head != crate::input::GZIP_MAGIC).then_some(file)
 }
 
 /// The chunks' results in file order.
