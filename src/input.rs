@@ -42,6 +42,37 @@ pub(crate) struct FileRange {
     pub(crate) end: u64,
 }
 
+impl FileRange {
+    /// The range as a reader of its own: the file opened again when the path still names
+    /// the same file, so that reads go straight into the reader's buffer (a positional
+    /// reader's buffer is zeroed before every read on stable Rust: 8 ms of CPU per million
+    /// particles); else the range itself.
+    pub(crate) fn into_reader(self, path: &Path) -> Box<dyn Read> {
+        match self.reopen(path) {
+            Some(file) => Box::new(file.take(self.end.saturating_sub(self.at))),
+            None => Box::new(self),
+        }
+    }
+
+    #[cfg(unix)]
+    fn reopen(&self, path: &Path) -> Option<File> {
+        use std::io::{Seek, SeekFrom};
+        use std::os::unix::fs::MetadataExt;
+        let mut file = File::open(path).ok()?;
+        let (a, b) = (file.metadata().ok()?, self.file.metadata().ok()?);
+        if (a.dev(), a.ino()) != (b.dev(), b.ino()) {
+            return None;
+        }
+        file.seek(SeekFrom::Start(self.at)).ok()?;
+        Some(file)
+    }
+
+    #[cfg(not(unix))]
+    fn reopen(&self, _path: &Path) -> Option<File> {
+        None
+    }
+}
+
 impl Read for FileRange {
     fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
         let n = buf.len().min(self.end.saturating_sub(self.at) as usize);
@@ -111,4 +142,41 @@ pub fn line_col_in(path: &Path, offset: u64) -> Option<(u64, u64)> {
         at += take as u64;
     }
     Some((line, offset - line_start + 1))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_range_reads_the_file_it_was_cut_from() {
+        let dir = std::env::temp_dir().join(format!("gtsphere-range-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("scene.wrl");
+        std::fs::write(&path, b"0123456789abcdef").unwrap();
+        let file = Arc::new(open_plain(&path).unwrap());
+        let range = |at, end| FileRange {
+            file: file.clone(),
+            at,
+            end,
+        };
+        let read = |r: Box<dyn Read>| {
+            let mut s = String::new();
+            let mut r = r;
+            r.read_to_string(&mut s).unwrap();
+            s
+        };
+        // The path names the file: opened again, the range alone is read.
+        assert_eq!(read(range(3, 9).into_reader(&path)), "345678");
+        assert_eq!(read(range(10, u64::MAX).into_reader(&path)), "abcdef");
+        // Another file renamed over the path: still the first file's bytes.
+        let other = dir.join("other.wrl");
+        std::fs::write(&other, b"ZYXWVUTSRQPONMLK").unwrap();
+        std::fs::rename(&other, &path).unwrap();
+        assert_eq!(read(range(3, 9).into_reader(&path)), "345678");
+        // No file at the path at all: the same.
+        std::fs::remove_file(&path).unwrap();
+        assert_eq!(read(range(0, 4).into_reader(&path)), "0123");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }

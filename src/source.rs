@@ -170,6 +170,9 @@ impl SourceWindow {
             let start = bytes.len();
             // A character split by the previous read's end comes first.
             bytes.append(&mut self.pending);
+            // Room for the whole read at once: grown as it is read, the window was copied at
+            // each doubling (a piece's reader starts each piece with a small window).
+            bytes.reserve(size);
             let read = (&mut self.reader).take(size as u64).read_to_end(&mut bytes);
             let n = match read {
                 Ok(n) => n,

@@ -196,33 +196,37 @@ pub(super) fn load(
             let tx = done_tx.clone();
             let spheres = spheres.clone();
             let (opts, name) = (opts.clone(), name.clone());
-            scope.spawn(move || loop {
-                let job = rx.lock().map_or(None, |r| r.recv().ok());
-                let Some((k, start, text, prefix)) = job else {
-                    return;
-                };
-                let (out, text) = if stop.load(Ordering::Relaxed) {
-                    let text = match text {
-                        ChunkText::Held(t) => Some(t),
-                        ChunkText::InFile(_) => None,
+            scope.spawn(move || {
+                // (See `lower_chunk`.)
+                let mut window = String::new();
+                loop {
+                    let job = rx.lock().map_or(None, |r| r.recv().ok());
+                    let Some((k, start, text, prefix)) = job else {
+                        return;
                     };
-                    (Err("not read".into()), text)
-                } else {
-                    let list = spheres.lock().ok().and_then(|mut s| s.pop());
-                    lower_chunk(
-                        &opts,
-                        (&name, path),
-                        &prefix,
-                        start,
-                        text,
-                        list.unwrap_or_default(),
-                    )
-                };
-                if tx
-                    .send(Done::Chunk(k, ChunkResult { start, out, text }))
-                    .is_err()
-                {
-                    return;
+                    let (out, text) = if stop.load(Ordering::Relaxed) {
+                        let text = match text {
+                            ChunkText::Held(t) => Some(t),
+                            ChunkText::InFile(_) => None,
+                        };
+                        (Err("not read".into()), text)
+                    } else {
+                        let list = spheres.lock().ok().and_then(|mut s| s.pop());
+                        lower_chunk(
+                            &opts,
+                            (&name, path),
+                            &prefix,
+                            start,
+                            text,
+                            (list.unwrap_or_default(), &mut window),
+                        )
+                    };
+                    if tx
+                        .send(Done::Chunk(k, ChunkResult { start, out, text }))
+                        .is_err()
+                    {
+                        return;
+                    }
                 }
             });
         }
