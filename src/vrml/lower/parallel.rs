@@ -2,8 +2,10 @@
 //!
 //! A scan ([`crate::vrml::split`]) cuts the text into a prefix and chunks of whole sibling
 //! nodes of one list (the region), the later cuts guessed. The main thread lowers the prefix;
-//! each chunk is lowered on a worker thread by a lowerer that reads the prefix first (so it
-//! starts in the state the file is in there) and hands back what the chunk added: spheres,
+//! each chunk is lowered on a worker thread (or on the main thread, while the next chunk to be
+//! put in place is not ready; there is one worker fewer than threads) by a lowerer that reads
+//! the prefix first (so it starts in the state the file is in there) and hands back what the
+//! chunk added: spheres,
 //! surfaces, lights, viewpoints, its material table, counts; and its text. The main thread
 //! puts the chunks' results in place in file order (the enclosing grouping nodes, still open,
 //! then move and scope them as they close; the materials the tables repeat, the prefix's
@@ -61,6 +63,9 @@ const BLOCK: usize = 256 << 10;
 
 /// A chunk for a worker: its number, its offset, its text, and the prefix to read first.
 type Job = (usize, u64, ChunkText, Arc<[u8]>);
+
+/// The chunks' receiver, shared by their readers.
+type Jobs = Arc<Mutex<Receiver<Job>>>;
 
 /// What the main thread's text channel carries.
 enum Msg {
@@ -169,11 +174,13 @@ pub(super) fn load(
         let _ = credit_tx.try_send(());
     }
     // Set when the main thread reads on by itself: the chunks still coming are not lowered.
-    let stop = AtomicBool::new(false);
-    // Only the workers hold the chunks' receiver: when they stop, the scan does too.
+    let stop = Arc::new(AtomicBool::new(false));
+    // Only the readers of chunks hold the chunks' receiver: when they stop, the scan does too.
+    // The main thread is one of them (it lowers a chunk whenever the next to be put in place
+    // is not ready: with a worker thread fewer, a chunk's spheres are copied from the core that
+    // made them more often, and the main thread no longer wakes to take a worker's core).
     let chunk_rx = Arc::new(Mutex::new(chunk_rx));
-    let worker_rx: Vec<_> = (0..threads).map(|_| chunk_rx.clone()).collect();
-    drop(chunk_rx);
+    let worker_rx: Vec<_> = (1..threads.max(2)).map(|_| chunk_rx.clone()).collect();
     let opts = low.opts.clone();
     // The main reader's merges of the materials are the one part of its work that grows
     // with the file: on the thread pool.
@@ -190,41 +197,26 @@ pub(super) fn load(
         };
         let scan_file = in_file.clone();
         scope.spawn(move || split(reader, (chunk_bytes, scan_file), hands));
-        let stop = &stop;
-        let spheres: Spare = Arc::default();
+        let ctx = Lowering {
+            opts: opts.clone(),
+            name: name.clone(),
+            path: path.to_path_buf(),
+            spheres: Spare::default(),
+            stop: stop.clone(),
+        };
         for rx in worker_rx {
             let tx = done_tx.clone();
-            let spheres = spheres.clone();
-            let (opts, name) = (opts.clone(), name.clone());
+            let ctx = ctx.clone();
             scope.spawn(move || {
                 // (See `lower_chunk`.)
                 let mut window = String::new();
                 loop {
                     let job = rx.lock().map_or(None, |r| r.recv().ok());
-                    let Some((k, start, text, prefix)) = job else {
+                    let Some(job) = job else {
                         return;
                     };
-                    let (out, text) = if stop.load(Ordering::Relaxed) {
-                        let text = match text {
-                            ChunkText::Held(t) => Some(t),
-                            ChunkText::InFile(_) => None,
-                        };
-                        (Err("not read".into()), text)
-                    } else {
-                        let list = spheres.lock().ok().and_then(|mut s| s.pop());
-                        lower_chunk(
-                            &opts,
-                            (&name, path),
-                            &prefix,
-                            start,
-                            text,
-                            (list.unwrap_or_default(), &mut window),
-                        )
-                    };
-                    if tx
-                        .send(Done::Chunk(k, ChunkResult { start, out, text }))
-                        .is_err()
-                    {
+                    let (k, r) = ctx.lower(job, &mut window);
+                    if tx.send(Done::Chunk(k, r)).is_err() {
                         return;
                     }
                 }
@@ -244,12 +236,13 @@ pub(super) fn load(
             total: None,
             credits: credit_tx,
             spare: spare_tx,
-            spheres,
+            spheres: ctx.spheres.clone(),
+            help: Some((chunk_rx, ctx, String::new())),
         };
         // Dropping the receivers (in `results`) ends the other threads if they are still
         // going.
         let sizes = (size, in_file);
-        main_reader(low, (name.clone(), path), reader, results, stop, sizes)
+        main_reader(low, (name.clone(), path), reader, results, &stop, sizes)
     })
 }
 
@@ -369,6 +362,43 @@ struct InOrder {
     spare: Sender<Vec<u8>>,
     /// Chunks' lists of spheres, emptied, for the workers to fill again.
     spheres: Spare,
+    /// The chunks' receiver, when the main thread lowers chunks too while the next to be put
+    /// in place is not ready; with what it lowers them with.
+    help: Option<(Jobs, Lowering, String)>,
+}
+
+/// What a chunk is lowered with, on any thread.
+#[derive(Clone)]
+struct Lowering {
+    opts: super::LoadOptions,
+    name: Arc<str>,
+    path: std::path::PathBuf,
+    spheres: Spare,
+    stop: Arc<AtomicBool>,
+}
+
+impl Lowering {
+    /// Lowers a chunk (see [`lower_chunk`]), unless the main thread reads on by itself.
+    fn lower(&self, (k, start, text, prefix): Job, window: &mut String) -> (usize, ChunkResult) {
+        let (out, text) = if self.stop.load(Ordering::Relaxed) {
+            let text = match text {
+                ChunkText::Held(t) => Some(t),
+                ChunkText::InFile(_) => None,
+            };
+            (Err("not read".into()), text)
+        } else {
+            let list = self.spheres.lock().ok().and_then(|mut s| s.pop());
+            lower_chunk(
+                &self.opts,
+                (&self.name, &self.path),
+                &prefix,
+                start,
+                text,
+                (list.unwrap_or_default(), window),
+            )
+        };
+        (k, ChunkResult { start, out, text })
+    }
 }
 
 /// Emptied lists of spheres, passed from the main thread back to the workers.
@@ -386,7 +416,22 @@ impl InOrder {
             if self.total.is_some_and(|(n, _)| n == self.next) {
                 return Ok(None);
             }
-            match self.rx.recv() {
+            let done = match self.rx.try_recv() {
+                Ok(d) => Ok(d),
+                Err(_) => {
+                    // Nothing to put in place: lower a chunk that waits for a reader, if any.
+                    if let Some((rx, ctx, window)) = &mut self.help {
+                        let job = rx.try_lock().ok().and_then(|r| r.try_recv().ok());
+                        if let Some(job) = job {
+                            let (k, r) = ctx.lower(job, window);
+                            self.waiting.insert(k, r);
+                            continue;
+                        }
+                    }
+                    self.rx.recv()
+                }
+            };
+            match done {
                 Ok(Done::Chunk(k, r)) => {
                     self.waiting.insert(k, r);
                 }
@@ -568,7 +613,10 @@ fn put_chunks_in_place(
         None => Box::new(ChunkTexts {
             text,
             at: 0,
-            rest: results,
+            rest: InOrder {
+                help: None,
+                ..results
+            },
         }),
     };
     Ok(Placed {
