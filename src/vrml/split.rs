@@ -242,6 +242,13 @@ impl Splitter {
             }
             return Ok(n);
         }
+        if self.hold.capacity() == 0 && self.mode == Mode::Seeking {
+            // Room at once for what is usually held before the region is found: grown by
+            // doubling, the text was copied at each step and faulted in twice over (a third
+            // of the time to the first chunk, which the other threads wait for).
+            let usual = self.prefix_max + self.chunk_bytes + 2 * block as u64;
+            self.hold.reserve_exact(usual.min(64 << 20) as usize);
+        }
         self.hold.reserve(block);
         let n = reader.take(block as u64).read_to_end(&mut self.hold)?;
         if self.mode == Mode::Seeking {
