@@ -5,12 +5,12 @@
 //! each chunk is lowered on a worker thread (or on the main thread, while the next chunk to be
 //! put in place is not ready; there is one worker fewer than threads) by a lowerer that reads
 //! the prefix first (so it starts in the state the file is in there) and hands back what the
-//! chunk added: spheres,
-//! surfaces, lights, viewpoints, its material table, counts; and its text. The main thread
-//! puts the chunks' results in place in file order (the enclosing grouping nodes, still open,
-//! then move and scope them as they close; the materials the tables repeat, the prefix's
-//! among them, are merged like any duplicates) until a chunk's result may not stand, and
-//! from that chunk's start reads the rest itself, from the chunks' texts.
+//! chunk added: spheres, surfaces, lights, viewpoints, its material table, counts; and its
+//! text. The main thread puts the chunks' results in place in file order (the enclosing
+//! grouping nodes, still open, then move and scope them as they close; the materials the
+//! tables repeat, the prefix's among them, are merged like any duplicates) until a chunk's
+//! result may not stand, and from that chunk's start reads the rest itself, from the chunks'
+//! texts.
 //!
 //! A plain file on disk is read so only until the region is found: the rest of the region
 //! is cut in the file ([`crate::vrml::cut_file`]), each chunk's reader reads its bytes from
