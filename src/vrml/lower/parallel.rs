@@ -78,6 +78,8 @@ enum Msg {
 /// A chunk's offset, outcome and text (see [`lower_chunk`]).
 struct ChunkResult {
     start: u64,
+    /// The chunk's length in bytes.
+    len: u64,
     out: Outcome,
     text: Option<Vec<u8>>,
 }
@@ -380,6 +382,10 @@ struct Lowering {
 impl Lowering {
     /// Lowers a chunk (see [`lower_chunk`]), unless the main thread reads on by itself.
     fn lower(&self, (k, start, text, prefix): Job, window: &mut String) -> (usize, ChunkResult) {
+        let len = match &text {
+            ChunkText::Held(t) => t.len() as u64,
+            ChunkText::InFile(r) => r.end.saturating_sub(r.at),
+        };
         let (out, text) = if self.stop.load(Ordering::Relaxed) {
             let text = match text {
                 ChunkText::Held(t) => Some(t),
@@ -397,7 +403,15 @@ impl Lowering {
                 (list.unwrap_or_default(), window),
             )
         };
-        (k, ChunkResult { start, out, text })
+        (
+            k,
+            ChunkResult {
+                start,
+                len,
+                out,
+                text,
+            },
+        )
     }
 }
 
@@ -547,11 +561,16 @@ fn put_chunks_in_place(
     // Names the chunks put in place so far DEF'd.
     let mut defined: HashSet<String> = HashSet::new();
     let (from, text) = loop {
-        let Some(ChunkResult { start, out, text }) = results.next()? else {
+        let Some(ChunkResult {
+            start,
+            len,
+            out,
+            text,
+        }) = results.next()?
+        else {
             let end = results.total.map_or(0, |t| t.1);
             break (end, Vec::new());
         };
-        let len = text.as_ref().map_or(0, Vec::len) as u64;
         let d = match out {
             Ok(d) => {
                 if let Some(t) = text {
