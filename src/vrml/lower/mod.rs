@@ -69,6 +69,7 @@ mod expand;
 mod extern_proto;
 mod fields;
 mod gas_particle;
+mod in_order;
 mod inline;
 mod lights;
 mod material;

@@ -43,11 +43,11 @@ use std::sync::{Arc, Mutex};
 
 use hashbrown::HashSet;
 
-use super::chunk::{lower_chunk, ChunkText, Outcome};
+use super::chunk::ChunkText;
+use super::in_order::{ChunkResult, ChunkTexts, Done, InOrder, Job, Lowering, Spare};
 use super::Lowerer;
 use crate::error::Error;
 use crate::input::{open_plain, read_at, FileRange};
-use crate::scene::Sphere;
 use crate::source::SourceWindow;
 use crate::vrml::cut_file::cut_in_file;
 use crate::vrml::parse::{Parser, Run};
@@ -61,37 +61,12 @@ const PREFIX_MAX: u64 = 1 << 20;
 /// that text is copied to start the next one).
 const BLOCK: usize = 256 << 10;
 
-/// A chunk for a worker: its number, its offset, its text, and the prefix to read first.
-type Job = (usize, u64, ChunkText, Arc<[u8]>);
-
-/// The chunks' receiver, shared by their readers.
-type Jobs = Arc<Mutex<Receiver<Job>>>;
-
 /// What the main thread's text channel carries.
 enum Msg {
     Text(Vec<u8>),
     PrefixEnd,
     Eof,
     Failed(std::io::Error),
-}
-
-/// A chunk's offset, outcome and text (see [`lower_chunk`]).
-struct ChunkResult {
-    start: u64,
-    /// The chunk's length in bytes.
-    len: u64,
-    out: Outcome,
-    text: Option<Vec<u8>>,
-}
-
-/// What the results channel carries.
-enum Done {
-    /// A chunk's number and result.
-    Chunk(usize, ChunkResult),
-    /// The region (the rest of the file) was cut into this many chunks and ends here.
-    Total(usize, u64),
-    /// The text could not be read to its end.
-    Failed,
 }
 
 /// The main reader's text: the channel's text, with an end at the prefix's end and at the
@@ -351,141 +326,6 @@ fn hand_chunk(
     let p = prefix.clone().unwrap_or_else(|| Arc::from(&[][..]));
     *k += 1;
     !first && to.credits.recv().is_ok() && to.chunks.send((*k - 1, start, text, p)).is_ok()
-}
-
-/// The chunks' results in file order.
-struct InOrder {
-    rx: Receiver<Done>,
-    waiting: BTreeMap<usize, ChunkResult>,
-    next: usize,
-    /// The number of chunks and the file's end, once the scan is done.
-    total: Option<(usize, u64)>,
-    credits: SyncSender<()>,
-    spare: Sender<Vec<u8>>,
-    /// Chunks' lists of spheres, emptied, for the workers to fill again.
-    spheres: Spare,
-    /// The chunks' receiver, when the main thread lowers chunks too while the next to be put
-    /// in place is not ready; with what it lowers them with.
-    help: Option<(Jobs, Lowering, String)>,
-}
-
-/// What a chunk is lowered with, on any thread.
-#[derive(Clone)]
-struct Lowering {
-    opts: super::LoadOptions,
-    name: Arc<str>,
-    path: std::path::PathBuf,
-    spheres: Spare,
-    stop: Arc<AtomicBool>,
-}
-
-impl Lowering {
-    /// Lowers a chunk (see [`lower_chunk`]), unless the main thread reads on by itself.
-    fn lower(&self, (k, start, text, prefix): Job, window: &mut String) -> (usize, ChunkResult) {
-        let len = match &text {
-            ChunkText::Held(t) => t.len() as u64,
-            ChunkText::InFile(r) => r.end.saturating_sub(r.at),
-        };
-        let (out, text) = if self.stop.load(Ordering::Relaxed) {
-            let text = match text {
-                ChunkText::Held(t) => Some(t),
-                ChunkText::InFile(_) => None,
-            };
-            (Err("not read".into()), text)
-        } else {
-            let list = self.spheres.lock().ok().and_then(|mut s| s.pop());
-            lower_chunk(
-                &self.opts,
-                (&self.name, &self.path),
-                &prefix,
-                start,
-                text,
-                (list.unwrap_or_default(), window),
-            )
-        };
-        (
-            k,
-            ChunkResult {
-                start,
-                len,
-                out,
-                text,
-            },
-        )
-    }
-}
-
-/// Emptied lists of spheres, passed from the main thread back to the workers.
-type Spare = Arc<Mutex<Vec<Vec<Sphere>>>>;
-
-impl InOrder {
-    /// The next chunk's offset, outcome and text, or None after the last.
-    fn next(&mut self) -> Result<Option<ChunkResult>, String> {
-        loop {
-            if let Some(r) = self.waiting.remove(&self.next) {
-                self.next += 1;
-                let _ = self.credits.try_send(());
-                return Ok(Some(r));
-            }
-            if self.total.is_some_and(|(n, _)| n == self.next) {
-                return Ok(None);
-            }
-            let done = match self.rx.try_recv() {
-                Ok(d) => Ok(d),
-                Err(_) => {
-                    // Nothing to put in place: lower a chunk that waits for a reader, if any.
-                    if let Some((rx, ctx, window)) = &mut self.help {
-                        let job = rx.try_lock().ok().and_then(|r| r.try_recv().ok());
-                        if let Some(job) = job {
-                            let (k, r) = ctx.lower(job, window);
-                            self.waiting.insert(k, r);
-                            continue;
-                        }
-                    }
-                    self.rx.recv()
-                }
-            };
-            match done {
-                Ok(Done::Chunk(k, r)) => {
-                    self.waiting.insert(k, r);
-                }
-                Ok(Done::Total(n, end)) => self.total = Some((n, end)),
-                Ok(Done::Failed) => return Err("the text could not be read".into()),
-                Err(_) => return Err("a reading thread stopped".into()),
-            }
-        }
-    }
-}
-
-/// The text of the chunks from one on, for the main reader reading on by itself.
-struct ChunkTexts {
-    text: Vec<u8>,
-    at: usize,
-    rest: InOrder,
-}
-
-impl Read for ChunkTexts {
-    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
-        while self.at == self.text.len() {
-            match self.rest.next() {
-                Ok(Some(ChunkResult {
-                    text: Some(text), ..
-                })) => {
-                    self.text = text;
-                    self.at = 0;
-                }
-                Ok(None) => return Ok(0),
-                Ok(Some(ChunkResult { text: None, .. })) => {
-                    return Err(std::io::Error::other("a piece's text was not handed back"))
-                }
-                Err(why) => return Err(std::io::Error::other(why)),
-            }
-        }
-        let n = buf.len().min(self.text.len() - self.at);
-        buf[..n].copy_from_slice(&self.text[self.at..self.at + n]);
-        self.at += n;
-        Ok(n)
-    }
 }
 
 /// The main thread: the prefix, the chunks' results in order, the rest.
