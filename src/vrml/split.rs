@@ -23,9 +23,9 @@
 //! starts as the region's first sibling's did (see [`Splitter::cut_ahead`]). The guess may be
 //! wrong (a nested node written at the same indentation, a string across lines), and the
 //! region ends somewhere in the last chunks: the readers check every chunk (it must end, with
-//! nothing declared, exactly between two siblings of the region), and the main reader reads
-//! on by itself from the first chunk that fails the check. Each chunk that passes shows that
-//! the next starts where a sibling does.
+//! nothing declared, exactly between two siblings of the region, or at the region's end), and
+//! the main reader reads on by itself from the first chunk that fails the check (or from the
+//! region's end). Each chunk that passes shows that the next starts where a sibling does.
 //!
 //! For a plain file, the scan stops once the region is found ([`Splitter::region_at`]) and
 //! the rest is cut in the file the same way ([`crate::vrml::cut_file`]).

@@ -103,7 +103,7 @@ fn the_three_layouts_and_ellipsoids_are_read_in_pieces() {
             // piece, from which the main reader reads on.
             if text == &group {
                 let on = r.read_on.expect("read on");
-                assert!(on.contains("the list it is in ends in it"), "{on}");
+                assert!(on.contains("the region's list ends"), "{on}");
             } else {
                 assert_eq!(r.read_on, None);
             }
@@ -142,7 +142,7 @@ fn guessed_cuts_are_checked() {
         &format!(
             "#VRML V2.0 utf8\nTransform {{ translation 5 0 0 children [\n{body}] }}\nTransform {{ translation -5 0 0 children [\n{body}] }}\n"
         ),
-        "the list it is in ends in it",
+        "the region's list ends",
     );
     // A PROTO declared among the siblings and instanced after them.
     reads_on(
@@ -199,6 +199,27 @@ fn errors_and_warnings_are_one_readers() {
     ];
     for text in &cases {
         same(text, 2, 700);
+    }
+}
+
+#[test]
+fn a_piece_stands_up_to_where_its_list_ends() {
+    // The region's list ends in its last piece: what the piece read before the end stands,
+    // and the main reader reads on from the end, with one reader's lines and messages after
+    // it (a warning, an error), from memory and from the file.
+    let body: String = (0..200).map(particle).collect();
+    let cases = [
+        format!("#VRML V2.0 utf8\nGroup {{ children [\n{body}]\n\n}}\nFrobnicate {{ }}\n"),
+        format!("#VRML V2.0 utf8\nGroup {{ children [\n{body}\n}}\n]\n"),
+        format!("#VRML V2.0 utf8\n{body}\n}}\n{body}"),
+    ];
+    for text in &cases {
+        for r in [same(text, 2, 700), same_on_disk(text, 2, 700, false)] {
+            let Some(r) = r else { continue };
+            assert!(r.read_pieces > 5 && r.read_again.is_none(), "{r:?}");
+            let on = r.read_on.expect("read on");
+            assert!(on.contains("the region's list ends"), "{on}");
+        }
     }
 }
 
@@ -356,7 +377,7 @@ fn files_on_disk_are_read_in_pieces_from_the_file() {
         assert!(r.read_pieces > 10 && r.read_again.is_none(), "{r:?}");
         // The top level's pieces go to the file's end; the Group's list ends in its last.
         match r.read_on {
-            Some(on) => assert!(text == &group && on.contains("ends in it"), "{on}"),
+            Some(on) => assert!(text == &group && on.contains("list ends"), "{on}"),
             None => assert!(text == &flat),
         }
     }

@@ -67,6 +67,9 @@ pub(super) struct Delta {
     pub(super) exports: Vec<String>,
     pub(super) imports: Vec<String>,
     line_starts: Vec<u64>,
+    /// Where the region's list ends, if it ends in the chunk (the chunk's result is what
+    /// comes before).
+    pub(super) end: Option<u64>,
 }
 
 /// What a chunk added, or why it may not stand (then the main reader reads on from its
@@ -198,11 +201,13 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source)
     // The chunk's cuts were guessed (see `split`): it must hold whole siblings of the list
     // the prefix leaves open, no more and no less.
     parser.floor = parser.depth();
-    match parser.resume(low).map_err(|e| reason(&e))? {
-        Run::Floor => return Err("the list it is in ends in it".into()),
+    // The list may end in it (the region's last chunk): what comes before the end stands,
+    // and the main reader reads on from the end.
+    let end = match parser.resume(low).map_err(|e| reason(&e))? {
+        Run::Floor => Some(parser.src.offset()),
         _ if parser.depth() != parser.floor => return Err("it ends inside a node".into()),
-        _ => {}
-    }
+        _ => None,
+    };
     if parser.src.bad_utf8 != bad_utf8 {
         return Err("it has invalid UTF-8".into());
     }
@@ -264,7 +269,10 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source)
         background: (!bound_before.1 && low.bound.background).then_some(scene.background),
         exports: low.scopes.file_defs_since(arena_mark),
         imports: watch.imports,
-        line_starts: parser.src.lines.starts_after(start).collect(),
+        line_starts: (parser.src.lines.starts_after(start))
+            .take_while(|&l| end.is_none_or(|e| l <= e))
+            .collect(),
+        end,
     }))
 }
 

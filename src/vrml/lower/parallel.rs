@@ -18,9 +18,10 @@
 //! to the readers was copied by the kernel into buffers of a few MiB, then read again on
 //! another core: about 20 ms of CPU per million particles and 25 MB of memory.)
 //!
-//! A chunk's result does not stand (and the main reader reads on from its start) when:
-//! - it does not end exactly between two siblings of the region (a guessed cut was wrong),
-//!   or the region's list ends in it (the rest of the file follows);
+//! When the region's list ends in a chunk (the rest of the file follows), what the chunk read
+//! before the list's end stands, and the main reader reads on from there. A chunk's result
+//! does not stand (and the main reader reads on from its start) when:
+//! - it does not end exactly between two siblings of the region (a guessed cut was wrong);
 //! - it declares a PROTO or EXTERNPROTO (which later text may instance);
 //! - it warns, notes, fails, reads another file (Inline), or meets invalid UTF-8: its
 //!   messages would need positions and text from outside it, so one reader says them.
@@ -387,7 +388,8 @@ struct Placed {
 }
 
 /// Puts the chunks' results in place in file order, up to the first that may not stand (its
-/// cuts were wrong, the region ends in it, it warns...); or says why the file must be read
+/// cuts were wrong, it warns...) or the one the region's list ends in (up to that end); or
+/// says why the file must be read
 /// again by one reader. `size` is the file's (a hint: for the spheres to come); `in_file`,
 /// the file, when the chunks' texts were left in it (the main reader then reads on from it).
 fn put_chunks_in_place(
@@ -411,12 +413,13 @@ fn put_chunks_in_place(
             let end = results.total.map_or(0, |t| t.1);
             break (end, Vec::new());
         };
-        let d = match out {
+        let (d, text) = match out {
+            Ok(d) if d.end.is_some() => (d, text),
             Ok(d) => {
                 if let Some(t) = text {
                     let _ = results.spare.send(t);
                 }
-                d
+                (d, None)
             }
             Err(e) => match text {
                 Some(text) => {
@@ -439,6 +442,7 @@ fn put_chunks_in_place(
             return Err("the nodes counted may pass the limit".into());
         }
         defined.extend(d.exports.iter().cloned());
+        let end = d.end;
         let before = low.scene.spheres.len();
         let emptied = low.put_in_place(*d, src)?;
         if placed == 0 {
@@ -458,6 +462,25 @@ fn put_chunks_in_place(
             }
         }
         placed += 1;
+        if let Some(end) = end {
+            // The region's list ends in this chunk: the main reader reads on from its end.
+            why = Some(format!(
+                "from byte {end}, where the region's list ends (in piece {})",
+                placed - 1
+            ));
+            let mut text = match text {
+                Some(t) => t,
+                None if in_file.is_some() => Vec::new(),
+                None => {
+                    return Err(format!(
+                        "chunk {}: its text was not handed back",
+                        placed - 1
+                    ))
+                }
+            };
+            text.drain(..text.len().min((end - start) as usize));
+            break (end, text);
+        }
     };
     if !defined.is_empty() {
         low.poison = Some(defined);
