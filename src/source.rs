@@ -84,6 +84,11 @@ impl LineIndex {
         self.low.capacity() * 4 + self.spans.capacity() * 8
     }
 
+    /// Room for `more` lines, if it can be had (a hint: asked for without aborting).
+    pub fn try_reserve(&mut self, more: usize) {
+        let _ = self.low.try_reserve_exact(more);
+    }
+
     /// The line starts past `offset`, in order.
     pub fn starts_after(&self, offset: u64) -> impl Iterator<Item = u64> + '_ {
         // The first line starting past `offset` follows the one `offset` is on.

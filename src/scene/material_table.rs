@@ -293,6 +293,11 @@ impl MaterialTable {
         self.entries.truncate(len);
     }
 
+    /// Room for `more` entries, if it can be had (a hint: asked for without aborting).
+    pub fn try_reserve(&mut self, more: usize) {
+        let _ = self.entries.try_reserve_exact(more);
+    }
+
     /// Frees spare capacity, wide entries no entry uses any more, and the search aids (the
     /// table is complete; a later push rebuilds them).
     pub fn shrink_to_fit(&mut self) {

@@ -115,6 +115,11 @@ impl RecentMaterials {
         }
     }
 
+    /// Room for the hashes of `more` materials, if it can be had (a hint).
+    pub(crate) fn try_reserve(&mut self, more: usize) {
+        let _ = self.hashes.try_reserve_exact(more);
+    }
+
     /// The hash of each material stored, when they are all known.
     pub(crate) fn hashes(&self, stored: usize) -> &[u64] {
         if self.hashes.len() == stored {

@@ -276,6 +276,13 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source)
     }))
 }
 
+impl Delta {
+    /// The lines that start in the chunk.
+    pub(super) fn lines(&self) -> usize {
+        self.line_starts.len()
+    }
+}
+
 impl Lowerer {
     /// Looks a DEF name up in the innermost namespace, noting (in the file's namespace) a
     /// chunk's use of the prefix's DEFs and the main reader's use of names chunks DEF'd.
