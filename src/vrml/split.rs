@@ -13,8 +13,10 @@
 //! reader, so that each starts in the state the file is in there: the PROTOs declared, the
 //! DEFs made, the grouping nodes open) and *chunks*, to the end of the file. The scan reads
 //! the text until a list has `chunk_bytes` of siblings after its first cut (just after the
-//! end of the line on which a sibling's `}` ends): the prefix ends at that first cut (within
-//! `prefix_max` bytes), and the first chunk at a cut the scan found. An EXTERNPROTO in the
+//! end of the line on which a sibling's `}` ends), or `prefix_max` if that is less and no
+//! list it is in has a cut (no other list could be the region then): the prefix ends at that
+//! first cut (within `prefix_max` bytes), and the first chunk at a cut the scan found. An
+//! EXTERNPROTO in the
 //! prefix, or a word the scan cannot be sure of where it matters, leaves the whole file to
 //! one reader.
 //!
@@ -664,7 +666,21 @@ impl Splitter {
             *first = Some(c);
             return;
         };
-        if c - start < self.chunk_bytes || start > self.prefix_max {
+        // Once the list holds `prefix_max` of siblings, no list after it can be the region
+        // (its prefix would be too long), nor can an enclosing list that has no cut yet (its
+        // first would come after this one). So unless an enclosing list has a cut (it may
+        // hold far more siblings after this list's node), the list is taken then, and the
+        // other threads start after a short scan; else it needs a chunk's worth.
+        let enclosing_cut = |f: &Frame| f.list && f.first_cut.is_some();
+        let enough = match self.stack.split_last() {
+            None => self.prefix_max,
+            Some((_, up)) if self.top_first_cut.is_none() && !up.iter().any(enclosing_cut) => {
+                self.prefix_max
+            }
+            Some(_) => self.chunk_bytes,
+        }
+        .min(self.chunk_bytes);
+        if c - start < enough || start > self.prefix_max {
             return;
         }
         // The region starts: the prefix goes to the main reader and to the chunks'.
@@ -734,6 +750,44 @@ mod tests {
                 assert!(chunks.iter().all(|c| c.starts_with("Transform {")));
                 assert!(last.ends_with(if text == &group { "] }\n" } else { "} }\n" }));
             }
+        }
+    }
+
+    /// A list is taken as the region once it holds `prefix_max` of siblings when no other
+    /// list could be then; with a cut in a list it is in, only with a chunk's worth.
+    #[test]
+    fn a_list_is_taken_after_the_longest_prefix_when_no_other_could_be() {
+        let node = "Transform { translation 1 2 3 children Shape { geometry Sphere {} } }\n";
+        let first_chunk = |text: &str| {
+            let mut s = Splitter::new(4000, 1000);
+            let mut v = Vec::new();
+            let mut r = std::io::Cursor::new(text.as_bytes());
+            while s.read_from(&mut r, 64, &mut |p| v.push(p)).unwrap() > 0 {}
+            s.finish(&mut |p| v.push(p));
+            let (all, chunks) = rejoin(&v);
+            assert_eq!(all, text);
+            chunks[0].len()
+        };
+        let flat = format!("#VRML V2.0 utf8\n{}", node.repeat(200));
+        let n = first_chunk(&flat);
+        assert!((1000..1000 + node.len()).contains(&n), "{n}");
+        // A Group's children, the Group the first node: no cut at the top level.
+        let group = |before: &str| {
+            format!(
+                "#VRML V2.0 utf8\n{before}Group {{ children [\n{}] }}\n",
+                node.repeat(200)
+            )
+        };
+        let n = first_chunk(&group(""));
+        assert!((1000..1000 + node.len()).contains(&n), "{n}");
+        // After a top-level node (a cut at the top level, which may hold far more nodes after
+        // the Group): a chunk's worth.
+        for before in [
+            "Viewpoint { position 0 0 9 }\n",
+            "Group { children [\nShape {}\n] }\n",
+        ] {
+            let n = first_chunk(&group(before));
+            assert!((4000..4000 + node.len()).contains(&n), "{n}");
         }
     }
 
