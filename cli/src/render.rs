@@ -370,6 +370,7 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
         read_threads: args.threads.unwrap_or(0),
         ..LoadOptions::default()
     })?;
+    crate::memory::retain_freed_while_reading();
     let (scene, report) = load_path(&args.scene, &load)?;
     let say = |m: String| {
         if !args.quiet {
