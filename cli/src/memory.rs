@@ -39,7 +39,7 @@ const DEFAULT_TRIM: i32 = 128 << 10;
 /// that made them, which gave the memory back to the system every time (an `madvise` or a
 /// `brk` down) and faulted it in afresh for the next piece. Measured 2026-12-05, `info` of the
 /// 1e6-particle files of `bench parse` on 2 threads, in turns with the default (21 rounds
-/// each): parse time 0.970-0.973 of it at 16 MiB (0.98 at 4 MiB); one reader unchanged.
+/// each): parse time 0.961-0.972 of it at 16 MiB (0.98 at 4 MiB); one reader unchanged.
 /// [`retain_freed_for`] sets the threshold for what follows the reading.
 #[allow(unsafe_code)] // as tune_allocator
 pub fn retain_freed_while_reading() {
