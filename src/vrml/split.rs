@@ -16,9 +16,8 @@
 //! end of the line on which a sibling's `}` ends), or `prefix_max` if that is less and no
 //! list it is in has a cut (no other list could be the region then): the prefix ends at that
 //! first cut (within `prefix_max` bytes), and the first chunk at a cut the scan found. An
-//! EXTERNPROTO in the
-//! prefix, or a word the scan cannot be sure of where it matters, leaves the whole file to
-//! one reader.
+//! EXTERNPROTO in the prefix, or a word the scan cannot be sure of where it matters, leaves
+//! the whole file to one reader.
 //!
 //! From there on nothing is scanned (at two threads the scan cost as much as a quarter of
 //! the reading): each further cut is a guess, at the first line after `chunk_bytes` that

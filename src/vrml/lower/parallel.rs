@@ -412,9 +412,9 @@ struct Placed {
 
 /// Puts the chunks' results in place in file order, up to the first that may not stand (its
 /// cuts were wrong, it warns...) or the one the region's list ends in (up to that end); or
-/// says why the file must be read
-/// again by one reader. `size` is the file's (a hint: for the spheres to come); `in_file`,
-/// the file, when the chunks' texts were left in it (the main reader then reads on from it).
+/// says why the file must be read again by one reader. `size` is the file's (a hint: for the
+/// lists to come); `in_file`, the file, when the chunks' texts were left in it (the main
+/// reader then reads on from it).
 fn put_chunks_in_place(
     low: &mut Lowerer,
     src: &mut SourceWindow,
