@@ -670,15 +670,14 @@ impl Splitter {
         // first would come after this one). So unless an enclosing list has a cut (it may
         // hold far more siblings after this list's node), the list is taken then, and the
         // other threads start after a short scan; else it needs a chunk's worth.
-        let enclosing_cut = |f: &Frame| f.list && f.first_cut.is_some();
-        let enough = match self.stack.split_last() {
-            None => self.prefix_max,
-            Some((_, up)) if self.top_first_cut.is_none() && !up.iter().any(enclosing_cut) => {
-                self.prefix_max
-            }
-            Some(_) => self.chunk_bytes,
-        }
-        .min(self.chunk_bytes);
+        let enclosing_cut = self.stack.split_last().is_some_and(|(_, up)| {
+            self.top_first_cut.is_some() || up.iter().any(|f| f.list && f.first_cut.is_some())
+        });
+        let enough = if enclosing_cut {
+            self.chunk_bytes
+        } else {
+            self.chunk_bytes.min(self.prefix_max)
+        };
         if c - start < enough || start > self.prefix_max {
             return;
         }
@@ -699,7 +698,12 @@ mod tests {
 
     /// The pieces of `text` fed in blocks of `block` bytes.
     fn pieces(text: &str, chunk: u64, block: usize) -> Vec<Piece> {
-        let mut s = Splitter::new(chunk, 1 << 20);
+        pieces_with(text, (chunk, 1 << 20), block)
+    }
+
+    /// [`pieces`], with a prefix of at most `prefix_max` bytes.
+    fn pieces_with(text: &str, (chunk, prefix_max): (u64, u64), block: usize) -> Vec<Piece> {
+        let mut s = Splitter::new(chunk, prefix_max);
         let mut v = Vec::new();
         let mut r = std::io::Cursor::new(text.as_bytes());
         while s.read_from(&mut r, block, &mut |p| v.push(p)).unwrap() > 0 {}
@@ -758,12 +762,7 @@ mod tests {
     fn a_list_is_taken_after_the_longest_prefix_when_no_other_could_be() {
         let node = "Transform { translation 1 2 3 children Shape { geometry Sphere {} } }\n";
         let first_chunk = |text: &str| {
-            let mut s = Splitter::new(4000, 1000);
-            let mut v = Vec::new();
-            let mut r = std::io::Cursor::new(text.as_bytes());
-            while s.read_from(&mut r, 64, &mut |p| v.push(p)).unwrap() > 0 {}
-            s.finish(&mut |p| v.push(p));
-            let (all, chunks) = rejoin(&v);
+            let (all, chunks) = rejoin(&pieces_with(text, (4000, 1000), 64));
             assert_eq!(all, text);
             chunks[0].len()
         };

@@ -160,8 +160,8 @@ pub(super) fn load(
     let chunk_rx = Arc::new(Mutex::new(chunk_rx));
     let worker_rx: Vec<_> = (1..threads.max(2)).map(|_| chunk_rx.clone()).collect();
     let opts = low.opts.clone();
-    // The main reader's merges of the materials are the one part of its work that grows
-    // with the file: on the thread pool.
+    // The main reader's last merge of the materials is the one part of its work that grows
+    // with the file and is not shared out: on the thread pool (see `RecentMaterials`).
     low.materials.recent.parallel = true;
     std::thread::scope(|scope| {
         let splitter_done = done_tx.clone();
@@ -425,6 +425,16 @@ fn put_chunks_in_place(
     let mut placed = 0;
     // Names the chunks put in place so far DEF'd.
     let mut defined: HashSet<String> = HashSet::new();
+    // The text the main reader reads on in, from `skip` bytes into chunk `k`'s (none when the
+    // chunks were left in the file: it reads on from the file).
+    let read_on = |text: Option<Vec<u8>>, k: usize, skip: u64| match text {
+        Some(mut t) => {
+            t.drain(..t.len().min(skip as usize));
+            Ok(t)
+        }
+        None if in_file.is_some() => Ok(Vec::new()),
+        None => Err(format!("chunk {k}: its text was not handed back")),
+    };
     let (from, text) = loop {
         let Some(ChunkResult {
             start,
@@ -444,17 +454,11 @@ fn put_chunks_in_place(
                 }
                 (d, None)
             }
-            Err(e) => match text {
-                Some(text) => {
-                    why = Some(format!("from piece {placed} at byte {start}: {e}"));
-                    break (start, text);
-                }
-                None if in_file.is_some() => {
-                    why = Some(format!("from piece {placed} at byte {start}: {e}"));
-                    break (start, Vec::new());
-                }
-                None => return Err(format!("chunk {placed}: its text was not handed back")),
-            },
+            Err(e) => {
+                let text = read_on(text, placed, 0)?;
+                why = Some(format!("from piece {placed} at byte {start}: {e}"));
+                break (start, text);
+            }
         };
         if let Some(n) = d.imports.iter().find(|n| defined.contains(*n)) {
             return Err(format!(
@@ -484,22 +488,13 @@ fn put_chunks_in_place(
         }
         placed += 1;
         if let Some(end) = end {
-            // The region's list ends in this chunk: the main reader reads on from its end.
+            // The region's list ends in this chunk (counted as put in place): the main reader
+            // reads on from its end.
+            let k = placed - 1;
+            let text = read_on(text, k, end - start)?;
             why = Some(format!(
-                "from byte {end}, where the region's list ends (in piece {})",
-                placed - 1
+                "from byte {end}, where the region's list ends (in piece {k})"
             ));
-            let mut text = match text {
-                Some(t) => t,
-                None if in_file.is_some() => Vec::new(),
-                None => {
-                    return Err(format!(
-                        "chunk {}: its text was not handed back",
-                        placed - 1
-                    ))
-                }
-            };
-            text.drain(..text.len().min((end - start) as usize));
             break (end, text);
         }
     };
