@@ -40,7 +40,7 @@ use glam::DVec3;
 use super::breakpoints::breakpoints;
 use super::density::gas_depth;
 use super::light_grid::LightGrid;
-use super::lights::{towards, LightKind, LightSource};
+use super::lights::{path_to, towards, LightKind, LightSource};
 use super::shadow_volume::{band_edges, path_end, BandCache};
 use super::Prepared;
 use crate::accel::Prim;
@@ -392,7 +392,9 @@ fn shadowed_part(
         let next = own.get(k).copied().unwrap_or(tb);
         if next > prev {
             let x = o + (0.5 * (prev + next)) * d;
-            if let Some((dir, dist, _)) = towards(light, x) {
+            // The light's geometry, not its reach: a sub-interval may straddle a point
+            // light's radius, and its part inside the radius is shadowed as its middle is.
+            if let Some((dir, dist)) = path_to(light, x) {
                 let on = match chord(prep, p, x, dir, dist) {
                     Chord::Gas(l) => l > 0.0,
                     Chord::Blocked => true,

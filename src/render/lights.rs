@@ -54,6 +54,21 @@ pub fn towards(l: &LightSource, x: DVec3) -> Option<(DVec3, f64, f64)> {
     }
 }
 
+/// The light ray from `x`: unit vector towards the light and distance to it (infinite for
+/// directional lights), whether or not the light reaches `x` (a point light's `radius` is not
+/// applied); `None` only at the light itself.
+#[inline]
+pub fn path_to(l: &LightSource, x: DVec3) -> Option<(DVec3, f64)> {
+    match l.kind {
+        LightKind::Directional { to_light, .. } => Some((to_light, f64::INFINITY)),
+        LightKind::Point { position, .. } => {
+            let v = position - x;
+            let d = v.length();
+            (d > 0.0).then(|| (v / d, d))
+        }
+    }
+}
+
 /// A point light's attenuation at distance `d`: `1 / max(a0 + a1 d + a2 d^2, 1)`.
 #[inline]
 pub fn attenuation(a: DVec3, d: f64) -> f64 {

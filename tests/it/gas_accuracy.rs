@@ -1,5 +1,5 @@
-//! Every exact-integrator case of ../shared/cases/gas-accuracy/ as a regression test: the
-//! scene is read in place, rendered through the library as the README's command does
+//! Every case of ../shared/cases/gas-accuracy/ and ../shared/cases/light-radius/ as a
+//! regression test: the scene is read in place, rendered through the library as the README's command does
 //! (`--sampler center --aov error --tol T`, f64 film), and each listed pixel (the largest RGB
 //! channel) must (1) be within the tolerance of the README's expected value and (2) carry an
 //! error estimate (the "error" layer) at least as large as its true error.
@@ -22,6 +22,17 @@ fn cases_dir() -> Option<PathBuf> {
     crate::support::shared("cases/gas-accuracy")
 }
 
+/// The `render` settings of a README row other than size and `--tol`.
+#[derive(Clone, Copy)]
+enum Run {
+    /// `--integrator exact` (the default).
+    Exact,
+    /// `--integrator mc --spp N`: scenes without scattering, where the Monte Carlo
+    /// integrator's expected-value emission is the closed form; `tol` is then the relative
+    /// error allowed (rounding), and its error layer (a standard error) must cover too.
+    Mc(u32),
+}
+
 /// One pixel of a README row: (row, col) with row 0 at the top, and the expected value as
 /// printed there.
 struct Probe {
@@ -35,6 +46,14 @@ struct Command {
     width: u32,
     height: u32,
     tol: f64,
+    probes: &'static [Probe],
+}
+
+/// A command with `--integrator mc --spp N` (see [`Run::Mc`]).
+struct McCommand {
+    width: u32,
+    height: u32,
+    spp: u32,
     probes: &'static [Probe],
 }
 
@@ -119,9 +138,35 @@ fn printed_half_ulp(s: &str) -> f64 {
 /// and reported together, with by how much each misses.
 fn check_case(case: &str, commands: &[Command]) {
     let Some(cases) = cases_dir() else { return };
-    let path = cases.join(format!("{case}.wrl"));
+    let runs: Vec<_> = commands.iter().map(|c| (c, Run::Exact)).collect();
+    check_runs(&cases, case, &runs);
+}
+
+/// [`check_case`] for the Monte Carlo rows: `tol` is the relative rounding allowed.
+fn check_mc_case(case: &str, commands: &[McCommand]) {
+    let Some(cases) = cases_dir() else { return };
+    let as_commands: Vec<Command> = commands
+        .iter()
+        .map(|c| Command {
+            width: c.width,
+            height: c.height,
+            tol: 1e-6,
+            probes: c.probes,
+        })
+        .collect();
+    let runs: Vec<_> = as_commands
+        .iter()
+        .zip(commands)
+        .map(|(c, m)| (c, Run::Mc(m.spp)))
+        .collect();
+    check_runs(&cases, case, &runs);
+}
+
+/// Renders `dir/case.wrl` once per command and checks every probe.
+fn check_runs(dir: &std::path::Path, case: &str, runs: &[(&Command, Run)]) {
+    let path = dir.join(format!("{case}.wrl"));
     let mut failures = Vec::new();
-    for cmd in commands {
+    for &(cmd, run) in runs {
         let (scene, _) = load_path(&path, &LoadOptions::default()).unwrap_or_else(|e| {
             panic!(
                 "{}: {e} (shared/ must be beside the checkout)",
@@ -132,7 +177,14 @@ fn check_case(case: &str, commands: &[Command]) {
             width: cmd.width,
             height: cmd.height,
             sampler: SamplerKind::Center,
-            integrator: Integrator::Exact,
+            integrator: match run {
+                Run::Exact => Integrator::Exact,
+                Run::Mc(_) => Integrator::Mc,
+            },
+            spp: match run {
+                Run::Exact => 1,
+                Run::Mc(n) => n,
+            },
             tol: cmd.tol,
             ..RenderOptions::default()
         };
@@ -210,10 +262,73 @@ fn attenuation_kink_at_unit_distance_is_a_break_point() {
     check_case("attenuation_kink", ATTENUATION_KINK);
 }
 
-/// Every exact-integrator row of the README is one of the probes above (with the same size,
+/// Monte Carlo of an optically thick emitter (tau 9 across) and of what lies behind a tau-25
+/// absorber: the rare escaping paths are expected values, not samples, so the values are the
+/// closed forms to rounding and the standard error is honestly 0.
+#[test]
+fn monte_carlo_emission_of_thick_gas_is_its_closed_form() {
+    check_mc_case("mc_thick_emitter", MC_THICK_EMITTER);
+}
+
+/// Monte Carlo of optically thin gas (tau 1e-8 and 1e-12 across): the emission is seen
+/// although no sampled collision would ever happen.
+#[test]
+fn monte_carlo_emission_of_faint_gas_is_its_closed_form() {
+    check_mc_case("mc_faint", MC_FAINT);
+}
+
+const MC_THICK_EMITTER: &[McCommand] = &[
+    McCommand {
+        width: 16,
+        height: 16,
+        spp: 64,
+        probes: &[px(8, 4, "0.799870951"), px(8, 11, "7.367962646e-11")],
+    },
+    McCommand {
+        width: 16,
+        height: 16,
+        spp: 1024,
+        probes: &[px(8, 4, "0.799870951"), px(8, 11, "7.367962646e-11")],
+    },
+];
+
+const MC_FAINT: &[McCommand] = &[McCommand {
+    width: 32,
+    height: 32,
+    spp: 1024,
+    probes: &[px(14, 11, "7.506264449e-09"), px(10, 18, "1.037551111e-12")],
+}];
+
+/// A PointLight whose `radius` (1.5) cuts through a gas sphere that shadows itself: the
+/// light reaches only the cap within the radius, and there it is attenuated by the sphere
+/// like anywhere else (the shadower's extent along the camera ray must not stop at the
+/// radius). ../shared/cases/light-radius/, at the default tolerance and a fine one.
+#[test]
+fn a_point_light_radius_cutting_through_gas_keeps_its_shadow() {
+    let Some(dir) = crate::support::shared("cases/light-radius") else {
+        return;
+    };
+    const PROBES: &[Probe] = &[
+        px(13, 12, "0.00476366853931"),
+        px(11, 11, "0.0123731155209"),
+        px(9, 10, "0.0131959377925"),
+        px(12, 12, "0.0151357886413"),
+        px(6, 15, "0.0317805645174"),
+    ];
+    let commands = [1e-4, 1e-6, 1e-8].map(|tol| Command {
+        width: 24,
+        height: 24,
+        tol,
+        probes: PROBES,
+    });
+    let runs: Vec<_> = commands.iter().map(|c| (c, Run::Exact)).collect();
+    check_runs(&dir, "light_radius_cut", &runs);
+}
+
+/// Every row of the README is one of the probes above (with the same size,
 /// tol and expected value), so a case added there is not forgotten here.
 #[test]
-fn every_exact_row_of_the_cases_readme_is_tested() {
+fn every_row_of_the_cases_readme_is_tested() {
     let Some(cases) = cases_dir() else { return };
     let readme = std::fs::read_to_string(cases.join("README.md")).expect("README.md");
     let mut rows = 0;
@@ -221,7 +336,7 @@ fn every_exact_row_of_the_cases_readme_is_tested() {
         let cols: Vec<&str> = line.split('|').map(str::trim).collect();
         // | case | command | pixel | expected | got | rel err | error AOV |
         let (case, command, pixel, expected) = (cols[1], cols[2], cols[3], cols[4]);
-        if case == "case" || case.starts_with("---") || command.contains("--integrator") {
+        if case == "case" || case.starts_with("---") {
             continue;
         }
         let arg = |name: &str| -> &str {
@@ -236,27 +351,40 @@ fn every_exact_row_of_the_cases_readme_is_tested() {
             arg("--width").parse().unwrap(),
             arg("--height").parse().unwrap(),
         );
-        let tol: f64 = arg("--tol").parse().unwrap();
         let (r, c) = pixel.split_once(',').expect("row,col");
         let (r, c): (usize, usize) = (r.parse().unwrap(), c.parse().unwrap());
+        let listed = |probes: &[Probe]| {
+            probes
+                .iter()
+                .any(|p| p.row == r && p.col == c && p.expected == expected)
+        };
+        if command.contains("--integrator mc") {
+            let spp: u32 = arg("--spp").parse().unwrap();
+            let commands = match case {
+                "mc_thick_emitter" => MC_THICK_EMITTER,
+                "mc_faint" => MC_FAINT,
+                _ => panic!("Monte Carlo case {case} has no test"),
+            };
+            let found = commands.iter().any(|cmd| {
+                cmd.width == w && cmd.height == h && cmd.spp == spp && listed(cmd.probes)
+            });
+            assert!(found, "README row not tested: {line}");
+            rows += 1;
+            continue;
+        }
+        let tol: f64 = arg("--tol").parse().unwrap();
         let commands = ALL
             .iter()
             .find(|(name, _)| *name == case)
             .unwrap_or_else(|| panic!("case {case} has no test"))
             .1;
-        let found = commands.iter().any(|cmd| {
-            cmd.width == w
-                && cmd.height == h
-                && cmd.tol == tol
-                && cmd
-                    .probes
-                    .iter()
-                    .any(|p| p.row == r && p.col == c && p.expected == expected)
-        });
+        let found = commands
+            .iter()
+            .any(|cmd| cmd.width == w && cmd.height == h && cmd.tol == tol && listed(cmd.probes));
         assert!(found, "README row not tested: {line}");
         rows += 1;
     }
-    assert_eq!(rows, 13, "exact rows in the README");
+    assert_eq!(rows, 19, "rows in the README (13 exact, 6 Monte Carlo)");
 }
 
 /// The scene as the brute-force reference's spheres and lamps (every case is plain spheres,
