@@ -87,6 +87,11 @@ pub struct RenderArgs {
     /// Use VRML's fixed default camera at (0,0,10), even when the scene has no Viewpoint.
     #[arg(long)]
     pub vrml_default_camera: bool,
+    /// Render the headlight as a strict DirectionalLight along the view, casting shadows. By
+    /// default it is carried by the viewer, as in VRML browsers: it lights what the camera
+    /// sees, through the gas in front, and casts no shadow.
+    #[arg(long)]
+    pub headlight_shadows: bool,
     /// Worker threads (default: one per core).
     #[arg(long)]
     pub threads: Option<usize>,
@@ -107,7 +112,7 @@ pub struct RenderArgs {
     pub as_gas: Option<f64>,
     /// Give every gas sphere (with --as-gas, every sphere) this density profile, whatever the
     /// scene says: constant, linear, quadratic or gaussian, the gaussian's width as
-    /// `gaussian:0.25` (in units of the radius, default 1/3). Only constant is rendered so far.
+    /// `gaussian:0.25` (in units of the radius, default 1/3).
     #[arg(long, value_name = "NAME[:WIDTH]")]
     pub profile: Option<String>,
     /// Extra EXR channels, comma-separated.
@@ -315,6 +320,7 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<Plan, Error> {
         aovs,
         integrator,
         tol: args.tol,
+        headlight_shadows: args.headlight_shadows,
     };
     Ok(Plan {
         opts,

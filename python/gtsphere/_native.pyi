@@ -145,6 +145,7 @@ def render(
     sampler: str = "stratified",
     step: Optional[float] = None,
     progress: Optional[Callable[[int, int], object]] = None,
+    headlight_shadows: bool = False,
 ) -> Film: ...
 def save(image: Union[Film, ArrayLike], path: PathType) -> None: ...
 def compare(

@@ -244,14 +244,16 @@ fn aovs_of(names: Vec<String>) -> PyResult<Aovs> {
 /// seed. threads: worker threads (None: every core). aovs: any of "depth", "normal", "id"
 /// ("error" is always returned). sampler: "stratified" or "center" (one sample at each
 /// pixel centre). progress: called as progress(tiles_done, tiles_total) from this thread
-/// about ten times a second; an exception it raises stops the render.
+/// about ten times a second; an exception it raises stops the render. headlight_shadows:
+/// render the headlight as a strict directional light along the view that casts shadows
+/// (by default it is carried by the viewer and casts none, as in VRML browsers).
 ///
 /// The GIL is released while rendering; Ctrl-C (KeyboardInterrupt) stops the render within
 /// a pixel's time and leaves the scene usable. The pixels are the same for any thread count.
 #[pyfunction]
 #[pyo3(
-    signature = (scene, camera, width, height, spp=16, integrator="exact", tol=1e-4, seed=0, threads=None, aovs=Vec::new(), *, sampler="stratified", step=None, progress=None),
-    text_signature = "(scene, camera, width, height, spp=16, integrator='exact', tol=1e-4, seed=0, threads=None, aovs=(), *, sampler='stratified', step=None, progress=None)"
+    signature = (scene, camera, width, height, spp=16, integrator="exact", tol=1e-4, seed=0, threads=None, aovs=Vec::new(), *, sampler="stratified", step=None, progress=None, headlight_shadows=false),
+    text_signature = "(scene, camera, width, height, spp=16, integrator='exact', tol=1e-4, seed=0, threads=None, aovs=(), *, sampler='stratified', step=None, progress=None, headlight_shadows=False)"
 )]
 #[allow(clippy::too_many_arguments)]
 pub fn render(
@@ -269,6 +271,7 @@ pub fn render(
     sampler: &str,
     step: Option<f64>,
     progress: Option<Py<PyAny>>,
+    headlight_shadows: bool,
 ) -> PyResult<Film> {
     let opts = RenderOptions {
         width,
@@ -288,6 +291,7 @@ pub fn render(
         integrator: integrator_of(integrator, step)?,
         tol,
         region: None,
+        headlight_shadows,
     };
     if threads == Some(0) {
         return Err(PyValueError::new_err("threads must be at least 1"));

@@ -240,3 +240,21 @@ def test_progress_callback_and_its_exception_stops_the_render():
         gt.render(scene, cam, 256, 256, spp=64, progress=stop)
     # The scene stays usable.
     assert gt.render(scene, cam, 8, 8, spp=1).rgb.shape == (8, 8, 3)
+
+
+def test_headlight_casts_no_shadow_unless_asked():
+    # A small sphere in front of a large one, off the view axis, lit by the headlight alone:
+    # carried by the viewer (the default) it lights every visible point as N.L says; as a
+    # strict directional light (headlight_shadows=True) it leaves a crescent in shadow.
+    centers = [[0.0, 0.0, 0.0], [0.6, 0.4, 2.5]]
+    scene = gt.Scene.from_arrays(centers, [1.0, 0.25], colors=[[0.8, 0.6, 0.4], [0.2, 0.9, 0.3]])
+    cam = gt.Camera.look_at((0, 0, 6), (0, 0, 0), (0, 1, 0), fov=0.8)
+    carried = gt.render(scene, cam, 48, 48, sampler="center")
+    strict = gt.render(scene, cam, 48, 48, sampler="center", headlight_shadows=True)
+    lit = carried.rgb.max(axis=2) > 0
+    dark = strict.rgb.max(axis=2) == 0
+    crescent = int(np.count_nonzero(lit & dark))
+    assert crescent > 0
+    # Elsewhere the two agree to the last bit.
+    same = ~(lit & dark)
+    assert np.array_equal(carried.rgb[same], strict.rgb[same])

@@ -51,10 +51,13 @@ fn lights(l: &LightSource, on: Opaque, index: u32) -> bool {
 /// Radiance leaving `sp` towards the viewer.
 /// `blockers` holds the spheres that last blocked each light's rays (see
 /// [`Blockers`]): the neighbouring pixel's, when the caller keeps it from pixel to pixel.
+/// `seen_through` is the camera ray's transmittance up to `sp` (1 without gas): the carried
+/// headlight's visibility there.
 pub fn shade(
     prep: &View,
     m: &Material,
     sp: &SurfacePoint,
+    seen_through: f64,
     blockers: &mut Blockers,
     counters: &mut Counters,
 ) -> DVec3 {
@@ -85,8 +88,12 @@ pub fn shade(
         if ndotl <= 0.0 || geometric.dot(dir) <= 0.0 || l.direct == DVec3::ZERO {
             continue;
         }
-        counters.shadow_rays += 1;
-        let vis = visible_after(prep, sp.x, dir, dist, Some(sp.on), blockers.slot(k));
+        let vis = if l.carried {
+            seen_through
+        } else {
+            counters.shadow_rays += 1;
+            visible_after(prep, sp.x, dir, dist, Some(sp.on), blockers.slot(k))
+        };
         if vis == 0.0 {
             continue;
         }

@@ -1,5 +1,11 @@
 //! Lights as the integrators use them (MODEL.md section 1): switched-off lights dropped,
 //! colour premultiplied by intensity and by ambient intensity, the headlight added.
+//!
+//! The headlight is carried by the viewer: its light reaches a point along the camera ray
+//! that sees the point, so nothing the camera sees is in its shadow, and in gas it is
+//! attenuated by the gas in front of the point along that ray ([`LightSource::carried`]).
+//! It shades with VRML's constant direction, towards the viewer along the view axis. With
+//! `headlight_shadows` it is an ordinary DirectionalLight instead, shadowed like any other.
 
 use glam::DVec3;
 
@@ -30,6 +36,9 @@ pub struct LightSource {
     pub direct: DVec3,
     /// `C_i * Ia_i`.
     pub ambient: DVec3,
+    /// The viewer's headlight: its visibility at a point is the camera ray's transmittance
+    /// up to that point, never a shadow ray's.
+    pub carried: bool,
 }
 
 /// What light `l` contributes at world point `x` before visibility: the unit vector towards
@@ -93,12 +102,21 @@ pub fn in_surface_scope(l: &LightSource, surface: u32) -> bool {
     }
 }
 
+/// How the headlight is added, if at all.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Headlight {
+    Off,
+    /// Carried by the viewer: no shadows (MODEL.md section 1).
+    Carried,
+    /// A strict DirectionalLight along the view, shadowed like any other.
+    Shadowed,
+}
+
 /// The lights of a scene of `spheres` spheres and `surfaces` surfaces that are on, plus the
-/// headlight (a DirectionalLight along `view`, intensity 1, ambientIntensity 0, white) when
-/// `headlight` is set.
+/// headlight (along `view`, intensity 1, ambientIntensity 0, white) unless it is off.
 pub fn collect(
     lights: &[Light],
-    headlight: bool,
+    headlight: Headlight,
     spheres: usize,
     surfaces: usize,
     view: DVec3,
@@ -114,6 +132,7 @@ pub fn collect(
                 },
                 direct: p.color * p.intensity,
                 ambient: p.color * p.ambient_intensity,
+                carried: false,
             }),
             Light::Directional(d) if d.on => out.push(LightSource {
                 kind: LightKind::Directional {
@@ -133,11 +152,12 @@ pub fn collect(
                 },
                 direct: d.color * d.intensity,
                 ambient: d.color * d.ambient_intensity,
+                carried: false,
             }),
             _ => {}
         }
     }
-    if headlight {
+    if headlight != Headlight::Off {
         out.push(LightSource {
             kind: LightKind::Directional {
                 to_light: -view,
@@ -146,6 +166,7 @@ pub fn collect(
             },
             direct: DVec3::ONE,
             ambient: DVec3::ZERO,
+            carried: headlight == Headlight::Carried,
         });
     }
     out

@@ -75,6 +75,10 @@ pub struct RenderOptions {
     /// Render only the pixels `x0..x1, y0..y1` of the `width x height` image (`--region`,
     /// `--tile`); the result is the same as those pixels of the whole render, bit for bit.
     pub region: Option<(u32, u32, u32, u32)>,
+    /// The headlight as a strict DirectionalLight along the view, casting shadows
+    /// (`--headlight-shadows`); by default it is carried by the viewer and casts none
+    /// (MODEL.md section 1).
+    pub headlight_shadows: bool,
 }
 
 impl Default for RenderOptions {
@@ -89,6 +93,7 @@ impl Default for RenderOptions {
             integrator: Integrator::Exact,
             tol: 1e-4,
             region: None,
+            headlight_shadows: false,
         }
     }
 }
@@ -267,9 +272,14 @@ impl Prepared {
                 return Err(invalid(format!("lights[{i}]: {m}")));
             }
         }
+        let headlight = match (self.headlight, opts.headlight_shadows) {
+            (false, _) => lights::Headlight::Off,
+            (true, false) => lights::Headlight::Carried,
+            (true, true) => lights::Headlight::Shadowed,
+        };
         let lights = lights::collect(
             &self.lights,
-            self.headlight,
+            headlight,
             self.spheres,
             self.surfaces.items.len(),
             camera.forward,
@@ -286,7 +296,8 @@ impl Prepared {
             .map(|l| {
                 let wanted = opts.integrator == Integrator::Exact
                     && self.gas_spheres > 0
-                    && l.direct != DVec3::ZERO;
+                    && l.direct != DVec3::ZERO
+                    && !l.carried;
                 wanted
                     .then(|| light_grid::LightGrid::build(&l.kind, self.bvh.packed()))
                     .flatten()

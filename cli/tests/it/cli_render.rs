@@ -578,3 +578,42 @@ fn profiles_are_named_and_profiled_gas_is_drawn() {
     assert_ne!(gaussian, constant);
     assert_eq!(rendered(&["--profile", "gaussian:0.5"]), gaussian);
 }
+
+#[test]
+fn headlight_shadows_flag_gives_the_strict_directional_headlight() {
+    // A small sphere in front of a large one, off the view axis, the headlight alone: by
+    // default nothing visible is in its shadow; with --headlight-shadows a crescent is.
+    let dir = scratch("headlight");
+    std::fs::write(
+        dir.join("h.wrl"),
+        "#VRML V2.0 utf8\nViewpoint { position 0 0 6 fieldOfView 0.8 }\n\
+         Shape { appearance Appearance { material Material { } } geometry Sphere { } }\n\
+         Transform { translation 0.6 0.4 2.5 children Shape { appearance Appearance { \
+         material Material { } } geometry Sphere { radius 0.25 } } }\n",
+    )
+    .unwrap();
+    let common = ["render", "h.wrl", "--width", "48", "--height", "48"];
+    let run = |extra: &[&str], out: &str| {
+        let args: Vec<&str> = common
+            .iter()
+            .chain(extra)
+            .chain(&["-o", out])
+            .copied()
+            .collect();
+        let o = gtsphere(&args, &dir);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        read_image(&dir.join(out)).expect(out)
+    };
+    let carried = run(&["--sampler", "center"], "carried.pfm");
+    let strict = run(
+        &["--sampler", "center", "--headlight-shadows"],
+        "strict.pfm",
+    );
+    let crescent = carried
+        .rgb
+        .iter()
+        .zip(&strict.rgb)
+        .filter(|(a, b)| a[0] > 0.0 && b[0] == 0.0)
+        .count();
+    assert!(crescent > 0, "no pixel in the headlight's shadow");
+}

@@ -24,6 +24,8 @@
 //! - **A light ray stops** adding optical depth past `tau_cut +` [`NODE_MARGIN`]; such nodes
 //!   can move the segment's value by at most `U_seg exp(-tau_cut - NODE_MARGIN)`.
 //!
+//! Each bound is reported times [`BOUND_MARGIN`], never level with the amount it bounds.
+//!
 //! Each segment's quadrature is asked for its share `U_seg / U` of [`QUAD_SHARE`] of the
 //! tolerance.
 //!
@@ -63,6 +65,11 @@ pub const PROFILED_QUAD_SHARE: f64 = 0.5;
 pub const EMIT_SHARE: f64 = 0.25;
 /// How far past `tau_cut` a light ray's optical depth is followed at a quadrature node.
 pub const NODE_MARGIN: f64 = 5.0;
+/// Every truncation bound is reported times this: a bound is computed in floating point, and
+/// where it is tight (an unshadowed segment left out whole, a faint ray stopped early) the
+/// amount it bounds can equal it to the last digits. The margin keeps the reported error
+/// above the true one there instead of level with it.
+pub const BOUND_MARGIN: f64 = 1.0625;
 
 /// One lit piece of one light's scattering integrand.
 #[derive(Clone, Copy, Debug)]
@@ -78,6 +85,9 @@ pub struct PieceMeta {
     active: (u32, u32),
     /// The segment's index, when it has profiled members.
     profiled: Option<u32>,
+    /// For the carried headlight, the camera ray's optical depth to `ta`: the light arriving
+    /// is the camera ray's transmittance, not a shadow ray's.
+    carried: Option<f64>,
 }
 
 /// `integral over [t0, t1] of exp(-sigma (t - ta))`, without cancellation for small depths.
@@ -166,7 +176,7 @@ pub fn radiance(
             // What lies behind cannot change the value within its share of the tolerance.
             return Estimate {
                 value,
-                error: error + rest,
+                error: error + BOUND_MARGIN * rest,
                 covered,
             };
         }
@@ -205,6 +215,7 @@ pub fn radiance(
                 }
             }
         }
+        let tau_a = tau;
         tau += seg.depth;
         let u_seg = unshadowed_by_segment[k];
         if u_seg == 0.0 {
@@ -218,7 +229,7 @@ pub fn radiance(
         let share = 0.5 * (weight + 1.0 / segments.len() as f64);
         let tau_cut = (u_seg / (share * LIGHT_SHARE * allowed(value))).ln();
         if tau_cut <= 0.0 {
-            error += u_seg;
+            error += BOUND_MARGIN * u_seg;
             continue;
         }
         pieces.clear();
@@ -243,6 +254,20 @@ pub fn radiance(
                 let c = t_a * PHASE * a * l.direct;
                 (c, c.max_element())
             };
+            if l.carried {
+                // No shadow: one lit piece, cut at the kinks of profiled densities.
+                let m = PieceMeta {
+                    ta: seg.ta,
+                    sigma: seg.sigma,
+                    coeff,
+                    light: i as u32,
+                    active: (0, 0),
+                    profiled: seg.is_profiled().then_some(k as u32),
+                    carried: Some(tau_a),
+                };
+                push_cut(pieces, meta, m, (seg.ta, seg.tb), kinks);
+                continue;
+            }
             let (found, n) = resolve(
                 view,
                 o,
@@ -264,16 +289,9 @@ pub fn radiance(
                             light: i as u32,
                             active: range,
                             profiled: seg.is_profiled().then_some(k as u32),
+                            carried: None,
                         };
-                        // Cut at the kinks of profiled densities (none for constant gas).
-                        let mut t0 = p.t0;
-                        for &t in kinks.iter().filter(|&&t| t > p.t0 && t < p.t1) {
-                            pieces.push((t0, t));
-                            meta.push(m);
-                            t0 = t;
-                        }
-                        pieces.push((t0, p.t1));
-                        meta.push(m);
+                        push_cut(pieces, meta, m, (p.t0, p.t1), kinks);
                     }
                     Class::Dark(depth) => {
                         // The unshadowed integral of the piece: `decay_integral` times the
@@ -287,7 +305,8 @@ pub fn radiance(
                         } else {
                             decay_integral(seg.sigma, seg.ta, p.t0, p.t1)
                         };
-                        error += bound
+                        error += BOUND_MARGIN
+                            * bound
                             * attenuation_max(l, o, d, p.t0, p.t1)
                             * (-depth).exp()
                             * unshadowed;
@@ -318,15 +337,35 @@ pub fn radiance(
         value += q.value;
         error += q.error;
         if deep {
-            error += u_seg * (-limit).exp();
+            error += BOUND_MARGIN * u_seg * (-limit).exp();
         }
     }
-    let surface = behind(view, o, d, hit, counters);
+    let seen_through = (-tau).exp();
+    let surface = behind(view, o, d, hit, seen_through, counters);
     Estimate {
-        value: value + (-tau).exp() * surface,
+        value: value + seen_through * surface,
         error,
         covered,
     }
+}
+
+/// Appends the lit piece `[t0, t1]` with `m`, cut at the kinks of profiled densities (none
+/// for constant gas).
+fn push_cut(
+    pieces: &mut Vec<(f64, f64)>,
+    meta: &mut Vec<PieceMeta>,
+    m: PieceMeta,
+    (t0, t1): (f64, f64),
+    kinks: &[f64],
+) {
+    let mut from = t0;
+    for &t in kinks.iter().filter(|&&t| t > t0 && t < t1) {
+        pieces.push((from, t));
+        meta.push(m);
+        from = t;
+    }
+    pieces.push((from, t1));
+    meta.push(m);
 }
 
 /// The segment's scattering with every shadow removed (a bound: attenuation <= 1), largest
@@ -375,6 +414,17 @@ fn scattered(
     let Some((dir, dist, att)) = towards(l, x) else {
         return DVec3::ZERO;
     };
+    if let Some(tau_a) = m.carried {
+        // The carried headlight arrives through the gas in front along the camera ray.
+        return match m.profiled {
+            None => m.coeff * (-(2.0 * m.sigma * (t - m.ta) + tau_a)).exp(),
+            Some(k) => {
+                let seg = &gas.segments[k as usize];
+                let a = scatter_at(view, seg, gas.members, gas.profiled, m.light as usize, t);
+                m.coeff * a * (-(2.0 * seg.depth_to(gas.profiled, t) + tau_a)).exp()
+            }
+        };
+    }
     // V_i(x) from the piece's active shadowers alone: no other sphere meets a light ray from
     // this piece, and no opaque one does.
     let mut od = 0.0;

@@ -40,6 +40,7 @@ pub fn radiance(
                 view,
                 x,
                 |i| scatter_at(view, &seg, &s.members, &s.profiled, i, mid),
+                transmittance * (-0.5 * sigma * dt).exp(),
                 counters,
             );
             l += transmittance * (emit + light) * dt;
@@ -47,7 +48,7 @@ pub fn radiance(
         }
         t += dt;
     }
-    let surface = behind(view, o, d, hit, counters);
+    let surface = behind(view, o, d, hit, transmittance, counters);
     Estimate {
         value: l + transmittance * surface,
         error: 0.0,

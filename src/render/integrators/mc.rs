@@ -65,7 +65,7 @@ pub fn radiance(
     let (emitted, transmittance) = emission_absorption(&s.segments);
     let mut value = emitted;
     if transmittance > 0.0 {
-        value += transmittance * behind(view, o, d, hit, counters);
+        value += transmittance * behind(view, o, d, hit, transmittance, counters);
     }
     if view.lights.is_empty() && s.segments.iter().all(|g| g.emitted().is_some()) {
         return Estimate {
@@ -83,7 +83,7 @@ pub fn radiance(
             if t_a == 0.0 {
                 break;
             }
-            value += t_a * profiled_sample(view, o, d, seg, rng, s, counters);
+            value += t_a * profiled_sample(view, (o, d), seg, t_a, rng, s, counters);
             continue;
         }
         if seg.sigma <= 0.0 {
@@ -110,6 +110,7 @@ pub fn radiance(
             view,
             o + t * d,
             |i| scatter_for(view, seg, &s.members, i),
+            t_a * (-seg.sigma * (t - seg.ta)).exp(),
             counters,
         );
         value += weight * light;
@@ -126,12 +127,12 @@ pub fn radiance(
 /// where `depth_to(t) = tau*`, so that `t` has pdf `sigma_t(t) T(ta, t) / F`. It scores
 /// `(F / sigma_t(t))` times the source at `t`: the emission `sum sigma_j C_j` when the members
 /// differ in colour (else it was added in closed form), and the scattering
-/// `p sum_j sigma_j a_j sum_i E_i`. Relative to `T(0, ta)`.
+/// `p sum_j sigma_j a_j sum_i E_i`. Relative to `T(0, ta)`, which is `t_a`.
 fn profiled_sample(
     view: &View,
-    o: DVec3,
-    d: DVec3,
+    (o, d): (DVec3, DVec3),
     seg: &Segment,
+    t_a: f64,
     rng: &mut Rng,
     s: &Scratch,
     counters: &mut Counters,
@@ -165,6 +166,7 @@ fn profiled_sample(
                 view,
                 o + t * d,
                 |i| scatter_at(view, seg, &s.members, &s.profiled, i, t),
+                t_a * (-seg.depth_to(&s.profiled, t)).exp(),
                 counters,
             );
     }

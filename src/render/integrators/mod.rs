@@ -102,8 +102,17 @@ pub fn gas_along(
     hit
 }
 
-/// Radiance of the opaque surface `hit` (or the background), as seen along `d`.
-pub fn behind(view: &View, o: DVec3, d: DVec3, hit: Option<OpaqueHit>, c: &mut Counters) -> DVec3 {
+/// Radiance of the opaque surface `hit` (or the background), as seen along `d` through gas
+/// of transmittance `seen_through` (which the caller applies; the carried headlight reaches
+/// the surface through it too).
+pub fn behind(
+    view: &View,
+    o: DVec3,
+    d: DVec3,
+    hit: Option<OpaqueHit>,
+    seen_through: f64,
+    c: &mut Counters,
+) -> DVec3 {
     match hit {
         None => view.background,
         Some(h) => {
@@ -114,6 +123,7 @@ pub fn behind(view: &View, o: DVec3, d: DVec3, hit: Option<OpaqueHit>, c: &mut C
                 view,
                 &surface::material_of(view, h.on),
                 &sp,
+                seen_through,
                 &mut blockers,
                 c,
             )
@@ -123,11 +133,13 @@ pub fn behind(view: &View, o: DVec3, d: DVec3, hit: Option<OpaqueHit>, c: &mut C
 
 /// `p * sum_i E_i(x)`-style light sum at a point in gas, through the BVH (march and mc):
 /// per light, the scatter weights of the gas present (`scatter(i)`, light scoping applied by
-/// the caller) times the light arriving.
+/// the caller) times the light arriving. `seen_through` is the camera ray's transmittance up
+/// to `x`: the carried headlight's visibility there.
 pub fn lights_at(
     view: &View,
     x: DVec3,
     mut scatter: impl FnMut(usize) -> DVec3,
+    seen_through: f64,
     c: &mut Counters,
 ) -> DVec3 {
     let mut sum = DVec3::ZERO;
@@ -142,8 +154,12 @@ pub fn lights_at(
         if a == DVec3::ZERO {
             continue;
         }
-        c.shadow_rays += 1;
-        let v = super::visibility::visible(view, x, dir, dist, None);
+        let v = if l.carried {
+            seen_through
+        } else {
+            c.shadow_rays += 1;
+            super::visibility::visible(view, x, dir, dist, None)
+        };
         sum += a * l.direct * (att * v);
     }
     sum * PHASE

@@ -176,7 +176,14 @@ pub fn radiance_of_hit(
         Some(hit) => {
             let sp = surface_point(prep, o, d, hit);
             Estimate {
-                value: shade(prep, &material_of(prep, hit.on), &sp, blockers, counters),
+                value: shade(
+                    prep,
+                    &material_of(prep, hit.on),
+                    &sp,
+                    1.0,
+                    blockers,
+                    counters,
+                ),
                 error: 0.0,
                 covered: true,
             }
