@@ -475,3 +475,82 @@ fn expected_values_agree_with_the_brute_force_reference() {
     }
     eprintln!("largest relative difference {worst:.1e}");
 }
+
+/// The error estimate is an upper estimate over whole images, not just at the probes: every
+/// pixel of every exact case at four tolerances against `gas_reference`. Of the pixels whose
+/// true error is above rounding (1e-13 of the value), at least 99 % are covered, every pixel
+/// is within its tolerance, and the median reported / true error is at most 30.
+#[test]
+fn error_estimate_covers_every_pixel_of_the_cases() {
+    let Some(cases) = cases_dir() else { return };
+    let (mut counted, mut covered, mut ratios) = (0usize, 0usize, Vec::new());
+    let mut failures = Vec::new();
+    for (case, _) in ALL {
+        let path = cases.join(format!("{case}.wrl"));
+        let (scene, _) = load_path(&path, &LoadOptions::default()).expect("load");
+        let (balls, lamps) = reference_scene(&scene);
+        let n = 48;
+        let base = RenderOptions {
+            width: n,
+            height: n,
+            sampler: SamplerKind::Center,
+            ..RenderOptions::default()
+        };
+        let prep = crate::support::prepare(scene);
+        let cam = crate::support::view(&prep, &base).camera;
+        let reference: Vec<(f64, f64)> = (0..n * n)
+            .map(|k| {
+                let (o, w) = cam.ray(
+                    (f64::from(k % n) + 0.5) / f64::from(n),
+                    (f64::from(k / n) + 0.5) / f64::from(n),
+                );
+                let (r, err) = checked(&balls, &lamps, o, w);
+                (r.gas.max_element(), err)
+            })
+            .collect();
+        for tol in [1e-2, 1e-4, 1e-6, 1e-8] {
+            let mut opts = RenderOptions {
+                tol,
+                ..base.clone()
+            };
+            opts.aovs.error = true;
+            let film = crate::support::render_prepared(&prep, &opts);
+            let error = film.error.as_ref().expect("error");
+            for (k, &(want, ref_err)) in reference.iter().enumerate() {
+                let got = film.rgb[k].iter().copied().fold(f64::MIN, f64::max);
+                let diff = (got - want).abs();
+                if diff > tol * want.max(1e-3) + ref_err {
+                    failures.push(format!(
+                        "{case} tol {tol:e} pixel {k}: got {got:e}, reference {want:e}"
+                    ));
+                }
+                if diff <= 1e-13 * want.max(1e-300) + ref_err {
+                    continue;
+                }
+                counted += 1;
+                if error[k] + ref_err >= diff {
+                    covered += 1;
+                } else {
+                    eprintln!(
+                        "not covered: {case} tol {tol:e} pixel {k}: got {got:e}, reference \
+                         {want:e}, error {:e}, estimate {:e}",
+                        diff, error[k]
+                    );
+                }
+                ratios.push(error[k] / diff);
+            }
+        }
+    }
+    ratios.sort_by(f64::total_cmp);
+    let median = ratios.get(ratios.len() / 2).copied().unwrap_or(0.0);
+    let share = covered as f64 / counted.max(1) as f64;
+    eprintln!(
+        "{counted} pixels above rounding, {covered} covered ({:.2} %), median reported / true \
+         {median:.1}, lowest {:.2}",
+        100.0 * share,
+        ratios.first().copied().unwrap_or(0.0)
+    );
+    assert!(failures.is_empty(), "\n{}", failures.join("\n"));
+    assert!(share >= 0.99, "coverage {:.2} %", 100.0 * share);
+    assert!(median <= 30.0, "median reported / true {median}");
+}
