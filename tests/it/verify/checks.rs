@@ -47,6 +47,10 @@ pub struct Outcome {
     /// The exact tolerance drawn and march's first step.
     pub tol: f64,
     pub step: f64,
+    /// Exact's failing (pixel, channel)s, for a second opinion from march and mc.
+    pub exact_failed: Vec<(usize, usize)>,
+    /// Seconds in the reference, exact, march and mc.
+    pub secs: [f64; 4],
 }
 
 /// The library's image of `desc` with `opts` (its camera from the file's Viewpoint).
@@ -102,6 +106,7 @@ pub fn check_exact(out: &mut Outcome, desc: &SceneDesc, film: &Film, refs: &[Ray
             true_err = true_err.max(e);
             out.worst_exact = out.worst_exact.max(e / allowed);
             if !(e <= allowed) {
+                out.exact_failed.push((k, c));
                 out.failures.push(format!(
                     "exact pixel ({}, {}) channel {c}: got {:.10e} reference {:.10e} \
                      (+- {:.1e}): error {:.2e} = {:.2}x allowed; error AOV {:.2e}",
@@ -183,4 +188,28 @@ pub fn check_mc(out: &mut Outcome, desc: &SceneDesc, film: &Film, refs: &[RayRef
             }
         }
     }
+}
+
+/// For exact's failing channels: what march at a fine step and mc with many samples say, so
+/// that a report shows whether the reference or exact is the odd one out.
+pub fn second_opinion(out: &mut Outcome, march: Option<&Film>, mc: &Film, desc: &SceneDesc) {
+    let se = mc.error.as_ref().expect("error AOV asked for");
+    for &(k, c) in out.exact_failed.iter().take(3) {
+        let m = march.map_or(String::from("-"), |f| format!("{:.10e}", f.rgb[k][c]));
+        out.failures.push(format!(
+            "second opinion at ({}, {}) channel {c}: march (step {:e}) {m}, mc ({} spp) \
+             {:.10e} +- {:.1e}",
+            k % desc.width as usize,
+            k / desc.width as usize,
+            out.step / 8.0,
+            mc_spp_opinion(),
+            mc.rgb[k][c],
+            se[k]
+        ));
+    }
+}
+
+/// Samples of the second-opinion mc render.
+pub fn mc_spp_opinion() -> u32 {
+    4096
 }

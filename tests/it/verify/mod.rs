@@ -124,7 +124,10 @@ fn run_scene(seed: u64, z: f64) -> Outcome {
         tol,
         ..Outcome::default()
     };
+    let clock = Instant::now();
     let refs = reference_parallel(&world);
+    out.secs[0] = clock.elapsed().as_secs_f64();
+    let clock = Instant::now();
     let mut commands = Vec::new();
     let file = failures_dir().join(format!("seed-{seed}.wrl"));
     let name = file.display().to_string();
@@ -176,10 +179,13 @@ fn run_scene(seed: u64, z: f64) -> Outcome {
             }
             None => out.march_skipped = true,
         }
+        out.secs[2] = clock.elapsed().as_secs_f64();
+        let clock = Instant::now();
         let before = out.failures.len();
         if let Some(f) = render(Integrator::Mc, &mut out) {
             checks::check_mc(&mut out, &desc, &f, &refs, z);
         }
+        out.secs[3] = clock.elapsed().as_secs_f64();
         if out.failures.len() > before {
             commands.push(command(
                 &name,
@@ -187,6 +193,24 @@ fn run_scene(seed: u64, z: f64) -> Outcome {
                 &format!("--integrator mc --spp {} --seed {seed}", checks::MC_SPP),
                 viewer,
             ));
+        }
+    }
+    if !out.exact_failed.is_empty() && world.has_gas() {
+        let mut mc = checks::options(&desc, Integrator::Mc, tol, viewer);
+        mc.spp = checks::mc_spp_opinion();
+        let march = (out.step > 0.0).then(|| {
+            checks::options(
+                &desc,
+                Integrator::March {
+                    step: out.step / 8.0,
+                },
+                tol,
+                viewer,
+            )
+        });
+        let march = march.and_then(|o| checks::library(&text, &desc, &o).ok());
+        if let Ok(m) = checks::library(&text, &desc, &mc) {
+            checks::second_opinion(&mut out, march.as_ref(), &m, &desc);
         }
     }
     if !out.failures.is_empty() {
@@ -201,7 +225,8 @@ fn run_scene(seed: u64, z: f64) -> Outcome {
         for c in &commands {
             let _ = write!(msg, "\n  {c}");
         }
-        for f in out.failures.iter().take(6) {
+        let opinions = out.failures.iter().filter(|f| f.starts_with("second"));
+        for f in out.failures.iter().take(6).chain(opinions) {
             let _ = write!(msg, "\n    {f}");
         }
         out.failures = vec![msg];
@@ -267,8 +292,18 @@ fn run(seeds: &[u64], every: usize) {
     let mut pairs = Vec::new();
     let mut rates = Vec::new();
     let mut skipped = 0;
+    let mut secs = [0.0f64; 4];
     for (n, &seed) in seeds.iter().enumerate() {
         let o = run_scene(seed, z);
+        for k in 0..4 {
+            secs[k] += o.secs[k];
+        }
+        if std::env::var_os("VERIFY_VERBOSE").is_some() {
+            eprintln!(
+                "seed {seed}: seconds reference, exact, march, mc {:.2?}",
+                o.secs
+            );
+        }
         exact_px += o.exact_pixels;
         march_px += o.march_pixels;
         mc_px += o.mc_pixels;
@@ -309,7 +344,8 @@ fn run(seeds: &[u64], every: usize) {
          {mc_px}; exact worst error/allowed {worst:.3}; error AOV covers {covered} of {} \
          pixels with an error above rounding ({:.2} %), median reported/true {median:.2}; \
          march error falls per halving by {slowest:.2} at worst, {typical:.2} typically; mc \
-         worst |error|/se {worst_z:.2} (z {z:.2}), zero-se pixels differing {zero_se}",
+         worst |error|/se {worst_z:.2} (z {z:.2}), zero-se pixels differing {zero_se}; \
+         seconds in reference, exact, march, mc {secs:.1?}",
         seeds.len(),
         failures.len(),
         start.elapsed().as_secs_f64(),
