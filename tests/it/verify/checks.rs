@@ -105,7 +105,7 @@ pub fn check_exact(out: &mut Outcome, desc: &SceneDesc, film: &Film, refs: &[Ray
             let e = (got[c] - r.value[c]).abs();
             true_err = true_err.max(e);
             out.worst_exact = out.worst_exact.max(e / allowed);
-            if !(e <= allowed) {
+            if e.is_nan() || e > allowed {
                 out.exact_failed.push((k, c));
                 out.failures.push(format!(
                     "exact pixel ({}, {}) channel {c}: got {:.10e} reference {:.10e} \
