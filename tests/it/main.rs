@@ -38,6 +38,7 @@ mod shadow_query; // the shadow-volume query against testing every sphere
 mod support; // helpers: load a scene, errors, scratch directories, `Rng` (SplitMix64)
 mod surface_bvh; // closest and any hit over mixed primitives against testing every one
 mod surface_reference; // the tests' own ray/cylinder, cone, box and triangle
+mod verify; // random scenes from the whole model, every integrator against an independent reference
 mod vmd; // VMD's PROTO VMDMat colours, against a hand-worked fixture
 mod whole_sphere_nodes;
 mod writer; // the VRML writer against the reader; both writers format numbers alike // plain sphere nodes read whole from the text equal their events

@@ -1,0 +1,215 @@
+//! One scene through the library with each integrator, pixel by pixel against the reference:
+//!
+//! - `exact`: every channel within `tol * max(largest channel, 1e-3)` (the README's
+//!   contract: tol times the ray's value, absolute floor tol * 1e-3) plus the reference's own
+//!   error and rounding; the error AOV is tallied against the true error (coverage and the
+//!   ratio reported/true over the run are judged in `mod.rs`).
+//! - `march`: three steps h, h/2, h/4; the image's L1 error must fall by at least
+//!   [`MARCH_RATE`] per halving (1.6: between first and second order, the midpoint rule's
+//!   order on pieces with jumps and on smooth ones) unless it is already at rounding.
+//! - `mc`: every channel within `z` standard errors (Bonferroni over the run's channels).
+
+use gtsphere::render::{
+    self, CameraChoice, Film, Integrator, PrepareOptions, Projection, RenderOptions, SamplerKind,
+};
+use gtsphere::vrml::{load_str, LoadOptions};
+
+use super::reference::RayRef;
+use super::scenes::SceneDesc;
+
+/// Required fall of march's image error per halving of the step.
+pub const MARCH_RATE: f64 = 1.6;
+/// Monte Carlo samples per pixel.
+pub const MC_SPP: u32 = 64;
+/// Relative rounding allowed between two f64 computations of one pixel.
+pub const ROUNDING: f64 = 1e-11;
+
+/// How one scene went.
+#[derive(Default)]
+pub struct Outcome {
+    /// What failed, one line each.
+    pub failures: Vec<String>,
+    pub exact_pixels: u64,
+    /// Largest |error| / allowed over exact's channels.
+    pub worst_exact: f64,
+    /// (reported, true) for exact pixels whose true error is above rounding.
+    pub aov_pairs: Vec<(f64, f64)>,
+    pub march_pixels: u64,
+    /// Observed rate of march's error per halving (None: skipped or converged).
+    pub march_rates: Vec<f64>,
+    pub march_skipped: bool,
+    pub mc_pixels: u64,
+    /// Largest |error| / standard error over mc's channels with a standard error.
+    pub worst_mc_z: f64,
+    /// mc pixels with standard error 0 but a difference above rounding (explained by an
+    /// unsampled scattering part no larger than the reference's).
+    pub mc_zero_se_differ: u64,
+    /// The exact tolerance drawn and march's first step.
+    pub tol: f64,
+    pub step: f64,
+    /// Exact's failing (pixel, channel)s, for a second opinion from march and mc.
+    pub exact_failed: Vec<(usize, usize)>,
+    /// Seconds in the reference, exact, march and mc.
+    pub secs: [f64; 4],
+}
+
+/// The library's image of `desc` with `opts` (its camera from the file's Viewpoint).
+pub fn library(text: &str, desc: &SceneDesc, opts: &RenderOptions) -> Result<Film, String> {
+    let (scene, _) =
+        load_str("verify.wrl", text, &LoadOptions::default()).map_err(|e| format!("load: {e}"))?;
+    let prep = render::prepare(scene, &PrepareOptions::default()).map_err(|e| e.to_string())?;
+    let projection = match desc.viewpoint.ortho {
+        Some(h) => Projection::Ortho { height: Some(h) },
+        None => Projection::Perspective,
+    };
+    let (camera, _) = prep
+        .camera(&CameraChoice::Auto, projection, desc.width, desc.height)
+        .map_err(|e| e.to_string())?;
+    render::render(&prep, &camera, opts, &()).map_err(|e| e.to_string())
+}
+
+/// The options of one render: the scene's size, one ray through each pixel centre, the
+/// error AOV, `MC_SPP` samples, the headlight in the harness's mode.
+pub fn options(desc: &SceneDesc, integrator: Integrator, tol: f64, viewer: bool) -> RenderOptions {
+    let mut o = RenderOptions {
+        width: desc.width,
+        height: desc.height,
+        spp: MC_SPP,
+        seed: desc.seed,
+        sampler: SamplerKind::Center,
+        integrator,
+        tol,
+        ..RenderOptions::default()
+    };
+    o.aovs.error = true;
+    super::set_headlight_option(&mut o, viewer);
+    o
+}
+
+fn largest(v: &[f64; 3]) -> f64 {
+    v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+}
+
+/// Slack for a pixel: the reference's own error bound and rounding.
+fn slack(r: &RayRef) -> f64 {
+    r.err + ROUNDING * largest(&r.value).max(1e-3)
+}
+
+pub fn check_exact(out: &mut Outcome, desc: &SceneDesc, film: &Film, refs: &[RayRef]) {
+    let err_aov = film.error.as_ref().expect("error AOV asked for");
+    for (k, r) in refs.iter().enumerate() {
+        let got = film.rgb[k];
+        let allowed = out.tol * largest(&r.value).max(1e-3) + slack(r);
+        let mut true_err = 0.0f64;
+        for c in 0..3 {
+            let e = (got[c] - r.value[c]).abs();
+            true_err = true_err.max(e);
+            out.worst_exact = out.worst_exact.max(e / allowed);
+            if e.is_nan() || e > allowed {
+                out.exact_failed.push((k, c));
+                out.failures.push(format!(
+                    "exact pixel ({}, {}) channel {c}: got {:.10e} reference {:.10e} \
+                     (+- {:.1e}): error {:.2e} = {:.2}x allowed; error AOV {:.2e}",
+                    k % desc.width as usize,
+                    k / desc.width as usize,
+                    got[c],
+                    r.value[c],
+                    r.err,
+                    e,
+                    e / allowed,
+                    err_aov[k]
+                ));
+            }
+        }
+        if true_err > slack(r) {
+            out.aov_pairs.push((err_aov[k] + slack(r), true_err));
+        }
+        out.exact_pixels += 1;
+    }
+}
+
+/// The image's L1 error against the reference.
+fn l1(film: &Film, refs: &[RayRef]) -> f64 {
+    refs.iter()
+        .zip(&film.rgb)
+        .map(|(r, g)| (0..3).map(|c| (g[c] - r.value[c]).abs()).sum::<f64>())
+        .sum()
+}
+
+/// March at h, h/2, h/4: `films` in that order.
+pub fn check_march(out: &mut Outcome, films: &[Film], refs: &[RayRef]) {
+    let errs: Vec<f64> = films.iter().map(|f| l1(f, refs)).collect();
+    let scale: f64 = refs.iter().map(|r| largest(&r.value)).sum::<f64>() + 1e-3;
+    let floor: f64 = refs.iter().map(slack).sum::<f64>() + 1e-9 * scale;
+    out.march_pixels += (films.len() * refs.len()) as u64;
+    if errs[0] <= 10.0 * floor {
+        return;
+    }
+    let rate = (errs[0] / errs[2].max(floor)).sqrt();
+    out.march_rates.push(rate);
+    if rate < MARCH_RATE {
+        out.failures.push(format!(
+            "march: image L1 error {:.3e}, {:.3e}, {:.3e} at steps h, h/2, h/4 (h = {:e}): \
+             falls by {rate:.2} per halving, below {MARCH_RATE}",
+            errs[0], errs[1], errs[2], out.step
+        ));
+    }
+}
+
+pub fn check_mc(out: &mut Outcome, desc: &SceneDesc, film: &Film, refs: &[RayRef], z: f64) {
+    let se = film.error.as_ref().expect("error AOV asked for");
+    for (k, r) in refs.iter().enumerate() {
+        out.mc_pixels += 1;
+        for c in 0..3 {
+            let e = (film.rgb[k][c] - r.value[c]).abs();
+            let s = slack(r);
+            let ok = if se[k] > 0.0 {
+                out.worst_mc_z = out.worst_mc_z.max((e - s).max(0.0) / se[k]);
+                e <= z * se[k] + s
+            } else if e <= s {
+                true
+            } else {
+                out.mc_zero_se_differ += 1;
+                e <= r.scatter[c] + s
+            };
+            if !ok {
+                out.failures.push(format!(
+                    "mc pixel ({}, {}) channel {c}: got {:.10e} reference {:.10e} (scattering \
+                     {:.3e}): error {:.2e} = {:.2} standard errors of {:.2e} (z {z:.2})",
+                    k % desc.width as usize,
+                    k / desc.width as usize,
+                    film.rgb[k][c],
+                    r.value[c],
+                    r.scatter[c],
+                    e,
+                    e / se[k],
+                    se[k]
+                ));
+            }
+        }
+    }
+}
+
+/// For exact's failing channels: what march at a fine step and mc with many samples say, so
+/// that a report shows whether the reference or exact is the odd one out.
+pub fn second_opinion(out: &mut Outcome, march: Option<&Film>, mc: &Film, desc: &SceneDesc) {
+    let se = mc.error.as_ref().expect("error AOV asked for");
+    for &(k, c) in out.exact_failed.iter().take(3) {
+        let m = march.map_or(String::from("-"), |f| format!("{:.10e}", f.rgb[k][c]));
+        out.failures.push(format!(
+            "second opinion at ({}, {}) channel {c}: march (step {:e}) {m}, mc ({} spp) \
+             {:.10e} +- {:.1e}",
+            k % desc.width as usize,
+            k / desc.width as usize,
+            out.step / 8.0,
+            mc_spp_opinion(),
+            mc.rgb[k][c],
+            se[k]
+        ));
+    }
+}
+
+/// Samples of the second-opinion mc render.
+pub fn mc_spp_opinion() -> u32 {
+    4096
+}

@@ -1,0 +1,387 @@
+//! The verification matrix: random small scenes drawn from the whole rendering model, each
+//! rendered by every integrator and checked pixel by pixel against an independent reference
+//! written here from MODEL.md (sharing no code with the library's renderer).
+//!
+//! - `scenes` describes a scene, `generate` draws one from a seed, `vrml` writes it for the
+//!   library, `world` flattens it for the reference, `quad` and `reference` compute each
+//!   pixel's centre ray, `checks` compares, `selftest` checks the reference itself.
+//! - `verify_matrix` (CI) draws [`CI_SCENES`] scenes; `verify_soak` (ignored, run it with
+//!   `cargo test --release --test it -- --ignored verify`) draws `VERIFY_SCENES` (default
+//!   10 000). `VERIFY_SEED=S` re-runs the one scene of seed S in either.
+//! - A failing scene is written to `target/verify-failures/seed-S.wrl` with the command
+//!   that reproduces it.
+
+// Colour channels are indexed together across several arrays.
+#![allow(clippy::needless_range_loop)]
+
+mod checks;
+mod generate;
+mod quad;
+mod reference;
+mod scenes;
+mod selftest;
+mod vrml;
+mod world;
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use gtsphere::render::{Integrator, RenderOptions};
+
+use checks::Outcome;
+use scenes::SceneDesc;
+use world::World;
+
+/// Whether the library's headlight is the viewer-carried one of MODEL.md (no shadows, the
+/// camera ray's transmittance in gas) with strict shadows as an option. Flip to `true` when
+/// `RenderOptions::headlight_shadows` exists (and set it in [`set_headlight_option`]); the
+/// matrix then draws both modes, alternating by seed.
+const LIBRARY_HEADLIGHT_VIEWER_CARRIED: bool = false;
+
+/// Sets the library's headlight mode to `viewer` (carried by the viewer) or strict.
+fn set_headlight_option(opts: &mut RenderOptions, viewer: bool) {
+    // Once the option exists: `opts.headlight_shadows = !viewer;`
+    let _ = (opts, viewer);
+}
+
+/// The headlight mode scene `seed` is checked in.
+fn viewer_carried(seed: u64) -> bool {
+    LIBRARY_HEADLIGHT_VIEWER_CARRIED && seed % 2 == 0
+}
+
+/// Scenes in the CI test.
+const CI_SCENES: u64 = 300;
+/// Overall probability that a correct mc fails the run (Bonferroni over its channels).
+const MC_FALSE_ALARM: f64 = 1e-3;
+/// Required share of exact pixels (with a true error above rounding) whose error AOV
+/// covers the true error, and largest median of reported / true.
+const AOV_COVERAGE: f64 = 0.99;
+const AOV_MEDIAN_RATIO: f64 = 30.0;
+
+/// The z whose two-sided normal tail is `alpha` (Q(z) from its asymptotic series, z > 3).
+fn z_for(alpha: f64) -> f64 {
+    let tail = |z: f64| {
+        let phi = (-0.5 * z * z).exp() / (2.0 * std::f64::consts::PI).sqrt();
+        2.0 * phi / z * (1.0 - 1.0 / (z * z) + 3.0 / z.powi(4))
+    };
+    let (mut lo, mut hi) = (3.0, 40.0);
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if tail(mid) > alpha {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    hi
+}
+
+/// The march steps for `world`: h, h/2, h/4 with h small against the smallest gas sphere
+/// and the densest gas (sigma h <= 1/2), or `None` when that needs too many steps.
+fn march_step(world: &World) -> Option<f64> {
+    let mut h: f64 = 0.1;
+    for p in &world.prims {
+        if let Some(g) = p.gas() {
+            h = h.min(g.r / 2.0);
+            if g.sigma0 > 0.0 {
+                h = h.min(0.5 / g.sigma0);
+            }
+        }
+    }
+    (h >= 2e-3).then_some(h)
+}
+
+fn failures_dir() -> PathBuf {
+    let tmp = PathBuf::from(env!("CARGO_TARGET_TMPDIR"));
+    tmp.parent()
+        .map_or(tmp.clone(), |p| p.to_path_buf())
+        .join("verify-failures")
+}
+
+/// The command line that renders what the failing check rendered.
+fn command(file: &str, d: &SceneDesc, integrator: &str, viewer: bool) -> String {
+    let mut s = format!(
+        "gtsphere render {file} --width {} --height {} --sampler center",
+        d.width, d.height
+    );
+    if let Some(h) = d.viewpoint.ortho {
+        let _ = write!(s, " --ortho --ortho-height {h}");
+    }
+    if LIBRARY_HEADLIGHT_VIEWER_CARRIED && !viewer {
+        s.push_str(" --headlight-shadows");
+    }
+    let _ = write!(s, " {integrator} --aov error -o out.exr");
+    s
+}
+
+/// Draws, renders and checks scene `seed`.
+fn run_scene(seed: u64, z: f64) -> Outcome {
+    let desc = generate::scene(seed);
+    let viewer = viewer_carried(seed);
+    let world = World::new(&desc, viewer);
+    let text = vrml::write(&desc);
+    let mut rng = crate::support::Rng::new(seed ^ 0x5eed_7011);
+    let tol = rng.log10(-6.0, -2.0);
+    let mut out = Outcome {
+        tol,
+        ..Outcome::default()
+    };
+    let clock = Instant::now();
+    let refs = reference_parallel(&world);
+    out.secs[0] = clock.elapsed().as_secs_f64();
+    let clock = Instant::now();
+    let mut commands = Vec::new();
+    let file = failures_dir().join(format!("seed-{seed}.wrl"));
+    let name = file.display().to_string();
+    let render = |integ: Integrator, out: &mut Outcome| match checks::library(
+        &text,
+        &desc,
+        &checks::options(&desc, integ, tol, viewer),
+    ) {
+        Ok(f) => Some(f),
+        Err(e) => {
+            out.failures.push(format!("library refused the scene: {e}"));
+            None
+        }
+    };
+    let before = out.failures.len();
+    if let Some(f) = render(Integrator::Exact, &mut out) {
+        checks::check_exact(&mut out, &desc, &f, &refs);
+    }
+    if out.failures.len() > before {
+        commands.push(command(
+            &name,
+            &desc,
+            &format!("--integrator exact --tol {tol:e}"),
+            viewer,
+        ));
+    }
+    if world.has_gas() {
+        match march_step(&world) {
+            Some(h) => {
+                out.step = h;
+                let before = out.failures.len();
+                let films: Vec<_> = [h, h / 2.0, h / 4.0]
+                    .into_iter()
+                    .filter_map(|step| render(Integrator::March { step }, &mut out))
+                    .collect();
+                if films.len() == 3 {
+                    checks::check_march(&mut out, &films, &refs);
+                }
+                if out.failures.len() > before {
+                    for s in [h, h / 4.0] {
+                        commands.push(command(
+                            &name,
+                            &desc,
+                            &format!("--integrator march --step {s:e}"),
+                            viewer,
+                        ));
+                    }
+                }
+            }
+            None => out.march_skipped = true,
+        }
+        out.secs[2] = clock.elapsed().as_secs_f64();
+        let clock = Instant::now();
+        let before = out.failures.len();
+        if let Some(f) = render(Integrator::Mc, &mut out) {
+            checks::check_mc(&mut out, &desc, &f, &refs, z);
+        }
+        out.secs[3] = clock.elapsed().as_secs_f64();
+        if out.failures.len() > before {
+            commands.push(command(
+                &name,
+                &desc,
+                &format!("--integrator mc --spp {} --seed {seed}", checks::MC_SPP),
+                viewer,
+            ));
+        }
+    }
+    if !out.exact_failed.is_empty() && world.has_gas() {
+        let mut mc = checks::options(&desc, Integrator::Mc, tol, viewer);
+        mc.spp = checks::mc_spp_opinion();
+        let march = (out.step > 0.0).then(|| {
+            checks::options(
+                &desc,
+                Integrator::March {
+                    step: out.step / 8.0,
+                },
+                tol,
+                viewer,
+            )
+        });
+        let march = march.and_then(|o| checks::library(&text, &desc, &o).ok());
+        if let Ok(m) = checks::library(&text, &desc, &mc) {
+            checks::second_opinion(&mut out, march.as_ref(), &m, &desc);
+        }
+    }
+    if !out.failures.is_empty() {
+        let _ = std::fs::create_dir_all(failures_dir());
+        let _ = std::fs::write(&file, &text);
+        let mut msg = format!(
+            "scene seed {seed} failed ({} checks; re-run: VERIFY_SEED={seed} cargo test --test it \
+             verify_matrix -- --nocapture; headlight {}):",
+            out.failures.len(),
+            if viewer { "viewer-carried" } else { "strict" }
+        );
+        for c in &commands {
+            let _ = write!(msg, "\n  {c}");
+        }
+        let opinions = out.failures.iter().filter(|f| f.starts_with("second"));
+        for f in out.failures.iter().take(6).chain(opinions) {
+            let _ = write!(msg, "\n    {f}");
+        }
+        out.failures = vec![msg];
+    }
+    out
+}
+
+/// The reference image on every core (rows split between threads).
+fn reference_parallel(world: &World) -> Vec<reference::RayRef> {
+    let (w, h) = (world.eye.width, world.eye.height);
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()) as u32;
+    let mut rows: Vec<Vec<reference::RayRef>> = Vec::new();
+    std::thread::scope(|s| {
+        let handles: Vec<_> = (0..threads)
+            .map(|t| {
+                s.spawn(move || {
+                    let mut out = Vec::new();
+                    for j in (t..h).step_by(threads as usize) {
+                        out.push((j, (0..w).map(|i| world.pixel(i, j)).collect::<Vec<_>>()));
+                    }
+                    out
+                })
+            })
+            .collect();
+        let mut all: Vec<(u32, Vec<reference::RayRef>)> = handles
+            .into_iter()
+            .flat_map(|h| h.join().expect("reference thread"))
+            .collect();
+        all.sort_by_key(|r| r.0);
+        rows = all.into_iter().map(|r| r.1).collect();
+    });
+    rows.into_iter().flatten().collect()
+}
+
+/// The seeds of a run: `VERIFY_SEED` alone, or `count` seeds from `base`.
+fn seeds(base: u64, count: u64) -> Vec<u64> {
+    match std::env::var("VERIFY_SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+    {
+        Some(s) => vec![s],
+        None => (base..base + count).collect(),
+    }
+}
+
+/// `VERIFY_SCENES`, or `default`.
+fn scene_count(default: u64) -> u64 {
+    std::env::var("VERIFY_SCENES")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(default)
+}
+
+/// Runs the matrix over `seeds`, prints progress every `every` scenes and the summary, and
+/// fails with every failing scene.
+fn run(seeds: &[u64], every: usize) {
+    let start = Instant::now();
+    // mc channels: at most 3 * 144 per scene.
+    let z = z_for(MC_FALSE_ALARM / (seeds.len() as f64 * 3.0 * 144.0));
+    let mut failures = Vec::new();
+    let (mut exact_px, mut march_px, mut mc_px, mut zero_se) = (0u64, 0u64, 0u64, 0u64);
+    let (mut worst, mut worst_z) = (0.0f64, 0.0f64);
+    let mut pairs = Vec::new();
+    let mut rates = Vec::new();
+    let mut skipped = 0;
+    let mut secs = [0.0f64; 4];
+    for (n, &seed) in seeds.iter().enumerate() {
+        let o = run_scene(seed, z);
+        for k in 0..4 {
+            secs[k] += o.secs[k];
+        }
+        if std::env::var_os("VERIFY_VERBOSE").is_some() {
+            eprintln!(
+                "seed {seed}: seconds reference, exact, march, mc {:.2?}",
+                o.secs
+            );
+        }
+        exact_px += o.exact_pixels;
+        march_px += o.march_pixels;
+        mc_px += o.mc_pixels;
+        zero_se += o.mc_zero_se_differ;
+        worst = worst.max(o.worst_exact);
+        worst_z = worst_z.max(o.worst_mc_z);
+        pairs.extend(o.aov_pairs);
+        rates.extend(o.march_rates);
+        skipped += usize::from(o.march_skipped);
+        for f in o.failures {
+            eprintln!("{f}");
+            failures.push(f);
+        }
+        if (n + 1) % every == 0 {
+            eprintln!(
+                "verify: {} scenes, {} failing, {:.0} s",
+                n + 1,
+                failures.len(),
+                start.elapsed().as_secs_f64()
+            );
+        }
+    }
+    let covered = pairs.iter().filter(|(r, t)| r >= t).count();
+    let coverage = if pairs.is_empty() {
+        1.0
+    } else {
+        covered as f64 / pairs.len() as f64
+    };
+    let mut ratios: Vec<f64> = pairs.iter().map(|(r, t)| r / t).collect();
+    ratios.sort_by(f64::total_cmp);
+    let median = ratios.get(ratios.len() / 2).copied().unwrap_or(1.0);
+    rates.sort_by(f64::total_cmp);
+    let slowest = rates.first().copied().unwrap_or(f64::NAN);
+    let typical = rates.get(rates.len() / 2).copied().unwrap_or(f64::NAN);
+    eprintln!(
+        "verify summary: {} scenes ({} failing) in {:.1} s; pixels checked: exact {exact_px}, \
+         march {march_px} (scenes skipped as too dense or tiny for march: {skipped}), mc \
+         {mc_px}; exact worst error/allowed {worst:.3}; error AOV covers {covered} of {} \
+         pixels with an error above rounding ({:.2} %), median reported/true {median:.2}; \
+         march error falls per halving by {slowest:.2} at worst, {typical:.2} typically; mc \
+         worst |error|/se {worst_z:.2} (z {z:.2}), zero-se pixels differing {zero_se}; \
+         seconds in reference, exact, march, mc {secs:.1?}",
+        seeds.len(),
+        failures.len(),
+        start.elapsed().as_secs_f64(),
+        pairs.len(),
+        100.0 * coverage,
+    );
+    assert!(
+        failures.is_empty(),
+        "{} of {} scenes failed (see above; files in {})",
+        failures.len(),
+        seeds.len(),
+        failures_dir().display()
+    );
+    assert!(
+        coverage >= AOV_COVERAGE,
+        "exact's error AOV covers only {:.2} % of pixels",
+        100.0 * coverage
+    );
+    assert!(
+        median <= AOV_MEDIAN_RATIO,
+        "exact's error AOV is {median:.1}x the true error (median)"
+    );
+}
+
+/// A few hundred random scenes through every integrator against the reference.
+#[test]
+fn verify_matrix() {
+    run(&seeds(1, scene_count(CI_SCENES)), 50);
+}
+
+/// The soak: `VERIFY_SCENES` (default 10 000) scenes from seed 1 000 000.
+#[test]
+#[ignore = "soak: cargo test --release --test it -- --ignored verify"]
+fn verify_soak() {
+    run(&seeds(1_000_000, scene_count(10_000)), 200);
+}

@@ -1,0 +1,264 @@
+//! The reference's own checks: its camera rays agree with the library's (depth AOV of one
+//! sphere), and its values agree with closed forms: one gas sphere's emission
+//! `C (1 - exp(-tau_chord))` (constant, linear, quadratic profiles, tau 1e-6 to 7e2), thin gas
+//! single scattering to first order, the VRML lighting equation on a lit sphere, and a known
+//! chord's transmittance.
+
+use glam::DVec3;
+use gtsphere::render::Integrator;
+
+use super::checks;
+use super::reference::sphere_roots;
+use super::scenes::{
+    DirectionalLight, Geometry, Material, Node, Profile, SceneDesc, Viewpoint, Xf,
+};
+use super::world::World;
+
+fn mat(transparency: f64, profile: Profile) -> Material {
+    Material {
+        diffuse: [0.8, 0.5, 0.2],
+        emissive: [0.3, 0.6, 0.9],
+        specular: [0.4, 0.4, 0.1],
+        shininess: 0.3,
+        ambient: 0.25,
+        transparency,
+        profile,
+    }
+}
+
+fn at(c: DVec3, geometry: Geometry, material: Option<Material>) -> Node {
+    Node::Group {
+        xf: Some(Xf {
+            translation: c,
+            axis: DVec3::Y,
+            angle: 0.0,
+            scale: 1.0,
+        }),
+        children: vec![Node::Shape { geometry, material }],
+    }
+}
+
+/// A scene looking down -z from (0, 0, 5) at `nodes`, headlight off.
+fn desc(nodes: Vec<Node>, ortho: Option<f64>) -> SceneDesc {
+    SceneDesc {
+        seed: 0,
+        nodes,
+        viewpoint: Viewpoint {
+            position: DVec3::new(0.0, 0.0, 5.0),
+            axis: DVec3::Z,
+            angle: 0.0,
+            fov: 0.8,
+            ortho,
+        },
+        headlight: false,
+        background: [0.0; 3],
+        width: 9,
+        height: 7,
+    }
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs().max(1e-300)
+}
+
+/// The reference's pixel-centre rays are the library's: the depth AOV of one opaque sphere
+/// seen from tilted perspective and orthographic viewpoints equals the reference's hit.
+#[test]
+fn verify_reference_camera_rays_are_the_library_rays() {
+    for (k, ortho) in [None, Some(3.0), None, Some(1.7)].into_iter().enumerate() {
+        let mut d = desc(
+            vec![at(
+                DVec3::new(0.2, -0.1, 0.3),
+                Geometry::Sphere { r: 1.2 },
+                None,
+            )],
+            ortho,
+        );
+        d.viewpoint.position = DVec3::new(1.0 + k as f64, 0.5, 4.0);
+        d.viewpoint.axis = DVec3::new(0.3, 1.0, 0.1).normalize();
+        d.viewpoint.angle = 0.2 + 0.05 * k as f64;
+        d.width = 11 + k as u32;
+        d.height = 8;
+        let world = World::new(&d, false);
+        let mut opts = checks::options(&d, Integrator::Exact, 1e-4, false);
+        opts.aovs.depth = true;
+        let film = checks::library(&super::vrml::write(&d), &d, &opts).expect("render");
+        let depth = film.depth.expect("depth AOV");
+        let mut hits = 0;
+        for j in 0..d.height {
+            for i in 0..d.width {
+                let (o, w) = world.eye.ray(i, j);
+                let t = sphere_roots(DVec3::new(0.2, -0.1, 0.3), 1.2, o, w)
+                    .filter(|r| r.0 > 0.0)
+                    .map_or(f64::INFINITY, |r| r.0);
+                let got = depth[(j * d.width + i) as usize];
+                hits += usize::from(t.is_finite());
+                assert!(
+                    (t.is_infinite() && got.is_infinite()) || rel(got, t) < 1e-12,
+                    "view {k} pixel ({i}, {j}): library depth {got}, reference {t}"
+                );
+            }
+        }
+        assert!(hits > 2, "view {k}: only {hits} pixels see the sphere");
+    }
+}
+
+/// Closed-form optical depth of a whole chord at impact parameter beta (unit sphere, sigma0
+/// 1): constant 2 v, linear and quadratic from MODEL.md section 6's F.
+fn chord_tau(profile: Profile, beta: f64) -> f64 {
+    let v = (1.0 - beta * beta).sqrt();
+    let f = |v: f64| match profile {
+        Profile::Constant => v,
+        Profile::Linear => {
+            v - v * (beta * beta + v * v).sqrt() / 2.0
+                - if beta > 0.0 {
+                    beta * beta / 2.0 * (v / beta).asinh()
+                } else {
+                    0.0
+                }
+        }
+        Profile::Quadratic => (1.0 - beta * beta) * v - v * v * v / 3.0,
+        Profile::Gaussian(_) => unreachable!("not used here"),
+    };
+    f(v) - f(-v)
+}
+
+/// One gas sphere emitting alone: `C (1 - exp(-tau))` to 1e-9 relative (and within the
+/// reference's own error estimate), for optical depths 1e-6 to 7e2 per diameter.
+#[test]
+fn verify_reference_single_sphere_emission_is_closed_form() {
+    for profile in [Profile::Constant, Profile::Linear, Profile::Quadratic] {
+        for tau_d in [1e-6f64, 1e-2, 1.0, 30.0, 700.0] {
+            let mut m = mat((-tau_d).exp(), profile);
+            m.diffuse = [0.0; 3];
+            let d = desc(
+                vec![at(DVec3::ZERO, Geometry::Sphere { r: 1.0 }, Some(m))],
+                None,
+            );
+            let world = World::new(&d, false);
+            let g = world.prims[0].gas().expect("gas");
+            for beta in [0.0, 0.3, 0.9, 0.999] {
+                let o = DVec3::new(beta, 0.0, 5.0);
+                let r = world.ray(o, DVec3::NEG_Z);
+                let tau = g.sigma0 * chord_tau(profile, beta);
+                for c in 0..3 {
+                    let want = m.emissive[c] * -(-tau).exp_m1();
+                    let e = (r.value[c] - want).abs();
+                    assert!(
+                        e <= 1e-9 * want && e <= r.err + 1e-12 * want,
+                        "{profile:?} tau_d {tau_d} beta {beta}: {} against {want} (err {})",
+                        r.value[c],
+                        r.err
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// A thin constant sphere (tau 1e-7 per diameter) lit by a DirectionalLight with nothing in
+/// the way scatters `p sigma a C I chord` to first order in tau.
+#[test]
+fn verify_reference_thin_scattering_is_first_order_closed_form() {
+    let mut m = mat((-1e-7f64).exp(), Profile::Constant);
+    m.emissive = [0.0; 3];
+    let light = DirectionalLight {
+        on: true,
+        direction: DVec3::new(1.0, -1.0, 0.5).normalize(),
+        color: [1.0, 0.5, 0.25],
+        intensity: 0.8,
+        ambient: 0.7,
+    };
+    let d = desc(
+        vec![
+            at(DVec3::ZERO, Geometry::Sphere { r: 1.0 }, Some(m)),
+            Node::Directional(light),
+        ],
+        None,
+    );
+    let world = World::new(&d, false);
+    let sigma = world.prims[0].gas().expect("gas").sigma0;
+    for beta in [0.0, 0.5, 0.95] {
+        let r = world.ray(DVec3::new(0.0, beta, 5.0), DVec3::NEG_Z);
+        let chord = 2.0 * (1.0 - beta * beta).sqrt();
+        for c in 0..3 {
+            let want = sigma * m.diffuse[c] * light.color[c] * light.intensity * chord
+                / (4.0 * std::f64::consts::PI);
+            assert!(
+                rel(r.value[c], want) < 1e-6 && r.scatter[c] == r.value[c],
+                "beta {beta} channel {c}: {} against {want}",
+                r.value[c]
+            );
+        }
+    }
+}
+
+/// The VRML97 lighting equation at the front of a lit opaque sphere, and the same point
+/// behind a gas sphere on the light's way: the light times exp(-sigma chord).
+#[test]
+fn verify_reference_lit_sphere_and_chord_transmittance_are_closed_form() {
+    let m = mat(0.0, Profile::Constant);
+    let light = DirectionalLight {
+        on: true,
+        direction: DVec3::NEG_Z,
+        color: [0.9, 0.7, 0.5],
+        intensity: 0.6,
+        ambient: 0.3,
+    };
+    let want: Vec<f64> = (0..3)
+        .map(|c| {
+            m.emissive[c]
+                + light.color[c]
+                    * (light.ambient * m.diffuse[c] * m.ambient
+                        + light.intensity * (m.diffuse[c] + m.specular[c]))
+        })
+        .collect();
+    let lit = |nodes: Vec<Node>| {
+        let world = World::new(&desc(nodes, None), false);
+        world.ray(DVec3::new(0.0, 0.0, 5.0), DVec3::NEG_Z).value
+    };
+    let sphere = at(DVec3::ZERO, Geometry::Sphere { r: 1.0 }, Some(m));
+    let got = lit(vec![sphere.clone(), Node::Directional(light)]);
+    for c in 0..3 {
+        assert!(rel(got[c], want[c]) < 1e-14, "{got:?} against {want:?}");
+    }
+    // A constant gas shadower of transmittance 0.37 along its diameter, centred on the light
+    // ray from the lit point x (normal n, lit head-on) but off the camera ray (along -y).
+    let n = DVec3::new(0.0, 1.0, 1.0).normalize();
+    let x = n;
+    let mut d = desc(
+        vec![
+            at(DVec3::ZERO, Geometry::Sphere { r: 1.0 }, Some(m)),
+            at(
+                x + 2.0 * n,
+                Geometry::Sphere { r: 0.5 },
+                Some(Material {
+                    emissive: [0.0; 3],
+                    diffuse: [0.0; 3],
+                    ..mat(0.37, Profile::Constant)
+                }),
+            ),
+            Node::Directional(DirectionalLight {
+                direction: -n,
+                ..light
+            }),
+        ],
+        None,
+    );
+    d.viewpoint.position = DVec3::new(0.0, 5.0, 0.0);
+    let world = World::new(&d, false);
+    let r = world.ray(x + DVec3::new(0.0, 4.0, 0.0), DVec3::NEG_Y);
+    let half = (n + DVec3::Y).normalize();
+    let spec = n.dot(half).powf(128.0 * m.shininess);
+    for k in 0..3 {
+        let want = m.emissive[k]
+            + light.color[k]
+                * (light.ambient * m.diffuse[k] * m.ambient
+                    + 0.37 * light.intensity * (m.diffuse[k] + m.specular[k] * spec));
+        assert!(
+            rel(r.value[k], want) < 1e-12,
+            "channel {k}: {} against {want}",
+            r.value[k]
+        );
+    }
+}
