@@ -40,7 +40,7 @@ use glam::DVec3;
 use super::breakpoints::breakpoints;
 use super::density::gas_depth;
 use super::light_grid::LightGrid;
-use super::lights::{path_to, towards, LightKind, LightSource};
+use super::lights::{opaque_reach, path_to, towards, LightKind, LightSource};
 use super::shadow_volume::{band_edges, path_end, BandCache};
 use super::Prepared;
 use crate::accel::Prim;
@@ -139,7 +139,7 @@ pub fn chord(prep: &Prepared, p: &Prim, x: DVec3, dir: DVec3, dist: f64) -> Chor
         return Chord::Gas(gas_chord(prep, p, x, dir, dist));
     }
     match prep.bvh.roots(p, x, dir) {
-        Some((t0, _)) if t0 > 0.0 && t0 < dist => Chord::Blocked,
+        Some((t0, _)) if t0 > 0.0 && t0 < opaque_reach(dist) => Chord::Blocked,
         _ => Chord::Gas(0.0),
     }
 }

@@ -78,6 +78,15 @@ pub fn path_to(l: &LightSource, x: DVec3) -> Option<(DVec3, f64)> {
     }
 }
 
+/// How far along a light ray of length `dist` an opaque primitive blocks it: all but the
+/// last 1e-9 of it. A point light on an opaque surface (to within the rounding of its
+/// coordinates) lights the side its tangent plane faces: a ray from there meets the surface
+/// only at the light, and rounding must not decide that it enters it just before.
+#[inline]
+pub fn opaque_reach(dist: f64) -> f64 {
+    dist * (1.0 - 1e-9)
+}
+
 /// A point light's attenuation at distance `d`: `1 / max(a0 + a1 d + a2 d^2, 1)`.
 #[inline]
 pub fn attenuation(a: DVec3, d: f64) -> f64 {

@@ -5,6 +5,7 @@
 use glam::DVec3;
 
 use super::integrators::surface::Opaque;
+use super::lights::opaque_reach;
 use super::Prepared;
 use crate::accel::SphereBvh;
 
@@ -17,7 +18,9 @@ use crate::accel::SphereBvh;
 /// Spheres are solid (one-sided, MODEL.md section 2): an opaque sphere blocks when the light
 /// ray enters it, at its first root, between `x` and the light; a ray that starts inside an
 /// opaque sphere and leaves it is not blocked by it, as a camera inside a sphere does not see
-/// it. A gas sphere attenuates over the part of `[0, dist]` inside it.
+/// it. A gas sphere attenuates over the part of `[0, dist]` inside it. Opaque primitives
+/// block up to [`opaque_reach`]`(dist)`: a light on an opaque surface lights the side its
+/// tangent plane faces.
 #[inline]
 pub fn visible(prep: &Prepared, x: DVec3, l: DVec3, dist: f64, own: Option<Opaque>) -> f64 {
     visible_after(prep, x, l, dist, own, &mut None)
@@ -63,7 +66,10 @@ pub fn visible_after(
         // Rounding of the hit point cannot make a neighbouring triangle (a shared edge) block
         // its own point's light ray further than this.
         let tmin = 256.0 * f64::EPSILON * x.abs().max_element();
-        if prep.surfaces.blocks(x, l, tmin, dist, own_surface) {
+        if prep
+            .surfaces
+            .blocks(x, l, tmin, opaque_reach(dist), own_surface)
+        {
             return 0.0;
         }
     }
@@ -125,7 +131,7 @@ fn blocked_by_last(
     if Some(i) == own || i as usize >= bvh.len() || bvh.packed()[i as usize].is_gas() {
         return false;
     }
-    bvh.enters_between(i, x, l, dist)
+    bvh.enters_between(i, x, l, opaque_reach(dist))
 }
 
 /// What a shadow ray has met so far: the optical depth of the gas, and the opaque sphere that
@@ -154,7 +160,7 @@ impl Along {
             // same answer, for less work through dense gas).
             self.tau > 746.0
         } else {
-            let blocks = bvh.enters_between(i, x, l, dist);
+            let blocks = bvh.enters_between(i, x, l, opaque_reach(dist));
             if blocks {
                 self.blocker = Some(i);
             }
