@@ -33,21 +33,15 @@ use checks::Outcome;
 use scenes::SceneDesc;
 use world::World;
 
-/// Whether the library's headlight is the viewer-carried one of MODEL.md (no shadows, the
-/// camera ray's transmittance in gas) with strict shadows as an option. Flip to `true` when
-/// `RenderOptions::headlight_shadows` exists (and set it in [`set_headlight_option`]); the
-/// matrix then draws both modes, alternating by seed.
-const LIBRARY_HEADLIGHT_VIEWER_CARRIED: bool = false;
-
-/// Sets the library's headlight mode to `viewer` (carried by the viewer) or strict.
+/// Sets the library's headlight mode to `viewer` (carried by the viewer, the default) or
+/// strict (`headlight_shadows`).
 fn set_headlight_option(opts: &mut RenderOptions, viewer: bool) {
-    // Once the option exists: `opts.headlight_shadows = !viewer;`
-    let _ = (opts, viewer);
+    opts.headlight_shadows = !viewer;
 }
 
-/// The headlight mode scene `seed` is checked in.
+/// The headlight mode scene `seed` is checked in: both, alternating by seed.
 fn viewer_carried(seed: u64) -> bool {
-    LIBRARY_HEADLIGHT_VIEWER_CARRIED && seed % 2 == 0
+    seed % 2 == 0
 }
 
 /// Scenes in the CI test.
@@ -108,7 +102,7 @@ fn command(file: &str, d: &SceneDesc, integrator: &str, viewer: bool) -> String 
     if let Some(h) = d.viewpoint.ortho {
         let _ = write!(s, " --ortho --ortho-height {h}");
     }
-    if LIBRARY_HEADLIGHT_VIEWER_CARRIED && !viewer {
+    if !viewer {
         s.push_str(" --headlight-shadows");
     }
     let _ = write!(s, " {integrator} --aov error -o out.exr");
@@ -162,15 +156,18 @@ fn run_scene(seed: u64, z: f64) -> Outcome {
             Some(h) => {
                 out.step = h;
                 let before = out.failures.len();
-                let films: Vec<_> = [h, h / 2.0, h / 4.0]
-                    .into_iter()
-                    .filter_map(|step| render(Integrator::March { step }, &mut out))
+                let steps: Vec<f64> = (0..checks::MARCH_STEPS)
+                    .map(|k| h / f64::from(1u32 << k))
                     .collect();
-                if films.len() == 3 {
+                let films: Vec<_> = steps
+                    .iter()
+                    .filter_map(|&step| render(Integrator::March { step }, &mut out))
+                    .collect();
+                if films.len() == steps.len() {
                     checks::check_march(&mut out, &films, &refs);
                 }
                 if out.failures.len() > before {
-                    for s in [h, h / 4.0] {
+                    for s in [steps[0], steps[steps.len() - 1]] {
                         commands.push(command(
                             &name,
                             &desc,
@@ -186,7 +183,7 @@ fn run_scene(seed: u64, z: f64) -> Outcome {
         let clock = Instant::now();
         let before = out.failures.len();
         if let Some(f) = render(Integrator::Mc, &mut out) {
-            checks::check_mc(&mut out, &desc, &f, &refs, z);
+            checks::check_mc(&mut out, &desc, &f, &refs, z, world.scatter_scale());
         }
         out.secs[3] = clock.elapsed().as_secs_f64();
         if out.failures.len() > before {

@@ -42,6 +42,8 @@ pub struct RayRef {
     pub scatter: Rgb,
     /// Bound on the quadrature's error (absolute, any channel).
     pub err: f64,
+    /// `1 - T` of the gas in front of the first opaque hit (or of all the gas).
+    pub opacity: f64,
 }
 
 /// Ray/sphere roots `t0 <= t1` of `o + t w` (`w` unit), from the distance of the centre to
@@ -431,6 +433,7 @@ impl World {
             tau += depth_to(a, b);
         }
         let tr = (-tau).exp();
+        out.opacity = -(-tau).exp_m1();
         let behind = match &hit {
             Some(h) => self.surface(h, o, w, tr),
             None => self.background,
@@ -450,5 +453,30 @@ impl World {
     /// Whether any primitive is gas (then the integrators differ).
     pub fn has_gas(&self) -> bool {
         self.prims.iter().any(|p: &Prim| p.gas().is_some())
+    }
+
+    /// The most one scattering event can send per unit of opacity in front of it: the
+    /// largest albedo of any gas times every light at full strength (the largest channel of
+    /// colour times intensity; the headlight is white, intensity 1; attenuation is at most 1).
+    pub fn scatter_scale(&self) -> f64 {
+        let albedo = self
+            .prims
+            .iter()
+            .filter_map(|p: &Prim| p.gas())
+            .map(|g| g.m.diffuse.iter().fold(0.0f64, |m, &a| m.max(a)))
+            .fold(0.0f64, f64::max);
+        let strongest = |color: &[f64; 3], intensity: f64| {
+            color.iter().fold(0.0f64, |m, &c| m.max(c)) * intensity
+        };
+        let lights: f64 = self
+            .lights
+            .iter()
+            .map(|l| match &l.kind {
+                LightKind::Point(p) => strongest(&p.color, p.intensity),
+                LightKind::Directional(d) => strongest(&d.color, d.intensity),
+                LightKind::Head => 1.0,
+            })
+            .sum();
+        albedo * lights
     }
 }
