@@ -23,10 +23,13 @@ use glam::DVec3;
 use super::quad;
 use super::scenes::{Profile, Rgb};
 use super::world::{Gas, LightKind, Line, Prim, Solid, World};
-use crate::surface_reference::{blocks, first_hit};
+use crate::surface_reference::{blocks, first_hit, RefShape};
 
 /// Grid points per gas piece at which the light states are sampled.
 pub const GRID: usize = 64;
+/// Points sampled inside each interval where a light's line meets a primitive's bounding
+/// sphere (where a shadow narrower than the grid's step can lie).
+pub const EXTRA: usize = 8;
 /// Relative tolerance of the camera-ray quadrature.
 pub const REL: f64 = 1e-10;
 /// Relative tolerance of a profiled chord's optical depth.
@@ -317,7 +320,169 @@ impl World {
         out
     }
 
-    /// The light-state breakpoints inside [a, b] for gas points of the ray.
+    /// A sphere holding primitive `k` (for where its shadow can fall).
+    fn bounding_sphere(&self, k: usize) -> (DVec3, f64) {
+        match self.prims[k].solid {
+            Solid::Sphere { c, r } => (c, r),
+            Solid::Surface { shape, to_world } => {
+                let (c, r) = match shape {
+                    RefShape::Cylinder { r, h } | RefShape::Cone { r, h } => {
+                        (DVec3::ZERO, (r * r + 0.25 * h * h).sqrt())
+                    }
+                    RefShape::Cuboid { size } => (DVec3::ZERO, 0.5 * size.length()),
+                    RefShape::Triangle { p } => {
+                        let c = (p[0] + p[1] + p[2]) / 3.0;
+                        (c, p.iter().map(|q| (*q - c).length()).fold(0.0, f64::max))
+                    }
+                };
+                let m = to_world.matrix3;
+                let scale = m
+                    .x_axis
+                    .length()
+                    .max(m.y_axis.length())
+                    .max(m.z_axis.length());
+                (
+                    to_world.transform_point3(c),
+                    r * scale * (1.0 + 1e-9) + 1e-12,
+                )
+            }
+        }
+    }
+
+    /// Parameters in [a, b] of the camera ray `o + t w` where light `li`'s state can change
+    /// faster than the grid sees: inside the interval where the light's line from the ray meets
+    /// a primitive's bounding sphere (a shadow narrower than the grid's step lies in it), and
+    /// the ray's closest approach to a point light (its radius and attenuation corner are
+    /// spheres around it, which the ray may cross twice within one grid step).
+    fn extra_samples(&self, li: usize, o: DVec3, w: DVec3, a: f64, b: f64, out: &mut Vec<f64>) {
+        let kind = &self.lights[li].kind;
+        let point = match *kind {
+            LightKind::Point(p) if !p.on => return,
+            LightKind::Directional(d) if !d.on => return,
+            LightKind::Head if self.head_viewer_carried => return,
+            LightKind::Point(p) => Some(p.location),
+            _ => None,
+        };
+        if let Some(lp) = point {
+            let tc = (lp - o).dot(w);
+            if tc > a && tc < b {
+                out.push(tc);
+            }
+        }
+        let dir = match *kind {
+            LightKind::Directional(d) => -d.direction,
+            LightKind::Head => -self.eye.forward,
+            LightKind::Point(_) => DVec3::ZERO,
+        };
+        for k in 0..self.prims.len() {
+            // A triangle edge-on to the light casts a shadow far narrower than its bounding
+            // sphere's: which side of each edge the light's line from x(t) passes (the sign of
+            // the volume of x(t), the edge and the light's line) and which side of the plane
+            // x(t) is are affine in t; one sample between each two of their roots.
+            if let Solid::Surface {
+                shape: RefShape::Triangle { p },
+                to_world,
+            } = self.prims[k].solid
+            {
+                let p = p.map(|q| to_world.transform_point3(q));
+                let vol = |t: f64, i: usize| -> f64 {
+                    let x = o + t * w;
+                    let d = match point {
+                        Some(lp) => lp - x,
+                        None => dir,
+                    };
+                    (p[i] - x).cross(p[(i + 1) % 3] - x).dot(d)
+                };
+                let nrm = (p[1] - p[0]).cross(p[2] - p[0]);
+                let side = |t: f64| (o + t * w - p[0]).dot(nrm);
+                let mut roots = vec![a, b];
+                for f in [
+                    &(|t| vol(t, 0)) as &dyn Fn(f64) -> f64,
+                    &|t| vol(t, 1),
+                    &|t| vol(t, 2),
+                    &side,
+                ] {
+                    let (fa, fb) = (f(a), f(b));
+                    if fa != fb {
+                        let t = a + (b - a) * fa / (fa - fb);
+                        if t > a && t < b {
+                            roots.push(t);
+                        }
+                    }
+                }
+                roots.sort_by(f64::total_cmp);
+                for seg in roots.windows(2) {
+                    out.push(0.5 * (seg[0] + seg[1]));
+                }
+            }
+            let (c, r) = self.bounding_sphere(k);
+            // Quadratic q(t) = A t^2 + B t + C whose sign says whether the light's line from
+            // x(t) meets the sphere (<= 0 for a cylinder, >= 0 for a cone about the point light).
+            let (qa, qb, qc) = match point {
+                None => {
+                    let p0 = (o - c) - (o - c).dot(dir) * dir;
+                    let q = w - w.dot(dir) * dir;
+                    (
+                        q.length_squared(),
+                        2.0 * p0.dot(q),
+                        p0.length_squared() - r * r,
+                    )
+                }
+                Some(lp) => {
+                    let d = c - lp;
+                    let dl = d.length();
+                    if dl <= r {
+                        // The light inside the bounding sphere: anywhere.
+                        (0.0, 0.0, -1.0)
+                    } else {
+                        let u = d / dl;
+                        let cos2 = 1.0 - (r / dl) * (r / dl);
+                        let y0 = o - lp;
+                        let (yu, wu) = (y0.dot(u), w.dot(u));
+                        (
+                            -(wu * wu - cos2),
+                            -2.0 * (yu * wu - cos2 * y0.dot(w)),
+                            -(yu * yu - cos2 * y0.length_squared()),
+                        )
+                    }
+                }
+            };
+            // Split [a, b] at the roots; sample the parts where q <= 0.
+            let mut cuts = vec![a, b];
+            if qa != 0.0 {
+                let disc = qb * qb - 4.0 * qa * qc;
+                if disc >= 0.0 {
+                    let sq = disc.sqrt();
+                    for t in [(-qb - sq) / (2.0 * qa), (-qb + sq) / (2.0 * qa)] {
+                        if t > a && t < b {
+                            cuts.push(t);
+                        }
+                    }
+                }
+            } else if qb != 0.0 {
+                let t = -qc / qb;
+                if t > a && t < b {
+                    cuts.push(t);
+                }
+            }
+            cuts.sort_by(f64::total_cmp);
+            for seg in cuts.windows(2) {
+                let (s0, s1) = (seg[0], seg[1]);
+                let m = 0.5 * (s0 + s1);
+                if s1 > s0 && (qa * m + qb) * m + qc <= 0.0 {
+                    for n in 0..=EXTRA {
+                        let t = s0 + (s1 - s0) * (n as f64 + 0.5) / (EXTRA as f64 + 1.0);
+                        out.push(t);
+                    }
+                }
+            }
+        }
+    }
+
+    /// The light-state breakpoints inside [a, b] for gas points of the ray: the states are
+    /// sampled on a grid of [`GRID`] steps plus [`World::extra_samples`], and every change
+    /// between neighbouring samples is bisected, as often as the states still differ (two
+    /// changes between two samples are both found).
     fn breakpoints(&self, o: DVec3, w: DVec3, a: f64, b: f64) -> Vec<f64> {
         let sig = |t: f64| {
             let mut s = Vec::new();
@@ -326,16 +491,25 @@ impl World {
             }
             s
         };
+        let mut samples: Vec<f64> = (0..=GRID)
+            .map(|g| {
+                if g == GRID {
+                    b
+                } else {
+                    a + (b - a) * g as f64 / GRID as f64
+                }
+            })
+            .collect();
+        for li in 0..self.lights.len() {
+            self.extra_samples(li, o, w, a, b, &mut samples);
+        }
+        samples.sort_by(f64::total_cmp);
+        samples.dedup();
         let mut out = vec![a];
         let mut prev = (a, sig(a));
-        for g in 1..=GRID {
-            let t = if g == GRID {
-                b
-            } else {
-                a + (b - a) * g as f64 / GRID as f64
-            };
+        for &t in &samples[1..] {
             let s = sig(t);
-            if s != prev.1 {
+            while s != prev.1 {
                 let (mut lo, mut hi) = (prev.0, t);
                 while hi - lo > 1e-14 * hi.abs().max(1.0) {
                     let mid = 0.5 * (lo + hi);
@@ -349,6 +523,10 @@ impl World {
                     }
                 }
                 out.push(0.5 * (lo + hi));
+                if hi >= t {
+                    break;
+                }
+                prev = (hi, sig(hi));
             }
             prev = (t, s);
         }
