@@ -343,7 +343,7 @@ fn run(seeds: &[u64], every: usize) {
          march {march_px} (scenes skipped as too dense or tiny for march: {skipped}), mc \
          {mc_px}; exact worst error/allowed {worst:.3}; error AOV covers {covered} of {} \
          pixels with an error above rounding ({:.2} %), median reported/true {median:.2}; \
-         march error falls per halving by {slowest:.2} at worst, {typical:.2} typically; mc \
+         march's fitted order {slowest:.2} at worst, {typical:.2} median; mc \
          worst |error|/se {worst_z:.2} (z {z:.2}), zero-se pixels differing {zero_se}; \
          seconds in reference, exact, march, mc {secs:.1?}",
         seeds.len(),
