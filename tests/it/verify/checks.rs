@@ -130,8 +130,11 @@ pub fn check_exact(out: &mut Outcome, desc: &SceneDesc, film: &Film, refs: &[Ray
                 ));
             }
         }
-        if true_err > slack(r) {
-            out.aov_pairs.push((err_aov[k] + slack(r), true_err));
+        // Coverage is judged relative to the pixel's own value (no absolute floor), so that
+        // pixels of scenes faint everywhere count too.
+        let rounding = r.err + ROUNDING * largest(&r.value);
+        if true_err > rounding {
+            out.aov_pairs.push((err_aov[k] + rounding, true_err));
         }
         out.exact_pixels += 1;
     }
