@@ -157,9 +157,7 @@ fn run_scene(seed: u64, z: f64) -> Outcome {
             Some(h) => {
                 out.step = h;
                 let before = out.failures.len();
-                let steps: Vec<f64> = (0..checks::MARCH_STEPS)
-                    .map(|k| h / f64::from(1u32 << k))
-                    .collect();
+                let steps = checks::march_steps(h);
                 let films: Vec<_> = steps
                     .iter()
                     .filter_map(|&step| render(Integrator::March { step }, &mut out))
