@@ -30,6 +30,9 @@ pub const GRID: usize = 64;
 /// Points sampled inside each interval where a light's line meets a primitive's bounding
 /// sphere (where a shadow narrower than the grid's step can lie).
 pub const EXTRA: usize = 8;
+/// Ratio of successive cuts towards a breakpoint where a light's line grazes a gas sphere
+/// ([`World::graded`]).
+pub const GRADE: f64 = 4.0;
 /// Relative tolerance of the camera-ray quadrature.
 pub const REL: f64 = 1e-10;
 /// Relative tolerance of a profiled chord's optical depth.
@@ -211,6 +214,80 @@ impl World {
                 None => self.blocked_by(k, x, a.l, a.dist),
             });
         }
+    }
+
+    /// The (light, gas sphere) pairs whose line from `x` meets the sphere.
+    fn gas_signature(&self, x: DVec3) -> Vec<(usize, usize)> {
+        let mut out = Vec::new();
+        for (li, light) in self.lights.iter().enumerate() {
+            if matches!(light.kind, LightKind::Head) && self.head_viewer_carried {
+                continue;
+            }
+            let Some(a) = self.light_at(&light.kind, x) else {
+                continue;
+            };
+            for (k, p) in self.prims.iter().enumerate() {
+                if let Some(g) = p.gas() {
+                    if Self::chord(&g, x, a.l, a.dist).is_some() {
+                        out.push((li, k));
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// The largest optical depth at `x` along the lines of the (light, gas sphere) `pairs`.
+    fn graze_depth(&self, pairs: &[(usize, usize)], x: DVec3) -> f64 {
+        let mut most = 0.0f64;
+        for &(li, k) in pairs {
+            let (Some(a), Some(g)) = (self.light_at(&self.lights[li].kind, x), self.prims[k].gas())
+            else {
+                continue;
+            };
+            if let Some((s0, s1)) = Self::chord(&g, x, a.l, a.dist) {
+                most = most.max(Self::depth(&g, x, a.l, s0, s1));
+            }
+        }
+        most
+    }
+
+    /// Cuts of [s0, s1] (of the camera ray `o + t w`) shrinking geometrically by [`GRADE`]
+    /// towards each end where a light's line grazes gas spheres (`ends`: the pairs). There the
+    /// light's transmittance is `exp(-sigma * chord)` with the chord growing as the square
+    /// root of the distance from the end: in dense gas all that light arrives in a layer far
+    /// thinner than the piece, which no node of a rule over the whole piece sees (the rule
+    /// then converges, wrongly, on the light's absence). The cuts go on until the grazed
+    /// depth at a cut is below 1 (the cut lies in the layer), and two more.
+    fn graded(
+        &self,
+        o: DVec3,
+        w: DVec3,
+        s0: f64,
+        s1: f64,
+        ends: [&[(usize, usize)]; 2],
+    ) -> Vec<f64> {
+        let floor = 1e-15 * s0.abs().max(s1.abs()).max(1.0);
+        let mut out = vec![s0, s1];
+        for (end, pairs) in ends.into_iter().enumerate() {
+            if pairs.is_empty() {
+                continue;
+            }
+            let mut d = (s1 - s0) / GRADE;
+            let mut more = 2;
+            while d > floor && more > 0 {
+                let t = if end == 0 { s0 + d } else { s1 - d };
+                out.push(t);
+                if self.graze_depth(pairs, o + t * w) <= 1.0 {
+                    more -= 1;
+                }
+                d /= GRADE;
+            }
+        }
+        out.retain(|&t| t >= s0 && t <= s1);
+        out.sort_by(f64::total_cmp);
+        out.dedup();
+        out
     }
 
     fn first_opaque(&self, o: DVec3, w: DVec3) -> Option<Hit> {
@@ -482,8 +559,9 @@ impl World {
     /// The light-state breakpoints inside [a, b] for gas points of the ray: the states are
     /// sampled on a grid of [`GRID`] steps plus [`World::extra_samples`], and every change
     /// between neighbouring samples is bisected, as often as the states still differ (two
-    /// changes between two samples are both found).
-    fn breakpoints(&self, o: DVec3, w: DVec3, a: f64, b: f64) -> Vec<f64> {
+    /// changes between two samples are both found). Each breakpoint comes with whether a light's
+    /// line grazes a gas sphere there: the (light, gas sphere) pairs (see [`World::graded`]).
+    fn breakpoints(&self, o: DVec3, w: DVec3, a: f64, b: f64) -> Vec<(f64, Vec<(usize, usize)>)> {
         let sig = |t: f64| {
             let mut s = Vec::new();
             for li in 0..self.lights.len() {
@@ -505,7 +583,7 @@ impl World {
         }
         samples.sort_by(f64::total_cmp);
         samples.dedup();
-        let mut out = vec![a];
+        let mut out = vec![(a, Vec::new())];
         let mut prev = (a, sig(a));
         for &t in &samples[1..] {
             let s = sig(t);
@@ -522,7 +600,18 @@ impl World {
                         hi = mid;
                     }
                 }
-                out.push(0.5 * (lo + hi));
+                let (glo, ghi) = (
+                    self.gas_signature(o + lo * w),
+                    self.gas_signature(o + hi * w),
+                );
+                // The pairs on one side only.
+                let grazes = glo
+                    .iter()
+                    .filter(|p| !ghi.contains(p))
+                    .chain(ghi.iter().filter(|p| !glo.contains(p)))
+                    .copied()
+                    .collect();
+                out.push((0.5 * (lo + hi), grazes));
                 if hi >= t {
                     break;
                 }
@@ -530,7 +619,7 @@ impl World {
             }
             prev = (t, s);
         }
-        out.push(b);
+        out.push((b, Vec::new()));
         out
     }
 
@@ -583,7 +672,7 @@ impl World {
             };
             let cuts = self.breakpoints(o, w, a, b);
             for piece in cuts.windows(2) {
-                let (s0, s1) = (piece[0], piece[1]);
+                let (s0, s1) = (piece[0].0, piece[1].0);
                 if s1 <= s0 {
                     continue;
                 }
@@ -601,12 +690,17 @@ impl World {
                     }
                     v
                 };
-                let (v, e) = quad::integrate(&mut f, s0, s1, REL, 1e-17);
-                for c in 0..3 {
-                    out.value[c] += v[c] + v[3 + c];
-                    out.scatter[c] += v[3 + c];
+                for sub in self
+                    .graded(o, w, s0, s1, [&piece[0].1, &piece[1].1])
+                    .windows(2)
+                {
+                    let (v, e) = quad::integrate(&mut f, sub[0], sub[1], REL, 1e-17);
+                    for c in 0..3 {
+                        out.value[c] += v[c] + v[3 + c];
+                        out.scatter[c] += v[3 + c];
+                    }
+                    out.err += e;
                 }
-                out.err += e;
             }
             tau += depth_to(a, b);
         }
