@@ -50,6 +50,8 @@ pub struct RayRef {
     pub err: f64,
     /// `1 - T` of the gas in front of the first opaque hit (or of all the gas).
     pub opacity: f64,
+    /// The length of the ray inside gas (up to the first opaque hit).
+    pub gas_length: f64,
 }
 
 /// Ray/sphere roots `t0 <= t1` of `o + t w` (`w` unit), from the distance of the centre to
@@ -672,6 +674,7 @@ impl World {
             if active.is_empty() {
                 continue;
             }
+            out.gas_length += b - a;
             let gases: Vec<Gas> = active
                 .iter()
                 .map(|&k| self.prims[k].gas().expect("gas"))
