@@ -7,7 +7,8 @@
 //!   pixel's centre ray, `checks` compares, `selftest` checks the reference itself.
 //! - `verify_matrix` (CI) draws [`CI_SCENES`] scenes; `verify_soak` (ignored, run it with
 //!   `cargo test --release --test it -- --ignored verify`) draws `VERIFY_SCENES` (default
-//!   10 000). `VERIFY_SEED=S` re-runs the one scene of seed S in either.
+//!   10 000) from seed `VERIFY_FIRST` (default 1 000 000). `VERIFY_SEED=S` re-runs the one
+//!   scene of seed S in either.
 //! - A failing scene is written to `target/verify-failures/seed-S.wrl` with the command
 //!   that reproduces it.
 
@@ -375,9 +376,14 @@ fn verify_matrix() {
     run(&seeds(1, scene_count(CI_SCENES)), 50);
 }
 
-/// The soak: `VERIFY_SCENES` (default 10 000) scenes from seed 1 000 000.
+/// The soak: `VERIFY_SCENES` (default 10 000) scenes from seed `VERIFY_FIRST` (default
+/// 1 000 000).
 #[test]
 #[ignore = "soak: cargo test --release --test it -- --ignored verify"]
 fn verify_soak() {
-    run(&seeds(1_000_000, scene_count(10_000)), 200);
+    let first = std::env::var("VERIFY_FIRST")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1_000_000);
+    run(&seeds(first, scene_count(10_000)), 200);
 }
