@@ -43,7 +43,7 @@ fn chance(rng: &mut Rng, p: f64) -> bool {
 }
 
 /// A translation-only Transform around `n`.
-fn at(c: DVec3, n: Node) -> Node {
+pub fn at(c: DVec3, n: Node) -> Node {
     Node::Group {
         xf: Some(Xf {
             translation: c,

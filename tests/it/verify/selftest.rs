@@ -9,9 +9,7 @@ use gtsphere::render::Integrator;
 
 use super::checks;
 use super::reference::sphere_roots;
-use super::scenes::{
-    DirectionalLight, Geometry, Material, Node, Profile, SceneDesc, Viewpoint, Xf,
-};
+use super::scenes::{DirectionalLight, Geometry, Material, Node, Profile, SceneDesc, Viewpoint};
 use super::world::World;
 
 fn mat(transparency: f64, profile: Profile) -> Material {
@@ -26,16 +24,9 @@ fn mat(transparency: f64, profile: Profile) -> Material {
     }
 }
 
+/// A shape under a translation-only Transform.
 fn at(c: DVec3, geometry: Geometry, material: Option<Material>) -> Node {
-    Node::Group {
-        xf: Some(Xf {
-            translation: c,
-            axis: DVec3::Y,
-            angle: 0.0,
-            scale: 1.0,
-        }),
-        children: vec![Node::Shape { geometry, material }],
-    }
+    super::generate::at(c, Node::Shape { geometry, material })
 }
 
 /// A scene looking down -z from (0, 0, 5) at `nodes`, headlight off.
