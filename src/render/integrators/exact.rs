@@ -180,13 +180,18 @@ pub fn radiance(
                 covered,
             };
         }
+        // Where the camera ray stops inside this segment (see `camera_stop`): the scattering
+        // is integrated up to `t_end` only.
+        let stop = camera_stop(seg, profiled, tau, view.rest_bound, allowed(value));
+        let t_end = stop.map_or(seg.tb, |(t, _)| t);
         kinks.clear();
         if seg.is_profiled() {
             kinks.push(seg.ta);
             seg.kinks(profiled, kinks);
             kinks.push(seg.tb);
-            kinks.sort_unstable_by(f64::total_cmp);
         }
+        depth_cuts(seg, profiled, t_end, kinks);
+        kinks.sort_unstable_by(f64::total_cmp);
         match seg.emitted() {
             Some(e) => value += t_a * e,
             None => {
@@ -219,6 +224,13 @@ pub fn radiance(
         tau += seg.depth;
         let u_seg = unshadowed_by_segment[k];
         if u_seg == 0.0 {
+            if let Some((_, bound)) = stop {
+                return Estimate {
+                    value,
+                    error: error + BOUND_MARGIN * bound,
+                    covered,
+                };
+            }
             continue;
         }
         // This segment's shares. Its dark pieces may add up to `share` of the light budget:
@@ -230,6 +242,13 @@ pub fn radiance(
         let tau_cut = (u_seg / (share * LIGHT_SHARE * allowed(value))).ln();
         if tau_cut <= 0.0 {
             error += BOUND_MARGIN * u_seg;
+            if let Some((_, bound)) = stop {
+                return Estimate {
+                    value,
+                    error: error + BOUND_MARGIN * bound,
+                    covered,
+                };
+            }
             continue;
         }
         pieces.clear();
@@ -265,14 +284,14 @@ pub fn radiance(
                     profiled: seg.is_profiled().then_some(k as u32),
                     carried: Some(tau_a),
                 };
-                push_cut(pieces, meta, m, (seg.ta, seg.tb), kinks);
+                push_cut(pieces, meta, m, (seg.ta, t_end), kinks);
                 continue;
             }
             let (found, n) = resolve(
                 view,
                 o,
                 d,
-                (seg.ta, seg.tb),
+                (seg.ta, t_end),
                 (i, l, view.grids[i].as_ref()),
                 tau_cut,
                 buffers,
@@ -315,7 +334,18 @@ pub fn radiance(
                 }
             }
         }
+        if let Some((_, bound)) = stop {
+            // What lies behind `t_end` is bounded; the scattering before it still counts.
+            error += BOUND_MARGIN * bound;
+        }
         if pieces.is_empty() {
+            if stop.is_some() {
+                return Estimate {
+                    value,
+                    error,
+                    covered,
+                };
+            }
             continue;
         }
         let limit = tau_cut + NODE_MARGIN;
@@ -339,6 +369,13 @@ pub fn radiance(
         if deep {
             error += BOUND_MARGIN * u_seg * (-limit).exp();
         }
+        if stop.is_some() {
+            return Estimate {
+                value,
+                error,
+                covered,
+            };
+        }
     }
     let seen_through = (-tau).exp();
     let surface = behind(view, o, d, hit, seen_through, counters);
@@ -346,6 +383,66 @@ pub fn radiance(
         value: value + seen_through * surface,
         error,
         covered,
+    }
+}
+
+/// Where the camera ray may stop inside `seg`, which starts at the ray's optical depth `tau_a`:
+/// the first point `t` where everything behind it, at most `T(0, t) rest_bound`, is below
+/// [`CAMERA_SHARE`] of `allowed`, with that bound (`None`: not inside this segment). Only a
+/// segment deep enough to hold the point has one; the segment-start test of [`radiance`] covers
+/// the rest.
+fn camera_stop(
+    seg: &Segment,
+    profiled: &[Member],
+    tau_a: f64,
+    rest_bound: f64,
+    allowed: f64,
+) -> Option<(f64, f64)> {
+    let level = (rest_bound / (CAMERA_SHARE * allowed)).ln() - tau_a;
+    if !(level > 0.0 && level < seg.depth) {
+        return None;
+    }
+    let t = at_depth(seg, profiled, level);
+    // The bound from the depth actually reached (at least `level`).
+    let depth = seg.depth_to(profiled, t).max(level);
+    Some((t, (-(tau_a + depth)).exp() * rest_bound))
+}
+
+/// A point of `seg` where its optical depth from the start is at least `level` (and within a
+/// few parts in 1e4 of the segment past the exact point), `level < seg.depth`.
+fn at_depth(seg: &Segment, profiled: &[Member], level: f64) -> f64 {
+    if !seg.is_profiled() {
+        return (seg.ta + level / seg.sigma).min(seg.tb);
+    }
+    // The depth grows monotonically along the segment: bisection, keeping the far end.
+    let (mut lo, mut hi) = (seg.ta, seg.tb);
+    for _ in 0..13 {
+        let mid = 0.5 * (lo + hi);
+        if seg.depth_to(profiled, mid) >= level {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    hi
+}
+
+/// Cuts a segment's scattering where its own optical depth (from the start) reaches 1, 2, 4,
+/// 8, ... before `t_end`: in optically thick gas the camera ray's transmittance falls by many
+/// orders along one piece, and a 15-point rule over it can see agreement of its two estimates
+/// where both are wrong (a thick quadratic profile lit along the view direction was 3 % low
+/// with an error estimate of 2e-4 of the value). On each cut piece the transmittance falls by
+/// at most `e^-1` or by the square of the one before, and what remains is bounded by the
+/// depth already reached. Appended to `out` (unsorted); none in a segment thinner than 1.
+fn depth_cuts(seg: &Segment, profiled: &[Member], t_end: f64, out: &mut Vec<f64>) {
+    let mut level = 1.0;
+    while level < seg.depth {
+        let t = at_depth(seg, profiled, level);
+        if t >= t_end {
+            break;
+        }
+        out.push(t);
+        level *= 2.0;
     }
 }
 
