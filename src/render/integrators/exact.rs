@@ -9,9 +9,11 @@
 //! The ray is integrated front to back, segment by segment. Every term is non-negative, so the
 //! value so far is a lower bound of the final value, and "the tolerance" at each step is `tol`
 //! times the value so far (floor `1e-3`): never more than the final tolerance.
-//! - **The camera ray stops** at the first segment where the transmittance `T` so far times
+//! - **The camera ray stops** at the first point where the transmittance `T` so far times
 //!   `View::rest_bound` (the most any gas, surface or background could send) is below
-//!   [`CAMERA_SHARE`] of the tolerance; `T * rest_bound` is the bound.
+//!   [`CAMERA_SHARE`] of the tolerance; `T * rest_bound` is the bound. The point is a
+//!   segment's start, or inside a segment (`camera_stop`), whose scattering is then
+//!   integrated up to it (its emission is closed form and counted whole).
 //! - **Dark pieces are not integrated**: `U_seg`, the scattering a segment would get with
 //!   every shadow removed, is known in closed form, and so is `U`, the sum over the ray. The
 //!   segment's share `b` of the light budget ([`LIGHT_SHARE`] of the tolerance) is half an
@@ -27,7 +29,8 @@
 //! Each bound is reported times [`BOUND_MARGIN`], never level with the amount it bounds.
 //!
 //! Each segment's quadrature is asked for its share `U_seg / U` of [`QUAD_SHARE`] of the
-//! tolerance.
+//! tolerance. Its pieces are cut where the segment's own optical depth reaches 1, 2, 4, ...
+//! (`depth_cuts`), so that no piece's camera transmittance falls by many orders.
 //!
 //! **Profiled gas** (MODEL.md section 6). A segment with profiled members has closed-form
 //! optical depths but a source that varies along it. Its emission is still closed form when
@@ -431,9 +434,9 @@ fn at_depth(seg: &Segment, profiled: &[Member], level: f64) -> f64 {
 /// 8, ... before `t_end`: in optically thick gas the camera ray's transmittance falls by many
 /// orders along one piece, and a 15-point rule over it can see agreement of its two estimates
 /// where both are wrong (a thick quadratic profile lit along the view direction was 3 % low
-/// with an error estimate of 2e-4 of the value). On each cut piece the transmittance falls by
-/// at most `e^-1` or by the square of the one before, and what remains is bounded by the
-/// depth already reached. Appended to `out` (unsorted); none in a segment thinner than 1.
+/// with an error estimate of 2e-4 of the value). On the piece from depth `L` to `2 L` the
+/// transmittance falls by `e^-L`, while the piece's share of the integral is below `e^-L`
+/// of it. Appended to `out` (unsorted); none in a segment thinner than 1.
 fn depth_cuts(seg: &Segment, profiled: &[Member], t_end: f64, out: &mut Vec<f64>) {
     let mut level = 1.0;
     while level < seg.depth {
