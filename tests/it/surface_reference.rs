@@ -186,11 +186,23 @@ pub fn first_hit(s: &RefShape, to_world: &DAffine3, o: DVec3, d: DVec3) -> Optio
 
 /// Whether the segment `x + s w`, `s` in `(eps, smax)`, crosses the primitive.
 pub fn blocks(s: &RefShape, to_world: &DAffine3, x: DVec3, w: DVec3, smax: f64) -> bool {
+    blocks_from(s, to_world, x, w, 1e-9, smax)
+}
+
+/// [`blocks`] for crossings at `smin < s < smax` (0 for a point in space, not on a surface).
+pub fn blocks_from(
+    s: &RefShape,
+    to_world: &DAffine3,
+    x: DVec3,
+    w: DVec3,
+    smin: f64,
+    smax: f64,
+) -> bool {
     let inv = to_world.inverse();
     let (oo, dd) = (inv.transform_point3(x), inv.transform_vector3(w));
     object_hits(s, oo, dd)
         .iter()
-        .any(|h| h.t > 1e-9 && h.t < smax)
+        .any(|h| h.t > smin && h.t < smax)
 }
 
 /// VRML Transform `T R S` (translation, rotation about a unit axis, scale), as the test

@@ -8,7 +8,7 @@
 //!   a linear profile's closest approach). Inside a piece every light's *state signature*
 //!   (in its radius or not, which side of its attenuation corner, and for every primitive
 //!   whether the light ray meets it) is sampled on a grid of [`GRID`] points and every change
-//!   bisected to 1e-14 relative, so each sub-piece is smooth; there the integrand
+//!   bisected to [`BISECT`] relative, so each sub-piece is smooth; there the integrand
 //!   `T(0,t) [sum sigma_j C_j + p sum sigma_j a_j sum_i E_i]` is integrated by adaptive
 //!   Gauss-Kronrod to [`REL`] relative. Transmittances are `exp(-tau)` with tau from chord
 //!   lengths (constant gas) or adaptive quadrature of the density (profiled gas, to
@@ -23,7 +23,7 @@ use glam::DVec3;
 use super::quad;
 use super::scenes::{Profile, Rgb};
 use super::world::{Gas, LightKind, Line, Prim, Solid, World};
-use crate::surface_reference::{blocks, first_hit, RefShape};
+use crate::surface_reference::{blocks_from, first_hit, RefShape};
 
 /// Grid points per gas piece at which the light states are sampled.
 pub const GRID: usize = 64;
@@ -33,6 +33,8 @@ pub const EXTRA: usize = 8;
 /// Ratio of successive cuts towards a breakpoint where a light's line grazes a gas sphere
 /// ([`World::graded`]).
 pub const GRADE: f64 = 4.0;
+/// Relative resolution to which a light-state change along the ray is bisected.
+pub const BISECT: f64 = 1e-14;
 /// Relative tolerance of the camera-ray quadrature.
 pub const REL: f64 = 1e-10;
 /// Relative tolerance of a profiled chord's optical depth.
@@ -136,8 +138,11 @@ impl World {
         }
     }
 
-    /// Whether the segment `x + s l`, `0 < s < dist`, is blocked by opaque primitive `k`.
-    fn blocked_by(&self, k: usize, x: DVec3, l: DVec3, dist: f64) -> bool {
+    /// Whether the segment `x + s l`, `0 < s < dist`, is blocked by opaque primitive `k`;
+    /// `on_surface`: `x` is a surface's shading point, and crossings within 1e-9 of it are
+    /// its own rounding (a gas point has no such room: one just in front of a surface is
+    /// shadowed by it, not lit through a sliver at the camera ray's hit).
+    fn blocked_by(&self, k: usize, x: DVec3, l: DVec3, dist: f64, on_surface: bool) -> bool {
         // A light exactly on a surface: its tangent plane, decided with room for rounding.
         let end = if dist.is_finite() {
             dist * (1.0 - 1e-9)
@@ -159,7 +164,10 @@ impl World {
                 }
                 sphere_roots(c, r, x, l).is_some_and(|(t0, _)| t0 > 0.0 && t0 < end)
             }
-            Solid::Surface { shape, to_world } => blocks(&shape, &to_world, x, l, end),
+            Solid::Surface { shape, to_world } => {
+                let smin = if on_surface { 1e-9 } else { 0.0 };
+                blocks_from(&shape, &to_world, x, l, smin, end)
+            }
         }
     }
 
@@ -200,7 +208,7 @@ impl World {
                     }
                 }
                 None => {
-                    if self.blocked_by(k, x, l, dist) {
+                    if self.blocked_by(k, x, l, dist, skip.is_some()) {
                         return 0.0;
                     }
                 }
@@ -223,7 +231,7 @@ impl World {
         for (k, p) in self.prims.iter().enumerate() {
             out.push(match p.gas() {
                 Some(g) => Self::chord(&g, x, a.l, a.dist).is_some(),
-                None => self.blocked_by(k, x, a.l, a.dist),
+                None => self.blocked_by(k, x, a.l, a.dist, false),
             });
         }
     }
@@ -504,6 +512,11 @@ impl World {
                     out.push(0.5 * (seg[0] + seg[1]));
                 }
             }
+            if let Some(t) = self.inside_shadow(k, o, w, point, dir) {
+                if t > a && t < b {
+                    out.push(t);
+                }
+            }
             let (c, r) = self.bounding_sphere(k);
             // Quadratic q(t) = A t^2 + B t + C whose sign says whether the light's line from
             // x(t) meets the sphere (<= 0 for a cylinder, >= 0 for a cone about the point light).
@@ -554,7 +567,22 @@ impl World {
                     cuts.push(t);
                 }
             }
+            // Where the ray itself crosses the bounding sphere: for a sphere, its light state
+            // changes only there and at the roots above, so a sample just beside each cut
+            // sees every state, however thin (a light ray from just outside an opaque sphere
+            // that misses it).
+            if let Some(roots) = sphere_roots(c, r, o, w) {
+                for t in [roots.0, roots.1] {
+                    if t > a && t < b {
+                        cuts.push(t);
+                    }
+                }
+            }
             cuts.sort_by(f64::total_cmp);
+            for &t in &cuts[1..cuts.len() - 1] {
+                let d = 1e-12 * t.abs().max(1.0);
+                out.extend([t - d, t + d].into_iter().filter(|s| *s > a && *s < b));
+            }
             for seg in cuts.windows(2) {
                 let (s0, s1) = (seg[0], seg[1]);
                 let m = 0.5 * (s0 + s1);
@@ -565,6 +593,66 @@ impl World {
                     }
                 }
             }
+        }
+    }
+
+    /// A parameter `t` where the light's line from `o + t w` meets the surface `k` (not a
+    /// sphere), if one exists: however thin its shadow along the ray, the grid then holds a
+    /// point of it. Every light line from the camera ray lies in one plane (through the ray and
+    /// the light's direction or point); a convex surface meets that plane iff its extreme
+    /// points along the plane's normal (closed forms: [`support`]) lie on both sides, and the
+    /// segment between them, inside the surface, crosses the plane at a point on the light line
+    /// of one `t`. (A surface's shadow along a ray is one interval, the shadowed set of a
+    /// convex body being convex, so one point of it is enough for the bisection.)
+    fn inside_shadow(
+        &self,
+        k: usize,
+        o: DVec3,
+        w: DVec3,
+        point: Option<DVec3>,
+        dir: DVec3,
+    ) -> Option<f64> {
+        let Solid::Surface { shape, to_world } = self.prims[k].solid else {
+            return None;
+        };
+        let across = match point {
+            Some(lp) => lp - o,
+            None => dir,
+        };
+        let n = w.cross(across);
+        if n.length_squared() < 1e-24 * across.length_squared() {
+            return None;
+        }
+        let (hi, lo) = (
+            support(&shape, &to_world, n),
+            support(&shape, &to_world, -n),
+        );
+        let (fh, fl) = (n.dot(hi - o), n.dot(lo - o));
+        if fh < 0.0 || fl > 0.0 {
+            return None;
+        }
+        let y = if fh > fl {
+            lo + (hi - lo) * (-fl / (fh - fl))
+        } else {
+            hi
+        };
+        // y - base = alpha w + beta e in the plane, by the 2x2 normal equations.
+        let (base, e) = match point {
+            Some(lp) => (lp, o - lp),
+            None => (o, dir),
+        };
+        let q = y - base;
+        let (ww, we, ee) = (w.dot(w), w.dot(e), e.dot(e));
+        let det = ww * ee - we * we;
+        let (qw, qe) = (q.dot(w), q.dot(e));
+        let alpha = (qw * ee - qe * we) / det;
+        let beta = (qe * ww - qw * we) / det;
+        match point {
+            // y = o + alpha w + beta dir: on the light line of t = alpha if beta >= 0.
+            None => (beta >= 0.0).then_some(alpha),
+            // y = lp + beta (o - lp) + alpha w = lp + beta (x(t) - lp) with t = alpha / beta,
+            // between x(t) and the light if 0 < beta <= 1.
+            Some(_) => (beta > 0.0 && beta <= 1.0).then(|| alpha / beta),
         }
     }
 
@@ -601,7 +689,7 @@ impl World {
             let s = sig(t);
             while s != prev.1 {
                 let (mut lo, mut hi) = (prev.0, t);
-                while hi - lo > 1e-14 * hi.abs().max(1.0) {
+                while hi - lo > BISECT * hi.abs().max(1.0) {
                     let mid = 0.5 * (lo + hi);
                     if mid <= lo || mid >= hi {
                         break;
@@ -714,6 +802,17 @@ impl World {
                     }
                     out.err += e;
                 }
+                // A breakpoint is bisected to BISECT relative: up to that much of the ray
+                // beside it may hold the other side's integrand (a lit sliver of rounding
+                // width at an opaque hit, say), counted in the error.
+                for (end, inner) in [(0, s0), (1, s1)] {
+                    if piece[end].0 != a && piece[end].0 != b {
+                        let width = 2.0 * BISECT * inner.abs().max(1.0);
+                        let at = if end == 0 { s0 + width } else { s1 - width };
+                        let v = f(at.clamp(s0, s1));
+                        out.err += width * v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                    }
+                }
             }
             tau += depth_to(a, b);
         }
@@ -733,6 +832,20 @@ impl World {
     pub fn pixel(&self, i: u32, j: u32) -> RayRef {
         let (o, w) = self.eye.ray(i, j);
         self.ray(o, w)
+    }
+
+    /// Whether a point light lies on an opaque sphere (to within the rounding of its
+    /// coordinates, as [`World::blocked_by`] decides it).
+    pub fn light_on_opaque_sphere(&self) -> bool {
+        self.lights.iter().any(|l| match l.kind {
+            LightKind::Point(p) => self.prims.iter().any(|q| match q.solid {
+                Solid::Sphere { c, r } if q.gas().is_none() => {
+                    ((p.location - c).length() - r).abs() <= 1e-12 * (r + c.length())
+                }
+                _ => false,
+            }),
+            _ => false,
+        })
     }
 
     /// Whether any primitive is gas (then the integrators differ).
@@ -764,4 +877,42 @@ impl World {
             .sum();
         albedo * lights
     }
+}
+
+/// A point of the surface `shape` (placed by `to_world`) farthest along `n`: VRML's shapes
+/// in their object space, where the farthest point along `m = A^T n` is a corner, a rim point
+/// or the apex.
+fn support(shape: &RefShape, to_world: &glam::DAffine3, n: DVec3) -> DVec3 {
+    let m = to_world.matrix3.transpose() * n;
+    let sign = |x: f64| if x < 0.0 { -1.0 } else { 1.0 };
+    let rim = |r: f64, y: f64| {
+        let len = m.x.hypot(m.z);
+        if len > 0.0 {
+            DVec3::new(r * m.x / len, y, r * m.z / len)
+        } else {
+            DVec3::new(r, y, 0.0)
+        }
+    };
+    let object = match *shape {
+        RefShape::Cuboid { size } => 0.5 * size * DVec3::new(sign(m.x), sign(m.y), sign(m.z)),
+        RefShape::Cylinder { r, h } => rim(r, 0.5 * h * sign(m.y)),
+        RefShape::Cone { r, h } => {
+            let (apex, base) = (DVec3::new(0.0, 0.5 * h, 0.0), rim(r, -0.5 * h));
+            if m.dot(apex) >= m.dot(base) {
+                apex
+            } else {
+                base
+            }
+        }
+        RefShape::Triangle { p } => {
+            let mut best = p[0];
+            for q in &p[1..] {
+                if n.dot(*q) > n.dot(best) {
+                    best = *q;
+                }
+            }
+            return best;
+        }
+    };
+    to_world.transform_point3(object)
 }
