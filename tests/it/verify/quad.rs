@@ -40,6 +40,23 @@ const MAX_DEPTH: u32 = 60;
 /// their estimates, which then say how good the value is (bounded time on hard rays).
 const MAX_RULES: usize = 400;
 
+thread_local! {
+    /// Past this instant every interval is accepted as it is (see [`set_deadline`]).
+    static DEADLINE: std::cell::Cell<Option<std::time::Instant>> =
+        const { std::cell::Cell::new(None) };
+}
+
+/// Makes this thread's quadratures stop refining after `at`, so that a reference pixel
+/// whose nested quadratures would run for minutes ends soon after; its caller then
+/// discards the results (they are no longer to their tolerance).
+pub fn set_deadline(at: Option<std::time::Instant>) {
+    DEADLINE.with(|d| d.set(at));
+}
+
+fn past_deadline() -> bool {
+    DEADLINE.with(|d| d.get().is_some_and(|t| std::time::Instant::now() > t))
+}
+
 /// One 15-point rule on [a, b] of a vector-valued `f`: (Kronrod sum, |Kronrod - Gauss| summed
 /// over the components).
 fn rule<const N: usize>(f: &mut impl FnMut(f64) -> [f64; N], a: f64, b: f64) -> ([f64; N], f64) {
@@ -105,12 +122,16 @@ pub fn integrate<const N: usize>(
     }
     let mut stack = vec![(a, b, 0u32)];
     let mut rules = 0;
+    let mut late = false;
     while let Some((x0, x1, depth)) = stack.pop() {
         let (v, e) = rule(f, x0, x1);
         rules += 1;
         let size: f64 = v.iter().map(|x| x.abs()).sum();
         let mid = 0.5 * (x0 + x1);
-        let splittable = depth < MAX_DEPTH && mid > x0 && mid < x1 && rules < MAX_RULES;
+        if rules % 16 == 1 && !late {
+            late = past_deadline();
+        }
+        let splittable = depth < MAX_DEPTH && mid > x0 && mid < x1 && rules < MAX_RULES && !late;
         if e <= rel * size + abs * (x1 - x0) || !splittable {
             for n in 0..N {
                 total[n] += v[n];
