@@ -29,7 +29,7 @@
 //! Each bound is reported times [`BOUND_MARGIN`], never level with the amount it bounds.
 //!
 //! Each segment's quadrature is asked for its share `U_seg / U` of [`QUAD_SHARE`] of the
-//! tolerance. Its pieces are cut where the segment's own optical depth reaches 1, 2, 4, ...
+//! tolerance. Its pieces are cut where the segment's own optical depth reaches 4, 8, 16, ...
 //! (`depth_cuts`), so that no piece's camera transmittance falls by many orders.
 //!
 //! **Profiled gas** (MODEL.md section 6). A segment with profiled members has closed-form
@@ -430,15 +430,18 @@ fn at_depth(seg: &Segment, profiled: &[Member], level: f64) -> f64 {
     hi
 }
 
-/// Cuts a segment's scattering where its own optical depth (from the start) reaches 1, 2, 4,
-/// 8, ... before `t_end`: in optically thick gas the camera ray's transmittance falls by many
+/// Cuts a segment's scattering where its own optical depth (from the start) reaches 4, 8,
+/// 16, ... before `t_end`: in optically thick gas the camera ray's transmittance falls by many
 /// orders along one piece, and a 15-point rule over it can see agreement of its two estimates
 /// where both are wrong (a thick quadratic profile lit along the view direction was 3 % low
 /// with an error estimate of 2e-4 of the value). On the piece from depth `L` to `2 L` the
-/// transmittance falls by `e^-L`, while the piece's share of the integral is below `e^-L`
-/// of it. Appended to `out` (unsorted); none in a segment thinner than 1.
+/// transmittance falls by `e^-L`, while the piece holds less than `e^-L` of the integral; a
+/// fall by `e^-4` on the first piece is resolved by the rule's nodes. Measured on the thick
+/// gas clouds (cloud-thick-1e3 and 1e4, 128 x 128): quadrature nodes within 0.4 % of no cuts
+/// (starting at depth 1 instead cost 25 % more nodes and 9 % more time). Appended to `out`
+/// (unsorted); none in a segment thinner than 4.
 fn depth_cuts(seg: &Segment, profiled: &[Member], t_end: f64, out: &mut Vec<f64>) {
-    let mut level = 1.0;
+    let mut level = 4.0;
     while level < seg.depth {
         let t = at_depth(seg, profiled, level);
         if t >= t_end {
