@@ -1,5 +1,5 @@
 //! Spheres from arrays to a picture with the library's API, timed: the Rust side of the
-//! arrays benchmark (issue 15, `python/bench/bench_arrays.py`), and the example of how a
+//! arrays benchmark (`python/bench/bench_arrays.py`), and the example of how a
 //! program builds a scene in code rather than reading a VRML file.
 //!
 //! ```text

@@ -1,5 +1,5 @@
 //! Image comparison: error metrics of an image against a reference, and a false-colour error
-//! heat map with a legend (issue 6, item 3).
+//! heat map with a legend.
 //!
 //! All metrics run over every RGB channel value of every pixel (alpha and extra layers are
 //! ignored):

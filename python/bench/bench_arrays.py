@@ -1,4 +1,4 @@
-"""Issue 15's benchmark: spheres from arrays rendered from Python cost what they cost in Rust.
+"""A benchmark: spheres from arrays rendered from Python cost what they cost in Rust.
 
     python python/bench/bench_arrays.py [N] [--runs R] [--seed S] [--const-radius]
                                         [--build] [--strict]

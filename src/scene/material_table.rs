@@ -1,6 +1,6 @@
 //! The scene's materials, stored compactly: a file with a colour per sphere has about as many
 //! distinct materials as spheres, and a 104-byte [`Material`] each would be most of a large
-//! scene's memory (issue 16). Two observations make most materials 8 bytes:
+//! scene's memory. Two observations make most materials 8 bytes:
 //! - materials that differ only in their diffuse colour, the usual case (VMD, OVITO and
 //!   `convert` write one Material per colour), share one stored record of everything else;
 //! - the channel values of the colours are few, even when the colours are many: 256 for

@@ -1,4 +1,4 @@
-//! The scene IR back out as VRML97 (issue 6, item 2): flattened, every sphere at its world
+//! The scene IR back out as VRML97: flattened, every sphere at its world
 //! position, each material an `Appearance` DEF'd at its first use and USE'd after, lights,
 //! viewpoints, headlight and background. Reading the output gives the same IR (spheres,
 //! materials, lights, viewpoints) up to the rounding of rotations written as axis-angle.

@@ -290,7 +290,7 @@ fn bvh_single_sphere_and_empty() {
         .is_none());
 }
 
-/// The grazing case of issue 3 through the BVH: a sphere of radius 1e-3 at distance 1e4,
+/// The grazing case through the BVH: a sphere of radius 1e-3 at distance 1e4,
 /// rays within 1e-9 (relative) of tangency: the BVH agrees with the exact sphere test on
 /// every ray (that test is checked against exact arithmetic in `geom`).
 #[test]

@@ -1,4 +1,4 @@
-//! The Monte Carlo integrator's standard error is honest (issue 12): the mc cases of
+//! The Monte Carlo integrator's standard error is honest: the mc cases of
 //! ../shared/cases/gas-accuracy (expected values from an independent reference) agree within
 //! their reported standard errors, where there is something to see the standard error is not
 //! 0 unless the value is exact, and on a small lit scene mc agrees with `exact` pixel by pixel

@@ -15,7 +15,7 @@
 
 use glam::DVec3;
 
-/// The largest median estimate/true error the tightness tests accept (issue 12's goal).
+/// The largest median estimate/true error the tightness tests accept.
 const TIGHT_MEDIAN: f64 = 100.0;
 use gtsphere::render::integrators::{self, Estimate, Scratch};
 use gtsphere::render::sampler::Rng;

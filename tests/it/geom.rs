@@ -102,7 +102,7 @@ struct Band {
     max_root_ulps: i64,
 }
 
-/// The test: rays within 1e-9 of tangency to a sphere of radius 1e-3 at distance 1e4
+/// Rays within 1e-9 of tangency to a sphere of radius 1e-3 at distance 1e4
 /// from the camera must hit or miss as the exact answer says, with no NaN; here also the
 /// decades below. Returns one row per band of |margin|, [1e-(k+1), 1e-k] for k in `ks`.
 fn grazing_bands(ks: std::ops::RangeInclusive<i32>) -> Vec<Band> {

@@ -1,4 +1,4 @@
-//! Numerical hard cases (issue 5, first part), each with its expected value stated here.
+//! Numerical hard cases, each with its expected value stated here.
 //! (The issue names `tests/hard_cases.rs`; the project keeps one integration binary, so it is
 //! the module `tests/it/hard_cases.rs`.)
 

@@ -16,7 +16,7 @@ mod gas_reference; // the brute-force gas reference the gas tests share (and its
 mod gas_scatter; // exact single scattering against the brute-force reference
 mod gas_truncation; // exact: truncation bounds and error estimates against the reference
 mod geom; // f64 ray/sphere and ray/ellipsoid math against exact and brute-force oracles
-mod hard_cases; // numerical hard cases (issue 5): tiny, huge, far, tangent, coincident
+mod hard_cases; // numerical hard cases: tiny, huge, far, tangent, coincident
 mod headlight; // the headlight carried by the viewer (no shadows, through the gas in front) and strict
 mod lexical; // VRML97 lexical corners, gzip, invalid UTF-8, items longer than the window
 mod light_grid; // the lights' grids: candidates hold every sphere a band meets, and prune

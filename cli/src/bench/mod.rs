@@ -15,7 +15,7 @@
 //!  `-- report    bench (no subcommand)       |
 //!       |-- plot   bench.png ----------------|
 //!       `-------------------------------- measure (Case, BenchScene, Row, measure,
-//!                                            relative errors, table, goals, median)
+//!                                            relative errors, table, summary, median)
 //! (parse, trace and convert use measure::median; trace and convert also the command
 //! line's memory::peak_rss_bytes, a leaf.)
 //! ```
@@ -89,7 +89,7 @@ pub enum BenchCommand {
     },
     /// Lit gas: time against error of the gas integrators (exact, march, mc) on a lit gas
     /// scene; with --scaling, how exact's cost per ray grows with N on gas clouds, against
-    /// march at equal error (issue 12); with --write DIR, those clouds as .wrl files.
+    /// march at equal error; with --write DIR, those clouds as .wrl files.
     Gas(gas::GasArgs),
     /// The whole path at growing N: a generated particle table converted to VRML, then
     /// `gtsphere render` of it (512 x 512, 1 spp, shadows) in a child process: read, build

@@ -23,7 +23,7 @@ use std::process::ExitCode;
 
 use clap::Args;
 
-use super::measure::{goals, run_scene, table, BenchScene, Case, Row};
+use super::measure::{run_scene, summary, table, BenchScene, Case, Row};
 use gtsphere::error::Error;
 use gtsphere::scene::{Profile, DEFAULT_WIDTH};
 use gtsphere::scenes::{gas_cloud, gas_cloud_with, random_spheres};
@@ -225,11 +225,11 @@ pub fn run(args: &ReportArgs) -> Result<ExitCode, Error> {
     super::plot::plot(&rows, &scenes, &plot)?;
     let md = format!(
         "# gtsphere bench{}\n\n{} threads; seconds are the median wall time of the render loop.\n\n\
-         {notes}\n{}\n## Throughput\n\n{throughput}\n## Goals\n\n{}\n## Plot (bench.png)\n\n{}",
+         {notes}\n{}\n## Throughput\n\n{throughput}\n## Summary\n\n{}\n## Plot (bench.png)\n\n{}",
         if args.quick { " --quick" } else { "" },
         args.threads,
         table(&rows),
-        goals(&rows),
+        summary(&rows),
         super::plot::LEGEND
     );
     print!("{md}");

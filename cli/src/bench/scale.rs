@@ -1,4 +1,4 @@
-//! `gtsphere bench scale`: the whole path of particle data at growing N (issue 16, item 5).
+//! `gtsphere bench scale`: the whole path of particle data at growing N.
 //! For each N: a generated particle table (`scenes::write_table`, as `bench convert`), its
 //! conversion to VRML (`PROTO Particle` instances, as `gtsphere convert` writes them), then
 //! `gtsphere render` of that file in a child process (so that its peak resident memory is

@@ -1,5 +1,5 @@
 //! `gtsphere bench trace`: BVH build time, camera and shadow rays per second, and peak memory
-//! on N random opaque spheres (issue 3's benchmark scene).
+//! on N random opaque spheres (the benchmark scene of `gtsphere::scenes`).
 //!
 //! Scene: [`gtsphere::scenes::random_spheres`] (the same as `benches/embree/`, so the two can be
 //! run side by side), one ray through each pixel's centre.

@@ -150,9 +150,9 @@ fn bench_quick_writes_csv_table_and_plot() {
     }
 }
 
-/// `gtsphere bench gas --scaling --quick`: the scaling table and its goals, as a user runs it.
+/// `gtsphere bench gas --scaling --quick`: the scaling table and its ratios, as a user runs it.
 #[test]
-fn bench_gas_scaling_quick_prints_the_table_and_the_goals() {
+fn bench_gas_scaling_quick_prints_the_table_and_the_ratios() {
     let stdout = stdout_of(
         Command::new(env!("CARGO_BIN_EXE_gtsphere"))
             .args(["bench", "gas", "--scaling", "--quick", "--size", "16"])
@@ -187,19 +187,20 @@ fn bench_gas_scaling_quick_prints_the_table_and_the_goals() {
         // march's time: measured or projected.
         assert!(r[15] != "-" || r[14] == "not reached", "{r:?}");
     }
-    for goal in [
+    for line in [
         "- thick: time per camera ray relative to N = 1000: N 1000: 1.00x, N 10000: ",
         "- thin: time per shadowing sphere relative to N = 1000: N 1000: 1.00x, N 10000: ",
-        "- thick: time per camera ray at N = 1e6 / N = 1e3 (goal <= 3x): not measured",
-        "(goal >= 10x): ",
-        "(goal <= 1e-4): ",
+        "faster than march at equal error (",
+        "- largest rel. RMS error at the default tol ",
         "- thick N = 1e4: pixels whose reported error covers the true error ",
         "- thin N = 1e4: pixels whose reported error covers the true error ",
     ] {
-        assert!(stdout.contains(goal), "no {goal:?} in\n{stdout}");
+        assert!(stdout.contains(line), "no {line:?} in\n{stdout}");
     }
-    let verdicts = stdout.matches(": PASS").count() + stdout.matches(": FAIL").count();
-    assert!(verdicts >= 4, "{stdout}");
+    // Measurements and ratios, not verdicts.
+    for word in ["goal", "PASS", "FAIL"] {
+        assert!(!stdout.contains(word), "{word:?} in\n{stdout}");
+    }
 }
 
 /// `gtsphere bench gas --write DIR`: the clouds as files that `gtsphere render` reads.

@@ -113,7 +113,7 @@ impl Prim {
 }
 
 /// A primitive as stored in leaf order: 40 bytes, so that a scene's 48-byte IR spheres turn
-/// into them in place and 1e8 of them fit beside everything else (issue 16). The extinction
+/// into them in place and 1e8 of them fit beside everything else. The extinction
 /// and the ellipsoid map, which most scenes do not need, live in side arrays of the BVH that
 /// are empty unless some primitive has them; the top bits of `tagged` say which.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -10,7 +10,7 @@
 //! nearest first for every ray octant, and their boxes are quantised to 8 bits per plane.
 //!
 //! obvhs has this conversion too (`bvh2_to_cwbvh`), with the same costs; ours was written for
-//! speed and memory, which mattered at 1e6 spheres and up (issue 16: the conversion was more
+//! speed and memory, which mattered at 1e6 spheres and up (the conversion was more
 //! than half of the BVH build):
 //! - the tables are kept for internal nodes only, in post order, 40 bytes each (obvhs keeps
 //!   7 decisions of 8 bytes for every node, leaves included: 112 bytes per primitive), and a
