@@ -2,7 +2,7 @@
 
 from collections.abc import Callable, Iterable, Sequence
 from os import PathLike
-from typing import Optional, Union
+from typing import Literal, Optional, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -12,6 +12,9 @@ __version__: str
 Vec3 = Union[Sequence[float], npt.ArrayLike]
 ArrayLike = npt.ArrayLike
 PathType = Union[str, PathLike[str]]
+Integrator = Literal["exact", "march", "mc"]
+Sampler = Literal["stratified", "center"]
+Aov = Literal["depth", "normal", "id", "error"]
 
 class Error(Exception): ...
 class ParseError(Error): ...
@@ -29,7 +32,7 @@ class Scene:
         headlight: bool = True,
         background: Optional[Vec3] = None,
         profile: Optional[str] = None,
-        width: Optional[float] = None,
+        profile_width: Optional[float] = None,
     ) -> Scene: ...
     def add_point_light(
         self,
@@ -70,7 +73,7 @@ def load(
     spheres_only: bool = False,
     strict: bool = False,
     profile: Optional[str] = None,
-    width: Optional[float] = None,
+    profile_width: Optional[float] = None,
 ) -> Scene: ...
 
 class Camera:
@@ -79,7 +82,7 @@ class Camera:
         eye: Vec3,
         target: Optional[Vec3] = None,
         up: Optional[Vec3] = None,
-        fov: float = ...,
+        fov: float = 0.7853981633974483,
         ortho_height: Optional[float] = None,
     ) -> Camera: ...
     @staticmethod
@@ -87,7 +90,7 @@ class Camera:
         scene: Scene,
         direction: Optional[Vec3] = None,
         up: Optional[Vec3] = None,
-        fov: float = ...,
+        fov: float = 0.7853981633974483,
         ortho: bool = False,
         margin: float = 0.02,
     ) -> Camera: ...
@@ -129,20 +132,21 @@ class Film:
     def width(self) -> int: ...
     @property
     def height(self) -> int: ...
+    def _repr_png_(self) -> bytes: ...
 
 def render(
     scene: Scene,
     camera: Optional[Camera],
     width: int,
     height: int,
+    *,
     spp: int = 16,
-    integrator: str = "exact",
+    integrator: Integrator = "exact",
     tol: float = 1e-4,
     seed: int = 0,
     threads: Optional[int] = None,
-    aovs: Iterable[str] = (),
-    *,
-    sampler: str = "stratified",
+    aovs: Iterable[Aov] = (),
+    sampler: Sampler = "stratified",
     step: Optional[float] = None,
     progress: Optional[Callable[[int, int], object]] = None,
     headlight_shadows: bool = False,

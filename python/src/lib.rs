@@ -13,20 +13,22 @@ use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyFileNotFoundError, PyOSError, PyValueError};
 use pyo3::prelude::*;
 
+// Module `gtsphere` (where they are re-exported), so that pickle finds them: an error
+// raised in a worker process reaches its parent as itself.
 create_exception!(
-    _native,
+    gtsphere,
     Error,
     PyException,
     "Base class of gtsphere's own errors."
 );
 create_exception!(
-    _native,
+    gtsphere,
     ParseError,
     Error,
     "A scene file that cannot be read: the message starts with file:line:col."
 );
 create_exception!(
-    _native,
+    gtsphere,
     SceneWarning,
     pyo3::exceptions::PyUserWarning,
     "A warning about a scene file (file:line:col: what was found and what was done)."
@@ -38,10 +40,22 @@ pub fn to_py(e: gtsphere::Error) -> PyErr {
     use gtsphere::Error as E;
     match e {
         E::Diag(_) | E::Diags(_) => ParseError::new_err(e.to_string()),
-        E::Io { ref source, .. } if source.kind() == std::io::ErrorKind::NotFound => {
-            PyFileNotFoundError::new_err(e.to_string())
+        // OSError(errno, strerror, filename): Python then sets `errno` and `filename`.
+        E::Io {
+            ref path,
+            ref source,
+        } => {
+            let errno = source.raw_os_error().unwrap_or(match source.kind() {
+                std::io::ErrorKind::NotFound => 2,
+                _ => 5,
+            });
+            let args = (errno, source.to_string(), path.clone());
+            if source.kind() == std::io::ErrorKind::NotFound {
+                PyFileNotFoundError::new_err(args)
+            } else {
+                PyOSError::new_err(args)
+            }
         }
-        E::Io { .. } => PyOSError::new_err(e.to_string()),
         E::Array { .. } | E::Invalid(_) => PyValueError::new_err(e.to_string()),
         E::Cancelled => pyo3::exceptions::PyKeyboardInterrupt::new_err("render cancelled"),
         E::Image { .. } | E::Other(_) => Error::new_err(e.to_string()),

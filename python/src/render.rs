@@ -75,6 +75,16 @@ impl Film {
             self.width, self.height, self.max_error, self.seconds
         )
     }
+
+    /// The picture as PNG bytes (8-bit sRGB, as `save(film, "x.png")` writes it): a
+    /// notebook shows a Film as its picture.
+    fn _repr_png_<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
+        let film = self.to_film(py)?;
+        let bytes = py
+            .detach(|| gtsphere::output::png_bytes(&film.image()))
+            .map_err(to_py)?;
+        Ok(pyo3::types::PyBytes::new(py, &bytes))
+    }
 }
 
 /// A numpy array of `data` with `shape`, taking the vector (no copy).
@@ -252,8 +262,8 @@ fn aovs_of(names: Vec<String>) -> PyResult<Aovs> {
 /// a pixel's time and leaves the scene usable. The pixels are the same for any thread count.
 #[pyfunction]
 #[pyo3(
-    signature = (scene, camera, width, height, spp=16, integrator="exact", tol=1e-4, seed=0, threads=None, aovs=Vec::new(), *, sampler="stratified", step=None, progress=None, headlight_shadows=false),
-    text_signature = "(scene, camera, width, height, spp=16, integrator='exact', tol=1e-4, seed=0, threads=None, aovs=(), *, sampler='stratified', step=None, progress=None, headlight_shadows=False)"
+    signature = (scene, camera, width, height, *, spp=16, integrator="exact", tol=1e-4, seed=0, threads=None, aovs=Vec::new(), sampler="stratified", step=None, progress=None, headlight_shadows=false),
+    text_signature = "(scene, camera, width, height, *, spp=16, integrator='exact', tol=1e-4, seed=0, threads=None, aovs=(), sampler='stratified', step=None, progress=None, headlight_shadows=False)"
 )]
 #[allow(clippy::too_many_arguments)]
 pub fn render(

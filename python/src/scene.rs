@@ -84,14 +84,14 @@ impl Scene {
     /// headlight: a white directional light along each camera's view, as VRML's default.
     /// background: RGB seen where rays meet nothing.
     /// profile: the gas spheres' density profile, "constant" (default), "linear",
-    /// "quadratic" or "gaussian" (with width, in (0, 1] of the radius, default 1/3);
+    /// "quadratic" or "gaussian" (with profile_width, in (0, 1] of the radius, default 1/3);
     /// transparency stays the transmittance along a diameter (MODEL.md section 6).
     ///
     /// Arrays are read in place when they are C-contiguous float64 (otherwise numpy converts
     /// them once). A bad value raises ValueError naming the array, index and value, e.g.
     /// "radii[17] = -1.0: radius must be positive and finite".
     #[staticmethod]
-    #[pyo3(signature = (centers, radii, colors=None, transparency=None, emissive=None, *, headlight=true, background=None, profile=None, width=None))]
+    #[pyo3(signature = (centers, radii, colors=None, transparency=None, emissive=None, *, headlight=true, background=None, profile=None, profile_width=None))]
     #[allow(clippy::too_many_arguments)]
     fn from_arrays(
         py: Python<'_>,
@@ -103,9 +103,9 @@ impl Scene {
         headlight: bool,
         background: Option<&Bound<'_, PyAny>>,
         profile: Option<&str>,
-        width: Option<f64>,
+        profile_width: Option<f64>,
     ) -> PyResult<Scene> {
-        let prepare_opts = profile_options(profile, width)?;
+        let prepare_opts = profile_options(profile, profile_width)?;
         let background = match background {
             Some(b) => colour("background", b)?,
             None => DVec3::ZERO,
@@ -305,7 +305,7 @@ impl Scene {
 ///
 /// point_radius: radius of the spheres that PointSet points become (default: half the
 /// median nearest-neighbour distance, said in a note). spheres_only: leave out everything
-/// that is not a sphere. strict: every warning becomes an error. profile (and width): every
+/// that is not a sphere. strict: every warning becomes an error. profile (and profile_width): every
 /// gas sphere takes this density profile, as `render --profile` (default: each sphere's own,
 /// from GasParticle PROTO instances).
 ///
@@ -313,7 +313,7 @@ impl Scene {
 /// cannot be read raises gtsphere.ParseError whose message starts with file:line:col, or
 /// OSError (FileNotFoundError) for a missing file.
 #[pyfunction]
-#[pyo3(signature = (path, *, point_radius=None, spheres_only=false, strict=false, profile=None, width=None))]
+#[pyo3(signature = (path, *, point_radius=None, spheres_only=false, strict=false, profile=None, profile_width=None))]
 pub fn load(
     py: Python<'_>,
     path: PathBuf,
@@ -321,9 +321,9 @@ pub fn load(
     spheres_only: bool,
     strict: bool,
     profile: Option<&str>,
-    width: Option<f64>,
+    profile_width: Option<f64>,
 ) -> PyResult<Scene> {
-    let prepare_opts = profile_options(profile, width)?;
+    let prepare_opts = profile_options(profile, profile_width)?;
     if let Some(r) = point_radius {
         if !(r > 0.0 && r.is_finite()) {
             return Err(PyValueError::new_err(format!(
@@ -357,14 +357,14 @@ pub fn load(
     Ok(Scene::new(prepared, warnings))
 }
 
-/// The `profile` and `width` keywords (`render --profile NAME[:WIDTH]`): every gas sphere
+/// The `profile` and `profile_width` keywords (`render --profile NAME[:WIDTH]`): every gas sphere
 /// takes that density profile (MODEL.md section 6). A bad name or width raises ValueError.
 fn profile_options(profile: Option<&str>, width: Option<f64>) -> PyResult<PrepareOptions> {
     let profile = match (profile, width) {
         (None, None) => None,
         (None, Some(_)) => {
             return Err(PyValueError::new_err(
-                "width is the gaussian profile's: give profile=\"gaussian\" with it",
+                "profile_width is the gaussian profile's: give profile=\"gaussian\" with it",
             ))
         }
         (Some(name), width) => Some(

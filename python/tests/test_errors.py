@@ -1,6 +1,8 @@
 """Bad input raises ValueError (or a gtsphere.Error) naming the array, index and value."""
 
+import errno
 import math
+import pickle
 
 import numpy as np
 import pytest
@@ -99,9 +101,26 @@ def test_parse_errors_carry_file_line_col(tmp_path):
     bad.write_text("#VRML V2.0 utf8\nShape { geometry Sphere { radius 1 }\n")
     with pytest.raises(gt.ParseError, match=r"bad\.wrl:\d+:\d+: "):
         gt.load(bad)
-    with pytest.raises(FileNotFoundError, match="missing.wrl"):
+    with pytest.raises(FileNotFoundError, match="missing.wrl") as missing:
         gt.load(tmp_path / "missing.wrl")
+    assert missing.value.errno == errno.ENOENT
+    assert missing.value.filename == str(tmp_path / "missing.wrl")
     assert issubclass(gt.ParseError, gt.Error)
+
+
+def test_errors_pickle_as_themselves(tmp_path):
+    # What a ProcessPoolExecutor does with an exception raised in a worker.
+    bad = tmp_path / "bad.wrl"
+    bad.write_text("#VRML V2.0 utf8\nShape { geometry Sphere { radius 1 }\n")
+    with pytest.raises(gt.ParseError) as caught:
+        gt.load(bad)
+    back = pickle.loads(pickle.dumps(caught.value))
+    assert type(back) is gt.ParseError and str(back) == str(caught.value)
+    assert gt.ParseError.__module__ == gt.Error.__module__ == "gtsphere"
+    with pytest.raises(FileNotFoundError) as missing:
+        gt.load(tmp_path / "missing.wrl")
+    back = pickle.loads(pickle.dumps(missing.value))
+    assert back.filename == missing.value.filename and back.errno == errno.ENOENT
 
 
 def test_warnings_are_python_warnings(tmp_path):

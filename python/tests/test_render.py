@@ -159,16 +159,16 @@ def test_profile_keyword_renders_like_the_cli_and_refuses_bad_names(tmp_path, gt
     out = tmp_path / "g.npy"
     gtsphere_cli("render", wrl, "-o", out, "--width", 12, "--height", 10, "--spp", 1,
                  "--profile", "gaussian:0.25", "--quiet")
-    scene = gt.load(wrl, profile="gaussian", width=0.25)
+    scene = gt.load(wrl, profile="gaussian", profile_width=0.25)
     film = gt.render(scene, None, 12, 10, spp=1)
     assert np.array_equal(film.rgb, np.load(out))
     assert not np.array_equal(film.rgb, gt.render(gt.load(wrl), None, 12, 10, spp=1).rgb)
     with pytest.raises(ValueError, match="unknown density profile `fuzzy`"):
         gt.load(wrl, profile="fuzzy")
     with pytest.raises(ValueError, match="gaussian width 2"):
-        gt.Scene.from_arrays([[0, 0, 0]], 1.0, transparency=[0.5], profile="gaussian", width=2.0)
+        gt.Scene.from_arrays([[0, 0, 0]], 1.0, transparency=[0.5], profile="gaussian", profile_width=2.0)
     with pytest.raises(ValueError, match="width is the gaussian profile's"):
-        gt.Scene.from_arrays([[0, 0, 0]], 1.0, transparency=[0.5], width=0.5)
+        gt.Scene.from_arrays([[0, 0, 0]], 1.0, transparency=[0.5], profile_width=0.5)
 
 
 def test_one_prepared_scene_two_cameras_equals_two_fresh_renders():
@@ -220,6 +220,19 @@ def test_load_renders_like_the_cli(tmp_path, gtsphere_cli):
     assert np.array_equal(film.rgb, np.load(out))
     # camera=None is the same default camera.
     assert np.array_equal(gt.render(scene, None, 30, 20, spp=2).rgb, film.rgb)
+
+
+def test_options_after_the_size_are_keywords_and_a_film_shows_as_png():
+    scene = gt.Scene.from_arrays([[0, 0, 0]], 1.0)
+    cam = gt.Camera.frame(scene)
+    with pytest.raises(TypeError):
+        gt.render(scene, cam, 8, 6, 4)
+    film = gt.render(scene, cam, 8, 6, spp=1)
+    png = film._repr_png_()
+    assert png.startswith(b"\x89PNG\r\n\x1a\n")
+    # The IHDR chunk: width and height as big-endian u32.
+    assert int.from_bytes(png[16:20], "big") == 8 and int.from_bytes(png[20:24], "big") == 6
+    assert repr(film).startswith("<gtsphere.Film 8x6,")
 
 
 def test_progress_callback_and_its_exception_stops_the_render():

@@ -87,6 +87,16 @@ pub fn write_image(path: &Path, img: &Image) -> Result<(), Error> {
     write_placed(path, img, None)
 }
 
+/// The image as a PNG file's bytes (8-bit sRGB, as [`write_image`] writes `.png`), for a
+/// preview held in memory (the Python `Film`'s picture in a notebook).
+pub fn png_bytes(img: &Image) -> Result<Vec<u8>, Error> {
+    img.check()
+        .map_err(|message| Fault::Bad(message).at(Path::new("<png>")))?;
+    let mut out = Vec::new();
+    png::write(&mut out, img).map_err(|f| f.at(Path::new("<png>")))?;
+    Ok(out)
+}
+
 /// Writes a rendered film by extension: `.npy` gets its f64 RGB, the other formats its f32
 /// [`crate::render::Film::image`] (EXR with alpha and the extra channels).
 pub fn write_film(path: &Path, film: &crate::render::Film) -> Result<(), Error> {
