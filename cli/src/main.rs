@@ -49,9 +49,9 @@ enum Command {
         #[command(flatten)]
         geometry: load_args::GeometryArgs,
     },
-    /// Render a scene to an image (.png, .exr or .pfm).
+    /// Render a scene to an image (.png, .exr, .pfm or .npy).
     Render(render::RenderArgs),
-    /// Compare an image with a reference (PNG, EXR or PFM): RMSE, relative RMSE, PSNR, the
+    /// Compare an image with a reference (PNG, EXR, PFM or NPY): RMSE, relative RMSE, PSNR, the
     /// largest error and where it is; optionally a false-colour heat map of the error.
     Compare {
         /// The image to judge (for example a real-time renderer's output).

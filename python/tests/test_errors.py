@@ -131,3 +131,9 @@ def test_warnings_are_python_warnings(tmp_path):
     assert len(s.warnings) == 1
     with pytest.raises(gt.ParseError):
         gt.load(f, strict=True)
+
+
+def test_one_version_for_the_package_and_the_module():
+    from importlib.metadata import version
+
+    assert gt.__version__ == version("gtsphere")

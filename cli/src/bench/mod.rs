@@ -58,8 +58,8 @@ pub enum BenchCommand {
         read_threads: usize,
     },
     /// BVH build time, camera and shadow rays per second per core, and peak memory on N random
-    /// opaque spheres (the scene is described in `gtsphere bench trace --help`'s source,
-    /// src/scenes.rs, and matches benches/embree).
+    /// opaque spheres (centres uniform in a cube, radius 0.6 N^(-1/3), a PointLight and a
+    /// DirectionalLight; benches/embree renders the same scene with Embree).
     Trace {
         /// Number of spheres.
         #[arg(long, default_value_t = 1_000_000)]
