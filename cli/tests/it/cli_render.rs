@@ -40,6 +40,30 @@ fn renders_a_sample_with_defaults_to_scene_name_png() {
     assert_eq!(names.len(), 1, "{names:?}");
 }
 
+/// Off a terminal (a batch job's log), progress is a line at the start and one every few
+/// seconds; `--quiet` prints none.
+#[test]
+fn progress_is_lines_when_stderr_is_not_a_terminal() {
+    let dir = scratch("progress_lines");
+    let args = [
+        "render",
+        &sample("cluster.wrl"),
+        "--width",
+        "64",
+        "--height",
+        "48",
+    ];
+    let out = gtsphere(&args, &dir);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("rendering 12 tiles\n"), "{err}");
+    let quiet = gtsphere(&[&args[..], &["-q"]].concat(), &dir);
+    assert!(
+        quiet.status.success() && quiet.stderr.is_empty(),
+        "{quiet:?}"
+    );
+}
+
 #[test]
 fn pfm_of_an_unlit_sphere_is_the_exact_disc() {
     // Unlit white unit sphere, orthographic height 4 on a 32x32 image: pixel centres inside
