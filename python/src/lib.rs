@@ -45,12 +45,14 @@ pub fn to_py(e: gtsphere::Error) -> PyErr {
             ref path,
             ref source,
         } => {
-            let errno = source.raw_os_error().unwrap_or(match source.kind() {
-                std::io::ErrorKind::NotFound => 2,
-                _ => 5,
-            });
+            // The OS's error number; ENOENT for a file found missing without one; None
+            // (Python's own choice for such errors) otherwise.
+            let not_found = source.kind() == std::io::ErrorKind::NotFound;
+            let errno = source
+                .raw_os_error()
+                .or(not_found.then_some(2 /* ENOENT */));
             let args = (errno, source.to_string(), path.clone());
-            if source.kind() == std::io::ErrorKind::NotFound {
+            if not_found {
                 PyFileNotFoundError::new_err(args)
             } else {
                 PyOSError::new_err(args)
