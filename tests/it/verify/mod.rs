@@ -5,10 +5,11 @@
 //! - `scenes` describes a scene, `generate` draws one from a seed, `vrml` writes it for the
 //!   library, `world` flattens it for the reference, `quad` and `reference` compute each
 //!   pixel's centre ray, `checks` compares, `selftest` checks the reference itself.
-//! - `verify_matrix` (CI) draws [`CI_SCENES`] scenes and the [`PINNED`] ones; `verify_soak` (ignored, run it with
-//!   `cargo test --release --test it -- --ignored verify`) draws `VERIFY_SCENES` (default
-//!   10 000) from seed `VERIFY_FIRST` (default 1 000 000). `VERIFY_SEED=S` re-runs the one
-//!   scene of seed S in either.
+//! - `verify_matrix` (CI) draws [`CI_SCENES`] scenes and runs the [`PINNED`] ones;
+//!   `verify_soak` (ignored, run it with `cargo test --release --test it -- --ignored
+//!   verify`) draws `VERIFY_SCENES` (default 10 000) from seed `VERIFY_FIRST` (default
+//!   1 000 000). `VERIFY_SEED=S` re-runs the one scene of seed S in either, and
+//!   `verify_shrink` (`shrink.rs`) shrinks it.
 //! - A failing scene is written to `target/verify-failures/seed-S.wrl` with the command
 //!   that reproduces it.
 
