@@ -172,20 +172,22 @@ pub fn radiance(
     let mut error = 0.0;
     let mut tau = 0.0f64;
     let allowed = |v: DVec3| tol * v.abs().max_element().max(1e-3);
+    // Where the camera ray stopped: the bound on all that lies behind.
+    let mut stopped = None;
     for (k, seg) in segments.iter().enumerate() {
+        if stopped.is_some() {
+            break;
+        }
         let t_a = (-tau).exp();
         let rest = t_a * view.rest_bound;
         if rest <= CAMERA_SHARE * allowed(value) {
-            // What lies behind cannot change the value within its share of the tolerance.
-            return Estimate {
-                value,
-                error: error + BOUND_MARGIN * rest,
-                covered,
-            };
+            stopped = Some(rest);
+            break;
         }
         // Where the camera ray stops inside this segment (see `camera_stop`): the scattering
-        // is integrated up to `t_end` only.
+        // is integrated up to `t_end` only, and the ray ends with this segment.
         let stop = camera_stop(seg, profiled, tau, view.rest_bound, allowed(value));
+        stopped = stop.map(|(_, bound)| bound);
         let t_end = stop.map_or(seg.tb, |(t, _)| t);
         kinks.clear();
         if seg.is_profiled() {
@@ -227,13 +229,6 @@ pub fn radiance(
         tau += seg.depth;
         let u_seg = unshadowed_by_segment[k];
         if u_seg == 0.0 {
-            if let Some((_, bound)) = stop {
-                return Estimate {
-                    value,
-                    error: error + BOUND_MARGIN * bound,
-                    covered,
-                };
-            }
             continue;
         }
         // This segment's shares. Its dark pieces may add up to `share` of the light budget:
@@ -245,13 +240,6 @@ pub fn radiance(
         let tau_cut = (u_seg / (share * LIGHT_SHARE * allowed(value))).ln();
         if tau_cut <= 0.0 {
             error += BOUND_MARGIN * u_seg;
-            if let Some((_, bound)) = stop {
-                return Estimate {
-                    value,
-                    error: error + BOUND_MARGIN * bound,
-                    covered,
-                };
-            }
             continue;
         }
         pieces.clear();
@@ -337,18 +325,7 @@ pub fn radiance(
                 }
             }
         }
-        if let Some((_, bound)) = stop {
-            // What lies behind `t_end` is bounded; the scattering before it still counts.
-            error += BOUND_MARGIN * bound;
-        }
         if pieces.is_empty() {
-            if stop.is_some() {
-                return Estimate {
-                    value,
-                    error,
-                    covered,
-                };
-            }
             continue;
         }
         let limit = tau_cut + NODE_MARGIN;
@@ -372,13 +349,14 @@ pub fn radiance(
         if deep {
             error += BOUND_MARGIN * u_seg * (-limit).exp();
         }
-        if stop.is_some() {
-            return Estimate {
-                value,
-                error,
-                covered,
-            };
-        }
+    }
+    if let Some(bound) = stopped {
+        // What lies behind cannot change the value within its share of the tolerance.
+        return Estimate {
+            value,
+            error: error + BOUND_MARGIN * bound,
+            covered,
+        };
     }
     let seen_through = (-tau).exp();
     let surface = behind(view, o, d, hit, seen_through, counters);
