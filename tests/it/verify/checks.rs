@@ -196,8 +196,8 @@ pub fn check_exact(
             out.aov_pairs.push((err_aov[k] + rounding, true_err));
             if !covers(err_aov[k] + rounding, true_err) {
                 uncovered.push(format!(
-                    "exact pixel ({}, {}): error AOV {:.3e} below the true error {:.3e} \
-                     (value {:.6e})",
+                    "exact pixel ({}, {}): error AOV {:.3e} does not cover the true error \
+                     {:.3e} with {MARGIN_SEEN} to spare (value {:.6e})",
                     k % desc.width as usize,
                     k / desc.width as usize,
                     err_aov[k],

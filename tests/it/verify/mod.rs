@@ -118,6 +118,39 @@ fn scene_tol(seed: u64) -> f64 {
     crate::support::Rng::new(seed ^ 0x5eed_7011).log10(-8.0, -2.0)
 }
 
+/// The library's film of `text` (the scene `desc`) with `integ` at `out.tol`, or `None`
+/// with the refusal recorded in `out`.
+fn library_film(
+    out: &mut Outcome,
+    text: &str,
+    desc: &SceneDesc,
+    integ: Integrator,
+    viewer: bool,
+) -> Option<gtsphere::render::Film> {
+    match checks::library(text, desc, &checks::options(desc, integ, out.tol, viewer)) {
+        Ok(f) => Some(f),
+        Err(e) => {
+            out.failures.push(format!("library refused the scene: {e}"));
+            None
+        }
+    }
+}
+
+/// `exact`'s film of `text` (the scene `desc`, flattened as `world`) checked against the
+/// reference `refs`, into `out`.
+fn check_exact_of(
+    out: &mut Outcome,
+    desc: &SceneDesc,
+    world: &World,
+    text: &str,
+    refs: &[reference::RayRef],
+) {
+    let viewer = world.head_viewer_carried;
+    if let Some(f) = library_film(out, text, desc, Integrator::Exact, viewer) {
+        checks::check_exact(out, desc, &f, refs, world.light_on_opaque_sphere());
+    }
+}
+
 /// Draws, renders and checks scene `seed`.
 fn run_scene(seed: u64, z: f64) -> Outcome {
     let desc = generate::scene(seed);
@@ -139,21 +172,10 @@ fn run_scene(seed: u64, z: f64) -> Outcome {
     let mut commands = Vec::new();
     let file = failures_dir().join(format!("seed-{seed}.wrl"));
     let name = file.display().to_string();
-    let render = |integ: Integrator, out: &mut Outcome| match checks::library(
-        &text,
-        &desc,
-        &checks::options(&desc, integ, tol, viewer),
-    ) {
-        Ok(f) => Some(f),
-        Err(e) => {
-            out.failures.push(format!("library refused the scene: {e}"));
-            None
-        }
-    };
+    let render =
+        |integ: Integrator, out: &mut Outcome| library_film(out, &text, &desc, integ, viewer);
     let before = out.failures.len();
-    if let Some(f) = render(Integrator::Exact, &mut out) {
-        checks::check_exact(&mut out, &desc, &f, &refs, world.light_on_opaque_sphere());
-    }
+    check_exact_of(&mut out, &desc, &world, &text, &refs);
     if out.failures.len() > before {
         commands.push(command(
             &name,

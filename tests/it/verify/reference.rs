@@ -156,11 +156,9 @@ impl World {
                 // the tangent plane there decides, not the entry root, whose rounding near
                 // the plane (~ulp(r^2) / h, the half-chord h -> 0) outgrows the 1e-9 room and
                 // shadowed a wedge beside the plane (seed 238).
-                if dist.is_finite() {
+                if dist.is_finite() && on_sphere(x + dist * l, c, r) {
                     let n = x + dist * l - c;
-                    if (n.length() - r).abs() <= 1e-12 * (r + c.length()) {
-                        return (x - c).length_squared() > r * r && (x - c).dot(n) < n.dot(n);
-                    }
+                    return (x - c).length_squared() > r * r && (x - c).dot(n) < n.dot(n);
                 }
                 sphere_roots(c, r, x, l).is_some_and(|(t0, _)| t0 > 0.0 && t0 < end)
             }
@@ -839,9 +837,7 @@ impl World {
     pub fn light_on_opaque_sphere(&self) -> bool {
         self.lights.iter().any(|l| match l.kind {
             LightKind::Point(p) => self.prims.iter().any(|q| match q.solid {
-                Solid::Sphere { c, r } if q.gas().is_none() => {
-                    ((p.location - c).length() - r).abs() <= 1e-12 * (r + c.length())
-                }
+                Solid::Sphere { c, r } if q.gas().is_none() => on_sphere(p.location, c, r),
                 _ => false,
             }),
             _ => false,
@@ -877,6 +873,11 @@ impl World {
             .sum();
         albedo * lights
     }
+}
+
+/// Whether `p` lies on the sphere `(c, r)` to within the rounding of its coordinates.
+fn on_sphere(p: DVec3, c: DVec3, r: f64) -> bool {
+    ((p - c).length() - r).abs() <= 1e-12 * (r + c.length())
 }
 
 /// A point of the surface `shape` (placed by `to_world`) farthest along `n`: VRML's shapes

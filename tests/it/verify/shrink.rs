@@ -4,8 +4,9 @@
 //! `target/verify-failures/seed-S-shrunk.wrl` with the failures it still shows.
 
 use super::scenes::{Node, SceneDesc};
-use super::{checks, failures_dir, reference_parallel, viewer_carried, world::World};
-use gtsphere::render::Integrator;
+use super::{
+    check_exact_of, checks, failures_dir, reference_parallel, viewer_carried, world::World,
+};
 
 /// Nodes in pre-order (groups and what they hold).
 fn count(nodes: &[Node]) -> usize {
@@ -18,46 +19,39 @@ fn count(nodes: &[Node]) -> usize {
         .sum()
 }
 
-/// `nodes` without the node of pre-order index `k`.
-fn without(nodes: &[Node], k: &mut usize) -> Vec<Node> {
-    let mut out = Vec::new();
-    for n in nodes {
-        if *k == 0 {
-            *k = usize::MAX;
-            continue;
-        }
-        *k = k.wrapping_sub(1);
-        match n {
-            Node::Group { xf, children } if *k != usize::MAX => {
-                let children = without(children, k);
-                out.push(Node::Group { xf: *xf, children });
+/// `nodes` without the node of pre-order index `k` (and what it holds).
+fn without(nodes: &[Node], k: usize) -> Vec<Node> {
+    /// `seen`: the pre-order index of the next node.
+    fn walk(nodes: &[Node], k: usize, seen: &mut usize) -> Vec<Node> {
+        let mut out = Vec::new();
+        for n in nodes {
+            let at = *seen;
+            *seen += 1;
+            match n {
+                _ if at == k => {}
+                Node::Group { xf, children } => out.push(Node::Group {
+                    xf: *xf,
+                    children: walk(children, k, seen),
+                }),
+                _ => out.push(n.clone()),
             }
-            _ => out.push(n.clone()),
         }
+        out
     }
-    out
+    walk(nodes, k, &mut 0)
 }
 
-/// `exact`'s failures on `desc` at `tol`.
+/// `exact`'s failures on `desc` at `tol` (none when the reference outruns its budget).
 fn exact_failures(desc: &SceneDesc, tol: f64) -> Vec<String> {
-    let viewer = viewer_carried(desc.seed);
-    let world = World::new(desc, viewer);
+    let world = World::new(desc, viewer_carried(desc.seed));
     let Some(refs) = reference_parallel(&world) else {
         return Vec::new();
     };
-    let text = super::vrml::write(desc);
     let mut out = checks::Outcome {
         tol,
         ..Default::default()
     };
-    match checks::library(
-        &text,
-        desc,
-        &checks::options(desc, Integrator::Exact, tol, viewer),
-    ) {
-        Ok(f) => checks::check_exact(&mut out, desc, &f, &refs, world.light_on_opaque_sphere()),
-        Err(e) => out.failures.push(format!("library refused the scene: {e}")),
-    }
+    check_exact_of(&mut out, desc, &world, &super::vrml::write(desc), &refs);
     out.failures
 }
 
@@ -81,7 +75,7 @@ fn verify_shrink() {
         while k > 0 {
             k -= 1;
             let mut trial = desc.clone();
-            trial.nodes = without(&desc.nodes, &mut k.clone());
+            trial.nodes = without(&desc.nodes, k);
             let f = exact_failures(&trial, tol);
             if !f.is_empty() {
                 desc = trial;
