@@ -44,8 +44,8 @@
 //! Beside the flow: [`particles`] streams a particle table row by row to VRML (no Scene);
 //! [`vrml::number`] is the one rule both VRML writers format numbers by; [`compare`] holds
 //! image metrics; [`scenes`] generates the benchmark scenes that `gtsphere bench`,
-//! `cargo bench` and the tests share. README.md ("How the code is laid out") says where the
-//! layout differs from the tree suggested in ../shared/STYLE.md, and why.
+//! `cargo bench` and the tests share. docs/internals.md follows the data flow module by
+//! module.
 
 pub mod accel;
 pub mod compare;

@@ -153,7 +153,7 @@ pub fn gas_cloud(n: usize, lit: bool) -> Scene {
     gas_cloud_with(n, lit, |_| Profile::Constant)
 }
 
-/// [`gas_cloud`] with density profiles (MODEL.md section 6): gas sphere `i` has `profile(i)`
+/// [`gas_cloud`] with density profiles (docs/model.md section 6): gas sphere `i` has `profile(i)`
 /// and otherwise the same values (the same `transparency`, so the same diameter
 /// transmittance).
 pub fn gas_cloud_with(n: usize, lit: bool, profile: impl Fn(usize) -> Profile) -> Scene {

@@ -9,7 +9,7 @@ Appearance, Material, Sphere, PointLight, DirectionalLight, Viewpoint, Backgroun
 NavigationInfo, DEF/USE. Anything else stops the conversion with a message, so that a
 picture is never silently different.
 
-The model (gtsphere's docs/MODEL.md) in POV-Ray terms, per sphere:
+The model (gtsphere's docs/model.md) in POV-Ray terms, per sphere:
 
 - gas (0 < transparency <= 1): extinction sigma = -ln(transparency) / (2 r), albedo a =
   diffuseColor, emission C = emissiveColor. A `hollow` sphere with a fully transparent

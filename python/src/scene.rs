@@ -85,7 +85,7 @@ impl Scene {
     /// background: RGB seen where rays meet nothing.
     /// profile: the gas spheres' density profile, "constant" (default), "linear",
     /// "quadratic" or "gaussian" (with profile_width, in (0, 1] of the radius, default 1/3);
-    /// transparency stays the transmittance along a diameter (MODEL.md section 6).
+    /// transparency stays the transmittance along a diameter (docs/model.md section 6).
     ///
     /// Arrays are read in place when they are C-contiguous float64 (otherwise numpy converts
     /// them once). A bad value raises ValueError naming the array, index and value, e.g.
@@ -358,7 +358,7 @@ pub fn load(
 }
 
 /// The `profile` and `profile_width` keywords (`render --profile NAME[:WIDTH]`): every gas sphere
-/// takes that density profile (MODEL.md section 6). A bad name or width raises ValueError.
+/// takes that density profile (docs/model.md section 6). A bad name or width raises ValueError.
 fn profile_options(profile: Option<&str>, width: Option<f64>) -> PyResult<PrepareOptions> {
     let profile = match (profile, width) {
         (None, None) => None,

@@ -33,7 +33,7 @@ pub enum Role {
     /// A chemical element symbol: van der Waals radius and CPK colour when the table gives
     /// none.
     Element,
-    /// A gas sphere's density profile by name (MODEL.md section 6): written as a
+    /// A gas sphere's density profile by name (docs/model.md section 6): written as a
     /// `GasParticle`.
     Profile,
     /// The gaussian profile's width, in units of the radius.

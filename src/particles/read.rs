@@ -706,7 +706,7 @@ impl ParticleReader {
         let transparency = get(Role::Transparency)
             .or_else(|| get(Role::Opacity).map(|o| 1.0 - o))
             .or_else(|| {
-                // A density is the profile's sigma0, its value at the centre (MODEL.md
+                // A density is the profile's sigma0, its value at the centre (docs/model.md
                 // section 6: the diameter's optical depth is 2 r I_f sigma0).
                 let i_f = self.profile.map_or(1.0, |p| p.integral());
                 get(Role::Density).map(|s| (-2.0 * radius.value * i_f * s).exp())

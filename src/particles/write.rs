@@ -4,7 +4,7 @@
 //!
 //! The PROTO is standard VRML97: browsers that know nothing of gtsphere show ordinary
 //! spheres. A gas particle's density sigma becomes the Material's transparency
-//! `exp(-2 r sigma)` (MODEL.md section 1), so reading the file back gives
+//! `exp(-2 r sigma)` (docs/model.md section 1), so reading the file back gives
 //! `sigma = -ln(transparency) / (2 r)`; the transparency reads back as the same f64, so that
 //! loses nothing above optical depths `2 r sigma` of about 1e-16 relative to 1 (a diameter
 //! of optical depth `tau` comes back with relative error about `1e-16 / tau`).

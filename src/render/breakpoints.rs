@@ -1,5 +1,5 @@
 //! Where a light's single-scattering integrand along a camera ray is not smooth because of one
-//! shadower (MODEL.md section 3). Along `x(t) = o + t d`, the light ray from `x(t)` crosses the
+//! shadower (docs/model.md section 3). Along `x(t) = o + t d`, the light ray from `x(t)` crosses the
 //! shadower `j` over a length `l_j(t)` that is smooth in `t` except where
 //! - the light ray becomes tangent to the sphere: the camera ray crosses its shadow boundary, a
 //!   cylinder along `L` (directional light) or a cone with apex `P` (point light); `l_j` behaves
@@ -12,7 +12,7 @@
 //! far narrower than the shadow itself. The rim is resolved by more breakpoints: the shadow
 //! boundaries of the concentric spheres on which the light ray's optical depth through `j` is
 //! 2, 8, 32, ... (a chord `2 sqrt(r^2 - h^2)` has depth `tau` at `h^2 = r^2 (1 - (tau/tau_j)^2)`;
-//! for a profiled shadower, MODEL.md section 6, the chord's depth `sigma0 r J(h / r)` is
+//! for a profiled shadower, docs/model.md section 6, the chord's depth `sigma0 r J(h / r)` is
 //! solved for `h` by bisection, as `J` falls monotonically with `h`).
 //!
 //! Extra breakpoints cost a little work and never accuracy, so roots are kept without deciding

@@ -1,4 +1,4 @@
-//! Profiled gas along a line (MODEL.md section 6): where a gas primitive's density
+//! Profiled gas along a line (docs/model.md section 6): where a gas primitive's density
 //! `sigma0 f(u)` lies along `o + t d`, its density at `t`, and the optical depth of any part
 //! of the line in closed form ([`Profile::line_integral`]). The integrators use it for camera
 //! rays and light rays alike; constant gas keeps its own, older arithmetic (section 3) so

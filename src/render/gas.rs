@@ -1,4 +1,4 @@
-//! What a gas primitive contributes (MODEL.md section 1): emission colour `C = emissiveColor`,
+//! What a gas primitive contributes (docs/model.md section 1): emission colour `C = emissiveColor`,
 //! albedo `a = diffuseColor`; a shape without a Material (unlit) glows white (or its Color
 //! node's colour) and ignores lights (`C = 1, a = 0`).
 

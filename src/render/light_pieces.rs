@@ -1,5 +1,5 @@
 //! One light's single-scattering integrand over one camera segment, cut into smooth pieces,
-//! each either integrated, bounded, or exactly zero (MODEL.md sections 3 and 5).
+//! each either integrated, bounded, or exactly zero (docs/model.md sections 3 and 5).
 //!
 //! Along the segment `[ta, tb]` of `x(t) = o + t d`, the light arriving at `x(t)` is
 //! `exp(-sum_j sigma_j l_j(t))` (or 0 behind an opaque shadower), where `l_j(t)` is the length

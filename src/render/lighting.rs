@@ -1,4 +1,4 @@
-//! The VRML97 lighting equation with shadows (MODEL.md section 2):
+//! The VRML97 lighting equation with shadows (docs/model.md section 2):
 //!
 //! ```text
 //! I = O_E + sum_i on_i att_i C_i ( Ia_i O_D O_a

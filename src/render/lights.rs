@@ -1,4 +1,4 @@
-//! Lights as the integrators use them (MODEL.md section 1): switched-off lights dropped,
+//! Lights as the integrators use them (docs/model.md section 1): switched-off lights dropped,
 //! colour premultiplied by intensity and by ambient intensity, the headlight added.
 //!
 //! The headlight is carried by the viewer: its light reaches a point along the camera ray
@@ -115,7 +115,7 @@ pub fn in_surface_scope(l: &LightSource, surface: u32) -> bool {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Headlight {
     Off,
-    /// Carried by the viewer: no shadows (MODEL.md section 1).
+    /// Carried by the viewer: no shadows (docs/model.md section 1).
     Carried,
     /// A strict DirectionalLight along the view, shadowed like any other.
     Shadowed,

@@ -77,7 +77,7 @@ pub struct RenderOptions {
     pub region: Option<(u32, u32, u32, u32)>,
     /// The headlight as a strict DirectionalLight along the view, casting shadows
     /// (`--headlight-shadows`); by default it is carried by the viewer and casts none
-    /// (MODEL.md section 1).
+    /// (docs/model.md section 1).
     pub headlight_shadows: bool,
 }
 
@@ -107,7 +107,7 @@ pub struct PrepareOptions {
     pub profile: Option<crate::scene::Profile>,
 }
 
-/// The camera-ray integrators (MODEL.md sections 3 and 5). Only `Exact` is exact; the others
+/// The camera-ray integrators (docs/model.md sections 3 and 5). Only `Exact` is exact; the others
 /// are named approximations for comparison and are never chosen silently.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Integrator {
@@ -370,7 +370,7 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
         viewpoints,
         ..
     } = scene;
-    // Gas (MODEL.md section 1): a material with 0 < transparency, or every sphere with
+    // Gas (docs/model.md section 1): a material with 0 < transparency, or every sphere with
     // --as-gas SIGMA. A sphere's material is looked up only when some material may be gas:
     // with a colour per sphere those are random reads in a table as long as the spheres (about
     // 1 s a pass at 1e7 spheres).
@@ -378,7 +378,7 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
     let is_gas = |s: &crate::scene::Sphere| {
         opts.as_gas.is_some() || (maybe_gas && materials.get(s.material as usize).is_gas())
     };
-    // Density profiles (MODEL.md section 6): --profile for every gas sphere, or each
+    // Density profiles (docs/model.md section 6): --profile for every gas sphere, or each
     // material's own. Looked up per primitive only when some gas may be profiled.
     let profiled = match opts.profile {
         Some(p) => p != crate::scene::Profile::Constant,

@@ -1,4 +1,4 @@
-//! Radial density profiles of gas spheres (MODEL.md section 6) and their optical depth along
+//! Radial density profiles of gas spheres (docs/model.md section 6) and their optical depth along
 //! a ray in closed form. Not yet used by the integrators.
 //!
 //! A profiled gas sphere of centre `c` and radius `r` has extinction `sigma0 f(u)`,
@@ -17,7 +17,7 @@
 //! keeps that relative precision at any optical depth. Measured against 160-digit values
 //! (mpmath) on 8000 such cases per profile: worst 3e-16 (constant), 2.7e-15 (linear),
 //! 6e-16 (quadratic), 9e-16 (gaussian, widths 0.05 to 1); tests/it/profile_chords.rs holds
-//! it to 2e-14 against independent quadrature. The antiderivatives of MODEL.md section 6
+//! it to 2e-14 against independent quadrature. The antiderivatives of docs/model.md section 6
 //! cancel in all of those cases, so each profile is rearranged:
 //!
 //! - Everything that vanishes at the chord end is derived from `g = 1 - u^2 = h^2 - v^2`
@@ -139,7 +139,7 @@ impl Profile {
 }
 
 /// The extinction scale `sigma0 = -ln(transparency) / (2 r I_f)`, so that the transmittance
-/// along a full diameter, `exp(-sigma0 2 r I_f)`, is `transparency` (MODEL.md section 6). For
+/// along a full diameter, `exp(-sigma0 2 r I_f)`, is `transparency` (docs/model.md section 6). For
 /// the constant profile it is `Material::sigma`'s `-ln(transparency) / (2 r)`, bit for bit.
 pub fn sigma0(transparency: f64, radius: f64, profile: Profile) -> f64 {
     -transparency.ln() / (2.0 * radius * profile.integral())
@@ -218,7 +218,7 @@ impl Chord {
     /// Linear profile, `f = 1 - u`: two closed forms, chosen by whether `f` exceeds
     /// [`LINEAR_SURFACE`] somewhere on the piece.
     ///
-    /// **Bulk** ([`Chord::linear_bulk`]): MODEL.md's antiderivative as `J = L (1 - X)`,
+    /// **Bulk** ([`Chord::linear_bulk`]): docs/model.md's antiderivative as `J = L (1 - X)`,
     /// `L = v1 - v0`, with `X` the mean of `u` over the piece, written without differences.
     /// Since `f` is concave, its mean is at least half its maximum, so `1 - X >= 1/8` here.
     ///
@@ -244,7 +244,7 @@ impl Chord {
     /// The linear profile where `f = 1 - u` is not small, on a piece on one side
     /// (`0 <= v0 < v1`) or across the closest approach (`v0 < 0 < v1`).
     ///
-    /// MODEL.md's `F(v) = v - v u / 2 - (b^2 / 2) asinh(v / b)` gives
+    /// docs/model.md's `F(v) = v - v u / 2 - (b^2 / 2) asinh(v / b)` gives
     /// `J = L - (v1 u1 - v0 u0) / 2 - (b^2 / 2) (asinh(v1 / b) - asinh(v0 / b))`. With
     /// `u1 - u0 = L (v0 + v1) / (u0 + u1)` (from `u1^2 - u0^2 = v1^2 - v0^2`),
     /// `v1 u1 - v0 u0 = L ((u0 + u1) / 2 + (v0 + v1)^2 / (2 (u0 + u1)))`, a sum of positive

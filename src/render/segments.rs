@@ -1,6 +1,6 @@
 //! Gas along a camera ray: every gas-sphere interval up to the first opaque hit, gathered in
 //! one BVH traversal, and the sweep that cuts them into segments of constant extinction and
-//! source (MODEL.md section 3), or, where profiled gas is present (section 6), segments
+//! source (docs/model.md section 3), or, where profiled gas is present (section 6), segments
 //! between sphere events whose profiled members are listed with their closed-form depths.
 
 use glam::DVec3;
@@ -20,7 +20,7 @@ pub struct Interval {
 
 /// A piece of the ray where the same gas spheres overlap. Over its constant-density members
 /// `sigma = sum sigma_j`, `emit = sum sigma_j C_j`, `scatter = sum sigma_j a_j`; its profiled
-/// members (MODEL.md section 6), whose densities vary along it, are listed apart.
+/// members (docs/model.md section 6), whose densities vary along it, are listed apart.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Segment {
     /// The constant gas spheres present: `members[m.0 .. m.0 + m.1]` of [`sweep`]'s member

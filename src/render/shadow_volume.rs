@@ -1,5 +1,5 @@
 //! The region of space that light rays from a piece of a camera ray sweep on their way to a
-//! light, and the spheres that meet it (MODEL.md section 3).
+//! light, and the spheres that meet it (docs/model.md section 3).
 //!
 //! For light `i`, the points `x(t)` of the segment `[A, B]` send light rays towards the light:
 //! along `L` for a directional light (they sweep a half-infinite strip), to the point `P` for a

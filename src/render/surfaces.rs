@@ -4,7 +4,7 @@
 //! a scene of spheres only then pays nothing but one emptiness test per query, and the
 //! sphere BVH's hot loop keeps its one kind of primitive.
 //!
-//! Visibility rules (MODEL.md section 2): Box, Cylinder and Cone are solid (seen from
+//! Visibility rules (docs/model.md section 2): Box, Cylinder and Cone are solid (seen from
 //! inside, culled); a triangle is seen from both sides unless its IndexedFaceSet is `solid`.
 //! Any crossing of a surface, from either side, blocks a light ray.
 

@@ -1,4 +1,4 @@
-//! Light visibility `V_i(x)` (MODEL.md sections 2 and 3): 0 if an opaque sphere or another
+//! Light visibility `V_i(x)` (docs/model.md sections 2 and 3): 0 if an opaque sphere or another
 //! opaque surface lies between `x` and the light, otherwise the transmittance `exp(-sum_j sigma_j chord_j)` of every gas
 //! sphere the light ray crosses.
 
@@ -15,7 +15,7 @@ use crate::accel::SphereBvh;
 /// it and it is skipped here. The ray stops at the first opaque blocker, or once the optical depth
 /// makes the transmittance underflow to 0.
 ///
-/// Spheres are solid (one-sided, MODEL.md section 2): an opaque sphere blocks when the light
+/// Spheres are solid (one-sided, docs/model.md section 2): an opaque sphere blocks when the light
 /// ray enters it, at its first root, between `x` and the light; a ray that starts inside an
 /// opaque sphere and leaves it is not blocked by it, as a camera inside a sphere does not see
 /// it. A gas sphere attenuates over the part of `[0, dist]` inside it. Opaque primitives

@@ -19,7 +19,7 @@ pub enum Radii<'a> {
 /// Spheres as arrays, the way particle data comes: `centers` holds `x, y, z` of sphere `i`
 /// at `3 i .. 3 i + 3` (a `&[[f64; 3]]` gives it with `as_flattened()`), `colors` and
 /// `emissive` likewise RGB in `[0, 1]`, `transparency` one value in `[0, 1]` per sphere
-/// (0: opaque; otherwise gas whose diameter transmits that fraction, MODEL.md section 1).
+/// (0: opaque; otherwise gas whose diameter transmits that fraction, docs/model.md section 1).
 /// Missing colours are VRML's default diffuse grey 0.8; missing emissive colours are black.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SphereArrays<'a> {

@@ -1,4 +1,4 @@
-//! The scene IR: only what a picture needs (MODEL.md section 1). Knows nothing of VRML.
+//! The scene IR: only what a picture needs (docs/model.md section 1). Knows nothing of VRML.
 
 mod build;
 mod material_table;
@@ -94,7 +94,7 @@ pub struct Material {
     pub transparency: f64,
     /// A Shape with no Appearance or no Material: colour (1,1,1), lights ignored (VRML 4.14.2).
     pub unlit: bool,
-    /// The density profile of a gas sphere of this material (MODEL.md section 6; a
+    /// The density profile of a gas sphere of this material (docs/model.md section 6; a
     /// `GasParticle` PROTO instance sets it); opaque spheres ignore it.
     pub profile: Profile,
 }
@@ -145,7 +145,7 @@ impl Material {
             self.profile.key()[1],
         ]
     }
-    /// Gas: `0 < transparency <= 1` (MODEL.md section 1).
+    /// Gas: `0 < transparency <= 1` (docs/model.md section 1).
     pub fn is_gas(&self) -> bool {
         !self.unlit && self.transparency > 0.0
     }
@@ -325,7 +325,7 @@ pub struct Bounds {
 }
 
 impl Scene {
-    /// Gas spheres whose density profile is not constant (MODEL.md section 6).
+    /// Gas spheres whose density profile is not constant (docs/model.md section 6).
     pub fn profiled_gas_count(&self) -> usize {
         if !self.materials.may_have_profiled_gas() {
             return 0;

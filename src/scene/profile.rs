@@ -1,8 +1,8 @@
-//! Radial density profiles of gas spheres (MODEL.md section 6): which profile a material
+//! Radial density profiles of gas spheres (docs/model.md section 6): which profile a material
 //! has. Their mathematics (the density, its integral, the optical depth of chords) is in
 //! `render::profile`.
 
-/// A radial density profile `f(u)`, `u = |x - c| / r` (MODEL.md section 6).
+/// A radial density profile `f(u)`, `u = |x - c| / r` (docs/model.md section 6).
 ///
 /// | name | `f(u)` on `[0, 1]` | `I_f` = integral of `f` over `[0, 1]` |
 /// |---|---|---|
@@ -12,7 +12,7 @@
 /// | `gaussian` (width `s` in (0, 1], default 1/3) | `exp(-u^2 / (2 s^2))` | `s sqrt(pi/2) erf(1 / (s sqrt 2))` |
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub enum Profile {
-    /// MODEL.md section 3's gas, the default.
+    /// docs/model.md section 3's gas, the default.
     #[default]
     Constant,
     Linear,

@@ -1,4 +1,4 @@
-//! Opaque surfaces other than spheres (MODEL.md section 2): VRML97 Box, Cylinder and Cone,
+//! Opaque surfaces other than spheres (docs/model.md section 2): VRML97 Box, Cylinder and Cone,
 //! exact in their own object space under an affine map, and the triangles of
 //! IndexedFaceSets, exactly as the file gives them. They take the lighting equation with the
 //! same lights and scopes as spheres; they are never gas.

@@ -1,4 +1,4 @@
-//! `GasParticle`: the PROTO that gives gas spheres a density profile (MODEL.md section 6) in
+//! `GasParticle`: the PROTO that gives gas spheres a density profile (docs/model.md section 6) in
 //! standard VRML97. Recognised by its name and `profile` field; every Material of an instance
 //! takes the instance's profile; bad names and widths are positioned errors; the PROTO's
 //! template and its replay agree; and `prepare` gives the gas its profile and centre density.
@@ -144,7 +144,7 @@ fn only_the_name_and_signature_are_recognised() {
 }
 
 /// `prepare` gives each gas primitive its material's profile and the extinction at its centre
-/// that keeps `transparency` the transmittance along a diameter (MODEL.md section 6,
+/// that keeps `transparency` the transmittance along a diameter (docs/model.md section 6,
 /// `sigma0 = -ln(transparency) / (2 r I_f)`); `--profile` (`PrepareOptions::profile`) gives
 /// every gas sphere its own; an opaque sphere's profile does not matter.
 #[test]

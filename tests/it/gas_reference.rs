@@ -1,4 +1,4 @@
-//! An independent brute-force reference for the gas part of a camera ray's radiance (MODEL.md
+//! An independent brute-force reference for the gas part of a camera ray's radiance (docs/model.md
 //! section 3: emission, absorption and single scattering), shared by the gas tests. It
 //! shares no code with `src/`: no BVH, no adaptivity, no closed forms, no shadow-volume
 //! formulas.

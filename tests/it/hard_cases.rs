@@ -157,7 +157,7 @@ fn optical_depth_zero_is_invisible() {
 }
 
 /// A point light exactly at a visible surface point: that point gets no direct light (its
-/// direction is undefined; MODEL.md's att and N.L need a distance), its neighbours get the
+/// direction is undefined; docs/model.md's att and N.L need a distance), its neighbours get the
 /// equation with the light on their tangent plane (N.L -> 0), and nothing is NaN.
 #[test]
 fn point_light_on_the_surface() {

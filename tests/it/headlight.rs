@@ -1,4 +1,4 @@
-//! The headlight (MODEL.md section 1): carried by the viewer, it lights what the camera sees
+//! The headlight (docs/model.md section 1): carried by the viewer, it lights what the camera sees
 //! along the ray that sees it, through the gas in front and never in shadow; with
 //! `headlight_shadows` it is a strict DirectionalLight along the view. Every pixel is checked
 //! against closed forms worked here from textbook ray/sphere roots (the camera ray is the

@@ -1,4 +1,4 @@
-//! The closed-form optical depth of radial density profiles (`render::profile`, MODEL.md
+//! The closed-form optical depth of radial density profiles (`render::profile`, docs/model.md
 //! section 6) against answers computed here independently: adaptive Gauss-Kronrod quadrature
 //! of `f(|x - c| / r)` along the ray, closed values at `beta = 0`, the midpoint rule on tiny
 //! pieces, `2 I_f` on the diameter.
@@ -15,7 +15,7 @@
 //!   the closed form is held to rounding there too.
 //!
 //! The dimensionless comparisons hold the closed form to 2e-14 relative (it measures ~3e-15 at
-//! worst; MODEL.md asks for exact to rounding), the world-ray one to 1e-12 (it measures
+//! worst; docs/model.md asks for exact to rounding), the world-ray one to 1e-12 (it measures
 //! ~4e-13, the rounding of the ray's own geometry). The worst relative errors are printed
 //! (`cargo test --test it profile_chords -- --nocapture`).
 
@@ -195,7 +195,7 @@ fn one_minus_u2(b: f64, v: f64) -> f64 {
 }
 
 /// The profile's `f` at the point of the line at distance `b` and parameter `v`, where
-/// `g = 1 - u^2` is known accurately (written from the table of MODEL.md section 6).
+/// `g = 1 - u^2` is known accurately (written from the table of docs/model.md section 6).
 fn shape(p: Profile, b: f64, v: f64, g: f64) -> f64 {
     match p {
         Profile::Constant => 1.0,
@@ -659,7 +659,7 @@ fn diameter_transmittance_is_the_transparency() {
         let tau = s0 * 2.5 * p.line_integral(0.0, -1.0, 1.0);
         assert!(rel(tau, 1e4) < 1e-14, "{}: {tau}", label(p));
     }
-    // The constant profile's sigma0 is MODEL.md section 1's -ln(T) / (2 r), bit for bit.
+    // The constant profile's sigma0 is docs/model.md section 1's -ln(T) / (2 r), bit for bit.
     assert_eq!(
         sigma0(0.3, 1.7, Profile::Constant),
         -(0.3f64.ln()) / (2.0 * 1.7)

@@ -1,4 +1,4 @@
-//! Gas spheres with radial density profiles (MODEL.md section 6) rendered against the
+//! Gas spheres with radial density profiles (docs/model.md section 6) rendered against the
 //! independent brute-force reference of `profiled_reference` (numerical density integrals
 //! along the camera ray and every light path, no closed-form chords, no BVH), ray by ray
 //! through `integrators::radiance` as `gas_scatter` does:
@@ -205,7 +205,7 @@ fn one_emitting_sphere(profile: Profile) {
             );
             let rel = (e.value - want).abs().max_element() / scale;
             worst = (worst.0.max(rel), worst.1.max(e.error / scale));
-            // MODEL.md section 6's closed form to 1e-12 (plus the reference's own error)
+            // docs/model.md section 6's closed form to 1e-12 (plus the reference's own error)
             // wherever the ray's rounding allows it: up to 0.9 of the radius from the centre.
             let limit = if rho <= 0.9 * r {
                 1e-12 + 2.0 * ref_err / scale

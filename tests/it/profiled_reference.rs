@@ -1,5 +1,5 @@
 //! An independent brute-force reference for the gas part of a camera ray's radiance in scenes
-//! of gas spheres with radial density profiles (MODEL.md sections 3 and 6: emission,
+//! of gas spheres with radial density profiles (docs/model.md sections 3 and 6: emission,
 //! absorption and single scattering), for the profiled-gas tests. It shares no code with
 //! `src/`: no BVH, no closed-form chords, no shadow-volume formulas. Every optical depth is a
 //! numerical integral of the density.
@@ -39,7 +39,7 @@ use glam::DVec3;
 
 use crate::gas_reference::{self, roots, Lamp};
 
-/// A radial density profile `f(u)`, `u = |x - c| / r` (MODEL.md section 6): the tests' own.
+/// A radial density profile `f(u)`, `u = |x - c| / r` (docs/model.md section 6): the tests' own.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Profile {
     Constant,
@@ -62,7 +62,7 @@ impl Profile {
         }
     }
 
-    /// `f(u)` as MODEL.md writes it (for the tests' own quadratures).
+    /// `f(u)` as docs/model.md writes it (for the tests' own quadratures).
     pub fn f(self, u: f64) -> f64 {
         match self {
             Profile::Constant => 1.0,

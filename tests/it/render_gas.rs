@@ -1,4 +1,4 @@
-//! Gas emission and absorption against closed forms (MODEL.md section 3): every expected
+//! Gas emission and absorption against closed forms (docs/model.md section 3): every expected
 //! value is computed here from chords found with the test's own ray/sphere formula.
 
 use glam::DVec3;
@@ -220,7 +220,7 @@ fn tiny_and_huge_optical_depths() {
 }
 
 /// An opaque sphere lit through gas: the direct term is scaled by exp(-sigma chord) of the
-/// light's path (MODEL.md section 2), the ambient term is not.
+/// light's path (docs/model.md section 2), the ambient term is not.
 #[test]
 fn surface_shadowed_by_gas_gets_the_transmittance() {
     // Light from +x; a gas sphere of radius 0.5 centred on the light path of the point

@@ -1,5 +1,5 @@
 //! Opaque rendering against closed forms: every expected value here is computed in the test
-//! from the VRML97 lighting equation (MODEL.md section 2), with its own camera rays, its own
+//! from the VRML97 lighting equation (docs/model.md section 2), with its own camera rays, its own
 //! (textbook) ray/sphere intersection and its own shadow test; nothing is compared with a
 //! saved image.
 

@@ -5,11 +5,11 @@
 //! - `opaque`: random lit opaque spheres with shadows (`bench trace`'s scene). Without gas
 //!   every integrator takes the same surface path (`render/integrators/mod.rs`), so there is
 //!   one curve, `surface`: the stratified pixel sampler's `spp` swept against a render at a
-//!   much higher `spp`. Its error is the pixel integral's (MODEL.md section 4), not a ray's.
+//!   much higher `spp`. Its error is the pixel integral's (docs/model.md section 4), not a ray's.
 //! - `emission`: a gas cloud without lights (emission and absorption only).
 //! - `lit gas`: `bench gas`'s scene (gas lit by a point and a directional light, two opaque
 //!   spheres).
-//! - `profiled gas`: the same scene with density profiles (MODEL.md section 6).
+//! - `profiled gas`: the same scene with density profiles (docs/model.md section 6).
 //!
 //! The gas scenes are traced with one ray through each pixel centre (mc: `spp` paths through
 //! it), so only the integration error along a ray is measured, against `exact` at a much

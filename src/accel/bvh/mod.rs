@@ -92,8 +92,8 @@ pub struct Prim {
     pub ellipsoid: Option<crate::scene::EllipsoidId>,
     /// Gas (a participating medium), not an opaque surface.
     pub gas: bool,
-    /// Extinction of a gas primitive (MODEL.md section 1); 0 for opaque ones. With a density
-    /// profile other than constant, the extinction at the centre, `sigma0` (MODEL.md section 6).
+    /// Extinction of a gas primitive (docs/model.md section 1); 0 for opaque ones. With a density
+    /// profile other than constant, the extinction at the centre, `sigma0` (docs/model.md section 6).
     pub sigma: f64,
     /// The gas's radial density profile (constant for opaque primitives).
     pub profile: Profile,

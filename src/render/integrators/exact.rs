@@ -1,4 +1,4 @@
-//! The exact gas integrator (MODEL.md sections 3 and 5): emission and absorption in closed form
+//! The exact gas integrator (docs/model.md sections 3 and 5): emission and absorption in closed form
 //! over the segments, single scattering by adaptive Gauss-Kronrod quadrature between the
 //! breakpoints of each light's integrand, to `tol` relative to the ray's value (absolute floor
 //! `tol * 1e-3`).
@@ -32,7 +32,7 @@
 //! tolerance. Its pieces are cut where the segment's own optical depth reaches 4, 8, 16, ...
 //! (`depth_cuts`), so that no piece's camera transmittance falls by many orders.
 //!
-//! **Profiled gas** (MODEL.md section 6). A segment with profiled members has closed-form
+//! **Profiled gas** (docs/model.md section 6). A segment with profiled members has closed-form
 //! optical depths but a source that varies along it. Its emission is still closed form when
 //! every member has the same colour (`Segment::emitted`); otherwise it is integrated between
 //! the linear profile's kinks, for the segment's part (its bound `T(0, ta) C_max F` over all

@@ -2,7 +2,7 @@
 //! approximation, `--integrator march --step H`): along each camera ray, steps of length `H`
 //! (the last one shorter) from the camera to the first opaque hit or the end of the gas; at
 //! each step's midpoint the extinction, emission and light (one shadow ray per light) are
-//! sampled, `L += T * source * dt` and `T *= exp(-sigma * dt)`. Profiled gas (MODEL.md
+//! sampled, `L += T * source * dt` and `T *= exp(-sigma * dt)`. Profiled gas (docs/model.md
 //! section 6) is sampled at its density at the midpoint, as a real-time renderer would.
 
 use glam::DVec3;

@@ -1,4 +1,4 @@
-//! Unbiased Monte Carlo (`--integrator mc`, a named approximation of MODEL.md section 3 for
+//! Unbiased Monte Carlo (`--integrator mc`, a named approximation of docs/model.md section 3 for
 //! comparison): one stochastic estimate per camera sample, whose spread over a pixel's samples
 //! is the pixel's error estimate (the standard error of their mean, in `tiles`).
 //!
@@ -22,7 +22,7 @@
 //!   No segment is ever left unsampled: a faint or hidden segment contributes to every sample,
 //!   in proportion to its weight, and so does its variance.
 //!
-//! - **Profiled gas** (MODEL.md section 6): a segment with profiled members is not of constant
+//! - **Profiled gas** (docs/model.md section 6): a segment with profiled members is not of constant
 //!   extinction, so its collision point is drawn by inverting its closed-form optical depth
 //!   (`profiled_sample`), with the same pdf `sigma_t(t) T(t_a, t) / F`; the emission of its
 //!   members is then sampled there too when they differ in colour (otherwise it is the closed

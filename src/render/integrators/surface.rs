@@ -1,5 +1,5 @@
 //! Opaque surfaces: closest hit among spheres and the other surfaces, then the VRML97
-//! lighting equation with hard shadows (MODEL.md section 2). Exact up to rounding, so the
+//! lighting equation with hard shadows (docs/model.md section 2). Exact up to rounding, so the
 //! error estimate is 0.
 
 use glam::DVec3;
@@ -28,7 +28,7 @@ pub struct OpaqueHit {
 }
 
 /// The first opaque sphere along `o + t d` (`t > tmin`), seen from outside: a sphere whose
-/// first root is behind the origin is culled (MODEL.md: spheres are solid).
+/// first root is behind the origin is culled (docs/model.md: spheres are solid).
 /// (A ray entry point: compiled again for AVX2, see `accel::bvh`.)
 #[multiversion::multiversion(targets("x86_64+avx+avx2+fma+bmi1+bmi2+lzcnt+popcnt"))]
 fn first_sphere(prep: &Prepared, o: DVec3, d: DVec3, tmin: f64) -> Option<crate::accel::Hit> {

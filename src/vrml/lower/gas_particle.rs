@@ -1,4 +1,4 @@
-//! `GasParticle`: how a VRML97 scene gives a gas sphere a density profile (MODEL.md section
+//! `GasParticle`: how a VRML97 scene gives a gas sphere a density profile (docs/model.md section
 //! 6) and stays a file that every other viewer shows as a translucent sphere. A PROTO named
 //! `GasParticle` with a `field SFString profile` (and optionally `field SFFloat width`) is
 //! recognised by that name and signature, the way VMD's `VMDMat` appearances are; its body is

@@ -1,6 +1,6 @@
 //! The verification matrix: random small scenes drawn from the whole rendering model, each
 //! rendered by every integrator and checked pixel by pixel against an independent reference
-//! written here from MODEL.md (sharing no code with the library's renderer).
+//! written here from docs/model.md (sharing no code with the library's renderer).
 //!
 //! - `scenes` describes a scene, `generate` draws one from a seed, `vrml` writes it for the
 //!   library, `world` flattens it for the reference, `quad` and `reference` compute each

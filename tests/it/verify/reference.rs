@@ -1,10 +1,10 @@
 //! The independent reference: the radiance along one camera ray by brute force over every
-//! primitive, written from MODEL.md alone.
+//! primitive, written from docs/model.md alone.
 //!
 //! - Opaque hits: the textbook ray/sphere roots and `surface_reference` for the other
 //!   surfaces; the nearest front face (a triangle from either side) is seen.
-//! - Surfaces: the VRML97 lighting equation with shadows (MODEL.md section 2).
-//! - Gas: the camera-ray integral of MODEL.md section 3, on pieces between sphere events (and
+//! - Surfaces: the VRML97 lighting equation with shadows (docs/model.md section 2).
+//! - Gas: the camera-ray integral of docs/model.md section 3, on pieces between sphere events (and
 //!   a linear profile's closest approach). Inside a piece every light's *state signature*
 //!   (in its radius or not, which side of its attenuation corner, and for every primitive
 //!   whether the light ray meets it) is sampled on a grid of [`GRID`] points and every change

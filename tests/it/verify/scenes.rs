@@ -7,7 +7,7 @@ use glam::DVec3;
 
 pub type Rgb = [f64; 3];
 
-/// A gas sphere's density profile (MODEL.md section 6).
+/// A gas sphere's density profile (docs/model.md section 6).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Profile {
     Constant,

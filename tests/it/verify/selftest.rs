@@ -95,7 +95,7 @@ fn verify_reference_camera_rays_are_the_library_rays() {
 }
 
 /// Closed-form optical depth of a whole chord at impact parameter beta (unit sphere, sigma0
-/// 1): constant 2 v, linear and quadratic from MODEL.md section 6's F.
+/// 1): constant 2 v, linear and quadratic from docs/model.md section 6's F.
 fn chord_tau(profile: Profile, beta: f64) -> f64 {
     let v = (1.0 - beta * beta).sqrt();
     let f = |v: f64| match profile {
