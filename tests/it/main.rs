@@ -40,5 +40,6 @@ mod surface_bvh; // closest and any hit over mixed primitives against testing ev
 mod surface_reference; // the tests' own ray/cylinder, cone, box and triangle
 mod verify; // random scenes from the whole model, every integrator against an independent reference
 mod vmd; // VMD's PROTO VMDMat colours, against a hand-worked fixture
+mod vrml_support; // docs/vrml.md is made of the schema's support tables, and they say what the reader does
 mod whole_sphere_nodes;
 mod writer; // the VRML writer against the reader; both writers format numbers alike // plain sphere nodes read whole from the text equal their events

@@ -3,16 +3,22 @@
 //! [`NodeSpec`] per standard node with its `field`/`exposedField`/`eventIn`/`eventOut`
 //! members in declaration order (the tables, in `tables`), name lookups through
 //! open-addressing tables built at compile time (`lookup`), and typing of a parsed value
-//! against a field type (`value`). Defaults are not recorded here. Script lists only its
+//! against a field type (`value`). The interfaces hold no defaults: those are in `support`,
+//! with what gtsphere does with each node and member. Script lists only its
 //! three fixed fields (`url`, `directOutput`, `mustEvaluate`); the rest of a Script's
-//! interface is declared by the author.
+//! interface is declared by the author. The page `docs/vrml.md` is made of `support`'s
+//! tables ([`support_markdown`]).
 
 mod lookup;
+mod support;
 mod tables;
 mod value;
 
 pub(crate) use lookup::same_bytes;
 pub use lookup::{node_index, node_spec, NodeSpec};
+pub use support::{
+    node_support, support_markdown, FieldRole, FieldSupport, NodeRole, NodeSupport, SUPPORT,
+};
 pub use tables::NODES;
 pub(crate) use value::{check_value, type_name};
 
