@@ -1,10 +1,11 @@
 """A turntable: one scene (one BVH built once) rendered from 36 cameras around it, written
-as turntable/frame_00.png ... frame_35.png, with a progress line per frame.
+as turntable/frame_00.png ... frame_35.png, with each frame's progress and then its time.
 
     python examples/turntable.py [N_SPHERES] [SIZE]
 
 The spheres are a random cloud with hard shadows from a fixed point light and a dim light
-from above (the headlight is off), so the shadows stay put as the camera turns. Join the frames with, for example, `ffmpeg -i turntable/frame_%02d.png`.
+from above (the headlight is off), so the shadows stay put as the camera turns. Join the
+frames with, for example, `ffmpeg -i turntable/frame_%02d.png`.
 """
 import math
 import os
@@ -28,6 +29,10 @@ for k in range(36):
     a = 2 * math.pi * k / 36
     direction = (-math.sin(a), -0.3, -math.cos(a))
     cam = gt.Camera.frame(scene, direction=direction, up=(0, 1, 0))
-    film = gt.render(scene, cam, size, size, spp=4)
+
+    def progress(done, total):
+        print(f"\rframe {k + 1}/36: {100 * done // total:3d} %", end="", flush=True)
+
+    film = gt.render(scene, cam, size, size, spp=4, progress=progress)
     gt.save(film, f"turntable/frame_{k:02d}.png")
-    print(f"frame {k + 1}/36: {film.seconds:.2f} s", flush=True)
+    print(f"\rframe {k + 1}/36: {film.seconds:.2f} s", flush=True)

@@ -1,61 +1,96 @@
-"""Type hints of gtsphere's native module (the docstrings are on the objects themselves)."""
+"""Type hints of gtsphere's native module (the docstrings are on the objects themselves).
 
-from collections.abc import Callable, Iterable, Sequence
+Checked against the built module by `python -m mypy.stubtest gtsphere` (python/tests/test_stubs.py):
+every name, signature and default here is the one the module has at run time.
+"""
+
+from collections.abc import Callable, Sequence
 from os import PathLike
-from typing import Literal, Optional, Union
+from typing import Literal, Optional, TypedDict, Union, final
 
 import numpy as np
 import numpy.typing as npt
 
+__all__ = [
+    "Error",
+    "ParseError",
+    "SceneWarning",
+    "Scene",
+    "Camera",
+    "Film",
+    "load",
+    "render",
+    "save",
+    "compare",
+    "__version__",
+]
+
 __version__: str
 
-Vec3 = Union[Sequence[float], npt.ArrayLike]
-ArrayLike = npt.ArrayLike
-PathType = Union[str, PathLike[str]]
-Integrator = Literal["exact", "march", "mc"]
-Sampler = Literal["stratified", "center"]
-Aov = Literal["depth", "normal", "id", "error"]
+# Type aliases of the stubs only (private: the module does not define them).
+_Vec3 = Union[Sequence[float], npt.ArrayLike]
+_ArrayLike = npt.ArrayLike
+_Path = Union[str, PathLike[str]]
+_Integrator = Literal["exact", "march", "mc"]
+_Sampler = Literal["stratified", "center"]
+_Aov = Literal["depth", "normal", "id", "error"]
+_Profile = Literal["constant", "linear", "quadratic", "gaussian"]
+_Bounds = tuple[tuple[float, float, float], tuple[float, float, float]]
+
+class _Metrics(TypedDict):
+    """What compare() returns: the numbers `gtsphere compare` prints."""
+
+    rmse: float
+    relative_rmse: float
+    psnr: float
+    max_abs: float
+    max_at: tuple[int, int]
 
 class Error(Exception): ...
 class ParseError(Error): ...
 class SceneWarning(UserWarning): ...
 
+@final
 class Scene:
     @staticmethod
     def from_arrays(
-        centers: ArrayLike,
-        radii: Union[float, ArrayLike],
-        colors: Optional[ArrayLike] = None,
-        transparency: Optional[ArrayLike] = None,
-        emissive: Optional[ArrayLike] = None,
+        centers: _ArrayLike,
+        radii: Union[float, _ArrayLike],
+        colors: Optional[_ArrayLike] = None,
+        transparency: Optional[_ArrayLike] = None,
+        emissive: Optional[_ArrayLike] = None,
         *,
         headlight: bool = True,
-        background: Optional[Vec3] = None,
-        profile: Optional[str] = None,
+        background: Optional[_Vec3] = None,
+        profile: Optional[_Profile] = None,
         profile_width: Optional[float] = None,
     ) -> Scene: ...
     def add_point_light(
         self,
-        location: Vec3,
-        color: Optional[Vec3] = None,
+        location: _Vec3,
+        color: Optional[_Vec3] = None,
         intensity: float = 1.0,
         ambient_intensity: float = 0.0,
-        attenuation: Optional[Vec3] = None,
+        attenuation: Optional[_Vec3] = None,
         radius: float = 100.0,
     ) -> None: ...
     def add_directional_light(
         self,
-        direction: Optional[Vec3] = None,
-        color: Optional[Vec3] = None,
+        direction: Optional[_Vec3] = None,
+        color: Optional[_Vec3] = None,
         intensity: float = 1.0,
         ambient_intensity: float = 0.0,
     ) -> None: ...
-    headlight: bool
-    background: tuple[float, float, float]
     @property
-    def bounds(
-        self,
-    ) -> Optional[tuple[tuple[float, float, float], tuple[float, float, float]]]: ...
+    def headlight(self) -> bool: ...
+    @headlight.setter
+    def headlight(self, on: bool) -> None: ...
+    @property
+    def background(self) -> tuple[float, float, float]: ...
+    @background.setter
+    def background(self, rgb: _Vec3) -> None: ...
+    @property
+    def bounds(self) -> Optional[_Bounds]: ...
     @property
     def spheres(self) -> int: ...
     @property
@@ -67,29 +102,29 @@ class Scene:
     def __len__(self) -> int: ...
 
 def load(
-    path: PathType,
+    path: _Path,
     *,
     point_radius: Optional[float] = None,
     spheres_only: bool = False,
     strict: bool = False,
-    profile: Optional[str] = None,
+    profile: Optional[_Profile] = None,
     profile_width: Optional[float] = None,
 ) -> Scene: ...
-
+@final
 class Camera:
     @staticmethod
     def look_at(
-        eye: Vec3,
-        target: Optional[Vec3] = None,
-        up: Optional[Vec3] = None,
+        eye: _Vec3,
+        target: Optional[_Vec3] = None,
+        up: Optional[_Vec3] = None,
         fov: float = 0.7853981633974483,
         ortho_height: Optional[float] = None,
     ) -> Camera: ...
     @staticmethod
     def frame(
         scene: Scene,
-        direction: Optional[Vec3] = None,
-        up: Optional[Vec3] = None,
+        direction: Optional[_Vec3] = None,
+        up: Optional[_Vec3] = None,
         fov: float = 0.7853981633974483,
         ortho: bool = False,
         margin: float = 0.02,
@@ -109,6 +144,7 @@ class Camera:
     @property
     def ortho_height(self) -> Optional[float]: ...
 
+@final
 class Film:
     @property
     def rgb(self) -> npt.NDArray[np.float64]: ...
@@ -141,17 +177,17 @@ def render(
     height: int,
     *,
     spp: int = 16,
-    integrator: Integrator = "exact",
+    integrator: _Integrator = "exact",
     tol: float = 1e-4,
     seed: int = 0,
     threads: Optional[int] = None,
-    aovs: Iterable[Aov] = (),
-    sampler: Sampler = "stratified",
+    aovs: Sequence[_Aov] = (),
+    sampler: _Sampler = "stratified",
     step: Optional[float] = None,
     progress: Optional[Callable[[int, int], object]] = None,
     headlight_shadows: bool = False,
 ) -> Film: ...
-def save(image: Union[Film, ArrayLike], path: PathType) -> None: ...
+def save(image: Union[Film, _ArrayLike], path: _Path) -> None: ...
 def compare(
-    image: Union[Film, ArrayLike, PathType], reference: Union[Film, ArrayLike, PathType]
-) -> dict[str, object]: ...
+    image: Union[Film, _ArrayLike, _Path], reference: Union[Film, _ArrayLike, _Path]
+) -> _Metrics: ...

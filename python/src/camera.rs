@@ -36,7 +36,11 @@ impl Camera {
     /// perspective field of view (radians) across the smaller image side; give
     /// `ortho_height` (world units across the smaller side) for an orthographic camera.
     #[staticmethod]
-    #[pyo3(signature = (eye, target=None, up=None, fov=std::f64::consts::FRAC_PI_4, ortho_height=None))]
+    // The text signature spells out pi/4 (repr(math.pi / 4)), which pyo3 would show as `...`.
+    #[pyo3(
+        signature = (eye, target=None, up=None, fov=std::f64::consts::FRAC_PI_4, ortho_height=None),
+        text_signature = "(eye, target=None, up=None, fov=0.7853981633974483, ortho_height=None)"
+    )]
     fn look_at(
         eye: &Bound<'_, PyAny>,
         target: Option<&Bound<'_, PyAny>>,
@@ -61,7 +65,10 @@ impl Camera {
     /// with `margin` of room) across the smaller image side: perspective with `fov`, or
     /// orthographic when `ortho` is true.
     #[staticmethod]
-    #[pyo3(signature = (scene, direction=None, up=None, fov=std::f64::consts::FRAC_PI_4, ortho=false, margin=0.02))]
+    #[pyo3(
+        signature = (scene, direction=None, up=None, fov=std::f64::consts::FRAC_PI_4, ortho=false, margin=0.02),
+        text_signature = "(scene, direction=None, up=None, fov=0.7853981633974483, ortho=False, margin=0.02)"
+    )]
     fn frame(
         scene: &Scene,
         direction: Option<&Bound<'_, PyAny>>,

@@ -254,9 +254,10 @@ fn aovs_of(names: Vec<String>) -> PyResult<Aovs> {
 /// seed. threads: worker threads (None: every core). aovs: any of "depth", "normal", "id"
 /// ("error" is always returned). sampler: "stratified" or "center" (one sample at each
 /// pixel centre). progress: called as progress(tiles_done, tiles_total) from this thread
-/// about ten times a second; an exception it raises stops the render. headlight_shadows:
-/// render the headlight as a strict directional light along the view that casts shadows
-/// (by default it is carried by the viewer and casts none, as in VRML browsers).
+/// every 50 ms when more tiles are done, last with tiles_done == tiles_total; an exception
+/// it raises stops the render. headlight_shadows: render the headlight as a strict
+/// directional light along the view that casts shadows (by default it is carried by the
+/// viewer and casts none, as in VRML browsers).
 ///
 /// The GIL is released while rendering; Ctrl-C (KeyboardInterrupt) stops the render within
 /// a pixel's time and leaves the scene usable. The pixels are the same for any thread count.
@@ -268,7 +269,7 @@ fn aovs_of(names: Vec<String>) -> PyResult<Aovs> {
 #[allow(clippy::too_many_arguments)]
 pub fn render(
     py: Python<'_>,
-    scene: &Scene,
+    scene: PyRef<'_, Scene>,
     camera: Option<&Camera>,
     width: u32,
     height: u32,
@@ -306,7 +307,11 @@ pub fn render(
     if threads == Some(0) {
         return Err(PyValueError::new_err("threads must be at least 1"));
     }
+    // The render shares the prepared scene, not the Python object: a change to the scene
+    // meanwhile (from another thread) meets Scene::prepared_mut's error, which says why,
+    // rather than pyo3's "Already borrowed".
     let prepared = scene.prepared.clone();
+    drop(scene);
     let camera = match camera {
         Some(c) => c.inner,
         None => prepared.default_camera(width, height).map_err(to_py)?,

@@ -41,3 +41,32 @@ def gtsphere_cli():
         return p
 
     return run
+
+
+@pytest.fixture(scope="session")
+def mypy(tmp_path_factory):
+    """Runs `python -m MODULE ARGS` for mypy's modules (mypy, mypy.stubtest) in an empty
+    folder with an empty configuration, so that `gtsphere` is the installed package, not the
+    source folder; returns the completed process. Skips when mypy is not installed, except
+    under CI (pip install "./python[test]" installs it)."""
+    import importlib.util
+    import sys
+
+    if importlib.util.find_spec("mypy") is None:
+        if os.environ.get("CI"):
+            pytest.fail('mypy is not installed: pip install "./python[test]"')
+        pytest.skip('mypy is not installed (pip install "./python[test]")')
+    folder = tmp_path_factory.mktemp("mypy")
+    config = folder / "mypy.ini"
+    config.write_text("[mypy]\n")
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "MYPYPATH")}
+
+    def run(module, *args):
+        return subprocess.run(
+            [sys.executable, "-m", module, *map(str, args)],
+            cwd=folder, env=env, capture_output=True, text=True, timeout=600,
+        )
+
+    run.folder = folder
+    run.config = config
+    return run

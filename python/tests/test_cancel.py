@@ -72,3 +72,53 @@ def test_the_gil_is_released_while_rendering():
     # gap as long as the render. Released, it runs but for the 50 ms polls' brief takes.
     gap = max(b - a for a, b in zip(stamps, stamps[1:]))
     assert gap < 0.25 * elapsed, (gap, elapsed)
+
+
+def test_changing_a_scene_while_it_renders_says_why_and_changes_nothing():
+    rng = np.random.default_rng(2)
+    n = 500
+    scene = gt.Scene.from_arrays(
+        rng.uniform(-1, 1, (n, 3)), 0.15, transparency=np.full(n, 0.4), headlight=False
+    )
+    scene.add_point_light((3, 3, 3))
+    cam = gt.Camera.frame(scene)
+    started, stop = threading.Event(), threading.Event()
+
+    class Stop(Exception):
+        pass
+
+    def progress(done, total):
+        started.set()
+        if stop.is_set():
+            raise Stop
+
+    ended = []
+
+    def work():
+        # Minutes of work, stopped through the callback once the changes have been tried.
+        try:
+            gt.render(scene, cam, 1024, 1024, spp=64, threads=1, progress=progress)
+        except Exception as e:
+            ended.append(e)
+
+    t = threading.Thread(target=work)
+    t.start()
+    try:
+        assert started.wait(60), "the render reports progress"
+        changes = [
+            lambda: scene.add_point_light((0, 3, 0)),
+            lambda: scene.add_directional_light((0, -1, 0)),
+            lambda: setattr(scene, "headlight", True),
+            lambda: setattr(scene, "background", (1, 1, 1)),
+        ]
+        for change in changes:
+            with pytest.raises(RuntimeError, match="^the scene is being rendered; change it after the render$"):
+                change()
+    finally:
+        stop.set()
+        t.join()
+    assert len(ended) == 1 and isinstance(ended[0], Stop), ended
+    assert scene.lights == 1 and not scene.headlight and scene.background == (0, 0, 0)
+    # After the render the scene changes as usual.
+    scene.add_point_light((0, 3, 0))
+    assert scene.lights == 2
