@@ -1,5 +1,5 @@
 //! Sample positions inside a pixel, seeded from (seed, pixel, sample index) only, so that an
-//! image does not depend on the thread count or tile order (STYLE habit 9).
+//! image does not depend on the thread count or tile order.
 
 /// SplitMix64's output function: a bijective 64-bit mixer.
 #[inline]

@@ -36,7 +36,7 @@ impl EllipsoidId {
 /// one word (a sphere is then 48 bytes, not 56). Indices past 2^20 - 1 files and offsets
 /// past 2^44 - 1 bytes (16 TiB) are stored as those maxima. [`Scene::position`] turns it into
 /// `file:line:col` when an error found after loading must point into the file; kept rather
-/// than dropped because that costs 8 bytes per item and no line index (STYLE.md habit 2).
+/// than dropped because that costs 8 bytes per item and no line index.
 #[derive(Clone, Copy, PartialEq, Eq, Default)]
 pub struct Origin(u64);
 

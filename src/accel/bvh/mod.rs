@@ -1,7 +1,7 @@
 //! The sphere BVH: a wide BVH over f32 boxes, built with obvhs and collapsed into its
 //! compressed wide format (CWBVH), then decoded into plain f32 eight-wide nodes that rays walk
 //! (node8.rs says why); every sphere test is done exactly in f64 by the caller's closure
-//! (STYLE habit 6: the BVH knows boxes, the caller knows spheres).
+//! (the BVH knows boxes, the caller knows spheres).
 //!
 //! Why the f32 boxes are safe. Before anything is rounded to f32, coordinates are taken
 //! relative to the centre `O` of the scene's f64 bounding box, whose half-diagonal is `R`, and a
