@@ -9,27 +9,11 @@
 //! - unknown node types, unknown fields and other loosely valid constructs are warnings with
 //!   `file:line:col`, and `--strict` turns every warning into an error.
 //!
-//! Supported nodes (fields with VRML97 defaults; everything else is counted and skipped):
-//! | node | fields used |
-//! |---|---|
-//! | Group, Anchor, Billboard, Collision | `children` (Billboard is not turned to the viewer; Collision's `proxy` is ignored) |
-//! | Transform | `children translation rotation scale scaleOrientation center` |
-//! | Switch | `choice whichChoice` (default -1: nothing) |
-//! | LOD | `level` (the first level only) |
-//! | Inline | `url`: local relative VRML97 files only, never a network URL; depth limit 16, cycles refused |
-//! | PROTO, EXTERNPROTO | instances expand to the body's first node, `IS` replaced; an EXTERNPROTO is the PROTO its first readable `url` names (`file.wrl#Name`, or the first PROTO of `file.wrl`) in a local file, by the Inline rules, read once and for its PROTOs only; instances set only the fields its interface declares alike; none readable: skipped |
-//! | Shape, Appearance, Material | `appearance material geometry`; Material: all six fields |
-//! | Sphere | `radius` (default 1, must be > 0) |
-//! | Box, Cylinder, Cone | `size`; `radius height bottom side top`; `bottomRadius height side bottom` (sizes must be > 0): exact opaque surfaces |
-//! | IndexedFaceSet | `coord coordIndex color colorIndex colorPerVertex normal normalIndex normalPerVertex ccw solid creaseAngle`: spheres, triangles or points (see below); `texCoord`, `convex` not read |
-//! | PointSet | `coord color`: one sphere per point (see below) |
-//! | ElevationGrid | `xDimension zDimension xSpacing zSpacing height color colorPerVertex normal normalPerVertex ccw solid creaseAngle`: its quads, as an IndexedFaceSet's faces |
-//! | Extrusion | `crossSection spine scale orientation beginCap endCap ccw solid creaseAngle`: its side quads and caps, likewise (`convex` not read: caps are triangulated as they are) |
-//! | PointLight | `ambientIntensity attenuation color intensity location on radius` |
-//! | DirectionalLight | `ambientIntensity color direction intensity on` |
-//! | Viewpoint | `position orientation fieldOfView description` |
-//! | NavigationInfo | `headlight` (first one wins) |
-//! | Background | `skyColor[0]` (first one wins) |
+//! What becomes of every standard node and field is data beside the node interfaces
+//! (`schema::support`, published as docs/vrml.md, checked against this module by
+//! `tests/it/vrml_support.rs`); in short: grouping nodes, Shape with Sphere, Box, Cylinder,
+//! Cone and the meshes, the two lights, Viewpoint, NavigationInfo's headlight and
+//! Background's first sky colour are used, and everything else is counted and skipped.
 //!
 //! **Meshes** (see `mesh_shape`). Exporters write particles as tessellated spheres: Jmol
 //! one unit-sphere IndexedFaceSet per atom, reused under scaled Transforms; VTK and
