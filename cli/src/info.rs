@@ -6,8 +6,11 @@ use std::process::ExitCode;
 use serde_json::json;
 
 use gtsphere::error::Error;
+use gtsphere::render::pymol_export;
 use gtsphere::scene::{Light, Scene};
 use gtsphere::vrml::{load_path, LoadOptions, LoadReport};
+
+use crate::render::PYMOL_FOV_NOTE;
 
 pub fn run(
     path: &Path,
@@ -42,7 +45,7 @@ fn mb_per_s(r: &LoadReport) -> f64 {
     }
 }
 
-/// The report as JSON (keys documented in the README).
+/// The report as JSON (keys documented in docs/workflows.md).
 pub fn to_json(path: &Path, s: &Scene, r: &LoadReport) -> serde_json::Value {
     let gas = s.gas_count();
     let viewpoints: Vec<_> = s
@@ -77,7 +80,15 @@ pub fn to_json(path: &Path, s: &Scene, r: &LoadReport) -> serde_json::Value {
         "background": s.background.to_array(),
         "mesh_spheres": r.mesh_spheres,
         "point_spheres": r.point_spheres,
-        "notes": r.notes.iter().map(|w| w.headline()).collect::<Vec<_>>(),
+        "notes": r
+            .notes
+            .iter()
+            .map(|w| w.headline())
+            .chain(
+                pymol_export(&s.viewpoints)
+                    .then(|| format!("{}: note: {PYMOL_FOV_NOTE}", path.display())),
+            )
+            .collect::<Vec<_>>(),
         "skipped": r.skipped,
         "warnings": r.warnings.iter().map(|w| w.headline()).collect::<Vec<_>>(),
         "bounds": s.bounds(),
@@ -218,6 +229,9 @@ pub fn to_text(path: &Path, s: &Scene, r: &LoadReport) -> String {
                 v.position.z,
                 v.field_of_view
             );
+        }
+        if pymol_export(&s.viewpoints) {
+            let _ = writeln!(o, "            note: {PYMOL_FOV_NOTE}");
         }
     }
     match s.bounds() {

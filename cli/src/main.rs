@@ -10,6 +10,8 @@ use clap::{Parser, Subcommand};
 use gtsphere::error::Error;
 
 mod bench;
+#[cfg(test)]
+mod cli_docs;
 mod compare;
 mod convert_csv;
 mod convert_vrml;
@@ -32,15 +34,15 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Read a VRML97 scene and report what it holds: spheres, lights, viewpoints, skipped nodes,
-    /// bounds, memory, parse speed, and every warning.
+    /// Read a VRML97 scene and report what it holds: spheres, other surfaces, materials,
+    /// lights, viewpoints, skipped nodes, bounds, memory, parse speed, notes and every warning.
     Info {
         /// Scene file (.wrl, .wrz, .wrl.gz; gzip is detected by content).
         scene: PathBuf,
         /// Print one JSON object instead of text.
         #[arg(long)]
         json: bool,
-        /// Turn every warning into an error.
+        /// Turn every warning of the reader into an error.
         #[arg(long)]
         strict: bool,
         /// Do not read other files (Inline nodes, EXTERNPROTO files).
@@ -58,7 +60,8 @@ enum Command {
         image: PathBuf,
         /// The reference (for example `gtsphere render`'s output).
         reference: PathBuf,
-        /// Write the per-pixel error (largest over R, G, B) in false colour with a legend.
+        /// Write the per-pixel error (largest over R, G, B) in false colour, above a legend
+        /// strip, to this image (.png, .exr, .pfm or .npy).
         #[arg(long)]
         heatmap: Option<PathBuf>,
         /// The error at the top of the heat map's colour scale (default: the largest error).
@@ -74,8 +77,10 @@ enum Command {
     ///
     /// Particle columns are found by header name: x, y, z; radius or r (or diameter);
     /// red, green, blue or r, g, b (0-1 floats or 0-255 integers); optional density (or
-    /// sigma), opacity or transparency; emission or emission_red/green/blue. Bad rows stop the
-    /// conversion with `file:LINE:FIELD: message` and no output file.
+    /// sigma), opacity or transparency; emission or emission_red/green/blue; element (a van
+    /// der Waals radius and CPK colour where the table gives none); profile and width (a gas
+    /// sphere's density profile). Other names are mapped with --columns. Bad rows stop the
+    /// conversion with `file:LINE:FIELD: message` and no output file (--skip-bad skips them).
     Convert(convert_csv::ConvertArgs),
     /// Assemble the parts of a picture rendered with `render --region` or `--tile` (EXR) into
     /// the whole; every pixel must come from exactly one part.
@@ -83,7 +88,7 @@ enum Command {
         /// The parts (.exr).
         #[arg(required = true)]
         parts: Vec<PathBuf>,
-        /// The whole picture (.png, .exr or .pfm).
+        /// The whole picture (.png, .exr, .pfm or .npy).
         #[arg(short, long)]
         output: PathBuf,
     },

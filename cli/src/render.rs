@@ -11,17 +11,19 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use gtsphere::error::Error;
 use gtsphere::output::{format_for, write_film, write_part, Format, Placement};
 use gtsphere::render::{
-    prepare, tiles::render_view, Aovs, CameraChoice, Integrator, PrepareOptions, Progress,
-    Projection, RenderOptions, SamplerKind,
+    prepare, pymol_export, tiles::render_view, Aovs, CameraChoice, FovAcross, Integrator,
+    PrepareOptions, Progress, Projection, RenderOptions, SamplerKind,
 };
 use gtsphere::scene::Profile;
 use gtsphere::vrml::{load_path, LoadOptions};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum SamplerArg {
-    /// `--spp` stratified samples over each pixel's square (jittered grid for square counts).
+    /// `--spp` stratified samples over each pixel's square: a jittered grid when --spp is a
+    /// square number, otherwise Latin hypercube.
     Stratified,
-    /// One sample at each pixel's exact centre, for value-by-value comparisons.
+    /// One sample at each pixel's exact centre, for value-by-value comparisons (with
+    /// `--integrator mc` on gas, --spp paths through the centre).
     Center,
 }
 
@@ -51,13 +53,39 @@ pub enum IntegratorArg {
     Mc,
 }
 
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum FovAcrossArg {
+    /// The smaller side, as VRML97 defines fieldOfView.
+    Smaller,
+    /// The image width (what PyMOL's VRML export writes).
+    Width,
+    /// The image height.
+    Height,
+}
+
+impl From<FovAcrossArg> for FovAcross {
+    fn from(a: FovAcrossArg) -> Self {
+        match a {
+            FovAcrossArg::Smaller => FovAcross::Smaller,
+            FovAcrossArg::Width => FovAcross::Width,
+            FovAcrossArg::Height => FovAcross::Height,
+        }
+    }
+}
+
+/// What `info` and `render` say of a scene whose Viewpoint is a PyMOL export's
+/// ([`pymol_export`]).
+pub const PYMOL_FOV_NOTE: &str = "the Viewpoint \"Z view\" is a PyMOL export's: PyMOL writes \
+    fieldOfView as the angle across the image width, gtsphere reads it across the smaller side \
+    (VRML97); render --fov-across width frames the scene as PyMOL shows it";
+
 /// Arguments of `gtsphere render`.
 #[derive(Debug, Args)]
 pub struct RenderArgs {
     /// Scene file (.wrl, .wrz, .wrl.gz; gzip is detected by content).
     pub scene: PathBuf,
     /// Output image: .png (sRGB, 8-bit), .exr (linear float RGBA + AOVs), .pfm (linear RGB) or
-    /// .npy (linear RGB as a float64 H x W x 3 NumPy array: every digit of the film).
+    /// .npy (linear RGB as a float64 H x W x 3 NumPy array: the film's values unrounded).
     /// Default: the scene's name with .png, in the current directory.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
@@ -67,7 +95,8 @@ pub struct RenderArgs {
     /// Image height in pixels.
     #[arg(long, default_value_t = 600)]
     pub height: u32,
-    /// Samples per pixel (stratified over the pixel's square, box filter).
+    /// Samples per pixel, placed as --sampler says and averaged (a box filter); with
+    /// `--integrator mc`, the paths per pixel.
     #[arg(long, default_value_t = 16)]
     pub spp: u32,
     /// Seed of the sample positions; the same seed gives the same image on any thread count.
@@ -85,26 +114,41 @@ pub struct RenderArgs {
     /// Use the Viewpoint with this DEF name or description.
     #[arg(long, conflicts_with = "vrml_default_camera")]
     pub viewpoint: Option<String>,
-    /// Use VRML's fixed default camera at (0,0,10), even when the scene has no Viewpoint.
+    /// Use VRML's fixed default camera at (0,0,10) looking down -z with fieldOfView pi/4,
+    /// whatever Viewpoints the scene has. Without it, a scene without a Viewpoint is seen by a
+    /// camera looking down -z that frames the scene's bounds.
     #[arg(long)]
     pub vrml_default_camera: bool,
+    /// Read the Viewpoint's fieldOfView as the angle across this side of the image (default:
+    /// smaller, as VRML97 defines it). PyMOL's VRML export writes the angle across the width:
+    /// `--fov-across width` frames such a file as PyMOL shows it (`info` and `render` say when
+    /// a file is one).
+    #[arg(
+        long,
+        value_enum,
+        value_name = "SIDE",
+        conflicts_with_all = ["ortho", "vrml_default_camera"]
+    )]
+    pub fov_across: Option<FovAcrossArg>,
     /// Render the headlight as a strict DirectionalLight along the view, casting shadows. By
     /// default it is carried by the viewer, as in VRML browsers: it lights what the camera
     /// sees, through the gas in front, and casts no shadow.
     #[arg(long)]
     pub headlight_shadows: bool,
-    /// Worker threads (default: one per core).
+    /// Worker threads (default: one per core); they also read the scene, unless
+    /// --read-threads says otherwise.
     #[arg(long)]
     pub threads: Option<usize>,
     /// How gas is integrated (scenes without gas render the same with all three).
     #[arg(long, value_enum, default_value_t = IntegratorArg::Exact)]
     pub integrator: IntegratorArg,
-    /// Step length (world units) of --integrator march.
+    /// Step length (world units) of `--integrator march`.
     #[arg(long)]
     pub step: Option<f64>,
-    /// Target error of --integrator exact, relative to the pixel's value (absolute floor
-    /// tol * 1e-3). What cannot change a ray within it (gas behind a large optical depth, light
-    /// paths through it) is bounded instead of computed, and the bound is in the error AOV.
+    /// Target error of `--integrator exact`, relative to the pixel's value (absolute floor
+    /// `tol * 1e-3`). What cannot change a ray within it (gas behind a large optical depth,
+    /// light paths through it) is bounded instead of computed, and the bound is in the error
+    /// AOV.
     #[arg(long, default_value_t = 1e-4)]
     pub tol: f64,
     /// Make every sphere a ball of gas with this extinction (per world unit); emission is the
@@ -116,7 +160,7 @@ pub struct RenderArgs {
     /// `gaussian:0.25` (in units of the radius, default 1/3).
     #[arg(long, value_name = "NAME[:WIDTH]")]
     pub profile: Option<String>,
-    /// Extra EXR channels, comma-separated.
+    /// Extra channels of an .exr output, comma-separated.
     #[arg(long, value_enum, value_delimiter = ',')]
     pub aov: Vec<AovArg>,
     /// Turn every warning of the reader into an error.
@@ -138,7 +182,7 @@ pub struct RenderArgs {
     )]
     pub region: Option<Vec<u32>>,
     /// Render band K of N (K from 1 to N) of the image's rows, for job arrays; as --region.
-    #[arg(long)]
+    #[arg(long, value_name = "K/N")]
     pub tile: Option<String>,
     /// Print work counters and timings.
     #[arg(long)]
@@ -390,6 +434,7 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<Plan, Error> {
             (None, true) => CameraChoice::VrmlDefault,
             (None, false) => CameraChoice::Auto,
         },
+        fov_across: args.fov_across.map_or(FovAcross::Smaller, FovAcross::from),
         projection: if args.ortho {
             Projection::Ortho {
                 height: args.ortho_height,
@@ -422,6 +467,8 @@ pub fn parse_profile(s: &str) -> Result<Profile, String> {
 pub struct Plan {
     pub opts: RenderOptions,
     pub camera: CameraChoice,
+    /// The image side a Viewpoint's fieldOfView spans.
+    pub fov_across: FovAcross,
     pub projection: Projection,
     pub prepare: PrepareOptions,
 }
@@ -462,8 +509,21 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
         .install(|| prepare(scene, &plan.prepare))
         .map_err(in_scene)?;
     let (camera, description) = prep
-        .camera(&plan.camera, plan.projection, opts.width, opts.height)
+        .camera_across(
+            &plan.camera,
+            plan.projection,
+            plan.fov_across,
+            opts.width,
+            opts.height,
+        )
         .map_err(in_scene)?;
+    if args.fov_across.is_none()
+        && plan.projection == Projection::Perspective
+        && plan.camera != CameraChoice::VrmlDefault
+        && pymol_export(&prep.viewpoints)
+    {
+        say(format!("{}: {PYMOL_FOV_NOTE}", args.scene.display()));
+    }
     // The view `render` traces (camera rays, the lights with the headlight along this camera),
     // made once: its lights are counted here.
     let view = pool

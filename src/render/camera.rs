@@ -29,10 +29,78 @@ pub enum CameraChoice {
 /// The projection asked for on the command line.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Projection {
-    /// Perspective; the Viewpoint's `fieldOfView` is the angle of the smaller image side.
+    /// Perspective; a Viewpoint's `fieldOfView` is the angle across the smaller image side
+    /// (VRML97), or across the side [`Camera::for_scene_across`] is given.
     Perspective,
     /// Orthographic; `height` = world size of the smaller image side (None: fit the scene).
     Ortho { height: Option<f64> },
+}
+
+/// Which side of the image a Viewpoint's `fieldOfView` spans. VRML97 defines it as the angle
+/// across the smaller side, and that is how gtsphere reads it by default; some tools write
+/// another side's angle (PyMOL's VRML export writes the width's: [`pymol_export`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum FovAcross {
+    /// The smaller side (VRML97).
+    #[default]
+    Smaller,
+    /// The image width.
+    Width,
+    /// The image height.
+    Height,
+}
+
+impl FovAcross {
+    /// The angle across the smaller side of a `width x height` image whose `self` side spans
+    /// `fov` (radians, `0 < fov < pi`): `2 atan(tan(fov / 2) * min(W, H) / S)`, with `S` the
+    /// length of that side; `fov` itself when that side is the smaller one. The result is in
+    /// `(0, fov]`, so a valid angle stays valid.
+    ///
+    /// ```
+    /// use gtsphere::render::FovAcross;
+    /// // 90 degrees across the width of a 4:3 image: tan(h / 2) = 3/4 across the height.
+    /// let h = FovAcross::Width.smaller_side_fov(std::f64::consts::FRAC_PI_2, 640, 480);
+    /// assert!((h - 2.0 * 0.75f64.atan()).abs() < 1e-15);
+    /// ```
+    pub fn smaller_side_fov(self, fov: f64, width: u32, height: u32) -> f64 {
+        let side = match self {
+            FovAcross::Smaller => return fov,
+            FovAcross::Width => width,
+            FovAcross::Height => height,
+        };
+        let smaller = width.min(height);
+        if side == smaller {
+            return fov;
+        }
+        2.0 * ((0.5 * fov).tan() * f64::from(smaller) / f64::from(side)).atan()
+    }
+
+    /// The side's name, as the command line spells it.
+    pub fn name(self) -> &'static str {
+        match self {
+            FovAcross::Smaller => "smaller",
+            FovAcross::Width => "width",
+            FovAcross::Height => "height",
+        }
+    }
+}
+
+/// Whether `viewpoints` are those of a PyMOL VRML export, whose `fieldOfView` is the angle
+/// across the image width (PyMOL writes `pi * fov * W / (180 * H)` from its vertical field of
+/// view `fov` in degrees and its window's `W x H`) rather than VRML97's smaller side.
+///
+/// PyMOL writes no comment or WorldInfo naming itself; what marks its files is the one
+/// Viewpoint it writes, always the same but for the distance and the angle: no DEF name,
+/// `description "Z view"`, `orientation 1 0 0 0` and `position 0 0 Z` with `Z > 0`. This
+/// checks exactly that (after reading, so the file's layout does not matter).
+pub fn pymol_export(viewpoints: &[Viewpoint]) -> bool {
+    let [vp] = viewpoints else { return false };
+    vp.name.is_none()
+        && vp.description == "Z view"
+        && vp.position.x == 0.0
+        && vp.position.y == 0.0
+        && vp.position.z > 0.0
+        && vp.orientation.abs_diff_eq(DQuat::IDENTITY, 1e-12)
 }
 
 /// How a camera projects, for the smaller side of the image.
@@ -139,6 +207,24 @@ impl Camera {
         )
     }
 
+    /// The camera of a VRML Viewpoint whose `fieldOfView` spans the `across` side of a
+    /// `width x height` image ([`FovAcross::smaller_side_fov`]); with [`FovAcross::Smaller`],
+    /// [`Camera::from_viewpoint`] at any size.
+    pub fn from_viewpoint_across(
+        vp: &Viewpoint,
+        across: FovAcross,
+        width: u32,
+        height: u32,
+    ) -> Result<Camera, Error> {
+        Camera::oriented(
+            vp.position,
+            vp.orientation,
+            Lens::Perspective {
+                fov: across.smaller_side_fov(vp.field_of_view, width, height),
+            },
+        )
+    }
+
     /// At `position`, looking along `orientation * (0,0,-1)` with `orientation * (0,1,0)` up.
     pub fn oriented(position: DVec3, orientation: DQuat, lens: Lens) -> Result<Camera, Error> {
         check_vec("position", position)?;
@@ -236,10 +322,50 @@ impl Camera {
         width: u32,
         height: u32,
     ) -> Result<(Camera, String), Error> {
+        Camera::for_scene_across(
+            viewpoints,
+            bounds,
+            ball,
+            choice,
+            projection,
+            FovAcross::Smaller,
+            width,
+            height,
+        )
+    }
+
+    /// [`Camera::for_scene`], with a Viewpoint's `fieldOfView` read as the angle across the
+    /// `across` side of the image ([`FovAcross::smaller_side_fov`]). It changes nothing for
+    /// the other cameras (VRML's default, one framing the scene) or an orthographic lens.
+    #[allow(clippy::too_many_arguments)]
+    pub fn for_scene_across(
+        viewpoints: &[Viewpoint],
+        bounds: Option<(DVec3, DVec3)>,
+        ball: Option<(DVec3, f64)>,
+        choice: &CameraChoice,
+        projection: Projection,
+        across: FovAcross,
+        width: u32,
+        height: u32,
+    ) -> Result<(Camera, String), Error> {
         let named = |vp: &Viewpoint| match &vp.name {
             Some(n) => format!("Viewpoint {n}"),
             None if !vp.description.is_empty() => format!("Viewpoint \"{}\"", vp.description),
             None => "the first Viewpoint".to_string(),
+        };
+        let from_file = |vp: &Viewpoint| {
+            (
+                across.smaller_side_fov(vp.field_of_view, width, height),
+                if across == FovAcross::Smaller || projection != Projection::Perspective {
+                    named(vp)
+                } else {
+                    format!(
+                        "{} (fieldOfView across the image {})",
+                        named(vp),
+                        across.name()
+                    )
+                },
+            )
         };
         let (position, orientation, fov, description) = match choice {
             CameraChoice::Named(want) => {
@@ -265,11 +391,17 @@ impl Camera {
                             )
                         })
                     })?;
-                (vp.position, vp.orientation, vp.field_of_view, named(vp))
+                let (fov, description) = from_file(vp);
+                (vp.position, vp.orientation, fov, description)
             }
             CameraChoice::Auto if !viewpoints.is_empty() => {
-                let vp = &viewpoints[0];
-                (vp.position, vp.orientation, vp.field_of_view, named(vp))
+                let (fov, description) = from_file(&viewpoints[0]);
+                (
+                    viewpoints[0].position,
+                    viewpoints[0].orientation,
+                    fov,
+                    description,
+                )
             }
             CameraChoice::Auto => match ball {
                 Some((c, r)) => (
@@ -372,6 +504,150 @@ impl ImagePlane {
                 self.position,
                 (self.forward + x * self.right + y * self.up).normalize(),
             )
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: f64, b: f64) -> bool {
+        (a - b).abs() <= 4.0 * f64::EPSILON * a.abs().max(b.abs())
+    }
+
+    /// The lens of a Viewpoint read across each side: the image plane's half extent across
+    /// that side is `tan(fov / 2)`, the other one follows the aspect, and the smaller-side
+    /// angle is the closed form `2 atan(tan(fov / 2) * min(W, H) / S)`.
+    #[test]
+    fn fov_across_a_side_matches_the_closed_form() {
+        for fov in [0.1, 0.465421, FRAC_PI_4, 1.5, 3.0] {
+            let t = (0.5 * fov).tan();
+            for (w, h) in [
+                (640u32, 480u32),
+                (480, 640),
+                (500, 500),
+                (1920, 1080),
+                (7, 3000),
+            ] {
+                let (fw, fh) = (f64::from(w), f64::from(h));
+                let smaller = fw.min(fh);
+                for (across, side) in [
+                    (FovAcross::Smaller, smaller),
+                    (FovAcross::Width, fw),
+                    (FovAcross::Height, fh),
+                ] {
+                    let got = across.smaller_side_fov(fov, w, h);
+                    let want = 2.0 * (t * smaller / side).atan();
+                    assert!(
+                        close(got, want),
+                        "{across:?} {fov} {w}x{h}: {got} vs {want}"
+                    );
+                    assert!(got > 0.0 && got <= fov);
+                    let vp = Viewpoint {
+                        field_of_view: fov,
+                        ..Viewpoint::default()
+                    };
+                    let plane = Camera::from_viewpoint_across(&vp, across, w, h)
+                        .unwrap()
+                        .image_plane(w, h);
+                    // Half extents: tangents of the half angles across width and height.
+                    let across_side = match across {
+                        FovAcross::Smaller if w <= h => plane.half_w,
+                        FovAcross::Smaller => plane.half_h,
+                        FovAcross::Width => plane.half_w,
+                        FovAcross::Height => plane.half_h,
+                    };
+                    assert!(
+                        (across_side - t).abs() <= 1e-14 * t,
+                        "{across:?} {fov} {w}x{h}: {across_side} vs {t}"
+                    );
+                    assert!((plane.half_w / plane.half_h - fw / fh).abs() <= 1e-13 * fw / fh);
+                }
+            }
+        }
+        // The side that is the smaller one keeps the angle bit for bit.
+        assert_eq!(FovAcross::Width.smaller_side_fov(0.7, 480, 640), 0.7);
+        assert_eq!(FovAcross::Height.smaller_side_fov(0.7, 640, 480), 0.7);
+        assert_eq!(FovAcross::Smaller.smaller_side_fov(0.7, 640, 480), 0.7);
+    }
+
+    /// PyMOL shows its vertical field of view `f` (20 degrees by default) and writes
+    /// `a = f * W / H` (radians). Read across the width, `a` gives a vertical half tangent of
+    /// `tan(a / 2) * H / W`: PyMOL's `tan(f / 2)` but 0.8 % larger at 4:3 and 2.3 % at 16:9
+    /// (PyMOL scales the angle, not its tangent). Read across the smaller side, it draws the
+    /// scene `tan(f / 2) / tan(a / 2)` times as large as PyMOL: 0.744 at 4:3, 0.550 at 16:9.
+    #[test]
+    fn pymol_angle_read_across_the_width() {
+        let f = 20f64.to_radians();
+        for (w, h, wider, shrink) in [(640u32, 480u32, 0.0081, 0.744), (1920, 1080, 0.0229, 0.550)]
+        {
+            let a = std::f64::consts::PI * 20.0 * f64::from(w) / (180.0 * f64::from(h));
+            let as_vrml = Camera::from_viewpoint_across(
+                &Viewpoint {
+                    field_of_view: a,
+                    ..Viewpoint::default()
+                },
+                FovAcross::Smaller,
+                w,
+                h,
+            )
+            .unwrap()
+            .image_plane(w, h);
+            let as_pymol = Camera::from_viewpoint_across(
+                &Viewpoint {
+                    field_of_view: a,
+                    ..Viewpoint::default()
+                },
+                FovAcross::Width,
+                w,
+                h,
+            )
+            .unwrap()
+            .image_plane(w, h);
+            let pymol = (0.5 * f).tan();
+            let off = as_pymol.half_h / pymol - 1.0;
+            assert!((off - wider).abs() < 1e-4, "{w}x{h}: {off}");
+            let scale = pymol / as_vrml.half_h;
+            assert!((scale - shrink).abs() < 5e-4, "{w}x{h}: {scale}");
+        }
+    }
+
+    #[test]
+    fn pymol_viewpoint_is_recognised_and_nothing_else() {
+        let pymol = Viewpoint {
+            description: "Z view".into(),
+            position: DVec3::new(0.0, 0.0, 75.52772522),
+            field_of_view: 0.465421,
+            ..Viewpoint::default()
+        };
+        assert!(pymol_export(std::slice::from_ref(&pymol)));
+        assert!(!pymol_export(&[]));
+        assert!(!pymol_export(&[pymol.clone(), pymol.clone()]));
+        let changed = [
+            Viewpoint {
+                name: Some("Z".into()),
+                ..pymol.clone()
+            },
+            Viewpoint {
+                description: "Default View".into(),
+                ..pymol.clone()
+            },
+            Viewpoint {
+                position: DVec3::new(0.1, 0.0, 75.0),
+                ..pymol.clone()
+            },
+            Viewpoint {
+                position: DVec3::new(0.0, 0.0, -75.0),
+                ..pymol.clone()
+            },
+            Viewpoint {
+                orientation: DQuat::from_rotation_y(0.3),
+                ..pymol.clone()
+            },
+        ];
+        for vp in changed {
+            assert!(!pymol_export(std::slice::from_ref(&vp)), "{vp:?}");
         }
     }
 }

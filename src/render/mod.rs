@@ -29,7 +29,7 @@ use glam::DVec3;
 use crate::accel::{Packed, SphereBvh};
 use crate::scene::{Bounds, EllipsoidId, Light, MaterialTable, Scene, Viewpoint};
 use crate::Error;
-pub use camera::{Camera, CameraChoice, ImagePlane, Lens, Projection};
+pub use camera::{pymol_export, Camera, CameraChoice, FovAcross, ImagePlane, Lens, Projection};
 pub use film::Film;
 pub use lights::LightSource;
 pub use sampler::SamplerKind;
@@ -121,7 +121,7 @@ pub enum Integrator {
     Mc,
 }
 
-/// Work counters (STYLE habit 13), summed over tiles.
+/// Work counters, summed over tiles.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Counters {
     pub camera_rays: u64,
@@ -332,13 +332,27 @@ impl Prepared {
         width: u32,
         height: u32,
     ) -> Result<(Camera, String), Error> {
-        Camera::for_scene(
+        self.camera_across(choice, projection, FovAcross::Smaller, width, height)
+    }
+
+    /// [`Prepared::camera`] with a Viewpoint's `fieldOfView` read as the angle across the
+    /// `across` side of the image ([`Camera::for_scene_across`]).
+    pub fn camera_across(
+        &self,
+        choice: &CameraChoice,
+        projection: Projection,
+        across: FovAcross,
+        width: u32,
+        height: u32,
+    ) -> Result<(Camera, String), Error> {
+        Camera::for_scene_across(
             &self.viewpoints,
             self.bounds
                 .map(|b| (DVec3::from(b.min), DVec3::from(b.max))),
             self.bounding_ball,
             choice,
             projection,
+            across,
             width,
             height,
         )

@@ -96,8 +96,9 @@ pub struct GasArgs {
     /// [default: 3 for N <= 1e4, 1 above].
     #[arg(long)]
     pub runs: Option<usize>,
-    /// Seconds: march's step sweep stops when its next step would take longer than this,
-    /// and the time it would need is projected [default: 120; with --quick 2].
+    /// With --scaling, seconds: march's step sweep stops when its next step would take longer
+    /// than this, and the time it would need is projected [default: 120; with --quick 2]. The
+    /// time-against-error sweep runs every step.
     #[arg(long)]
     pub march_budget: Option<f64>,
     /// With --scaling: give every cloud sphere this density profile, `NAME[:WIDTH]` as for

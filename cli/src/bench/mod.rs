@@ -59,7 +59,7 @@ pub enum BenchCommand {
     },
     /// BVH build time, camera and shadow rays per second per core, and peak memory on N random
     /// opaque spheres (centres uniform in a cube, radius 0.6 N^(-1/3), a PointLight and a
-    /// DirectionalLight; benches/embree renders the same scene with Embree).
+    /// DirectionalLight).
     Trace {
         /// Number of spheres.
         #[arg(long, default_value_t = 1_000_000)]
@@ -89,12 +89,12 @@ pub enum BenchCommand {
     },
     /// Lit gas: time against error of the gas integrators (exact, march, mc) on a lit gas
     /// scene; with --scaling, how exact's cost per ray grows with N on gas clouds, against
-    /// march at equal error; with --write DIR, those clouds as .wrl files.
+    /// march at equal error; with `--write DIR`, those clouds as .wrl files.
     Gas(gas::GasArgs),
     /// The whole path at growing N: a generated particle table converted to VRML, then
-    /// `gtsphere render` of it (512 x 512, 1 spp, shadows) in a child process: read, build
-    /// and render seconds, particles read per second, and the command's peak memory per
-    /// sphere. Files are kept in --dir and reused.
+    /// `gtsphere render` of it (--size pixels square, 1 spp, shadows) in a child process:
+    /// read, build and render seconds, particles read per second, and the command's peak
+    /// memory per sphere. Files are kept in --dir and reused.
     Scale {
         /// Particle counts, comma-separated; 1e6 or 1000000.
         #[arg(long, value_delimiter = ',', value_parser = gas::parse_count, default_values_t = [1_000_000, 10_000_000])]

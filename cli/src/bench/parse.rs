@@ -20,11 +20,11 @@ use gtsphere::scenes::{self, write_particles};
 /// `--layout`: how the particles are laid out in the file ([`scenes::Layout`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum LayoutArg {
-    /// A million top-level Transforms.
+    /// N top-level Transforms.
     Flat,
-    /// A million children of one Group (what VMD-style exporters write).
+    /// N children of one Group (what VMD-style exporters write).
     Group,
-    /// A million PROTO instances, as `gtsphere convert` writes them (of a generated table).
+    /// N PROTO instances, as `gtsphere convert` writes them (of a generated table).
     Proto,
 }
 

@@ -1,6 +1,6 @@
 //! `gtsphere convert` as a user runs it: a scene flattened to VRML that reads back the same,
-//! exit codes, gzip input, VRML against tables, named pipes, and the README's sample table (the reader itself is tested in the library's
-//! tests/it/convert_csv.rs).
+//! exit codes, gzip input, VRML against tables, named pipes, and the sample table (the
+//! reader itself is tested in the library's tests/it/convert_csv.rs).
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -178,7 +178,7 @@ fn cli_writes_into_a_named_pipe_in_place() {
     assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
 }
 
-/// The sample table converts as the README says: 240 opaque beads and 12 gas spheres.
+/// The sample table converts as docs/gallery.md says: 240 opaque beads and 12 gas spheres.
 #[test]
 fn sample_table_converts() {
     let dir = scratch("sample");

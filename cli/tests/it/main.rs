@@ -4,5 +4,6 @@
 mod cli_bench; // `bench --quick`, `bench gas --scaling --quick`: reports, ratios, written clouds
 mod cli_compare; // `compare`: hand-checked metrics, the heat map, `--max-rmse` exit codes
 mod cli_convert; // `convert`: scenes and tables to VRML, exit codes, gzip, pipes, the sample
+mod cli_fov; // `render --fov-across` on PyMOL exports: framing against a closed form, notes
 mod cli_render; // `render`, `merge`: defaults, formats and AOVs, errors, framing, --as-gas, tiles
 mod support; // helpers: run the binary, scratch directories, sample paths

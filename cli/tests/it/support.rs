@@ -40,3 +40,27 @@ pub fn scratch(group: &str, name: &str) -> std::path::PathBuf {
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
+
+/// `../shared/SUB` beside the checkout (`corpus`, the VRML corpus), or `None` when it is not
+/// there (the test then returns early, saying so on stderr). Under `CI` (set to anything but
+/// `false` or `0`) a missing folder fails the test instead.
+pub fn shared(sub: &str) -> Option<std::path::PathBuf> {
+    // cli/ is in the checkout, and shared/ beside the checkout.
+    let checkout = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("cli/ is inside the checkout");
+    let beside = checkout.parent().unwrap_or(checkout).join("shared");
+    let path = beside.join(sub);
+    if path.exists() {
+        return Some(path);
+    }
+    let ci = std::env::var("CI").is_ok_and(|v| !v.is_empty() && v != "false" && v != "0");
+    assert!(
+        !ci,
+        "{} is missing: the corpus must be beside the checkout, and under CI=true its \
+         absence is a failure",
+        path.display()
+    );
+    eprintln!("{} is missing: test skipped", path.display());
+    None
+}
