@@ -130,7 +130,13 @@ class Camera:
         margin: float = 0.02,
     ) -> Camera: ...
     @staticmethod
-    def from_scene(scene: Scene, viewpoint: Optional[str] = None) -> Camera: ...
+    def from_scene(
+        scene: Scene,
+        viewpoint: Optional[str] = None,
+        *,
+        fov_across: Literal["smaller", "width", "height"] = "smaller",
+        size: Optional[tuple[int, int]] = None,
+    ) -> Camera: ...
     @property
     def position(self) -> tuple[float, float, float]: ...
     @property

@@ -2,7 +2,7 @@
 //! image size.
 
 use glam::DVec3;
-use gtsphere::render::{self, CameraChoice, Lens, Projection};
+use gtsphere::render::{self, CameraChoice, FovAcross, Lens, Projection};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -101,18 +101,51 @@ impl Camera {
 
     /// The camera `gtsphere render` uses: the Viewpoint named `viewpoint` (DEF name or
     /// description), else the scene's first Viewpoint, else one looking down -z that frames
-    /// the scene.
+    /// the scene. `fov_across` is the image side a Viewpoint's fieldOfView spans: "smaller"
+    /// (VRML97, the default), "width" (as PyMOL writes it) or "height", as `render
+    /// --fov-across`; with "width" or "height" the angle depends on the image's shape, so
+    /// give the image's `size=(width, height)`.
     #[staticmethod]
-    #[pyo3(signature = (scene, viewpoint=None))]
-    fn from_scene(scene: &Scene, viewpoint: Option<String>) -> PyResult<Camera> {
+    #[pyo3(signature = (scene, viewpoint=None, *, fov_across="smaller", size=None))]
+    fn from_scene(
+        scene: &Scene,
+        viewpoint: Option<String>,
+        fov_across: &str,
+        size: Option<(u32, u32)>,
+    ) -> PyResult<Camera> {
         let choice = match viewpoint {
             Some(n) => CameraChoice::Named(n),
             None => CameraChoice::Auto,
         };
-        // The size only matters for an orthographic camera fitted to the scene.
+        let across = match fov_across {
+            "smaller" => FovAcross::Smaller,
+            "width" => FovAcross::Width,
+            "height" => FovAcross::Height,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "fov_across = {other:?}: expected \"smaller\", \"width\" or \"height\""
+                )))
+            }
+        };
+        // The size matters for a fieldOfView across a side other than the smaller one (and
+        // for an orthographic camera fitted to the scene, which this is not).
+        let (width, height) = match (across, size) {
+            (_, Some((w, h))) if w == 0 || h == 0 => {
+                return Err(PyValueError::new_err(format!(
+                    "size = ({w}, {h}): width and height must be positive"
+                )))
+            }
+            (_, Some(wh)) => wh,
+            (FovAcross::Smaller, None) => (1, 1),
+            (_, None) => {
+                return Err(PyValueError::new_err(format!(
+                    "fov_across = {fov_across:?} needs the image's size=(width, height)"
+                )))
+            }
+        };
         let (inner, _) = scene
             .prepared
-            .camera(&choice, Projection::Perspective, 1, 1)
+            .camera_across(&choice, Projection::Perspective, across, width, height)
             .map_err(to_py)?;
         Ok(Camera { inner })
     }

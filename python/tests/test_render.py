@@ -222,6 +222,29 @@ def test_load_renders_like_the_cli(tmp_path, gtsphere_cli):
     assert np.array_equal(gt.render(scene, None, 30, 20, spp=2).rgb, film.rgb)
 
 
+def test_fov_across_the_width_renders_like_the_cli(tmp_path, gtsphere_cli):
+    # A Viewpoint whose fieldOfView spans the image width, as PyMOL writes it.
+    wrl = tmp_path / "w.wrl"
+    wrl.write_text(
+        "#VRML V2.0 utf8\n"
+        'Viewpoint { position 0 0 6 fieldOfView 0.9 description "Z view" }\n'
+        "Shape { appearance Appearance { material Material { } } geometry Sphere { } }\n"
+    )
+    out = tmp_path / "w.npy"
+    gtsphere_cli("render", wrl, "-o", out, "--width", 32, "--height", 20, "--spp", 1,
+                 "--fov-across", "width", "--quiet")
+    scene = gt.load(wrl)
+    wide = gt.Camera.from_scene(scene, fov_across="width", size=(32, 20))
+    assert np.array_equal(gt.render(scene, wide, 32, 20, spp=1).rgb, np.load(out))
+    # Across the height of a 32 x 20 image is the smaller side: the VRML97 reading.
+    assert gt.Camera.from_scene(scene, fov_across="height", size=(32, 20)).fov == 0.9
+    assert wide.fov < 0.9
+    with pytest.raises(ValueError, match="needs the image's size"):
+        gt.Camera.from_scene(scene, fov_across="width")
+    with pytest.raises(ValueError, match="fov_across"):
+        gt.Camera.from_scene(scene, fov_across="diagonal", size=(32, 20))  # type: ignore[arg-type]
+
+
 def test_options_after_the_size_are_keywords_and_a_film_shows_as_png():
     scene = gt.Scene.from_arrays([[0, 0, 0]], 1.0)
     cam = gt.Camera.frame(scene)
