@@ -18,6 +18,7 @@ mod gas_truncation; // exact: truncation bounds and error estimates against the 
 mod geom; // f64 ray/sphere and ray/ellipsoid math against exact and brute-force oracles
 mod hard_cases; // numerical hard cases: tiny, huge, far, tangent, coincident
 mod headlight; // the headlight carried by the viewer (no shadows, through the gas in front) and strict
+mod internals_doc; // docs/internals.md's table of modules is the modules' own first sentences
 mod lexical; // VRML97 lexical corners, gzip, invalid UTF-8, items longer than the window
 mod light_grid; // the lights' grids: candidates hold every sphere a band meets, and prune
 mod mesh_glyphs; // merged sphere glyphs, points as particles, Box/Cylinder/Cone as surfaces
