@@ -44,6 +44,11 @@ fn fail<T>(at: &str, msg: impl Into<String>) -> PResult<'_, T> {
     })
 }
 
+/// How near the window's end a failed item is read again with more text: longer than any
+/// number or keyword, so that one cut by the end is never taken for an error (an error is
+/// only found again, further on, once the window has grown).
+const RUNS_TO_END: usize = 1024;
+
 /// Scratch vectors that hold a value's items while its event is delivered.
 #[derive(Default)]
 struct Scratch {
@@ -731,7 +736,9 @@ impl Parser {
                 ItemIn::Urls => url_list(i, s),
             };
             match parsed {
-                Err(e) if !e.incomplete || eof => {
+                // An item that failed within a token's length of the window's end may only
+                // have been cut by it (`-` of `-0.5`, `1e` of `1e-3`): read more and retry.
+                Err(e) if eof || !(e.incomplete || e.at.len() < RUNS_TO_END) => {
                     let off = self.src.offset_of(e.at);
                     let msg = e.msg;
                     return Err(self.error_at(off, msg));

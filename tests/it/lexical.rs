@@ -134,3 +134,41 @@ fn long_items_cross_the_reading_window() {
     assert_eq!(s.viewpoints[0].description.len(), 300_000);
     assert_eq!(s.spheres[0].center, glam::DVec3::new(0.5, 1.5, 2.5));
 }
+
+#[test]
+fn numbers_cut_by_the_reading_window_read_whole() {
+    // The first read of a file ends at 1 MiB: put that end inside a number, after each of
+    // its prefixes that is not a number by itself.
+    const WINDOW: usize = 1 << 20;
+    for number in ["-0.25", "-2.5e-1", "+2.5E-1"] {
+        for cut in 1..number.len() {
+            let head = "#VRML V2.0 utf8\nShape { geometry PointSet { coord Coordinate { point [\n";
+            let mut text = String::from(head);
+            while text.len() + 6 + cut < WINDOW {
+                text.push_str("1 1 1\n");
+            }
+            while text.len() + cut < WINDOW {
+                text.push(' ');
+            }
+            text.push_str(number);
+            text.push_str(" 2 3\n");
+            for _ in 0..1000 {
+                text.push_str("1 1 1\n");
+            }
+            text.push_str("] } } }\n");
+            assert_eq!(text.find(number), Some(WINDOW - cut));
+            let (s, _) = load_bytes("cut.wrl", text.into_bytes(), &LoadOptions::default())
+                .unwrap_or_else(|e| panic!("{number} cut after {cut} bytes: {e}"));
+            let want = glam::DVec3::new(-0.25, 2.0, 3.0);
+            let want = if number.starts_with('+') {
+                want * glam::DVec3::new(-1.0, 1.0, 1.0)
+            } else {
+                want
+            };
+            assert!(
+                s.spheres.iter().any(|sp| sp.center == want),
+                "{number} cut after {cut} bytes: no point at {want}"
+            );
+        }
+    }
+}
