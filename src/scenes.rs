@@ -66,21 +66,35 @@ pub fn write_particles(out: &mut impl Write, n: usize, layout: Layout) -> std::i
     Ok(())
 }
 
+/// How [`write_table`] writes colours.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TableColours {
+    /// 0-255 integers: few distinct colours, as a palette gives.
+    Bytes,
+    /// 0-1 with 6 decimals: a colour of its own per particle, as a colour map gives.
+    Continuous,
+}
+
 /// Writes `n` rows `x,y,z,radius,red,green,blue`: positions in [-1,1]^3 with 6 decimals, radii
-/// near `0.6 n^(-1/3)`, colours as 0-255 integers (deterministic pseudo-random values).
-pub fn write_table(out: &mut impl Write, n: usize) -> std::io::Result<()> {
+/// near `0.6 n^(-1/3)`, colours as `colours` says (deterministic pseudo-random values).
+pub fn write_table(out: &mut impl Write, n: usize, colours: TableColours) -> std::io::Result<()> {
     writeln!(out, "x,y,z,radius,red,green,blue")?;
     let mut next = unit_random();
     let radius = 0.6 * (n.max(1) as f64).powf(-1.0 / 3.0);
     for _ in 0..n {
         let (x, y, z) = (2.0 * next() - 1.0, 2.0 * next() - 1.0, 2.0 * next() - 1.0);
         let rad = radius * (0.5 + next());
-        let (r, g, b) = (
-            (next() * 256.0) as u8,
-            (next() * 256.0) as u8,
-            (next() * 256.0) as u8,
-        );
-        writeln!(out, "{x:.6},{y:.6},{z:.6},{rad:.5},{r},{g},{b}")?;
+        let (r, g, b) = (next(), next(), next());
+        match colours {
+            TableColours::Bytes => {
+                let byte = |c: f64| (c * 256.0) as u8;
+                let (r, g, b) = (byte(r), byte(g), byte(b));
+                writeln!(out, "{x:.6},{y:.6},{z:.6},{rad:.5},{r},{g},{b}")?;
+            }
+            TableColours::Continuous => {
+                writeln!(out, "{x:.6},{y:.6},{z:.6},{rad:.5},{r:.6},{g:.6},{b:.6}")?;
+            }
+        }
     }
     Ok(())
 }

@@ -20,6 +20,10 @@ pub struct GeometryArgs {
     /// 1: one reader). The scene, its order and its warnings are the same either way.
     #[arg(long, value_name = "N")]
     pub read_threads: Option<usize>,
+    /// Read every PROTO instance by replaying its body and every sphere node event by event,
+    /// without the reader's fast paths (the same scene, for measuring what they save).
+    #[arg(long, hide = true)]
+    pub replay_every_instance: bool,
 }
 
 impl GeometryArgs {
@@ -36,6 +40,7 @@ impl GeometryArgs {
             point_radius: self.point_radius,
             spheres_only: self.spheres_only,
             read_threads: self.read_threads.unwrap_or(opts.read_threads),
+            replay_every_instance: self.replay_every_instance,
             ..opts
         })
     }

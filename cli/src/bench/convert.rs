@@ -14,14 +14,14 @@ use crate::memory::peak_rss_bytes;
 use gtsphere::error::Error;
 use gtsphere::output::write_file_atomically;
 use gtsphere::particles::{self, Extras, TableOptions, WriteOptions};
-use gtsphere::scenes::write_table;
+use gtsphere::scenes::{write_table, TableColours};
 
 pub fn generate(dir: &Path, n: usize) -> Result<PathBuf, Error> {
     let path = dir.join(format!("gtsphere-bench-particles-{n}.csv"));
     if path.is_file() {
         return Ok(path);
     }
-    write_file_atomically(&path, |w| write_table(w, n))?;
+    write_file_atomically(&path, |w| write_table(w, n, TableColours::Bytes))?;
     Ok(path)
 }
 

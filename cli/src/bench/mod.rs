@@ -56,6 +56,13 @@ pub enum BenchCommand {
         /// Reading threads of the runs in pieces (each is paired with a run by one reader).
         #[arg(long, default_value_t = 2)]
         read_threads: usize,
+        /// The file `--layout copies` copies (a tool's export, for example).
+        #[arg(long, value_name = "FILE")]
+        copies_of: Option<PathBuf>,
+        /// Read without the reader's fast paths (every PROTO instance replayed, every sphere
+        /// node read event by event), for measuring what they save.
+        #[arg(long, hide = true)]
+        replay_every_instance: bool,
     },
     /// BVH build time, camera and shadow rays per second per core, and peak memory on N random
     /// opaque spheres (centres uniform in a cube, radius 0.6 N^(-1/3), a PointLight and a
@@ -119,7 +126,17 @@ pub fn run(cmd: BenchCommand) -> Result<ExitCode, Error> {
             dir,
             layout,
             read_threads,
-        } => parse::run(particles, runs, dir, layout, read_threads),
+            copies_of,
+            replay_every_instance,
+        } => parse::run(
+            particles,
+            runs,
+            dir,
+            layout,
+            read_threads,
+            copies_of,
+            replay_every_instance,
+        ),
         BenchCommand::Trace {
             spheres,
             size,

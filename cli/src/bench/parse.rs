@@ -1,4 +1,7 @@
-//! `gtsphere bench parse`: parse speed and peak memory on generated particle files.
+//! `gtsphere bench parse`: parse speed and peak memory on particle files as users have them:
+//! generated Transforms (flat or in one Group), `convert`'s PROTO instances of a table with
+//! 8-bit colours and of one with a continuous colour per particle, and copies of a tool's
+//! export (`--copies-of FILE`) side by side until there are N spheres.
 //!
 //! Each measurement runs `gtsphere info --json` in a fresh child process, so that its peak
 //! resident memory (VmHWM) belongs to that parse alone. Each run reads the file once by one
@@ -24,8 +27,15 @@ pub enum LayoutArg {
     Flat,
     /// N children of one Group (what VMD-style exporters write).
     Group,
-    /// N PROTO instances, as `gtsphere convert` writes them (of a generated table).
+    /// N PROTO instances, as `gtsphere convert` writes them (of a generated table with 8-bit
+    /// colours: few distinct materials).
     Proto,
+    /// As proto, of a table with a continuous colour per particle (6 decimals, as a colour
+    /// map writes): every particle a material of its own.
+    Continuous,
+    /// Copies of the file given by --copies-of, each in a Transform of its own, until they
+    /// hold N spheres.
+    Copies,
 }
 
 impl From<LayoutArg> for scenes::Layout {
@@ -33,23 +43,46 @@ impl From<LayoutArg> for scenes::Layout {
         match a {
             LayoutArg::Flat => scenes::Layout::Flat,
             LayoutArg::Group => scenes::Layout::Group,
-            LayoutArg::Proto => unreachable!("converted, not generated"),
+            LayoutArg::Proto | LayoutArg::Continuous | LayoutArg::Copies => {
+                unreachable!("converted or copied, not generated")
+            }
         }
     }
 }
 
-fn generate(dir: &Path, n: usize, layout: LayoutArg) -> Result<PathBuf, Error> {
-    let name = format!(
-        "gtsphere-bench-{}-{n}.wrl",
-        format!("{layout:?}").to_lowercase()
-    );
-    let path = dir.join(name);
+fn generate(
+    dir: &Path,
+    n: usize,
+    layout: LayoutArg,
+    copies_of: Option<&Path>,
+) -> Result<PathBuf, Error> {
+    let stem = match (layout, copies_of) {
+        (LayoutArg::Copies, Some(f)) => format!(
+            "copies-{}",
+            f.file_stem().unwrap_or_default().to_string_lossy()
+        ),
+        (LayoutArg::Copies, None) => {
+            return Err(Error::Other(
+                "--layout copies needs --copies-of FILE".to_string(),
+            ))
+        }
+        _ => format!("{layout:?}").to_lowercase(),
+    };
+    let path = dir.join(format!("gtsphere-bench-{stem}-{n}.wrl"));
     if path.is_file() {
         return Ok(path);
     }
-    if layout == LayoutArg::Proto {
+    if let (LayoutArg::Copies, Some(file)) = (layout, copies_of) {
+        return write_copies(file, n, &path).map(|()| path);
+    }
+    if matches!(layout, LayoutArg::Proto | LayoutArg::Continuous) {
+        let colours = if layout == LayoutArg::Proto {
+            scenes::TableColours::Bytes
+        } else {
+            scenes::TableColours::Continuous
+        };
         let mut table = Vec::new();
-        scenes::write_table(&mut table, n).map_err(|e| Error::Other(e.to_string()))?;
+        scenes::write_table(&mut table, n, colours).map_err(|e| Error::Other(e.to_string()))?;
         gtsphere::particles::convert_to_file(
             "generated.csv",
             Box::new(std::io::Cursor::new(table)),
@@ -80,10 +113,63 @@ fn generate(dir: &Path, n: usize, layout: LayoutArg) -> Result<PathBuf, Error> {
     Ok(path)
 }
 
+/// Copies of `file` (a VRML97 scene, gzip or not) until they hold at least `n` spheres, each
+/// in a Transform moved along x by the file's width, written to `path`. The file's header
+/// line is written once; everything else of it, PROTOs and DEFs included, in every copy.
+fn write_copies(file: &Path, n: usize, path: &Path) -> Result<(), Error> {
+    let (scene, _) = gtsphere::vrml::load_path(file, &gtsphere::vrml::LoadOptions::default())?;
+    let spheres = scene.spheres.len();
+    if spheres == 0 {
+        return Err(Error::Other(format!(
+            "{}: no spheres to copy",
+            file.display()
+        )));
+    }
+    let width = scene
+        .bounds()
+        .map_or(1.0, |b| (b.max[0] - b.min[0]).max(1e-3));
+    let read_err = |e| Error::Io {
+        path: file.display().to_string(),
+        source: e,
+    };
+    let mut text = String::new();
+    let raw = std::fs::File::open(file).map_err(read_err)?;
+    std::io::Read::read_to_string(
+        &mut gtsphere::input::sniff(raw).map_err(read_err)?,
+        &mut text,
+    )
+    .map_err(read_err)?;
+    let body = text.split_once('\n').map_or("", |(_, rest)| rest);
+    let io = |e| Error::Io {
+        path: path.display().to_string(),
+        source: e,
+    };
+    let tmp = path.with_extension("wrl.part");
+    let mut w = BufWriter::with_capacity(1 << 20, std::fs::File::create(&tmp).map_err(io)?);
+    writeln!(w, "#VRML V2.0 utf8").map_err(io)?;
+    for k in 0..n.div_ceil(spheres) {
+        let x = k as f64 * 1.1 * width;
+        writeln!(
+            w,
+            "Transform {{ translation {x} 0 0 children [\n{body}\n] }}"
+        )
+        .map_err(io)?;
+    }
+    w.flush().map_err(io)?;
+    drop(w);
+    std::fs::rename(&tmp, path).map_err(io)
+}
+
 /// One `gtsphere info --json` of `path` on `threads` reading threads.
-fn measure(exe: &Path, path: &Path, threads: usize) -> Result<serde_json::Value, Error> {
+fn measure(
+    exe: &Path,
+    path: &Path,
+    threads: usize,
+    replay: bool,
+) -> Result<serde_json::Value, Error> {
     let out = Command::new(exe)
         .args(["info", "--json", "--read-threads", &threads.to_string()])
+        .args(replay.then_some("--replay-every-instance"))
         .arg(path)
         .output()
         .map_err(|e| Error::Other(format!("cannot run {}: {e}", exe.display())))?;
@@ -102,6 +188,8 @@ pub fn run(
     dir: Option<PathBuf>,
     layout: Vec<LayoutArg>,
     read_threads: usize,
+    copies_of: Option<PathBuf>,
+    replay: bool,
 ) -> Result<ExitCode, Error> {
     let dir = dir.unwrap_or_else(std::env::temp_dir);
     let exe = std::env::current_exe()
@@ -110,7 +198,7 @@ pub fn run(
     println!("| layout | particles | file MB | read threads | pieces | median MB/s | median s | particles/s/thread | speed-up | IR MB | peak RSS MB | peak / IR |");
     println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for l in layout {
-        let path = generate(&dir, particles, l)?;
+        let path = generate(&dir, particles, l, copies_of.as_deref())?;
         // secs[k], for threads[k], run by run.
         let mut secs = [Vec::new(), Vec::new()];
         let mut speeds = [Vec::new(), Vec::new()];
@@ -119,7 +207,7 @@ pub fn run(
         let (mut ir, mut bytes) = (0.0, 0.0);
         for _ in 0..runs.max(1) {
             for (k, &t) in threads.iter().enumerate() {
-                let v = measure(&exe, &path, t)?;
+                let v = measure(&exe, &path, t, replay)?;
                 speeds[k].push(v["mb_per_s"].as_f64().unwrap_or(0.0));
                 secs[k].push(v["parse_seconds"].as_f64().unwrap_or(0.0));
                 ir = v["ir_bytes"].as_f64().unwrap_or(0.0) / 1e6;
