@@ -1,7 +1,7 @@
-//! `gtsphere bench parse`: parse speed and peak memory on particle files as users have them:
-//! generated Transforms (flat or in one Group), `convert`'s PROTO instances of a table with
-//! 8-bit colours and of one with a continuous colour per particle, and copies of a tool's
-//! export (`--copies-of FILE`) side by side until there are N spheres.
+//! `gtsphere bench parse`: reading speed and peak memory on particle files as users have
+//! them. The files: generated Transforms (flat or in one Group), `convert`'s PROTO instances
+//! of a table with 8-bit colours and of one with a continuous colour per particle, and copies
+//! of a tool's export (`--copies-of FILE`) side by side until there are N spheres.
 //!
 //! Each measurement runs `gtsphere info --json` in a fresh child process, so that its peak
 //! resident memory (VmHWM) belongs to that parse alone. Each run reads the file once by one
