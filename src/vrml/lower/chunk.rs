@@ -297,6 +297,11 @@ impl Lowerer {
             if self.poison.as_ref().is_some_and(|p| p.contains(name)) {
                 self.fallback
                     .get_or_insert_with(|| format!("'{name}' is used after a chunk DEF'd it"));
+                // The pieces' result cannot stand: not found, so that the main reader stops
+                // here (a USE of an unknown name is an error) rather than read on to the end
+                // for nothing (copies of a Jmol export, 1e6 atoms, two threads: 3.66 s, then
+                // about one reader's time).
+                return None;
             }
         }
         d

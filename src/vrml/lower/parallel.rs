@@ -366,7 +366,7 @@ fn main_reader(
     low.resume_outside(&mut opened);
     let (chunks, why) = match outcome {
         Ok(r) => r,
-        Err(why) => return Ok(Parallel::Fallback(why)),
+        Err(why) => return Ok(Parallel::Fallback(low.fallback.take().unwrap_or(why))),
     };
     if let Err(e) = low.close_file(opened, &parser.src) {
         return Ok(Parallel::Fallback(e.to_string()));
