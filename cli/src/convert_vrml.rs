@@ -13,7 +13,6 @@ pub fn run(input: &Path, output: &Path, strict: bool, quiet: bool) -> Result<Exi
         strict,
         ..LoadOptions::default()
     };
-    crate::memory::retain_freed_while_reading();
     let (scene, report) = load_path(input, &opts)?;
     if !quiet {
         for w in &report.warnings {

@@ -24,7 +24,6 @@ pub fn run(
         inline: !no_inline,
         ..LoadOptions::default()
     })?;
-    crate::memory::retain_freed_while_reading();
     let (scene, report) = load_path(path, &opts)?;
     if as_json {
         println!(

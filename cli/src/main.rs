@@ -130,7 +130,6 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
 }
 
 fn main() -> ExitCode {
-    memory::tune_allocator();
     match run(Cli::parse()) {
         Ok(code) => code,
         Err(e) => {

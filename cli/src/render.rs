@@ -484,7 +484,6 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
         read_threads: args.threads.unwrap_or(0),
         ..LoadOptions::default()
     })?;
-    crate::memory::retain_freed_while_reading();
     let (scene, report) = load_path(&args.scene, &load)?;
     let say = |m: String| {
         if !args.quiet {
@@ -495,7 +494,6 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
         say(format!("{w}"));
     }
     let spheres = scene.spheres.len();
-    crate::memory::retain_freed_for(spheres);
     let surfaces = scene.surfaces.len();
     let headlight = scene.headlight;
     let in_scene = |e: Error| Error::Other(format!("{}: {e}", args.scene.display()));
