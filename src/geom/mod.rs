@@ -4,6 +4,8 @@
 //! (`nearest.rs`). Depends on nothing else in the crate; see `sphere.rs` for the numerics.
 
 pub(crate) mod eft;
+use glam::DVec3;
+
 mod ellipsoid;
 mod fit;
 pub mod mesh;
@@ -18,3 +20,15 @@ pub use mesh::{
 };
 pub use nearest::median_nearest_distance;
 pub use sphere::{enters_between, segment_chord, sphere_roots};
+
+/// Distance from `c` to the segment `[a, b]`.
+pub fn distance_to_segment(c: DVec3, a: DVec3, b: DVec3) -> f64 {
+    let ab = b - a;
+    let len2 = ab.length_squared();
+    let u = if len2 > 0.0 {
+        ((c - a).dot(ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a + u * ab - c).length()
+}

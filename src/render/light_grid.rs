@@ -554,7 +554,7 @@ impl LightGrid {
             }
             Frame::From { p } => {
                 let (wa, wb) = (a - p, b - p);
-                let near = super::shadow_volume::to_segment(p, a, b);
+                let near = crate::geom::distance_to_segment(p, a, b);
                 let far = wa.length().max(wb.length());
                 // Within 1e-6 of its length from the light, the segment's directions turn
                 // too fast for the projection's rounding: the BVH answers instead.

@@ -38,7 +38,7 @@
 use glam::DVec3;
 
 use super::breakpoints::breakpoints;
-use super::density::gas_depth;
+use super::density::{gas_chord, gas_depth};
 use super::light_grid::LightGrid;
 use super::lights::{opaque_reach, path_to, towards, LightKind, LightSource};
 use super::shadow_volume::{band_edges, path_end, BandCache};
@@ -141,39 +141,6 @@ pub fn chord(prep: &Prepared, p: &Prim, x: DVec3, dir: DVec3, dist: f64) -> Chor
     match prep.bvh.roots(p, x, dir) {
         Some((t0, _)) if t0 > 0.0 && t0 < opaque_reach(dist) => Chord::Blocked,
         _ => Chord::Gas(0.0),
-    }
-}
-
-/// The length of the light ray `x + s dir`, `s` in `[0, dist]` (`dir` unit), inside the gas
-/// shadower `p`. For a sphere, in plain f64: the offset `v` of the centre from the line is
-/// formed directly (not as a difference of squares), the half chord is
-/// `sqrt((r - |v|)(r + |v|))`, and a chord wholly inside `[0, dist]` is twice that rather than
-/// a difference of two roots. Near a tangency the absolute error is about
-/// `eps |x - c| r / chord`, negligible against the chord except within ~1e-13 of the
-/// tangency, where the chord's contribution is itself below rounding. (The careful roots of
-/// `geom::sphere_roots` decide hits to 1e-15; here every call is on a shadower known to be
-/// active, so that care buys nothing and costs a third of the integrand.)
-#[inline]
-pub fn gas_chord(prep: &Prepared, p: &Prim, x: DVec3, dir: DVec3, dist: f64) -> f64 {
-    if p.ellipsoid.is_some() {
-        return match prep.bvh.roots(p, x, dir) {
-            Some((t0, t1)) => (t1.min(dist) - t0.max(0.0)).max(0.0),
-            None => 0.0,
-        };
-    }
-    let f = x - p.center;
-    let b = f.dot(dir);
-    let h = (f - b * dir).length();
-    // Also false for NaN.
-    if h.partial_cmp(&p.radius) != Some(std::cmp::Ordering::Less) {
-        return 0.0;
-    }
-    let half = ((p.radius - h) * (p.radius + h)).sqrt();
-    let (t0, t1) = (-b - half, -b + half);
-    if t0 >= 0.0 && t1 <= dist {
-        2.0 * half
-    } else {
-        (t1.min(dist) - t0.max(0.0)).max(0.0)
     }
 }
 

@@ -7,8 +7,8 @@
 
 use glam::DVec3;
 
-use super::integrators::surface::Opaque;
 use super::lights::{in_scope, in_surface_scope, towards, LightSource};
+use super::visibility::Opaque;
 use super::visibility::{visible_after, Blockers};
 use super::{Counters, Prepared, View};
 use crate::scene::Material;

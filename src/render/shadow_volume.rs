@@ -30,17 +30,7 @@ use glam::DVec3;
 use super::light_grid::LightGrid;
 use super::lights::LightKind;
 use crate::accel::{Ball, SphereBvh};
-/// Distance from `c` to the segment `[a, b]`.
-pub(crate) fn to_segment(c: DVec3, a: DVec3, b: DVec3) -> f64 {
-    let ab = b - a;
-    let len2 = ab.length_squared();
-    let u = if len2 > 0.0 {
-        ((c - a).dot(ab) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (a + u * ab - c).length()
-}
+use crate::geom::distance_to_segment as to_segment;
 
 /// Distance from `p` to the triangle `a b c` (Ericson, Real-Time Collision Detection 5.1.5).
 fn to_triangle(p: DVec3, a: DVec3, b: DVec3, c: DVec3) -> f64 {

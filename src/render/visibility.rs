@@ -4,10 +4,18 @@
 
 use glam::DVec3;
 
-use super::integrators::surface::Opaque;
 use super::lights::opaque_reach;
 use super::Prepared;
 use crate::accel::SphereBvh;
+
+/// What an opaque hit is on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Opaque {
+    /// A primitive of the sphere BVH (its index, see `SphereBvh::prim`).
+    Sphere(u32),
+    /// A surface (an index into `Prepared::surfaces.items`, the same as into `Scene::surfaces`).
+    Surface(u32),
+}
 
 /// Visibility from `x` towards a light at unit direction `l`, distance `dist` (infinite for a
 /// directional light). `own` is what `x` lies on, if anything: its own shadow is exact

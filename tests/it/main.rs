@@ -23,6 +23,7 @@ mod lexical; // VRML97 lexical corners, gzip, invalid UTF-8, items longer than t
 mod light_grid; // the lights' grids: candidates hold every sphere a band meets, and prune
 mod mesh_glyphs; // merged sphere glyphs, points as particles, Box/Cylinder/Cone as surfaces
 mod mesh_spheres; // IndexedFaceSets on a sphere become that sphere; other meshes are skipped
+mod module_cycles; // the library's modules depend on each other one way
 mod output; // PNG, EXR, PFM bytes against independent readers; the atomic write
 mod parallel_read; // reading in pieces on several threads gives one reader's scene, warnings and errors
 mod profile_chords; // density profiles' closed-form optical depth against independent quadrature

@@ -9,16 +9,8 @@ use crate::accel::PacketStack;
 use crate::geom::ellipsoid_normal;
 use crate::render::lighting::{shade, SurfacePoint};
 use crate::render::visibility::Blockers;
+pub use crate::render::visibility::Opaque;
 use crate::render::{Counters, Prepared, View};
-
-/// What an opaque hit is on.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Opaque {
-    /// A primitive of the sphere BVH (its index, see `SphereBvh::prim`).
-    Sphere(u32),
-    /// A surface (an index into `Prepared::surfaces.items`, the same as into `Scene::surfaces`).
-    Surface(u32),
-}
 
 /// An opaque hit: ray parameter and what was hit.
 #[derive(Clone, Copy, Debug, PartialEq)]

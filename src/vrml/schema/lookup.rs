@@ -1,10 +1,10 @@
 //! Finding a standard node type by name, and a member of its interface by name, without
-//! scanning: each [`NodeSpec`] carries an open-addressing table over its fields, and
-//! [`NODES`] has one over the type names, both built at compile time by `const fn`s. Every
+//! scanning: each [`NodeSpec`] carries an open-addressing table over its fields, and the list
+//! of node types (`tables`) has one over the type names, both built at compile time by
+//! `const fn`s. Every
 //! node and field of a scene is looked up here, so the hashes are a few byte reads and the
 //! name comparison avoids a `memcmp` call for the usual 4 to 16 bytes.
 
-use super::tables::NODES;
 use super::{Access, FieldSpec};
 
 /// A standard node type and its interface, in declaration order.
@@ -71,28 +71,6 @@ impl NodeSpec {
     }
 }
 
-/// The standard node type named exactly `name` (case-sensitive).
-#[inline]
-pub fn node_spec(name: &str) -> Option<&'static NodeSpec> {
-    node_index(name).map(|i| &NODES[i])
-}
-
-/// The index in [`NODES`] of the standard node type named exactly `name` (case-sensitive).
-#[inline(always)]
-pub fn node_index(name: &str) -> Option<usize> {
-    let mut h = name_slot(name.as_bytes());
-    loop {
-        let k = NODE_SLOTS[h] as usize;
-        if k == 0 {
-            return None;
-        }
-        if same_bytes(NODES[k - 1].name.as_bytes(), name.as_bytes()) {
-            return Some(k - 1);
-        }
-        h = (h + 1) % NODE_SLOTS.len();
-    }
-}
-
 /// `a == b` for names: those of 4 to 16 bytes (almost all) are compared as two overlapping
 /// words instead of through a `memcmp` call.
 #[inline(always)]
@@ -110,10 +88,10 @@ pub(crate) fn same_bytes(a: &[u8], b: &[u8]) -> bool {
     }
 }
 
-/// Where a node type name starts its probe in [`NODE_SLOTS`]: a hash of its length and its
+/// Where a node type name starts its probe in the table over the node type names: a hash of its length and its
 /// first, middle and last bytes (every name is looked up, so this must be cheap).
 #[inline]
-const fn name_slot(b: &[u8]) -> usize {
+pub(super) const fn name_slot(b: &[u8]) -> usize {
     let n = b.len();
     if n == 0 {
         return 0;
@@ -133,21 +111,6 @@ const fn field_slot(b: &[u8]) -> usize {
     let key = (n as u32) | (b[0] as u32) << 8 | (b[n - 1] as u32) << 16;
     (key.wrapping_mul(0x9E37_79B1) >> 26) as usize
 }
-
-/// An open-addressing table over [`NODES`] (index + 1, 0 for empty), built at compile time.
-static NODE_SLOTS: [u8; 256] = {
-    let mut t = [0u8; 256];
-    let mut i = 0;
-    while i < NODES.len() {
-        let mut h = name_slot(NODES[i].name.as_bytes());
-        while t[h] != 0 {
-            h = (h + 1) % 256;
-        }
-        t[h] = i as u8 + 1;
-        i += 1;
-    }
-    t
-};
 
 /// A [`NodeSpec`] with its field table (used by the tables to declare each node).
 pub(super) const fn node(name: &'static str, fields: &'static [FieldSpec]) -> NodeSpec {
@@ -171,6 +134,7 @@ pub(super) const fn node(name: &'static str, fields: &'static [FieldSpec]) -> No
 
 #[cfg(test)]
 mod tests {
+    use super::super::tables::{node_index, node_spec, NODES, NODE_SLOTS};
     use super::super::FieldType::*;
     use super::*;
 

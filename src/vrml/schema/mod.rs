@@ -15,11 +15,12 @@ mod tables;
 mod value;
 
 pub(crate) use lookup::same_bytes;
-pub use lookup::{node_index, node_spec, NodeSpec};
+pub use lookup::NodeSpec;
 pub use support::{
     node_support, support_markdown, FieldRole, FieldSupport, NodeRole, NodeSupport, SUPPORT,
 };
 pub use tables::NODES;
+pub use tables::{node_index, node_spec};
 pub(crate) use value::{check_value, type_name};
 
 use FieldType::*;

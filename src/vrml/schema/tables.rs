@@ -4,7 +4,7 @@
 //! lists them sorted by name. Nothing else lives here, so a table can be checked against the
 //! standard line by line (the tests that do so are in the parent module).
 
-use super::lookup::node;
+use super::lookup::{name_slot, node, same_bytes};
 use super::FieldType::*;
 use super::{Access, FieldSpec, FieldType, NodeSpec};
 
@@ -538,3 +538,40 @@ pub static NODES: &[NodeSpec] = &[
     node("VisibilitySensor", VISIBILITY_SENSOR),
     node("WorldInfo", WORLD_INFO),
 ];
+
+/// The standard node type named exactly `name` (case-sensitive).
+#[inline]
+pub fn node_spec(name: &str) -> Option<&'static NodeSpec> {
+    node_index(name).map(|i| &NODES[i])
+}
+
+/// The index in [`NODES`] of the standard node type named exactly `name` (case-sensitive).
+#[inline(always)]
+pub fn node_index(name: &str) -> Option<usize> {
+    let mut h = name_slot(name.as_bytes());
+    loop {
+        let k = NODE_SLOTS[h] as usize;
+        if k == 0 {
+            return None;
+        }
+        if same_bytes(NODES[k - 1].name.as_bytes(), name.as_bytes()) {
+            return Some(k - 1);
+        }
+        h = (h + 1) % NODE_SLOTS.len();
+    }
+}
+
+/// An open-addressing table over [`NODES`] (index + 1, 0 for empty), built at compile time.
+pub(super) static NODE_SLOTS: [u8; 256] = {
+    let mut t = [0u8; 256];
+    let mut i = 0;
+    while i < NODES.len() {
+        let mut h = name_slot(NODES[i].name.as_bytes());
+        while t[h] != 0 {
+            h = (h + 1) % 256;
+        }
+        t[h] = i as u8 + 1;
+        i += 1;
+    }
+    t
+};
