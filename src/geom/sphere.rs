@@ -188,7 +188,7 @@ fn certainly_misses(o: DVec3, d: DVec3, c: DVec3, r: f64) -> bool {
 /// f64 estimate of the entry is too close to 0 or `dist`, or the line too close to tangent,
 /// to call.
 ///
-/// The estimate (see [`Approach::clearly_enters_between`]) is off from the exact entry by at
+/// The estimate (see `Approach::clearly_enters_between`) is off from the exact entry by at
 /// most `~2200 u ((|f|_1 + r) / |d|) + 4 u |t0|` (`u = 2^-53`, `f = o - c`) on lines that
 /// pass within `0.999 r` of the centre, and [`sphere_roots`]' entry by at most
 /// `~4 u (|t0| + 23 r / |d|)` there (its half chord is at least `0.04 r`). The margin

@@ -2,7 +2,7 @@
 //! checked and written before the next is read, so memory does not grow with the row count.
 //!
 //! [`read`] finds the dialect, the header and what each column means ([`columns`]);
-//! [`write`] writes a `PROTO Particle` instance (or plain nodes) per row and the framing.
+//! [`write`](mod@write) writes a `PROTO Particle` instance (or plain nodes) per row and the framing.
 
 pub mod columns;
 pub mod elements;

@@ -14,7 +14,7 @@
 //! visits the few cells that line crosses), and otherwise from the BVH, searched with the exact
 //! distance of each node's bounding ball to the quadrilateral (`SphereBvh::near_region`), so the
 //! nodes visited are those near it, not those in an axis-aligned box around it. Either way each
-//! candidate is decided by the same exact distance test ([`touches`]).
+//! candidate is decided by the same exact distance test (`touches`).
 //!
 //! Without a grid, the segments of one camera ray share the descents ([`BandCache`]): a band's
 //! search covers the asking segment and the ray up to the band's depth beyond it, and the

@@ -295,7 +295,7 @@ pub struct Scene {
     pub viewpoints: Vec<Viewpoint>,
     /// NavigationInfo.headlight of the first NavigationInfo (default TRUE).
     pub headlight: bool,
-    /// Background.skyColor[0] of the first Background (default black).
+    /// `Background.skyColor[0]` of the first Background (default black).
     pub background: DVec3,
     /// Source file names, indexed by [`Origin::file`].
     pub files: Vec<String>,

@@ -9,13 +9,13 @@
 //! `O` and its f32 parameter range is at most about `2R`. Every rounding the traversal makes
 //! (the f32 origin and direction, the quantised child boxes, the slab arithmetic, and obvhs's
 //! clamping of `1/d` to `1/f32::EPSILON` for near-axis-parallel rays) moves a box face by at
-//! most a few `2^-24 R`. Each primitive box is padded by [`PAD_ULPS`] `* 2^-24 * R`, far
+//! most a few `2^-24 R`. Each primitive box is padded by `PAD_ULPS` `* 2^-24 * R`, far
 //! beyond that, so a box the exact ray meets is never culled. Padding only costs extra exact
 //! tests, never a wrong answer; the f64 closure decides every hit.
 //!
 //! Why a scaled frame. The f32 frame is scaled by a power of two (exact) so that `R` becomes
 //! about `2^20`, whatever the scene's size: the node test clamps a box's entry at 0, and every
-//! f32 ray starts [`BACKUP`] units before its true start, so that the rounding of its f32
+//! f32 ray starts `BACKUP` units before its true start, so that the rounding of its f32
 //! origin cannot put a box the true segment meets behind it. (obvhs's own node test, used
 //! until 2026-12-04, clamped the entry at an absolute `1e-4`; the frame made that harmless
 //! too.)
@@ -70,7 +70,7 @@ use crate::scene::Profile;
 /// How far (in scaled f32 units) each f32 ray starts before its true start.
 const BACKUP: f32 = 4e-4;
 
-/// At most this many chunks; each holds at least [`MIN_CHUNK`] spheres.
+/// At most this many chunks; each holds at least `MIN_CHUNK` spheres.
 pub const MAX_CHUNKS: usize = 16;
 const MIN_CHUNK: usize = 1 << 17;
 

@@ -19,7 +19,7 @@
 //! one unit-sphere IndexedFaceSet per atom, reused under scaled Transforms; VTK and
 //! ParaView all the glyphs of a dataset merged into one IndexedFaceSet. Every connected
 //! component of an IndexedFaceSet's faces (faces sharing a point, or a point's coordinates)
-//! whose vertices lie on one sphere ([`crate::geom::mesh::sphere_fit`]: at least 12 points,
+//! whose vertices lie on one sphere ([`crate::geom::sphere_fit`]: at least 12 points,
 //! all at one distance from the fitted centre within 0.2 %, spread over the whole sphere)
 //! and whose Color is the same at every corner is lowered as that sphere, with that colour
 //! as its diffuseColor (the Material's otherwise); Transforms apply as for a Sphere (a
@@ -31,7 +31,7 @@
 //! DEF'd mesh lowers to is kept at its first USE, so later USEs cost a lookup, not a
 //! replay of its events.
 //!
-//! **Layout.** [`Lowerer`] holds the scene being built and one part per concern, each owned
+//! **Layout.** `Lowerer` holds the scene being built and one part per concern, each owned
 //! by the file that works on it: `dispatch` (the one fast path for common events, and the
 //! general handler), `record` (the event arena and the recordings under way), `replay` (USE
 //! and Switch choices, and the one depth guard), `scope` (DEF and PROTO namespaces),
