@@ -434,13 +434,14 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<Plan, Error> {
             (None, true) => CameraChoice::VrmlDefault,
             (None, false) => CameraChoice::Auto,
         },
-        fov_across: args.fov_across.map_or(FovAcross::Smaller, FovAcross::from),
         projection: if args.ortho {
             Projection::Ortho {
                 height: args.ortho_height,
             }
         } else {
-            Projection::Perspective
+            Projection::Perspective {
+                fov_across: args.fov_across.map_or(FovAcross::Smaller, FovAcross::from),
+            }
         },
         prepare: PrepareOptions {
             as_gas: args.as_gas,
@@ -467,8 +468,6 @@ pub fn parse_profile(s: &str) -> Result<Profile, String> {
 pub struct Plan {
     pub opts: RenderOptions,
     pub camera: CameraChoice,
-    /// The image side a Viewpoint's fieldOfView spans.
-    pub fov_across: FovAcross,
     pub projection: Projection,
     pub prepare: PrepareOptions,
 }
@@ -507,16 +506,10 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
         .install(|| prepare(scene, &plan.prepare))
         .map_err(in_scene)?;
     let (camera, description) = prep
-        .camera_across(
-            &plan.camera,
-            plan.projection,
-            plan.fov_across,
-            opts.width,
-            opts.height,
-        )
+        .camera(&plan.camera, plan.projection, opts.width, opts.height)
         .map_err(in_scene)?;
     if args.fov_across.is_none()
-        && plan.projection == Projection::Perspective
+        && !args.ortho
         && plan.camera != CameraChoice::VrmlDefault
         && pymol_export(&prep.viewpoints)
     {

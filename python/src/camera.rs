@@ -145,7 +145,12 @@ impl Camera {
         };
         let (inner, _) = scene
             .prepared
-            .camera_across(&choice, Projection::Perspective, across, width, height)
+            .camera(
+                &choice,
+                Projection::Perspective { fov_across: across },
+                width,
+                height,
+            )
             .map_err(to_py)?;
         Ok(Camera { inner })
     }

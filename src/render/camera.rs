@@ -29,11 +29,18 @@ pub enum CameraChoice {
 /// The projection asked for on the command line.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Projection {
-    /// Perspective; a Viewpoint's `fieldOfView` is the angle across the smaller image side
-    /// (VRML97), or across the side [`Camera::for_scene_across`] is given.
-    Perspective,
+    /// Perspective; a Viewpoint's `fieldOfView` is the angle across the `fov_across` side of
+    /// the image (VRML97: the smaller one, [`Projection::PERSPECTIVE`]).
+    Perspective { fov_across: FovAcross },
     /// Orthographic; `height` = world size of the smaller image side (None: fit the scene).
     Ortho { height: Option<f64> },
+}
+
+impl Projection {
+    /// Perspective, a Viewpoint's `fieldOfView` across the smaller image side (VRML97).
+    pub const PERSPECTIVE: Projection = Projection::Perspective {
+        fov_across: FovAcross::Smaller,
+    };
 }
 
 /// Which side of the image a Viewpoint's `fieldOfView` spans. VRML97 defines it as the angle
@@ -312,7 +319,9 @@ impl Camera {
     /// The camera the command line uses for a scene with these `viewpoints` and bounds
     /// (`bounds` = (min, max) corners, `ball` = a bounding ball), as `choice` and `projection`
     /// ask, at `width x height` (an orthographic lens fitted to the scene depends on the
-    /// aspect), with a sentence saying which camera it is.
+    /// aspect), with a sentence saying which camera it is. A perspective [`Projection`] says
+    /// which image side a Viewpoint's `fieldOfView` spans ([`FovAcross::smaller_side_fov`]);
+    /// that changes nothing for the other cameras (VRML's default, one framing the scene).
     pub fn for_scene(
         viewpoints: &[Viewpoint],
         bounds: Option<(DVec3, DVec3)>,
@@ -322,32 +331,10 @@ impl Camera {
         width: u32,
         height: u32,
     ) -> Result<(Camera, String), Error> {
-        Camera::for_scene_across(
-            viewpoints,
-            bounds,
-            ball,
-            choice,
-            projection,
-            FovAcross::Smaller,
-            width,
-            height,
-        )
-    }
-
-    /// [`Camera::for_scene`], with a Viewpoint's `fieldOfView` read as the angle across the
-    /// `across` side of the image ([`FovAcross::smaller_side_fov`]). It changes nothing for
-    /// the other cameras (VRML's default, one framing the scene) or an orthographic lens.
-    #[allow(clippy::too_many_arguments)]
-    pub fn for_scene_across(
-        viewpoints: &[Viewpoint],
-        bounds: Option<(DVec3, DVec3)>,
-        ball: Option<(DVec3, f64)>,
-        choice: &CameraChoice,
-        projection: Projection,
-        across: FovAcross,
-        width: u32,
-        height: u32,
-    ) -> Result<(Camera, String), Error> {
+        let across = match projection {
+            Projection::Perspective { fov_across } => fov_across,
+            Projection::Ortho { .. } => FovAcross::Smaller,
+        };
         let named = |vp: &Viewpoint| match &vp.name {
             Some(n) => format!("Viewpoint {n}"),
             None if !vp.description.is_empty() => format!("Viewpoint \"{}\"", vp.description),
@@ -356,7 +343,7 @@ impl Camera {
         let from_file = |vp: &Viewpoint| {
             (
                 across.smaller_side_fov(vp.field_of_view, width, height),
-                if across == FovAcross::Smaller || projection != Projection::Perspective {
+                if across == FovAcross::Smaller {
                     named(vp)
                 } else {
                     format!(
@@ -434,7 +421,7 @@ impl Camera {
         };
         let mut cam = Camera::oriented(position, orientation, Lens::Perspective { fov })?;
         match projection {
-            Projection::Perspective => Ok((cam, description)),
+            Projection::Perspective { .. } => Ok((cam, description)),
             Projection::Ortho { height: Some(h) } => {
                 cam.lens = Lens::Orthographic { height: h }.validate()?;
                 Ok((cam, format!("{description} (orthographic)")))

@@ -319,7 +319,7 @@ impl Prepared {
     /// that frames the scene ([`CameraChoice::Auto`], perspective).
     pub fn default_camera(&self, width: u32, height: u32) -> Result<Camera, Error> {
         Ok(self
-            .camera(&CameraChoice::Auto, Projection::Perspective, width, height)?
+            .camera(&CameraChoice::Auto, Projection::PERSPECTIVE, width, height)?
             .0)
     }
 
@@ -332,27 +332,13 @@ impl Prepared {
         width: u32,
         height: u32,
     ) -> Result<(Camera, String), Error> {
-        self.camera_across(choice, projection, FovAcross::Smaller, width, height)
-    }
-
-    /// [`Prepared::camera`] with a Viewpoint's `fieldOfView` read as the angle across the
-    /// `across` side of the image ([`Camera::for_scene_across`]).
-    pub fn camera_across(
-        &self,
-        choice: &CameraChoice,
-        projection: Projection,
-        across: FovAcross,
-        width: u32,
-        height: u32,
-    ) -> Result<(Camera, String), Error> {
-        Camera::for_scene_across(
+        Camera::for_scene(
             &self.viewpoints,
             self.bounds
                 .map(|b| (DVec3::from(b.min), DVec3::from(b.max))),
             self.bounding_ball,
             choice,
             projection,
-            across,
             width,
             height,
         )

@@ -506,7 +506,7 @@ fn vrml_defaults() {
     let img = render_body_from(
         body,
         &CameraChoice::VrmlDefault,
-        Projection::Perspective,
+        Projection::PERSPECTIVE,
         &center_opts(w, h),
     );
     let m = Mat {
@@ -548,7 +548,7 @@ fn no_viewpoint_frames_the_scene() {
     let opts = center_opts(64, 48);
     let prep = prepared(body);
     let (camera, description) = prep
-        .camera(&CameraChoice::Auto, Projection::Perspective, 64, 48)
+        .camera(&CameraChoice::Auto, Projection::PERSPECTIVE, 64, 48)
         .expect("camera");
     assert!(description.contains("no Viewpoint"), "{description}");
     assert_eq!(camera.forward, DVec3::NEG_Z);
@@ -601,7 +601,7 @@ fn unknown_viewpoint_name_is_a_clear_error() {
     let err = prep
         .camera(
             &CameraChoice::Named("side".into()),
-            Projection::Perspective,
+            Projection::PERSPECTIVE,
             4,
             4,
         )
@@ -619,7 +619,7 @@ fn unknown_viewpoint_name_is_a_clear_error() {
     assert!(prep
         .camera(
             &CameraChoice::Named("top view".into()),
-            Projection::Perspective,
+            Projection::PERSPECTIVE,
             4,
             4
         )

@@ -97,7 +97,7 @@ pub fn library(text: &str, desc: &SceneDesc, opts: &RenderOptions) -> Result<Fil
     let prep = render::prepare(scene, &PrepareOptions::default()).map_err(|e| e.to_string())?;
     let projection = match desc.viewpoint.ortho {
         Some(h) => Projection::Ortho { height: Some(h) },
-        None => Projection::Perspective,
+        None => Projection::PERSPECTIVE,
     };
     let (camera, _) = prep
         .camera(&CameraChoice::Auto, projection, desc.width, desc.height)
