@@ -119,22 +119,11 @@ fn internals_doc_lists_every_module_as_its_documentation_says() {
     };
     let want = table(&root);
     let have = &page[a..b + END.len()];
-    if have == want {
-        return;
-    }
-    if std::env::var_os("GTSPHERE_WRITE_DOCS").is_some_and(|v| !v.is_empty() && v != "0") {
+    let write = || {
         let new = format!("{}{want}{}", &page[..a], &page[b + END.len()..]);
         std::fs::write(&path, new).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-        return;
-    }
-    let line = have
-        .lines()
-        .zip(want.lines())
-        .find(|(h, w)| h != w)
-        .map_or(String::new(), |(h, w)| {
-            format!("\n  page:      {h}\n  generated: {w}")
-        });
-    panic!("{PAGE}'s table of modules differs from the modules' documentation{line}\nremake it with: {REMAKE}");
+    };
+    super::support::generated_page(PAGE, have, &want, write, REMAKE);
 }
 
 #[test]

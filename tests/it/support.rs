@@ -148,3 +148,29 @@ pub fn scratch(group: &str, name: &str) -> std::path::PathBuf {
 #[path = "../../src/testing.rs"]
 mod testing;
 pub use testing::Rng;
+
+/// A page of docs/ (or a part of one) that code makes: `have` as checked in, `want` as made.
+/// With `GTSPHERE_WRITE_DOCS` set (and not `0`), a difference is written by `write`;
+/// otherwise it fails, showing the first line that differs and the command `remake` that
+/// writes the page anew.
+pub fn generated_page(page: &str, have: &str, want: &str, write: impl FnOnce(), remake: &str) {
+    if have == want {
+        return;
+    }
+    if std::env::var_os("GTSPHERE_WRITE_DOCS").is_some_and(|v| !v.is_empty() && v != "0") {
+        write();
+        return;
+    }
+    let first = have
+        .lines()
+        .zip(want.lines())
+        .position(|(a, b)| a != b)
+        .unwrap_or_else(|| have.lines().count().min(want.lines().count()));
+    panic!(
+        "{page} is not what the code makes of it (first difference at line {}:\n  page: \
+         {:?}\n  made: {:?}).\nDo not edit it by hand: remake it with\n\n    {remake}\n",
+        first + 1,
+        have.lines().nth(first).unwrap_or("(end of page)"),
+        want.lines().nth(first).unwrap_or("(end of page)"),
+    );
+}

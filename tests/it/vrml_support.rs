@@ -24,27 +24,10 @@ const REMAKE: &str = "GTSPHERE_WRITE_DOCS=1 cargo test --test it vrml_support";
 fn docs_vrml_md_is_what_the_tables_make() {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(PAGE);
     let want = support_markdown();
-    if std::env::var_os("GTSPHERE_WRITE_DOCS").is_some_and(|v| !v.is_empty() && v != "0") {
-        std::fs::write(&path, &want).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-        return;
-    }
     let have = std::fs::read_to_string(&path).unwrap_or_default();
-    if have == want {
-        return;
-    }
-    let first = have
-        .lines()
-        .zip(want.lines())
-        .position(|(a, b)| a != b)
-        .unwrap_or_else(|| have.lines().count().min(want.lines().count()));
-    panic!(
-        "{PAGE} is not what src/vrml/schema/support.rs makes (first difference at line {}:\n  \
-         file:   {:?}\n  tables: {:?}).\nDo not edit the page by hand: change the tables, then \
-         remake it with\n\n    {REMAKE}\n",
-        first + 1,
-        have.lines().nth(first).unwrap_or("(end of file)"),
-        want.lines().nth(first).unwrap_or("(end of page)"),
-    );
+    let write =
+        || std::fs::write(&path, &want).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    super::support::generated_page(PAGE, &have, &want, write, REMAKE);
 }
 
 /// A folder for the scenes loaded here, with `part.wrl` (one sphere) for Inline's url.
