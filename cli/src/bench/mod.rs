@@ -38,32 +38,9 @@ pub mod trace;
 
 #[derive(Debug, Subcommand)]
 pub enum BenchCommand {
-    /// Parse speed (MB/s) and peak memory on generated files of N particles, by one reader and
-    /// on several threads.
-    Parse {
-        /// Number of particles.
-        #[arg(long, default_value_t = 1_000_000)]
-        particles: usize,
-        /// Runs per layout (the median is reported).
-        #[arg(long, default_value_t = 3)]
-        runs: usize,
-        /// Where the generated files go (kept for reuse). Default: the system temp folder.
-        #[arg(long)]
-        dir: Option<PathBuf>,
-        /// Which layouts to measure.
-        #[arg(long, value_enum, default_values_t = [parse::LayoutArg::Flat, parse::LayoutArg::Group, parse::LayoutArg::Proto])]
-        layout: Vec<parse::LayoutArg>,
-        /// Reading threads of the runs in pieces (each is paired with a run by one reader).
-        #[arg(long, default_value_t = 2)]
-        read_threads: usize,
-        /// The file `--layout copies` copies (a tool's export, for example).
-        #[arg(long, value_name = "FILE")]
-        copies_of: Option<PathBuf>,
-        /// Read without the reader's fast paths (every PROTO instance replayed, every sphere
-        /// node read event by event), for measuring what they save.
-        #[arg(long, hide = true)]
-        replay_every_instance: bool,
-    },
+    /// Reading speed (MB/s) and peak memory on files of N particles (generated, converted
+    /// from tables, or copies of a tool's export), by one reader and on several threads.
+    Parse(parse::ParseArgs),
     /// BVH build time, camera and shadow rays per second per core, and peak memory on N random
     /// opaque spheres (centres uniform in a cube, radius 0.6 N^(-1/3), a PointLight and a
     /// DirectionalLight).
@@ -120,23 +97,7 @@ pub enum BenchCommand {
 
 pub fn run(cmd: BenchCommand) -> Result<ExitCode, Error> {
     match cmd {
-        BenchCommand::Parse {
-            particles,
-            runs,
-            dir,
-            layout,
-            read_threads,
-            copies_of,
-            replay_every_instance,
-        } => parse::run(
-            particles,
-            runs,
-            dir,
-            layout,
-            read_threads,
-            copies_of,
-            replay_every_instance,
-        ),
+        BenchCommand::Parse(args) => parse::run(&args),
         BenchCommand::Trace {
             spheres,
             size,

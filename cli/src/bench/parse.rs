@@ -14,11 +14,38 @@ use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
-use clap::ValueEnum;
+use clap::{Args, ValueEnum};
 
 use super::measure::median;
 use gtsphere::error::Error;
 use gtsphere::scenes::{self, write_particles};
+
+/// Arguments of `gtsphere bench parse`.
+#[derive(Debug, Args)]
+pub struct ParseArgs {
+    /// Number of particles.
+    #[arg(long, default_value_t = 1_000_000)]
+    pub particles: usize,
+    /// Runs per layout (the median is reported).
+    #[arg(long, default_value_t = 3)]
+    pub runs: usize,
+    /// Where the generated files go (kept for reuse). Default: the system temp folder.
+    #[arg(long)]
+    pub dir: Option<PathBuf>,
+    /// Which layouts to measure.
+    #[arg(long, value_enum, default_values_t = [LayoutArg::Flat, LayoutArg::Group, LayoutArg::Proto])]
+    pub layout: Vec<LayoutArg>,
+    /// Reading threads of the runs in pieces (each is paired with a run by one reader).
+    #[arg(long, default_value_t = 2)]
+    pub read_threads: usize,
+    /// The file `--layout copies` copies (a tool's export, for example).
+    #[arg(long, value_name = "FILE")]
+    pub copies_of: Option<PathBuf>,
+    /// Read without the reader's fast paths (every PROTO instance replayed, every sphere
+    /// node read event by event), for measuring what they save.
+    #[arg(long, hide = true)]
+    pub replay_every_instance: bool,
+}
 
 /// `--layout`: how the particles are laid out in the file ([`scenes::Layout`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -182,23 +209,16 @@ fn measure(
         .map_err(|e| Error::Other(format!("bad JSON from info: {e}")))
 }
 
-pub fn run(
-    particles: usize,
-    runs: usize,
-    dir: Option<PathBuf>,
-    layout: Vec<LayoutArg>,
-    read_threads: usize,
-    copies_of: Option<PathBuf>,
-    replay: bool,
-) -> Result<ExitCode, Error> {
-    let dir = dir.unwrap_or_else(std::env::temp_dir);
+pub fn run(args: &ParseArgs) -> Result<ExitCode, Error> {
+    let (particles, runs) = (args.particles, args.runs);
+    let dir = args.dir.clone().unwrap_or_else(std::env::temp_dir);
     let exe = std::env::current_exe()
         .map_err(|e| Error::Other(format!("cannot find own executable: {e}")))?;
-    let threads = [1, read_threads.max(2)];
+    let threads = [1, args.read_threads.max(2)];
     println!("| layout | particles | file MB | read threads | pieces | median MB/s | median s | particles/s/thread | speed-up | IR MB | peak RSS MB | peak / IR |");
     println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
-    for l in layout {
-        let path = generate(&dir, particles, l, copies_of.as_deref())?;
+    for &l in &args.layout {
+        let path = generate(&dir, particles, l, args.copies_of.as_deref())?;
         // secs[k], for threads[k], run by run.
         let mut secs = [Vec::new(), Vec::new()];
         let mut speeds = [Vec::new(), Vec::new()];
@@ -207,7 +227,7 @@ pub fn run(
         let (mut ir, mut bytes) = (0.0, 0.0);
         for _ in 0..runs.max(1) {
             for (k, &t) in threads.iter().enumerate() {
-                let v = measure(&exe, &path, t, replay)?;
+                let v = measure(&exe, &path, t, args.replay_every_instance)?;
                 speeds[k].push(v["mb_per_s"].as_f64().unwrap_or(0.0));
                 secs[k].push(v["parse_seconds"].as_f64().unwrap_or(0.0));
                 ir = v["ir_bytes"].as_f64().unwrap_or(0.0) / 1e6;
