@@ -17,7 +17,8 @@ use glam::{DQuat, DVec3};
 
 use crate::render::sampler::mix;
 use crate::scene::{
-    DirectionalLight, Light, Material, Origin, PointLight, Profile, Scene, Sphere, Viewpoint,
+    DirectionalLight, Light, Material, MaterialTable, Origin, Paint, PointLight, Profile, Scene,
+    Viewpoint,
 };
 
 /// How the particles are laid out in the file.
@@ -119,17 +120,12 @@ pub fn random_spheres(n: usize) -> Scene {
         headlight: false,
         ..Scene::default()
     };
-    scene.materials = vec![Material::unlit(), Material::default()].into();
+    scene.materials.add(&Material::unlit());
     scene.spheres.reserve_exact(n);
     for _ in 0..n {
         let (x, y, z) = (next(), next(), next());
-        scene.spheres.push(Sphere {
-            center: DVec3::new(2.0 * x - 1.0, 2.0 * y - 1.0, 2.0 * z - 1.0),
-            radius,
-            material: 1,
-            ellipsoid: None,
-            origin: Origin::default(),
-        });
+        let center = DVec3::new(2.0 * x - 1.0, 2.0 * y - 1.0, 2.0 * z - 1.0);
+        scene.add_sphere(center, radius, &Material::default());
     }
     scene.lights.push(Light::Point(PointLight {
         location: DVec3::new(3.0, 3.0, 3.0),
@@ -181,19 +177,19 @@ pub fn gas_cloud_with(n: usize, lit: bool, profile: impl Fn(usize) -> Profile) -
         background: DVec3::new(0.02, 0.02, 0.03),
         ..Scene::default()
     };
-    scene.materials.push(Material::unlit());
+    scene.materials.add(&Material::unlit());
     let opaque = Material {
         diffuse: DVec3::new(0.8, 0.8, 0.8),
         specular: DVec3::splat(0.3),
         ..Material::default()
     };
-    scene.materials.push(opaque);
+    scene.materials.add(&opaque);
     let base = 0.9 * (n.max(1) as f64).powf(-1.0 / 3.0);
     for i in 0..n {
         let c = DVec3::new(next(), next(), next()) * 2.0 - 1.0;
         let radius = base * (0.6 + 0.8 * next());
         let warm = DVec3::new(1.0, 0.55 + 0.3 * next(), 0.2 + 0.3 * next());
-        scene.materials.push(Material {
+        let gas = Material {
             diffuse: DVec3::splat(0.8),
             emissive: warm * 0.3,
             specular: DVec3::ZERO,
@@ -202,14 +198,8 @@ pub fn gas_cloud_with(n: usize, lit: bool, profile: impl Fn(usize) -> Profile) -
             transparency: 0.3 + 0.6 * next(),
             profile: profile(i),
             ..Material::default()
-        });
-        scene.spheres.push(Sphere {
-            center: c,
-            radius,
-            material: scene.materials.len() as u32 - 1,
-            ellipsoid: None,
-            origin: Origin::default(),
-        });
+        };
+        scene.add_sphere(c, radius, &gas);
     }
     if !lit {
         scene.viewpoints.push(bench_view());
@@ -219,13 +209,7 @@ pub fn gas_cloud_with(n: usize, lit: bool, profile: impl Fn(usize) -> Profile) -
         (DVec3::new(-0.4, -0.3, 0.1), 0.3),
         (DVec3::new(0.5, 0.2, -0.5), 0.25),
     ] {
-        scene.spheres.push(Sphere {
-            center: c,
-            radius: r,
-            material: 1,
-            ellipsoid: None,
-            origin: Origin::default(),
-        });
+        scene.add_sphere(c, r, &opaque);
     }
     scene.lights.push(Light::Point(PointLight {
         location: DVec3::new(0.3, 0.5, 0.2),
@@ -300,17 +284,21 @@ pub const CLOUD_COLOURS: usize = 16;
 /// position 0 0 4 fieldOfView 0.785398 }`, background black.
 pub fn cloud(n: usize, kind: Cloud) -> Scene {
     let mut scene = random_spheres(n);
-    scene.materials = (0..CLOUD_COLOURS)
-        .map(|k| Material {
-            diffuse: palette(k),
-            emissive: DVec3::ZERO,
-            specular: DVec3::ZERO,
-            transparency: kind.transparency(),
-            ..Material::default()
+    scene.materials = MaterialTable::new();
+    let paints: Vec<Paint> = (0..CLOUD_COLOURS)
+        .map(|k| {
+            scene.materials.add(&Material {
+                diffuse: palette(k),
+                emissive: DVec3::ZERO,
+                specular: DVec3::ZERO,
+                transparency: kind.transparency(),
+                ..Material::default()
+            })
         })
         .collect();
     for (i, s) in scene.spheres.iter_mut().enumerate() {
-        s.material = (mix(i as u64 ^ 0xC10D) % CLOUD_COLOURS as u64) as u32;
+        let p = paints[(mix(i as u64 ^ 0xC10D) % CLOUD_COLOURS as u64) as usize];
+        (s.material, s.color) = (p.material, p.color);
     }
     scene.lights = vec![
         // The VRML default radius 100: every sphere is within 6 of the light.
@@ -345,10 +333,7 @@ mod tests {
             assert_eq!(a.spheres.len(), b.spheres.len());
             for (s, t) in a.spheres.iter().zip(&b.spheres) {
                 assert_eq!((s.center, s.radius), (t.center, t.radius));
-                assert_eq!(
-                    a.materials.get(s.material as usize),
-                    b.materials.get(t.material as usize)
-                );
+                assert_eq!(a.material_of(s), b.material_of(t));
             }
             assert_eq!(
                 (a.headlight, a.background, a.viewpoints[0].position),
@@ -387,14 +372,18 @@ mod tests {
         let r = 0.6 * (n as f64).powf(-1.0 / 3.0);
         for (s, t) in thick.spheres.iter().zip(&trace.spheres) {
             assert_eq!((s.center, s.radius), (t.center, r));
-            let m = &thick.materials.get(s.material as usize);
+            let m = thick.material_of(s);
             // Optical depth 4 along a diameter.
             assert!((m.sigma(s.radius) * 2.0 * s.radius - 4.0).abs() < 1e-12);
         }
-        let used: std::collections::BTreeSet<u32> =
-            thick.spheres.iter().map(|s| s.material).collect();
+        let used: std::collections::HashSet<crate::scene::Color> =
+            thick.spheres.iter().map(|s| s.color).collect();
         assert_eq!(used.len(), CLOUD_COLOURS, "every colour is used");
         let thin = cloud(n, Cloud::Thin);
-        assert!(thin.materials.iter().all(|m| m.transparency == 0.9));
+        assert!(thin
+            .materials
+            .records()
+            .iter()
+            .all(|m| m.transparency == 0.9));
     }
 }

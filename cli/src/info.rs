@@ -177,7 +177,11 @@ pub fn to_text(path: &Path, s: &Scene, r: &LoadReport) -> String {
         c.cones,
         c.triangles
     );
-    let _ = writeln!(o, "materials:  {} distinct", s.materials.len());
+    let _ = writeln!(
+        o,
+        "materials:  {} distinct apart from their colours",
+        s.materials.len()
+    );
     let _ = writeln!(
         o,
         "lights:     {} point, {} directional; headlight {}",

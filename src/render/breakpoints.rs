@@ -200,6 +200,7 @@ mod tests {
         Prim {
             center: DVec3::ZERO,
             radius: 1.0,
+            color: crate::scene::Color::default(),
             material: 0,
             sphere: 0,
             ellipsoid: None,

@@ -10,7 +10,7 @@ use crate::scene::MaterialTable;
 /// `(C, a)` of a gas primitive.
 #[inline]
 pub fn emission_albedo(materials: &MaterialTable, p: &Prim) -> (DVec3, DVec3) {
-    let m = materials.get(p.material as usize);
+    let m = materials.get(p.material, p.color);
     if m.unlit {
         (m.diffuse, DVec3::ZERO)
     } else {

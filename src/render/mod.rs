@@ -187,6 +187,9 @@ pub struct Prepared {
     pub typical_radius: f64,
     /// The largest channel of any Color a triangle carries (for [`View::rest_bound`]).
     surface_colors: f64,
+    /// Per material record, the largest channel of the diffuse colours of the items that use
+    /// it (`-inf`: none does).
+    record_colors: Vec<f64>,
     /// Wall time of `prepare` (BVH build included).
     pub prepare_time: Duration,
 }
@@ -286,6 +289,7 @@ impl Prepared {
         );
         let rest_bound = rest_bound(
             &self.materials,
+            &self.record_colors,
             &lights,
             self.background,
             self.surface_colors,
@@ -371,12 +375,10 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
         ..
     } = scene;
     // Gas (docs/model.md section 1): a material with 0 < transparency, or every sphere with
-    // --as-gas SIGMA. A sphere's material is looked up only when some material may be gas:
-    // with a colour per sphere those are random reads in a table as long as the spheres (about
-    // 1 s a pass at 1e7 spheres).
+    // --as-gas SIGMA. A sphere's record is looked up only when some record may be gas.
     let maybe_gas = opts.as_gas.is_some() || materials.may_have_gas();
     let is_gas = |s: &crate::scene::Sphere| {
-        opts.as_gas.is_some() || (maybe_gas && materials.get(s.material as usize).is_gas())
+        opts.as_gas.is_some() || (maybe_gas && materials.record(s.material).is_gas())
     };
     // Density profiles (docs/model.md section 6): --profile for every gas sphere, or each
     // material's own. Looked up per primitive only when some gas may be profiled.
@@ -398,8 +400,9 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
     } else {
         Vec::new()
     };
-    // into_iter().map().collect() reuses the spheres' allocation (a packed primitive, 40
-    // bytes, is smaller than a 48-byte Sphere), so a large scene does not hold both lists.
+    let record_colors = record_colors(&materials, &spheres, &surfaces);
+    // into_iter().map().collect() reuses the spheres' allocation (a packed primitive, 48
+    // bytes, is smaller than a 56-byte Sphere), so a large scene does not hold both lists.
     let mut packed = spheres
         .into_iter()
         .enumerate()
@@ -408,7 +411,7 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
             Packed::new(
                 s.center,
                 s.radius,
-                s.material,
+                (s.material, s.color),
                 i as u32,
                 gas,
                 s.ellipsoid.is_some(),
@@ -426,7 +429,7 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
         let ellipsoid = ellipsoid_of.get(q.sphere as usize).copied().flatten();
         let profile = match opts.profile {
             Some(p) => p,
-            None if profiled => materials.get(q.material() as usize).profile,
+            None if profiled => materials.record(q.material()).profile,
             None => crate::scene::Profile::Constant,
         };
         // With a profile, the extinction at the centre (`--as-gas SIGMA` gives it as is).
@@ -437,7 +440,7 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
                     None => q.radius,
                     Some(e) => ellipsoids[e.index()].matrix3.determinant().abs().cbrt(),
                 };
-                let m = materials.get(q.material() as usize);
+                let m = materials.record(q.material());
                 if profile == crate::scene::Profile::Constant {
                     m.sigma(radius)
                 } else {
@@ -464,8 +467,26 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
         gas_spheres,
         typical_radius,
         surface_colors,
+        record_colors,
         prepare_time: start.elapsed(),
     })
+}
+
+/// Per material record, the largest diffuse colour channel of the spheres and surfaces that
+/// use it, `-inf` for a record nothing uses.
+fn record_colors(
+    materials: &MaterialTable,
+    spheres: &[crate::scene::Sphere],
+    surfaces: &[crate::scene::Surface],
+) -> Vec<f64> {
+    let mut most = vec![f64::NEG_INFINITY; materials.len()];
+    let items = spheres.iter().map(|s| (s.material, s.color));
+    for (m, c) in items.chain(surfaces.iter().map(|s| (s.material, s.color))) {
+        let top = materials.diffuse(c).max_element();
+        let r = &mut most[m as usize];
+        *r = r.max(top);
+    }
+    most
 }
 
 /// The largest channel of any Color a triangle carries (it replaces a diffuse colour).
@@ -491,12 +512,13 @@ fn median_radius(prims: &[Packed]) -> f64 {
     *r.select_nth_unstable_by(mid, f64::total_cmp).1
 }
 
-/// [`Prepared::rest_bound`]: the largest of the background, any material's surface radiance
-/// (emission, ambient and direct terms of every light at full strength, or 1 when unlit) and
-/// any material's gas source `C + p a sum_i C_i I_i` (attenuation and visibility are at most
-/// 1), each channel bounded by its largest.
+/// [`Prepared::rest_bound`]: the largest of the background, any used material's surface
+/// radiance (emission, ambient and direct terms of every light at full strength, or its
+/// colour when unlit) and any used material's gas source `C + p a sum_i C_i I_i` (attenuation
+/// and visibility are at most 1), each channel bounded by its largest.
 fn rest_bound(
     materials: &MaterialTable,
+    record_colors: &[f64],
     lights: &[LightSource],
     background: DVec3,
     surface_colors: f64,
@@ -504,10 +526,13 @@ fn rest_bound(
     let direct: f64 = lights.iter().map(|l| l.direct.max_element()).sum();
     let ambient: f64 = lights.iter().map(|l| l.ambient.max_element()).sum();
     let mut bound = background.max_element();
-    for m in materials.iter() {
+    for (m, &diffuse) in materials.records().iter().zip(record_colors) {
+        if diffuse == f64::NEG_INFINITY {
+            continue;
+        }
         let (e, a, s) = (
             m.emissive.max_element(),
-            m.diffuse.max_element().max(surface_colors),
+            diffuse.max(surface_colors),
             m.specular.max_element(),
         );
         let gas = e + integrators::PHASE * a * direct;

@@ -12,7 +12,7 @@ use glam::{DAffine3, DMat3, DVec3};
 
 use crate::accel::{Prim, SphereBvh};
 use crate::geom::shapes::{shadow_breaks, shadowed, triangle_hit, ShadowLight, Shape, Solid};
-use crate::scene::{Surface, SurfaceShape, Triangle};
+use crate::scene::{Paint, Surface, SurfaceShape, Triangle};
 
 use super::lights::LightKind;
 
@@ -32,14 +32,14 @@ pub enum Traced {
 pub struct Surfaces {
     pub bvh: SphereBvh,
     pub items: Vec<Traced>,
-    /// Index into `Scene::materials`, per item.
-    pub materials: Vec<u32>,
+    /// What each item refers to in `Scene::materials`.
+    pub paints: Vec<Paint>,
 }
 
 impl Surfaces {
     pub fn build(surfaces: Vec<Surface>) -> Surfaces {
         let mut items = Vec::with_capacity(surfaces.len());
-        let mut materials = Vec::with_capacity(surfaces.len());
+        let mut paints = Vec::with_capacity(surfaces.len());
         let mut prims = Vec::with_capacity(surfaces.len());
         for (i, s) in surfaces.into_iter().enumerate() {
             let (center, radius) = s.bounding_ball();
@@ -47,6 +47,7 @@ impl Surfaces {
                 center,
                 // Never zero: a degenerate triangle still needs a box.
                 radius: radius.max(f64::MIN_POSITIVE) * (1.0 + 1e-12),
+                color: s.color,
                 material: s.material,
                 sphere: i as u32,
                 ellipsoid: None,
@@ -54,7 +55,10 @@ impl Surfaces {
                 sigma: 0.0,
                 profile: crate::scene::Profile::Constant,
             });
-            materials.push(s.material);
+            paints.push(Paint {
+                material: s.material,
+                color: s.color,
+            });
             items.push(match s.shape {
                 SurfaceShape::Solid { solid, to_world } => Traced::Solid {
                     solid,
@@ -67,7 +71,7 @@ impl Surfaces {
         Surfaces {
             bvh: SphereBvh::build(prims, &[]),
             items,
-            materials,
+            paints,
         }
     }
 

@@ -1,12 +1,9 @@
 //! Scenes built in code: spheres from arrays ([`Scene::from_arrays`]), and the checks every
 //! scene passes before it is prepared ([`Scene::validate`]).
 
-use std::hash::BuildHasher;
-
 use glam::DVec3;
-use hashbrown::{DefaultHashBuilder, HashTable};
 
-use super::{Light, Material, MaterialTable, Origin, Scene, Sphere};
+use super::{Light, Material, MaterialTable, Origin, Paint, Scene, Sphere};
 use crate::Error;
 
 /// Sphere radii: one for all, or one per centre.
@@ -214,10 +211,6 @@ impl Scene {
         }
 
         let mut materials = MaterialTable::new();
-        // Indices into `materials`, hashed by content: 4 bytes a distinct material (a map keyed
-        // by the 104-byte key doubled the peak memory of a million distinct colours).
-        let hasher = DefaultHashBuilder::default();
-        let mut index: HashTable<u32> = HashTable::new();
         let mut spheres = Vec::with_capacity(n);
         for i in 0..n {
             let mut m = Material::default();
@@ -230,24 +223,14 @@ impl Scene {
             if let Some(t) = arrays.transparency {
                 m.transparency = t[i];
             }
-            let key = m.key();
-            let hash = hasher.hash_one(key);
-            let material = match index.find(hash, |&i| materials.get(i as usize).key() == key) {
-                Some(&i) => i,
-                None => {
-                    let i = materials.push(m);
-                    index.insert_unique(hash, i, |&j| {
-                        hasher.hash_one(materials.get(j as usize).key())
-                    });
-                    i
-                }
-            };
+            let Paint { material, color } = materials.add(&m);
             spheres.push(Sphere {
                 center: triple(c, i),
                 radius: match arrays.radii {
                     Radii::One(r) => r,
                     Radii::Each(r) => r[i],
                 },
+                color,
                 material,
                 ellipsoid: None,
                 origin: Origin::default(),
@@ -297,6 +280,12 @@ impl Scene {
                     self.materials.len()
                 ));
             }
+            if !self.materials.holds(s.color) {
+                return fail(format!(
+                    "spheres[{i}]: its colour {:?} is not in the scene's materials",
+                    s.color
+                ));
+            }
             if let Some(e) = s.ellipsoid {
                 if e.index() >= self.ellipsoids.len() {
                     return fail(format!(
@@ -306,13 +295,11 @@ impl Scene {
                 }
             }
         }
-        for (i, m) in self.materials.iter().enumerate() {
+        for (i, m) in self.materials.records().iter().enumerate() {
             let scalars_ok = [m.shininess, m.ambient_intensity]
                 .iter()
                 .all(|x| x.is_finite() && *x >= 0.0);
-            let colours_ok =
-                non_negative(m.diffuse) && non_negative(m.emissive) && non_negative(m.specular);
-            if !(colours_ok && scalars_ok) {
+            if !(non_negative(m.emissive) && non_negative(m.specular) && scalars_ok) {
                 return fail(format!(
                     "materials[{i}]: colours, shininess and ambientIntensity must be finite \
                      and non-negative"
@@ -322,6 +309,30 @@ impl Scene {
                 return fail(format!(
                     "materials[{i}]: transparency {:?} must be in [0, 1]",
                     m.transparency
+                ));
+            }
+        }
+        // Packed colours are finite and non-negative; only listed ones are looked at.
+        if !self
+            .materials
+            .listed_colors()
+            .iter()
+            .all(|&c| non_negative(c))
+        {
+            let colour = |c| self.materials.diffuse(c);
+            let bad = |c| !non_negative(colour(c));
+            let found = (self.spheres.iter().enumerate())
+                .find(|(_, s)| bad(s.color))
+                .map(|(i, s)| (at("spheres", i, s.origin), colour(s.color)))
+                .or_else(|| {
+                    (self.surfaces.iter().enumerate())
+                        .find(|(_, s)| bad(s.color))
+                        .map(|(i, s)| (at("surfaces", i, s.origin), colour(s.color)))
+                });
+            if let Some((at, c)) = found {
+                return fail(format!(
+                    "{at}: the diffuse colour {} must be finite and non-negative",
+                    show3(c)
                 ));
             }
         }

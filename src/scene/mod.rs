@@ -1,6 +1,7 @@
 //! The scene IR: only what a picture needs (docs/model.md section 1). Knows nothing of VRML.
 
 mod build;
+mod color;
 mod material_table;
 pub mod profile;
 mod surface;
@@ -8,8 +9,8 @@ mod surface;
 use glam::{DAffine3, DQuat, DVec3};
 
 pub use build::{Radii, SphereArrays};
-pub use material_table::MaterialTable;
-pub(crate) use material_table::{mix_in_lanes, same_words};
+pub use color::{Color, Colors};
+pub use material_table::{MaterialTable, Paint};
 pub use profile::{Profile, DEFAULT_WIDTH};
 pub use surface::{Mapping, Surface, SurfaceCounts, SurfaceShape, Triangle};
 
@@ -33,7 +34,7 @@ impl EllipsoidId {
 }
 
 /// Where an IR item came from: file index into [`Scene::files`] and byte offset, packed in
-/// one word (a sphere is then 48 bytes, not 56). Indices past 2^20 - 1 files and offsets
+/// one word (a sphere is then 56 bytes, not 64). Indices past 2^20 - 1 files and offsets
 /// past 2^44 - 1 bytes (16 TiB) are stored as those maxima. [`Scene::position`] turns it into
 /// `file:line:col` when an error found after loading must point into the file; kept rather
 /// than dropped because that costs 8 bytes per item and no line index.
@@ -77,6 +78,9 @@ impl std::fmt::Debug for Origin {
 pub struct Sphere {
     pub center: DVec3,
     pub radius: f64,
+    /// Its diffuse colour (see [`MaterialTable`]).
+    pub color: Color,
+    /// Index of its material's record in [`Scene::materials`] (all but the diffuse colour).
     pub material: u32,
     /// `None` for a true sphere.
     pub ellipsoid: Option<EllipsoidId>,
@@ -325,6 +329,31 @@ pub struct Bounds {
 }
 
 impl Scene {
+    /// The material of sphere `s`.
+    #[inline]
+    pub fn material_of(&self, s: &Sphere) -> Material {
+        self.materials.get(s.material, s.color)
+    }
+
+    /// The material of surface `s`.
+    #[inline]
+    pub fn surface_material(&self, s: &Surface) -> Material {
+        self.materials.get(s.material, s.color)
+    }
+
+    /// Appends a sphere of material `m` (its record shared with equal ones).
+    pub fn add_sphere(&mut self, center: DVec3, radius: f64, m: &Material) {
+        let Paint { material, color } = self.materials.add(m);
+        self.spheres.push(Sphere {
+            center,
+            radius,
+            color,
+            material,
+            ellipsoid: None,
+            origin: Origin::default(),
+        });
+    }
+
     /// Gas spheres whose density profile is not constant (docs/model.md section 6).
     pub fn profiled_gas_count(&self) -> usize {
         if !self.materials.may_have_profiled_gas() {
@@ -333,7 +362,7 @@ impl Scene {
         self.spheres
             .iter()
             .filter(|s| {
-                let m = self.materials.get(s.material as usize);
+                let m = self.materials.record(s.material);
                 m.is_gas() && m.profile != Profile::Constant
             })
             .count()
@@ -345,7 +374,7 @@ impl Scene {
         }
         self.spheres
             .iter()
-            .filter(|s| self.materials.get(s.material as usize).is_gas())
+            .filter(|s| self.materials.record(s.material).is_gas())
             .count()
     }
     pub fn ellipsoid_count(&self) -> usize {

@@ -12,7 +12,9 @@ use crate::geom::shapes::Solid;
 #[derive(Clone, Debug, PartialEq)]
 pub struct Surface {
     pub shape: SurfaceShape,
-    /// Index into `Scene::materials`.
+    /// Its diffuse colour (a triangle's corner colours replace it where it has them).
+    pub color: super::Color,
+    /// Index of its material's record in `Scene::materials`.
     pub material: u32,
     pub origin: Origin,
 }

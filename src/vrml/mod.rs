@@ -3,7 +3,6 @@
 pub(crate) mod cut_file;
 pub mod lex;
 pub mod lower;
-mod materials;
 pub mod number;
 pub mod parse;
 pub mod schema;

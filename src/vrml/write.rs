@@ -23,7 +23,7 @@ use glam::{DAffine3, DMat3, DQuat, DVec3};
 
 use super::number::Float;
 use crate::geom::shapes::Solid;
-use crate::scene::{Light, Material, Profile, Scene, Sphere, Surface, SurfaceShape};
+use crate::scene::{Light, Material, Paint, Profile, Scene, Sphere, Surface, SurfaceShape};
 
 /// The `GasParticle` PROTO the writer declares: every Material field, and the profile (the
 /// reader recognises it by its name and its `profile` and `width` fields).
@@ -244,7 +244,7 @@ pub fn write_scene(scene: &Scene, out: &mut impl Write) -> io::Result<()> {
     if scene
         .spheres
         .iter()
-        .any(|s| profiled(&scene.materials.get(s.material as usize)))
+        .any(|s| profiled(scene.materials.record(s.material)))
     {
         writeln!(out, "{GAS_PARTICLE}")?;
     }
@@ -300,11 +300,11 @@ pub fn write_scene(scene: &Scene, out: &mut impl Write) -> io::Result<()> {
             }
         }
     }
-    let mut defined = vec![false; scene.materials.len()];
+    let mut defined = Defined::default();
     write_scoped(scene, n, scoped, out, |i, out| {
         write_sphere(scene, &scene.spheres[i], &mut defined, out)
     })?;
-    let mut defined_surfaces = vec![false; scene.materials.len()];
+    let mut defined_surfaces = Defined::default();
     write_scoped(scene, ns, scoped_surfaces, out, |i, out| {
         write_surface(scene, &scene.surfaces[i], &mut defined_surfaces, out)
     })
@@ -380,30 +380,33 @@ fn directional(l: &Light) -> String {
     }
 }
 
-/// The `appearance` field of a Shape of material `i`: DEF'd at its first use, USE'd after
+/// The Appearances written so far: each material's DEF number.
+type Defined = std::collections::HashMap<Paint, usize>;
+
+/// The `appearance` field of a Shape of material `paint`: DEF'd at its first use, USE'd after
 /// (`prefix` keeps the DEF names of the sphere and surface passes apart); none for unlit white.
-fn appearance(scene: &Scene, i: u32, prefix: &str, defined: &mut [bool]) -> String {
-    let m = &scene.materials.get(i as usize);
+fn appearance(scene: &Scene, paint: Paint, prefix: &str, defined: &mut Defined) -> String {
+    let m = &scene.materials.get(paint.material, paint.color);
     if m.unlit && m.diffuse == DVec3::ONE {
-        String::new()
-    } else if defined[i as usize] {
-        format!("appearance USE {prefix}{i} ")
-    } else {
-        defined[i as usize] = true;
-        format!(
+        return String::new();
+    }
+    let next = defined.len();
+    match *defined.entry(paint).or_insert(next) {
+        i if i < next => format!("appearance USE {prefix}{i} "),
+        i => format!(
             "appearance DEF {prefix}{i} Appearance {{ material {} }} ",
             material(m)
-        )
+        ),
     }
 }
 
 fn write_sphere(
     scene: &Scene,
     s: &Sphere,
-    defined: &mut [bool],
+    defined: &mut Defined,
     out: &mut impl Write,
 ) -> io::Result<()> {
-    let m = scene.materials.get(s.material as usize);
+    let m = scene.material_of(s);
     if profiled(&m) {
         return match s.ellipsoid {
             None => writeln!(out, "{}", gas_particle(&m, s.center, s.radius)),
@@ -415,7 +418,11 @@ fn write_sphere(
             ),
         };
     }
-    let appearance = appearance(scene, s.material, "M", defined);
+    let paint = Paint {
+        material: s.material,
+        color: s.color,
+    };
+    let appearance = appearance(scene, paint, "M", defined);
     match s.ellipsoid {
         None => writeln!(
             out,
@@ -437,10 +444,14 @@ fn write_sphere(
 fn write_surface(
     scene: &Scene,
     s: &Surface,
-    defined: &mut [bool],
+    defined: &mut Defined,
     out: &mut impl Write,
 ) -> io::Result<()> {
-    let appearance = appearance(scene, s.material, "S", defined);
+    let paint = Paint {
+        material: s.material,
+        color: s.color,
+    };
+    let appearance = appearance(scene, paint, "S", defined);
     let on = |b: bool| if b { "TRUE" } else { "FALSE" };
     match &s.shape {
         SurfaceShape::Solid { solid, to_world } => {

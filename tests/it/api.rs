@@ -64,7 +64,7 @@ fn small() -> RenderOptions {
 }
 
 #[test]
-fn from_arrays_keeps_order_and_shares_materials() {
+fn from_arrays_keeps_order_and_shares_the_material_record() {
     let c = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 2.0, 0.0, 0.0];
     let col = [0.5, 0.5, 0.5, 0.1, 0.2, 0.3, 0.5, 0.5, 0.5];
     let s = Scene::from_arrays(&SphereArrays {
@@ -73,11 +73,16 @@ fn from_arrays_keeps_order_and_shares_materials() {
     })
     .unwrap();
     assert_eq!(s.spheres.len(), 3);
-    assert_eq!(s.materials.len(), 2, "equal colours share one material");
+    assert_eq!(
+        s.materials.len(),
+        1,
+        "materials that differ in colour share a record"
+    );
     assert_eq!(s.spheres[0].material, s.spheres[2].material);
+    assert_eq!(s.spheres[0].color, s.spheres[2].color);
     assert_eq!(s.spheres[1].center, DVec3::new(1.0, 0.0, 0.0));
     assert_eq!(
-        s.materials.get(s.spheres[1].material as usize).diffuse,
+        s.material_of(&s.spheres[1]).diffuse,
         DVec3::new(0.1, 0.2, 0.3)
     );
     assert!(s.headlight, "VRML's default");
@@ -148,7 +153,7 @@ fn prepare_validates_scenes_built_by_hand() {
     assert!(render::prepare(s, &PrepareOptions::default()).is_err());
     // A material pushed in code is checked too, and named by its index.
     let mut s = lit_scene(3);
-    s.materials.push(gtsphere::scene::Material {
+    s.materials.add(&gtsphere::scene::Material {
         transparency: 2.0,
         ..Default::default()
     });

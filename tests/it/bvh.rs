@@ -26,6 +26,7 @@ fn prims(rng: &mut Rng, n: usize, offset: DVec3, extent: f64, r_lo: f64, r_hi: f
         .map(|i| Prim {
             center: offset + (DVec3::new(rng.f(), rng.f(), rng.f()) * 2.0 - 1.0) * extent,
             radius: r_lo * (r_hi / r_lo).powf(rng.f()),
+            color: gtsphere::scene::Color::default(),
             material: 0,
             sphere: i as u32,
             ellipsoid: None,
@@ -302,6 +303,7 @@ fn grazing_rays_through_the_bvh() {
     let mut ps = vec![Prim {
         center: c,
         radius: r,
+        color: gtsphere::scene::Color::default(),
         material: 0,
         sphere: 999,
         ellipsoid: None,
@@ -526,17 +528,13 @@ fn last_blockers_leave_gas_transmittance_unchanged() {
         transparency: 0.3,
         ..Material::default()
     };
-    let mut materials: Vec<Material> = (0..scene.materials.len())
-        .map(|i| scene.materials.get(i))
-        .collect();
     // Constant and linear density (whose optical depth depends on where the chord lies).
     let linear = Material {
         profile: gtsphere::scene::Profile::Linear,
         ..gas
     };
-    materials.extend([gas, linear]);
-    scene.materials = materials.into();
-    let gas_index = scene.materials.len() as u32 - 2;
+    let gas_index = scene.materials.add(&gas).material;
+    assert_eq!(scene.materials.add(&linear).material, gas_index + 1);
     for (i, s) in scene.spheres.iter_mut().enumerate() {
         match i % 6 {
             0 => s.material = gas_index,
@@ -584,6 +582,7 @@ fn concentric_and_coincident_spheres_are_all_found() {
         .map(|k| Prim {
             center: DVec3::ZERO,
             radius: 0.01 * (k + 1) as f64,
+            color: gtsphere::scene::Color::default(),
             material: 0,
             sphere: k,
             ellipsoid: None,
@@ -595,6 +594,7 @@ fn concentric_and_coincident_spheres_are_all_found() {
     ps.extend((0..300).map(|k| Prim {
         center: DVec3::new(2.0, 0.0, 0.0),
         radius: 0.5,
+        color: gtsphere::scene::Color::default(),
         material: 0,
         sphere: 600 + k,
         ellipsoid: None,

@@ -62,7 +62,7 @@ fn centres(s: &Scene) -> Vec<[f64; 4]> {
 }
 
 fn diffuse(s: &Scene, k: usize) -> DVec3 {
-    s.materials.get(s.spheres[k].material as usize).diffuse
+    s.material_of(&s.spheres[k]).diffuse
 }
 
 #[test]
@@ -245,7 +245,7 @@ fn columns_map_other_names_by_name_and_number() {
 fn density_opacity_transparency_and_emission() {
     // sigma = 0.3 on radius 2: transparency exp(-1.2); read back as sigma.
     let s = ir("x,y,z,radius,density,emission_r,emission_g,emission_b\n0,0,0,2,0.3,0.5,0.25,0\n");
-    let m = s.materials.get(s.spheres[0].material as usize);
+    let m = s.material_of(&s.spheres[0]);
     assert!(m.is_gas());
     assert!(
         (m.sigma(2.0) - 0.3).abs() <= 1e-15 * 0.3,
@@ -254,20 +254,17 @@ fn density_opacity_transparency_and_emission() {
     );
     assert_eq!(m.emissive, DVec3::new(0.5, 0.25, 0.0));
     let s = ir("x,y,z,radius,opacity,emission\n0,0,0,1,0.75,0.5\n");
-    let m = s.materials.get(s.spheres[0].material as usize);
+    let m = s.material_of(&s.spheres[0]);
     assert_eq!(m.transparency, 0.25);
     assert_eq!(m.emissive, DVec3::splat(0.5));
     // Empty optional cells keep their defaults: an opaque, non-glowing, default-coloured row.
     let s =
         ir("x,y,z,radius,red,green,blue,density,emission\n0,0,0,1,,,,,\n1,1,1,1,0.5,0.5,0.5,2,\n");
-    let (m0, m1) = (
-        s.materials.get(s.spheres[0].material as usize),
-        s.materials.get(s.spheres[1].material as usize),
-    );
+    let (m0, m1) = (s.material_of(&s.spheres[0]), s.material_of(&s.spheres[1]));
     assert!(!m0.is_gas() && m0.diffuse == DVec3::splat(0.8) && m0.emissive == DVec3::ZERO);
     assert!(m1.is_gas() && m1.diffuse == DVec3::splat(0.5));
     let s = ir("x,y,z,radius,transparency\n0,0,0,1,0\n");
-    let m = s.materials.get(s.spheres[0].material as usize);
+    let m = s.material_of(&s.spheres[0]);
     assert!(!m.is_gas());
 }
 
@@ -299,10 +296,7 @@ fn plain_output_reads_as_the_proto_output() {
     assert!(!text.contains("PROTO"));
     assert_eq!(centres(&a), centres(&b));
     for k in 0..2 {
-        let (ma, mb) = (
-            a.materials.get(a.spheres[k].material as usize),
-            b.materials.get(b.spheres[k].material as usize),
-        );
+        let (ma, mb) = (a.material_of(&a.spheres[k]), b.material_of(&b.spheres[k]));
         assert_eq!(ma, mb);
     }
     assert_eq!(a.viewpoints.len(), b.viewpoints.len());
@@ -475,7 +469,7 @@ proptest! {
         for (k, (x, y, z, r, cr, cg, cb, o)) in rows.iter().enumerate() {
             let sp = &s.spheres[k];
             prop_assert_eq!([sp.center.x, sp.center.y, sp.center.z, sp.radius], [*x, *y, *z, *r]);
-            let m = s.materials.get(sp.material as usize);
+            let m = s.material_of(sp);
             prop_assert_eq!(m.diffuse, DVec3::new(f64::from(*cr), f64::from(*cg), f64::from(*cb)) / 255.0);
             prop_assert_eq!(m.transparency, 1.0 - o.unwrap_or(1.0));
         }
@@ -523,7 +517,7 @@ fn profile_and_width_columns_become_gas_particles() {
                  4,0,0,0.5,1,gaussian,\n";
     let (s, text) = convert_with(table, TableOptions::default(), FRAMED).unwrap();
     assert!(text.contains("PROTO GasParticle ["), "{text}");
-    let m = |k: usize| s.materials.get(s.spheres[k].material as usize);
+    let m = |k: usize| s.material_of(&s.spheres[k]);
     let got: Vec<Profile> = (0..5).map(|k| m(k).profile).collect();
     assert_eq!(
         got,

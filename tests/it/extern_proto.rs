@@ -62,13 +62,7 @@ fn error(path: &Path) -> String {
 fn balls(s: &Scene) -> Vec<([f64; 3], f64, Material)> {
     s.spheres
         .iter()
-        .map(|b| {
-            (
-                b.center.to_array(),
-                b.radius,
-                s.materials.get(b.material as usize),
-            )
-        })
+        .map(|b| (b.center.to_array(), b.radius, s.material_of(b)))
         .collect()
 }
 

@@ -395,7 +395,7 @@ fn reference_scene(scene: &Scene) -> (Vec<Ball>, Vec<Lamp>) {
         .spheres
         .iter()
         .map(|s| {
-            let m = &scene.materials.get(s.material as usize);
+            let m = &scene.material_of(s);
             Ball {
                 c: s.center,
                 r: s.radius,

@@ -37,7 +37,7 @@ fn profiles(scene: &Scene) -> Vec<Profile> {
     scene
         .spheres
         .iter()
-        .map(|s| scene.materials.get(s.material as usize).profile)
+        .map(|s| scene.material_of(s).profile)
         .collect()
 }
 
@@ -75,7 +75,7 @@ Shape {{ appearance Appearance {{ material Material {{ transparency 0.5 }} }} ge
             ]
         );
         // The rest of the material is the instance's, as for any PROTO.
-        let m = scene.materials.get(scene.spheres[1].material as usize);
+        let m = scene.material_of(&scene.spheres[1]);
         assert_eq!(m.transparency, 0.25);
         assert_eq!(scene.spheres[2].center.x, 1.0);
         // The profile is part of the material: equal fields, other profile, other material.

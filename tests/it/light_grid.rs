@@ -36,6 +36,7 @@ fn cloud(rng: &mut Rng, n: usize, scale: f64, offset: DVec3) -> Vec<Prim> {
             Prim {
                 center: offset + c * scale,
                 radius: r * scale,
+                color: gtsphere::scene::Color::default(),
                 material: 0,
                 sphere: i as u32,
                 ellipsoid: None,

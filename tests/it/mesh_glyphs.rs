@@ -113,7 +113,7 @@ fn a_merged_glyph_mesh_round_trips_to_its_centres_radii_and_colours() {
             "{} vs {rad}",
             sp.radius
         );
-        assert_eq!(s.materials.get(sp.material as usize).diffuse, col);
+        assert_eq!(s.material_of(sp).diffuse, col);
     }
 }
 
@@ -241,20 +241,14 @@ fn the_vtk_glyph_export_gives_300_spheres_of_radius_004_with_their_colours() {
     let mut colours: Vec<[u64; 3]> = s
         .spheres
         .iter()
-        .map(|sp| {
-            s.materials
-                .get(sp.material as usize)
-                .diffuse
-                .to_array()
-                .map(f64::to_bits)
-        })
+        .map(|sp| s.material_of(sp).diffuse.to_array().map(f64::to_bits))
         .collect();
     colours.sort_unstable();
     colours.dedup();
     assert!(colours.len() > 20, "{} distinct colours", colours.len());
     assert!(text.contains("1 0.1803921568627451 0"));
     assert_eq!(
-        s.materials.get(s.spheres[0].material as usize).diffuse,
+        s.material_of(&s.spheres[0]).diffuse,
         DVec3::new(1.0, 0.1803921568627451, 0.0)
     );
 }
@@ -298,7 +292,7 @@ fn points_become_particles_of_a_derived_or_given_radius() {
         assert!(s.spheres.iter().all(|sp| sp.radius == 0.25));
         assert_eq!(s.spheres[0].center, DVec3::new(1.0, 2.0, 3.0));
         // No Material: unlit, in the Color node's colours.
-        let m = &s.materials.get(s.spheres[5].material as usize);
+        let m = &s.material_of(&s.spheres[5]);
         assert!(m.unlit && m.diffuse == DVec3::new(0.25, 0.0, 0.0), "{m:?}");
         assert_eq!(r.notes.len(), 1);
         let note = r.notes[0].headline();

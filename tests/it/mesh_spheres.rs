@@ -94,10 +94,7 @@ fn icosahedron_mesh_is_a_sphere_under_translation_and_uniform_scale() {
     assert!(close(sp.radius, 1.0, 1e-12), "{}", sp.radius);
     assert_eq!(sp.ellipsoid, None);
     // The Shape's Material applies as for a Sphere.
-    assert_eq!(
-        s.materials.get(sp.material as usize).diffuse,
-        DVec3::new(1.0, 0.0, 0.0)
-    );
+    assert_eq!(s.material_of(&sp).diffuse, DVec3::new(1.0, 0.0, 0.0));
 }
 
 #[test]
@@ -128,10 +125,7 @@ fn def_use_mesh_gives_one_sphere_per_use() {
     // IndexedFaceSet and Coordinate per instance.
     assert_eq!(r.nodes, 16);
     // Unlit white, as a Shape without Appearance.
-    assert!(s
-        .spheres
-        .iter()
-        .all(|sp| s.materials.get(sp.material as usize).unlit));
+    assert!(s.spheres.iter().all(|sp| s.material_of(sp).unlit));
 }
 
 #[test]

@@ -491,3 +491,39 @@ fn invalid_utf8_in_a_piece_is_one_readers_warning() {
     let on = rb.read_on.expect("read on by one reader");
     assert!(on.contains("invalid UTF-8"), "{on}");
 }
+
+/// Colours that do not pack into a sphere's word (more decimals than it holds) are listed in
+/// the scene's materials once each, in the order first met, whether the file is read by one
+/// reader or in pieces whose prefixes DEF the same Appearance again.
+#[test]
+fn listed_colours_are_one_readers() {
+    let long = |i: usize| format!("0.{:09} 0.5 0.25", 100_000_007 + (i % 5) * 1_000_003);
+    let def = "0.987654321 0.5 0.25";
+    let mut text = format!(
+        "#VRML V2.0 utf8\nDEF A Appearance {{ material Material {{ diffuseColor {def} }} }}\nGroup {{ children [\n"
+    );
+    for i in 0..400 {
+        let appearance = if i % 3 == 0 {
+            "USE A".to_string()
+        } else {
+            format!(
+                "Appearance {{ material Material {{ diffuseColor {} }} }}",
+                long(i)
+            )
+        };
+        text += &format!(
+            "Transform {{ translation {i} 0 0 children Shape {{ appearance {appearance} geometry Sphere {{}} }} }}\n"
+        );
+    }
+    text += "] }\n";
+    let report = same(&text, 2, 600).expect("read");
+    assert!(report.read_pieces > 1, "{}", report.read_pieces);
+    let (s, _) = load(&text, 2, 600).unwrap();
+    // The DEF'd colour and the five others.
+    assert_eq!(s.materials.listed_colors().len(), 6);
+    for (i, sphere) in s.spheres.iter().enumerate() {
+        let want = if i % 3 == 0 { def.to_string() } else { long(i) };
+        let want: Vec<f64> = want.split(' ').map(|t| t.parse().unwrap()).collect();
+        assert_eq!(s.material_of(sphere).diffuse.to_array().to_vec(), want);
+    }
+}

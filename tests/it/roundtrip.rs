@@ -243,7 +243,7 @@ proptest! {
         for (b, (c, r, col)) in s.spheres.iter().zip(&want.spheres) {
             prop_assert!(rel_close(b.center, *c, 1e3), "centre {} vs {}", b.center, c);
             prop_assert!((b.radius - r).abs() <= 1e-12 * r, "radius {} vs {}", b.radius, r);
-            prop_assert_eq!(s.materials.get(b.material as usize).diffuse.to_array(), *col);
+            prop_assert_eq!(s.material_of(b).diffuse.to_array(), *col);
         }
         let got: Vec<_> = s.lights.iter().map(|l| match l {
             Light::Directional(d) => {

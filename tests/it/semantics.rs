@@ -179,19 +179,25 @@ fn materials_are_shared_not_copied() {
     assert_eq!(ids[0], ids[1]);
     assert_eq!(ids[2], ids[3]);
     assert_ne!(ids[0], ids[2]);
-    // Unlit white (index 0), the blue-ish one, the gas one.
+    // Records: unlit white (index 0), the lit opaque one, the gas one; the colours are the
+    // spheres' own.
     assert_eq!(s.materials.len(), 3);
-    assert!(s.materials.get(ids[4] as usize).unlit);
+    assert!(s.material_of(&s.spheres[4]).unlit);
+    assert_eq!(s.material_of(&s.spheres[4]).diffuse, DVec3::ONE);
+    assert_eq!(
+        s.material_of(&s.spheres[1]).diffuse.to_array(),
+        [0.1, 0.2, 0.3]
+    );
     assert_eq!(s.gas_count(), 2);
-    let gas = s.materials.get(ids[2] as usize);
+    let gas = s.material_of(&s.spheres[2]);
     assert!(close(gas.sigma(1.0), 0.5f64.ln().abs() / 2.0, 1e-15));
 }
 
 #[test]
-fn many_colours_in_scrambled_order_are_each_stored_once() {
+fn many_colours_in_scrambled_order_share_one_record() {
     // 20 000 colours over 100 000 spheres in a scrambled order, Shapes nested in Transforms
-    // and a Group, so that materials are merged while Appearances and Shapes are open: every
-    // colour is stored once, and every sphere keeps its own colour.
+    // and a Group: the materials differ in their colour alone, so they share one record, and
+    // every sphere keeps its own colour, packed (none is listed).
     let colour = |k: usize| {
         let c = (k * 7919 + k / 3) % 20_000;
         [(c % 100) as f64 / 100.0, (c / 100) as f64 / 200.0, 0.5]
@@ -207,25 +213,22 @@ fn many_colours_in_scrambled_order_are_each_stored_once() {
     text += "] }\n";
     let (s, _) = scene(&text);
     assert_eq!(s.spheres.len(), 100_000);
-    // The unlit white of a Shape without a Material comes first, then each colour once.
-    assert_eq!(s.materials.len(), 20_001);
-    assert!(s.materials.get(0).unlit);
+    // The unlit white of a Shape without a Material comes first, then the lit one.
+    assert_eq!(s.materials.len(), 2);
+    assert!(s.materials.record(0).unlit);
+    assert!(!s.materials.record(1).unlit);
+    assert!(s.materials.listed_colors().is_empty());
     for (k, b) in s.spheres.iter().enumerate() {
         assert_eq!(b.center.x, k as f64);
-        assert_eq!(
-            s.materials.get(b.material as usize).diffuse.to_array(),
-            colour(k)
-        );
+        assert_eq!(s.material_of(b).diffuse.to_array(), colour(k));
     }
-    // First come, first stored.
-    assert_eq!(s.materials.get(1).diffuse.to_array(), colour(0));
 }
 
 #[test]
 fn vrml_material_defaults() {
     let (s, _) =
         scene("Shape { appearance Appearance { material Material {} } geometry Sphere {} }");
-    let m = s.materials.get(s.spheres[0].material as usize);
+    let m = s.material_of(&s.spheres[0]);
     assert_eq!(m.diffuse.to_array(), [0.8; 3]);
     assert_eq!(
         (m.ambient_intensity, m.shininess, m.transparency),
@@ -447,8 +450,8 @@ fn the_same_def_name_defined_again_later_one_wins() {
          DEF M Material { diffuseColor 0 0 1 }\n\
          Shape { appearance Appearance { material USE M } geometry Sphere {} }",
     );
-    let m0 = s.materials.get(s.spheres[0].material as usize);
-    let m1 = s.materials.get(s.spheres[1].material as usize);
+    let m0 = s.material_of(&s.spheres[0]);
+    let m1 = s.material_of(&s.spheres[1]);
     assert_eq!(m0.diffuse.to_array(), [1.0, 0.0, 0.0]);
     assert_eq!(m1.diffuse.to_array(), [0.0, 0.0, 1.0]);
 }
@@ -463,7 +466,7 @@ fn use_inside_a_def_keeps_the_meaning_it_had_when_read() {
     );
     assert_eq!(s.spheres.len(), 2);
     for b in &s.spheres {
-        assert_eq!(s.materials.get(b.material as usize).diffuse.x, 1.0);
+        assert_eq!(s.material_of(b).diffuse.x, 1.0);
     }
 }
 
@@ -482,14 +485,8 @@ fn proto_with_is_is_expanded() {
     let (a, b) = (s.spheres[0], s.spheres[1]);
     assert_eq!((a.center.to_array(), a.radius), ([1.0, 2.0, 3.0], 0.5));
     assert_eq!((b.center.to_array(), b.radius), ([0.0, 0.0, 0.0], 1.0));
-    assert_eq!(
-        s.materials.get(a.material as usize).diffuse.to_array(),
-        [1.0, 0.0, 0.0]
-    );
-    assert_eq!(
-        s.materials.get(b.material as usize).diffuse.to_array(),
-        [1.0, 1.0, 1.0]
-    );
+    assert_eq!(s.material_of(&a).diffuse.to_array(), [1.0, 0.0, 0.0]);
+    assert_eq!(s.material_of(&b).diffuse.to_array(), [1.0, 1.0, 1.0]);
 }
 
 #[test]
@@ -502,13 +499,10 @@ fn node_valued_proto_fields_and_nested_protos() {
     );
     assert_eq!(s.spheres.len(), 2);
     assert_eq!(
-        s.materials
-            .get(s.spheres[0].material as usize)
-            .diffuse
-            .to_array(),
+        s.material_of(&s.spheres[0]).diffuse.to_array(),
         [1.0, 0.0, 0.0]
     );
-    assert!(s.materials.get(s.spheres[1].material as usize).unlit);
+    assert!(s.material_of(&s.spheres[1]).unlit);
 }
 
 #[test]

@@ -11,10 +11,8 @@ use gtsphere::scene::{Material, Origin, Scene, Sphere, Surface, SurfaceShape, Tr
 use crate::support::Rng;
 
 fn random_scene(rng: &mut Rng, n: usize) -> Scene {
-    let mut s = Scene {
-        materials: vec![Material::default()].into(),
-        ..Scene::default()
-    };
+    let mut s = Scene::default();
+    let paint = s.materials.add(&Material::default());
     let v = |rng: &mut Rng| DVec3::new(rng.f(), rng.f(), rng.f()) * 20.0 - 10.0;
     for k in 0..n {
         let c = v(rng);
@@ -28,7 +26,8 @@ fn random_scene(rng: &mut Rng, n: usize) -> Scene {
                 s.spheres.push(Sphere {
                     center: c,
                     radius: size,
-                    material: 0,
+                    color: paint.color,
+                    material: paint.material,
                     ellipsoid: None,
                     origin: Origin::default(),
                 });
@@ -59,7 +58,8 @@ fn random_scene(rng: &mut Rng, n: usize) -> Scene {
         };
         s.surfaces.push(Surface {
             shape,
-            material: 0,
+            color: paint.color,
+            material: paint.material,
             origin: Origin::default(),
         });
     }

@@ -61,7 +61,7 @@ fn vmd_style_file_reads_with_colours_from_the_proto() {
             assert!(close(b.center[k], c[k], 1e-12), "{} vs {c:?}", b.center);
         }
         assert!(close(b.radius, rad, 1e-12));
-        let m = s.materials.get(b.material as usize);
+        let m = s.material_of(b);
         assert!(!m.unlit, "VMDMat must give a lit material");
         for k in 0..3 {
             assert!(close(m.diffuse[k], kd[k], 1e-12), "{} vs {kd:?}", m.diffuse);
@@ -73,8 +73,9 @@ fn vmd_style_file_reads_with_colours_from_the_proto() {
         // VMD writes shininess 40 (its raw exponent); VRML97 clamps to [0, 1].
         assert_eq!(m.shininess, 1.0);
     }
-    // 5 distinct VMD materials, plus the built-in unlit white.
-    assert_eq!(s.materials.len(), 6);
+    // 5 distinct VMD materials, four opaque ones apart from their colours, one gas: two
+    // records, plus the built-in unlit white.
+    assert_eq!(s.materials.len(), 3);
     assert_eq!(s.gas_count(), 1);
     // Its two bonds are Cylinders, drawn now.
     assert_eq!(

@@ -44,11 +44,7 @@ fn close3(a: DVec3, b: DVec3, tol: f64) -> bool {
 fn assert_same(a: &Scene, b: &Scene) {
     assert_eq!(a.spheres.len(), b.spheres.len());
     for (k, (s, t)) in a.spheres.iter().zip(&b.spheres).enumerate() {
-        assert_eq!(
-            a.materials.get(s.material as usize),
-            b.materials.get(t.material as usize),
-            "material of sphere {k}"
-        );
+        assert_eq!(a.material_of(s), b.material_of(t), "material of sphere {k}");
         assert_eq!(s.ellipsoid.is_none(), t.ellipsoid.is_none(), "sphere {k}");
         if let (Some(es), Some(et)) = (s.ellipsoid, t.ellipsoid) {
             let (m, n) = (a.ellipsoids[es.index()], b.ellipsoids[et.index()]);
@@ -139,8 +135,8 @@ fn assert_same_surfaces(a: &Scene, b: &Scene) {
     assert_eq!(a.surfaces.len(), b.surfaces.len());
     for (k, (s, t)) in a.surfaces.iter().zip(&b.surfaces).enumerate() {
         assert_eq!(
-            a.materials.get(s.material as usize),
-            b.materials.get(t.material as usize),
+            a.surface_material(s),
+            b.surface_material(t),
             "material of surface {k}"
         );
         match (&s.shape, &t.shape) {
@@ -299,9 +295,9 @@ fn generated_scenes_round_trip() {
             background: DVec3::new(rnd(), rnd(), rnd()),
             ..Scene::default()
         };
-        s.materials.push(Material::unlit());
+        let mut paints = vec![s.materials.add(&Material::unlit())];
         for _ in 0..4 {
-            s.materials.push(Material {
+            let m = Material {
                 diffuse: DVec3::new(rnd(), rnd(), rnd()),
                 emissive: DVec3::new(rnd(), rnd(), rnd()),
                 specular: DVec3::new(rnd(), rnd(), rnd()),
@@ -319,12 +315,13 @@ fn generated_scenes_round_trip() {
                     },
                     _ => Profile::Constant,
                 },
-            });
+            };
+            paints.push(s.materials.add(&m));
         }
         let n = 20;
         for k in 0..n {
             let center = DVec3::new(rnd(), rnd(), rnd()) * 10.0 - 5.0;
-            let material = (rnd() * 5.0) as u32;
+            let paint = paints[(rnd() * 5.0) as usize];
             if k % 4 == 3 {
                 let lin = glam::DMat3::from_cols(
                     DVec3::new(rnd(), rnd(), rnd()) - 0.5,
@@ -339,7 +336,8 @@ fn generated_scenes_round_trip() {
                 s.spheres.push(Sphere {
                     center,
                     radius,
-                    material,
+                    color: paint.color,
+                    material: paint.material,
                     ellipsoid: EllipsoidId::new(s.ellipsoids.len() - 1),
                     origin: Origin::default(),
                 });
@@ -347,7 +345,8 @@ fn generated_scenes_round_trip() {
                 s.spheres.push(Sphere {
                     center,
                     radius: 0.1 + rnd(),
-                    material,
+                    color: paint.color,
+                    material: paint.material,
                     ellipsoid: None,
                     origin: Origin::default(),
                 });

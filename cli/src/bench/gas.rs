@@ -493,11 +493,7 @@ pub fn run_scaling(args: &GasArgs) -> Result<ExitCode, Error> {
             let c = Cloud::from(c);
             let mut scene = cloud(n, c);
             if let Some(profile) = args.profile {
-                scene.materials = scene
-                    .materials
-                    .iter()
-                    .map(|m| gtsphere::scene::Material { profile, ..m })
-                    .collect();
+                scene.materials.edit_records(|m| m.profile = profile);
             }
             let runs = args.runs.unwrap_or(if n <= 10_000 { 3 } else { 1 });
             eprintln!(

@@ -55,10 +55,10 @@ pub enum LayoutArg {
     /// N children of one Group (what VMD-style exporters write).
     Group,
     /// N PROTO instances, as `gtsphere convert` writes them (of a generated table with 8-bit
-    /// colours: few distinct materials).
+    /// colours: few distinct colours).
     Proto,
     /// As proto, of a table with a continuous colour per particle (6 decimals, as a colour
-    /// map writes): every particle a material of its own.
+    /// map writes): every particle a colour of its own.
     Continuous,
     /// Copies of the file given by --copies-of, each in a Transform of its own, until they
     /// hold N spheres.

@@ -221,10 +221,7 @@ fn convert_writes_vrml_that_reads_back_to_the_same_scene() {
     assert_eq!(a.spheres.len(), 125);
     for (s, t) in a.spheres.iter().zip(&b.spheres) {
         assert_eq!((s.center, s.radius), (t.center, t.radius));
-        assert_eq!(
-            a.materials.get(s.material as usize),
-            b.materials.get(t.material as usize)
-        );
+        assert_eq!(a.material_of(s), b.material_of(t));
     }
     // A missing input: an error naming it and no output.
     let out = gtsphere(&["convert", "p.csv", "-o", "p.wrl"], &dir);

@@ -232,7 +232,7 @@ impl SphereBvh {
                 Packed::new(
                     p.center,
                     p.radius,
-                    p.material,
+                    (p.material, p.color),
                     j as u32,
                     p.gas,
                     p.ellipsoid.is_some(),
@@ -465,7 +465,16 @@ mod tests {
             let mut codes = random_codes(&mut rng, n, kind);
             let original = codes.clone();
             let mut prims: Vec<Packed> = (0..n)
-                .map(|i| Packed::new(DVec3::ZERO, 1.0, 0, i as u32, false, false))
+                .map(|i| {
+                    Packed::new(
+                        DVec3::ZERO,
+                        1.0,
+                        (0, crate::scene::Color::default()),
+                        i as u32,
+                        false,
+                        false,
+                    )
+                })
                 .collect();
             radix_sort(&mut prims, &mut codes, 56, 1);
             let mut want = original.clone();
@@ -497,7 +506,16 @@ mod tests {
         ] {
             let codes = random_codes(&mut rng, n, kind);
             let prims: Vec<Packed> = (0..n)
-                .map(|i| Packed::new(DVec3::ZERO, 1.0, 0, i as u32, false, false))
+                .map(|i| {
+                    Packed::new(
+                        DVec3::ZERO,
+                        1.0,
+                        (0, crate::scene::Color::default()),
+                        i as u32,
+                        false,
+                        false,
+                    )
+                })
                 .collect();
             let (mut full, mut full_prims) = (codes.clone(), prims.clone());
             radix_sort(&mut full_prims, &mut full, 56, 1);
@@ -523,7 +541,7 @@ mod tests {
     fn packed_primitives_fit_in_place_of_spheres() {
         use crate::scene::Sphere;
         use std::mem::{align_of, size_of};
-        assert_eq!(size_of::<Packed>(), 40);
+        assert_eq!(size_of::<Packed>(), 48);
         assert!(size_of::<Packed>() <= size_of::<Sphere>());
         assert_eq!(align_of::<Packed>(), align_of::<Sphere>());
     }

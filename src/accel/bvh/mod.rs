@@ -84,7 +84,8 @@ pub struct Prim {
     pub center: DVec3,
     /// Radius; for an ellipsoid, a bounding radius (the exact shape is in `to_object`).
     pub radius: f64,
-    /// Index into `Scene::materials`.
+    /// Its diffuse colour and the index of its material's record in `Scene::materials`.
+    pub color: crate::scene::Color,
     pub material: u32,
     /// Index of the sphere in `Scene::spheres` (light scopes and the `id` channel use it).
     pub sphere: u32,
@@ -112,7 +113,7 @@ impl Prim {
     }
 }
 
-/// A primitive as stored in leaf order: 40 bytes, so that a scene's 48-byte IR spheres turn
+/// A primitive as stored in leaf order: 48 bytes, so that a scene's 56-byte IR spheres turn
 /// into them in place and 1e8 of them fit beside everything else. The extinction
 /// and the ellipsoid map, which most scenes do not need, live in side arrays of the BVH that
 /// are empty unless some primitive has them; the top bits of `tagged` say which.
@@ -120,7 +121,8 @@ impl Prim {
 pub struct Packed {
     pub center: DVec3,
     pub radius: f64,
-    /// Material index, with [`GAS`] and [`ELLIPSOID`] in the top bits.
+    pub color: crate::scene::Color,
+    /// Material record index, with [`GAS`] and [`ELLIPSOID`] in the top bits.
     tagged: u32,
     /// Index of the sphere in `Scene::spheres` (or, inside a build, its position in the input).
     pub sphere: u32,
@@ -139,7 +141,7 @@ impl Packed {
     pub fn new(
         center: DVec3,
         radius: f64,
-        material: u32,
+        (material, color): (u32, crate::scene::Color),
         sphere: u32,
         gas: bool,
         ellipsoid: bool,
@@ -152,6 +154,7 @@ impl Packed {
         Packed {
             center,
             radius,
+            color,
             tagged,
             sphere,
         }
@@ -325,6 +328,7 @@ impl SphereBvh {
         Prim {
             center: q.center,
             radius: q.radius,
+            color: q.color,
             material: q.material(),
             sphere: q.sphere,
             ellipsoid: if q.is_ellipsoid() {

@@ -131,11 +131,17 @@ pub fn surface_point(prep: &Prepared, o: DVec3, d: DVec3, hit: OpaqueHit) -> Sur
 /// The material of what a hit is on.
 #[inline]
 pub fn material_of(prep: &Prepared, on: Opaque) -> crate::scene::Material {
-    let m = match on {
-        Opaque::Sphere(prim) => prep.bvh.prim(prim).material,
-        Opaque::Surface(i) => prep.surfaces.materials[i as usize],
+    let (m, c) = match on {
+        Opaque::Sphere(prim) => {
+            let p = prep.bvh.prim(prim);
+            (p.material, p.color)
+        }
+        Opaque::Surface(i) => {
+            let p = prep.surfaces.paints[i as usize];
+            (p.material, p.color)
+        }
     };
-    prep.materials.get(m as usize)
+    prep.materials.get(m, c)
 }
 
 /// `blockers`: see [`shade`] (kept from pixel to pixel by the caller).

@@ -14,7 +14,9 @@ use super::open::Marks;
 use super::Lowerer;
 use crate::error::Error;
 use crate::input::FileRange;
-use crate::scene::{EllipsoidId, Light, LightScope, MaterialTable, Sphere, Surface, Viewpoint};
+use crate::scene::{
+    Color, EllipsoidId, Light, LightScope, MaterialTable, Paint, Sphere, Surface, Viewpoint,
+};
 use crate::source::SourceWindow;
 use crate::vrml::parse::{Parser, Run};
 
@@ -42,10 +44,8 @@ pub(super) struct Delta {
     spheres: Vec<Sphere>,
     ellipsoids: Vec<DAffine3>,
     surfaces: Vec<Surface>,
-    /// The worker's materials, which `spheres` and `surfaces` index, and their hashes (if
-    /// the worker knew them all).
+    /// The worker's materials, which `spheres` and `surfaces` refer to.
     materials: MaterialTable,
-    hashes: Vec<u64>,
     lights: Vec<Light>,
     views: Vec<Viewpoint>,
     /// Where the worker's own counts began: its spheres, surfaces, ellipsoids, lights
@@ -241,18 +241,12 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source)
         }
     }
     skipped.retain(|_, n| *n > 0);
-    let hashes = low
-        .materials
-        .recent
-        .hashes(low.scene.materials.len())
-        .to_vec();
     let scene = &mut low.scene;
     Ok(Box::new(Delta {
         spheres: tail(&mut scene.spheres, base.spheres),
         ellipsoids: tail(&mut scene.ellipsoids, ellipsoid_base),
         surfaces: tail(&mut scene.surfaces, base.surfaces),
         materials: std::mem::take(&mut scene.materials),
-        hashes,
         lights: tail(&mut scene.lights, base.lights),
         views: tail(&mut scene.viewpoints, base.views),
         base,
@@ -323,13 +317,14 @@ impl Lowerer {
         mut d: Delta,
         src: &mut SourceWindow,
     ) -> Result<Vec<Sphere>, String> {
-        // Stored as they come (their duplicates are merged like any the cache lets through).
-        let first = self.scene.materials.len() as u32;
-        self.scene.materials.append(&d.materials);
-        let stored = self.scene.materials.len();
-        self.materials
-            .recent
-            .stored_unchecked(&d.hashes, first as usize, stored);
+        let moved = self.scene.materials.append(&d.materials);
+        let repaint = |material: &mut u32, color: &mut Color| {
+            let p = moved(Paint {
+                material: *material,
+                color: *color,
+            });
+            (*material, *color) = (p.material, p.color);
+        };
         let scene = &mut self.scene;
         let (s0, f0, l0) = (
             scene.spheres.len(),
@@ -343,7 +338,7 @@ impl Lowerer {
         let base = d.ellipsoid_base;
         let mut foreign = false;
         scene.spheres.extend(d.spheres.drain(..).map(|mut s| {
-            s.material += first;
+            repaint(&mut s.material, &mut s.color);
             if let Some(id) = s.ellipsoid {
                 let i = id.index();
                 foreign |= i < base;
@@ -356,7 +351,7 @@ impl Lowerer {
             return Err("a sphere of the chunk is an ellipsoid of its prefix".into());
         }
         for mut s in d.surfaces {
-            s.material += first;
+            repaint(&mut s.material, &mut s.color);
             scene.surfaces.push(s);
         }
         let shift = |r: &mut LightScope, from: usize, to: usize| {
@@ -398,9 +393,6 @@ impl Lowerer {
         self.meshes.spheres += d.mesh_spheres;
         self.meshes.point_spheres += d.point_spheres;
         src.lines_skipped(d.line_starts);
-        if self.materials.recent.wants_merge(&self.scene.materials) {
-            self.merge_materials(0);
-        }
         Ok(d.spheres)
     }
 }

@@ -14,7 +14,7 @@ use super::scope::DefEntry;
 use super::Lowerer;
 use crate::error::Error;
 use crate::geom::shapes::Solid;
-use crate::scene::{Sphere, Surface, SurfaceShape};
+use crate::scene::{Paint, Sphere, Surface, SurfaceShape};
 use crate::source::SourceWindow;
 use crate::vrml::syntax::OwnedEvent;
 
@@ -246,21 +246,22 @@ impl Lowerer {
 
     /// A closed Shape: a sphere if its geometry is one, in the object space of its Transforms.
     #[inline(always)]
-    fn shape_geometry(&mut self, appearance: Option<Option<u32>>, geometry: Option<Geom>) {
-        let material = match appearance {
+    fn shape_geometry(&mut self, appearance: Option<Option<Paint>>, geometry: Option<Geom>) {
+        let paint = match appearance {
             Some(Some(m)) => m,
-            _ => super::material::UNLIT,
+            _ => self.materials.unlit,
         };
         let (center, radius, sat) = match geometry {
             Some(Geom::Sphere(radius, sat)) => (DVec3::ZERO, radius, sat),
-            Some(Geom::Solid(solid, sat)) => return self.shape_solid(solid, material, sat),
-            Some(Geom::Mesh(i, sat)) => return self.shape_mesh(i, material, sat),
+            Some(Geom::Solid(solid, sat)) => return self.shape_solid(solid, paint, sat),
+            Some(Geom::Mesh(i, sat)) => return self.shape_mesh(i, paint, sat),
             _ => return,
         };
         self.scene.spheres.push(Sphere {
             center,
             radius,
-            material,
+            color: paint.color,
+            material: paint.material,
             ellipsoid: None,
             origin: self.origin(sat),
         });
@@ -269,7 +270,7 @@ impl Lowerer {
     /// A Shape whose geometry is a Box, Cylinder or Cone.
     #[cold]
     #[inline(never)]
-    fn shape_solid(&mut self, i: u32, material: u32, at: u64) {
+    fn shape_solid(&mut self, i: u32, paint: Paint, at: u64) {
         let Some(&solid) = self.meshes.solids.get(i as usize) else {
             return;
         };
@@ -290,7 +291,8 @@ impl Lowerer {
                 solid,
                 to_world: DAffine3::IDENTITY,
             },
-            material,
+            color: paint.color,
+            material: paint.material,
             origin: self.origin(at),
         });
     }
@@ -299,20 +301,21 @@ impl Lowerer {
     /// colours) and its triangles.
     #[cold]
     #[inline(never)]
-    fn shape_mesh(&mut self, i: u32, material: u32, at: u64) {
+    fn shape_mesh(&mut self, i: u32, paint: Paint, at: u64) {
         let Some(parts) = self.mesh_parts_for_shape(i) else {
             return;
         };
         let origin = self.origin(at);
         for &(center, radius, colour) in &parts.spheres {
-            let material = match colour {
-                Some(c) => self.recolored(material, c),
-                None => material,
+            let color = match colour {
+                Some(c) => self.scene.materials.add_color(c),
+                None => paint.color,
             };
             self.scene.spheres.push(Sphere {
                 center,
                 radius,
-                material,
+                color,
+                material: paint.material,
                 ellipsoid: None,
                 origin,
             });
@@ -321,7 +324,8 @@ impl Lowerer {
             .surfaces
             .extend(parts.triangles.into_iter().map(|t| Surface {
                 shape: SurfaceShape::Triangle(Box::new(t)),
-                material,
+                color: paint.color,
+                material: paint.material,
                 origin,
             }));
     }

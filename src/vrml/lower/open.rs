@@ -15,7 +15,7 @@ use super::declare::ProtoDecl;
 use super::lights::DirLights;
 use super::mesh::{Array, MeshState};
 use super::transform::TransformFields;
-use crate::scene::{DirectionalLight, PointLight, Scene, Viewpoint};
+use crate::scene::{DirectionalLight, Paint, PointLight, Scene, Viewpoint};
 use crate::vrml::schema;
 
 /// How much of the IR existed when a grouping node opened.
@@ -54,11 +54,11 @@ pub(super) enum Geom {
 #[derive(Clone, Copy, Debug)]
 pub(super) enum Leaf {
     Shape {
-        appearance: Option<Option<u32>>,
+        appearance: Option<Option<Paint>>,
         geometry: Option<Geom>,
     },
     Appearance {
-        material: Option<u32>,
+        material: Option<Paint>,
     },
     /// Its fields are the top of `Materials::open`.
     Material,
@@ -153,8 +153,8 @@ pub(super) struct Frame {
 /// What a closed node hands to the field it stands in.
 pub(super) enum Result_ {
     Nothing,
-    Material(u32),
-    Appearance(Option<u32>),
+    Material(Paint),
+    Appearance(Option<Paint>),
     Geometry(Geom),
     MeshArray(Array, u32),
 }

@@ -166,9 +166,6 @@ pub(super) fn load(
     let chunk_rx = Arc::new(Mutex::new(chunk_rx));
     let worker_rx: Vec<_> = (1..threads.max(2)).map(|_| chunk_rx.clone()).collect();
     let opts = low.opts.clone();
-    // The main reader's last merge of the materials is the one part of its work that grows
-    // with the file and is not shared out: on the thread pool (see `RecentMaterials`).
-    low.materials.recent.parallel = true;
     std::thread::scope(|scope| {
         let splitter_done = done_tx.clone();
         let (spare_tx, spare_rx) = channel();
@@ -384,25 +381,19 @@ fn main_reader(
 }
 
 /// Room for what the rest of the file (`ahead` bytes) will add, at the density of the first
-/// chunk (`len` bytes, which `added` spheres, materials and lines), at once: grown chunk by
-/// chunk, each list was copied (and faulted in) again at every doubling, the other growing
-/// lists in the way (in a profile of a million particles, the materials' table and hashes
-/// took 26 of the 65 ms the main reader spent putting chunks in place; 14 with the room
-/// reserved). Only address space is taken beyond what is used; the spheres and materials
-/// are shrunk to fit when the file is read. Bounded, and asked for without aborting on
-/// failure: it is only a hint.
+/// chunk (`len` bytes, which `added` spheres and lines), at once: grown chunk by chunk, each
+/// list was copied (and faulted in) again at every doubling, the other growing lists in the
+/// way. Only address space is taken beyond what is used; the spheres are shrunk to fit when
+/// the file is read. Bounded, and asked for without aborting on failure: it is only a hint.
 fn reserve_ahead(
     low: &mut Lowerer,
     src: &mut SourceWindow,
-    [spheres, materials, lines]: [usize; 3],
+    [spheres, lines]: [usize; 2],
     (ahead, len): (u64, u64),
 ) {
     let ahead = ahead as f64;
     let more = |n: usize, most: f64| (1.02 * n as f64 / len.max(1) as f64 * ahead).min(most);
     let _ = (low.scene.spheres).try_reserve_exact(more(spheres, ahead / 8.0) as usize);
-    let m = more(materials, ahead / 8.0) as usize;
-    low.scene.materials.try_reserve(m);
-    low.materials.recent.try_reserve(m);
     src.lines.try_reserve(more(lines, ahead / 2.0) as usize);
 }
 
@@ -477,14 +468,10 @@ fn put_chunks_in_place(
         defined.extend(d.exports.iter().cloned());
         let end = d.end;
         let lines = d.lines();
-        let before = (low.scene.spheres.len(), low.scene.materials.len());
+        let before = low.scene.spheres.len();
         let emptied = low.put_in_place(*d, src)?;
         if placed == 0 {
-            let added = [
-                low.scene.spheres.len() - before.0,
-                low.scene.materials.len() - before.1,
-                lines,
-            ];
+            let added = [low.scene.spheres.len() - before, lines];
             reserve_ahead(low, src, added, (size.saturating_sub(start + len), len));
         }
         if let Ok(mut spare) = results.spheres.lock() {

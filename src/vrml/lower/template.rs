@@ -551,17 +551,18 @@ impl Lowerer {
         self.nodes += tpl.nodes;
         self.watch_nodes(src.offset());
         let marks = Marks::of(&self.scene);
-        let material = match inputs.material {
+        let paint = match inputs.material {
             Some(m) => {
                 self.materials.open.push(m);
                 self.close_material()
             }
-            None => super::material::UNLIT,
+            None => self.materials.unlit,
         };
         self.scene.spheres.push(Sphere {
             center: DVec3::ZERO,
             radius: inputs.radius,
-            material,
+            color: paint.color,
+            material: paint.material,
             ellipsoid: None,
             origin: self.origin(tpl.sphere_at),
         });
