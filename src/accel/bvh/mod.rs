@@ -27,7 +27,10 @@
 //! that the build's peak is paid for one chunk at a time (and the trees are decoded only
 //! once every chunk is built).
 //! A ray visits the chunks its f64 box test reaches, nearest first, and stops at the first
-//! chunk that starts beyond its closest hit.
+//! chunk that starts beyond its closest hit. Sixteen chunks at most: measured 2026-12-05 at
+//! 1e7 spheres (`bench trace --spheres 10000000 --size 512 --threads 1`), 32 chunks lower
+//! the peak from 89-90 to 79-80 bytes per sphere and the build from 2.3 to 2.0 s, but trace
+//! camera and shadow rays 8-10 % slower.
 //!
 //! Why the ray entry points are compiled twice. The build must run on any x86-64, whose
 //! baseline (SSE2) has no 8-wide vectors, no fused multiply-add and no `popcnt` or `tzcnt`.
