@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use gtsphere::vrml::{load_path, LoadOptions};
 use gtsphere::Error;
 
-use super::corpus_counts::EXPECTED;
+use super::corpus_counts::expected;
 
 /// The corpus, or `None` (the test is skipped) when ../shared is not beside the checkout.
 fn corpus_dir() -> Option<PathBuf> {
@@ -115,7 +115,7 @@ fn expected_invalid_files_are_rejected_under_strict() {
 #[test]
 fn hand_counted_files_match() {
     let Some(corpus) = corpus_dir() else { return };
-    for e in EXPECTED {
+    for e in expected() {
         let path = corpus.join(e.path);
         let (s, r) = load_path(&path, &LoadOptions::default())
             .unwrap_or_else(|err| panic!("{}: {err}", e.path));
