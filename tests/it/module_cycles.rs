@@ -1,14 +1,10 @@
 //! The library's modules depend on each other one way: no cycle of `crate::`, `super::` or
 //! `self::` paths between them. Each file's code outside comments and its `#[cfg(test)]`
 //! part is read; a path names the deepest module it reaches; a module's own parents and
-//! children do not count. The files of `vrml::lower` are chapters of one `impl Lowerer` and
-//! are taken as that one module.
+//! children do not count.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
-
-/// Modules whose submodules are read as the module itself.
-const ONE_MODULE: [&str; 1] = ["crate::vrml::lower"];
 
 fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     for e in std::fs::read_dir(dir).expect("src/ reads") {
@@ -21,7 +17,7 @@ fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
-/// `crate::a::b` for `src/a/b.rs` or `src/a/b/mod.rs`, folded into [`ONE_MODULE`]s.
+/// `crate::a::b` for `src/a/b.rs` or `src/a/b/mod.rs`.
 fn module_of(src: &Path, file: &Path) -> (Vec<String>, bool) {
     let rel = file
         .strip_prefix(src)
@@ -34,13 +30,6 @@ fn module_of(src: &Path, file: &Path) -> (Vec<String>, bool) {
         parts.pop();
     }
     (parts, dir)
-}
-
-fn fold(name: &str) -> String {
-    ONE_MODULE
-        .iter()
-        .find(|m| name == **m || name.starts_with(&format!("{m}::")))
-        .map_or_else(|| name.to_string(), |m| m.to_string())
 }
 
 /// The paths in `code` that start with `crate`, `super` or `self`.
@@ -116,7 +105,7 @@ fn library_modules_have_no_import_cycle() {
                     break;
                 }
             }
-            let (Some(t), m) = (target.map(|t| fold(&t)), fold(&me.join("::"))) else {
+            let (Some(t), m) = (target, me.join("::")) else {
                 continue;
             };
             let related =

@@ -10,7 +10,7 @@ use std::sync::Arc;
 
 use glam::{DAffine3, DVec3};
 
-use super::open::Marks;
+use super::transform::Marks;
 use super::Lowerer;
 use crate::error::Error;
 use crate::input::FileRange;

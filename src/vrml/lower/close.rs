@@ -8,7 +8,8 @@
 
 use glam::{DAffine3, DVec3};
 
-use super::open::{Frame, Geom, Kind, Leaf, Result_};
+use super::meshes::Geom;
+use super::open::{Frame, Kind, Leaf, Result_};
 use super::record::{Done, Rec, RecKind};
 use super::scope::DefEntry;
 use super::Lowerer;

@@ -19,17 +19,16 @@
 
 use std::rc::Rc;
 
-use super::declare::ProtoDecl;
 use super::fields::is_event;
-use super::open::Name;
-use super::record::{Rec, RecKind};
+use super::proto::{ProtoDecl, SphereTemplate};
+use super::record::{Name, Rec, RecKind};
 use super::Lowerer;
 use crate::error::Error;
 use crate::source::SourceWindow;
 use crate::vrml::schema;
 use crate::vrml::syntax::{Event, Nums, OwnedEvent, OwnedValue, Value};
 
-use super::template::{padded3, Given, SphereTemplate};
+use super::template::{padded3, Given};
 use crate::vrml::parse::sphere::FlatNode;
 
 /// One field value an instance gave, as written (the last of a name counts).

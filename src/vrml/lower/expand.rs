@@ -11,8 +11,8 @@
 use std::ops::Range;
 use std::rc::Rc;
 
-use super::declare::ProtoDecl;
 use super::fields::is_event;
+use super::proto::ProtoDecl;
 use super::record::{value_end, Rec};
 use super::Lowerer;
 use crate::error::Error;

@@ -20,8 +20,8 @@
 //! **Positions.** A PROTO read from another file is expanded while some other file is being
 //! read. So that its messages, and the IR items it makes, still point into its own file,
 //! every position recorded from that file is *tagged* with the file's index in
-//! `Scene::files`, in the top bits, as [`crate::scene::Origin`] packs them ([`tag`],
-//! [`tag_of`], [`offset_of`]); `Diags` keeps the file's line index to turn tagged positions
+//! `Scene::files`, in the top bits, as [`crate::scene::Origin`] packs them (see
+//! `position`); `Diags` keeps the file's line index to turn tagged positions
 //! into `file:line:col`, and `Lowerer::origin` turns them into origins in that file.
 
 use std::path::{Path, PathBuf};
@@ -29,44 +29,15 @@ use std::rc::Rc;
 
 use hashbrown::HashMap;
 
-use super::declare::{InterfaceField, ProtoDecl};
 use super::inline::{local_path, Admit};
-use super::open::Name;
-use super::record::Rec;
-use super::scope::Protos;
+use super::position::tag;
+use super::proto::{InterfaceField, ProtoDecl, Protos};
+use super::record::{Name, Rec};
 use super::Lowerer;
 use crate::error::Error;
 use crate::source::SourceWindow;
 use crate::vrml::parse::Parser;
 use crate::vrml::syntax::OwnedEvent;
-
-/// How many low bits of a position are its byte offset; the bits above say which file read
-/// for its PROTOs it is in (0: the file being read). The layout of [`crate::scene::Origin`].
-const OFFSET_BITS: u32 = 44;
-const OFFSET_MASK: u64 = (1 << OFFSET_BITS) - 1;
-const MAX_TAG: u32 = (1 << (64 - OFFSET_BITS)) - 1;
-
-/// Position `at` of file `file` (its index in `Scene::files`, never 0), tagged with that
-/// file; a position already tagged keeps its file (it came from yet another file).
-pub(super) fn tag(at: u64, file: u32) -> u64 {
-    if tag_of(at).is_some() {
-        return at;
-    }
-    u64::from(file.min(MAX_TAG)) << OFFSET_BITS | at.min(OFFSET_MASK)
-}
-
-/// The file a tagged position is in (its index in `Scene::files`); `None`: the file being read.
-#[inline(always)]
-pub(super) fn tag_of(at: u64) -> Option<u32> {
-    let file = (at >> OFFSET_BITS) as u32;
-    (file != 0).then_some(file)
-}
-
-/// The byte offset of a position in its file, tagged or not.
-#[inline(always)]
-pub(super) fn offset_of(at: u64) -> u64 {
-    at & OFFSET_MASK
-}
 
 /// The position a recorded event stands at.
 fn position_mut(rec: &mut Rec) -> &mut u64 {
@@ -372,20 +343,6 @@ impl Lowerer {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::Origin;
-
-    #[test]
-    fn tagged_positions_have_the_layout_of_origins() {
-        for (file, offset) in [(1, 0), (3, 123_456_789), (MAX_TAG, OFFSET_MASK)] {
-            let at = tag(offset, file);
-            assert_eq!((tag_of(at), offset_of(at)), (Some(file), offset));
-            let o = Origin::new(file, offset);
-            assert_eq!((o.file(), o.offset()), (file, offset));
-        }
-        // Untagged positions are in the file being read; a tag is not replaced.
-        assert_eq!(tag_of(12), None);
-        assert_eq!(tag_of(tag(tag(5, 2), 7)), Some(2));
-    }
 
     #[test]
     fn urls_name_a_file_and_maybe_a_proto() {

@@ -10,7 +10,8 @@ use std::rc::Rc;
 use glam::DVec3;
 
 use super::mesh::mesh_field;
-use super::open::{FieldCtx, Frame, Kind, Leaf, Name};
+use super::open::{FieldCtx, Frame, Kind, Leaf};
+use super::record::Name;
 use super::transform::quat;
 use super::{Diags, Lowerer};
 use crate::error::Error;

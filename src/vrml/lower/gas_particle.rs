@@ -22,7 +22,7 @@
 
 use std::ops::Range;
 
-use super::declare::ProtoDecl;
+use super::proto::{GasFields, ProtoDecl};
 use super::record::Rec;
 use super::Lowerer;
 use crate::error::Error;
@@ -33,13 +33,6 @@ use crate::vrml::syntax::{OwnedEvent, OwnedValue};
 
 /// The PROTO name that carries a profile.
 pub(super) const NAME: &str = "GasParticle";
-
-/// Where a recognised `GasParticle` PROTO keeps its profile and width.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct GasFields {
-    profile: usize,
-    width: Option<usize>,
-}
 
 /// A PROTO's profile fields, if it is a `GasParticle`.
 pub(super) fn recognise(decl: &ProtoDecl) -> Option<GasFields> {

@@ -9,8 +9,9 @@
 use std::path::{Path, PathBuf};
 
 use super::expand::Subst;
-use super::open::{Frame, Kind, Marks, Name};
-use super::record::SetAside;
+use super::open::{Frame, Kind};
+use super::record::{Name, SetAside};
+use super::transform::Marks;
 use super::Lowerer;
 use crate::error::Error;
 use crate::source::SourceWindow;
@@ -170,7 +171,7 @@ impl Lowerer {
     /// The folder the relative urls of a node at `at` are resolved in: that of the file it
     /// was written in (the file being read, or the file an external PROTO's body came from).
     pub(super) fn base_dir(&self, at: u64) -> PathBuf {
-        let file = match super::extern_proto::tag_of(at) {
+        let file = match super::position::tag_of(at) {
             Some(tag) => self.externs.path_of(tag),
             None => self.files.stack.last().map(PathBuf::as_path),
         };

@@ -6,7 +6,7 @@
 
 use glam::DVec3;
 
-use super::open::Marks;
+use super::transform::Marks;
 use super::Lowerer;
 use crate::scene::{DirectionalLight, Light, LightScope, PointLight};
 use crate::source::SourceWindow;

@@ -6,117 +6,14 @@
 //! Jmol atom or bond cost a lookup, not a replay of its events.
 
 use glam::DVec3;
-use hashbrown::{HashMap, HashSet};
 
-use super::mesh_shape::MeshParts;
-use super::open::{Geom, Kind, Name, Result_};
-use super::record::Rec;
+use super::meshes::{Array, Geom, MeshCache, MeshKind, MeshParts, MeshState, Meshes};
+use super::open::{Kind, Result_};
+use super::record::{Name, Rec};
 use super::Lowerer;
 use crate::error::Error;
 use crate::source::SourceWindow;
 use crate::vrml::syntax::{OwnedEvent, Value};
-
-/// Which array a child node of a mesh fills.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum Array {
-    Coord,
-    Color,
-    Normal,
-}
-
-/// Which node a mesh is.
-#[derive(Clone, Debug)]
-pub(super) enum MeshKind {
-    IndexedFaceSet,
-    PointSet,
-    /// An ElevationGrid: its points and faces are made from these when it closes.
-    ElevationGrid(Grid),
-    /// An Extrusion: likewise.
-    Extrusion(Box<crate::geom::mesh::Extrusion>),
-}
-
-/// An ElevationGrid's own fields (VRML97 6.18, with its defaults).
-#[derive(Clone, Debug, Default)]
-pub(super) struct Grid {
-    pub(super) x_dimension: f64,
-    pub(super) z_dimension: f64,
-    pub(super) x_spacing: f64,
-    pub(super) z_spacing: f64,
-    pub(super) height: Vec<f64>,
-}
-
-impl MeshKind {
-    /// The node type, for messages and counts.
-    pub(super) fn name(&self) -> &'static str {
-        match self {
-            MeshKind::IndexedFaceSet => "IndexedFaceSet",
-            MeshKind::PointSet => "PointSet",
-            MeshKind::ElevationGrid(_) => "ElevationGrid",
-            MeshKind::Extrusion(_) => "Extrusion",
-        }
-    }
-}
-
-/// An open IndexedFaceSet, PointSet or ElevationGrid (rare: boxed in [`Kind::Mesh`]). Arrays
-/// are slots of [`Meshes::arrays`].
-#[derive(Clone, Debug)]
-pub(super) struct MeshState {
-    pub(super) kind: MeshKind,
-    pub(super) coord: Option<u32>,
-    pub(super) color: Option<u32>,
-    pub(super) normal: Option<u32>,
-    pub(super) coord_index: Vec<i64>,
-    pub(super) color_index: Vec<i64>,
-    pub(super) normal_index: Vec<i64>,
-    pub(super) ccw: bool,
-    pub(super) solid: bool,
-    pub(super) color_per_vertex: bool,
-    pub(super) normal_per_vertex: bool,
-    pub(super) crease_angle: f64,
-    /// An index field was given values that are not integers: nothing is drawn.
-    pub(super) malformed: bool,
-    /// `Lowerer::nodes` before this node started (to cache the node count of a DEF).
-    nodes_before: u64,
-}
-
-/// What a DEF'd mesh lowered to, replayed for each USE without its events.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct MeshCache {
-    geom: Geom,
-    /// Nodes its events lower (the mesh and the nodes inside).
-    nodes: u64,
-}
-
-/// The meshes met so far.
-#[derive(Default)]
-pub(super) struct Meshes {
-    /// The arrays of the Coordinate, Color and Normal nodes of the open mesh.
-    arrays: Vec<Vec<DVec3>>,
-    /// What closed meshes lowered to ([`Geom::Mesh`] indexes this); taken by the Shape that
-    /// draws it unless cached for later USEs.
-    pub(super) parts: Vec<Option<MeshParts>>,
-    /// Entries of `parts` that the cache refers to (kept after their Shape).
-    kept: HashSet<u32>,
-    /// The Box, Cylinder and Cone nodes read and not yet drawn ([`Geom::Solid`] and
-    /// `Leaf::Solid` index this).
-    pub(super) solids: Vec<crate::geom::shapes::Solid>,
-    /// Spheres found in meshes (tessellated spheres, USEs included).
-    pub(super) spheres: u64,
-    /// Spheres made of points (PointSets and face-less IndexedFaceSets).
-    pub(super) point_spheres: u64,
-    /// What each DEF'd mesh lowered to, by the start of its recording.
-    cache: HashMap<usize, MeshCache>,
-    /// The last mesh closed (for `cache`).
-    last: Option<MeshCache>,
-}
-
-impl Meshes {
-    /// The array in `slot`, or an empty one.
-    pub(super) fn array(&self, slot: Option<u32>) -> &[DVec3] {
-        slot.and_then(|s| self.arrays.get(s as usize))
-            .map_or(&[], Vec::as_slice)
-    }
-}
 
 fn triples(values: &[f64]) -> Vec<DVec3> {
     values

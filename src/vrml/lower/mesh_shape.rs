@@ -14,42 +14,13 @@
 
 use glam::DVec3;
 
-use super::mesh::{Grid, MeshKind, MeshState, Meshes};
+use super::meshes::{Grid, MeshKind, MeshParts, MeshState, Meshes};
 use super::{Diags, LoadOptions, Lowerer};
 use crate::error::Error;
 use crate::geom::mesh::{components, crease_normals, faces, first_bad_index, triangulate};
 use crate::geom::sphere_fit;
 use crate::scene::Triangle;
 use crate::source::SourceWindow;
-
-/// One sphere of a mesh: centre, radius and its colour if the mesh gave one.
-pub(super) type MeshSphere = (DVec3, f64, Option<DVec3>);
-
-/// What a mesh lowers to, in its own coordinates.
-#[derive(Clone, Debug, Default)]
-pub(super) struct MeshParts {
-    pub(super) spheres: Vec<MeshSphere>,
-    pub(super) triangles: Vec<Triangle>,
-    /// The spheres are particles made of points.
-    pub(super) points: bool,
-}
-
-impl MeshParts {
-    pub(super) fn mesh_spheres(&self) -> u64 {
-        if self.points {
-            0
-        } else {
-            self.spheres.len() as u64
-        }
-    }
-    pub(super) fn point_spheres(&self) -> u64 {
-        if self.points {
-            self.spheres.len() as u64
-        } else {
-            0
-        }
-    }
-}
 
 /// The colour (or normal) of the corner at position `pos` of `coord_index`, in face `face`,
 /// by VRML97's rules for `colorIndex`/`colorPerVertex` (and the same for normals).

@@ -59,8 +59,11 @@ mod lights;
 mod material;
 mod mesh;
 mod mesh_shape;
+mod meshes;
 mod open;
 mod parallel;
+mod position;
+mod proto;
 mod record;
 mod replay;
 mod route;
@@ -89,7 +92,7 @@ use expand::Expansions;
 use extern_proto::Externs;
 use inline::Files;
 use material::Materials;
-use mesh::Meshes;
+use meshes::Meshes;
 use open::Open;
 use record::{Rec, Recording};
 use replay::Replay;
@@ -349,7 +352,7 @@ struct Diags {
     notes: Vec<Diagnostic>,
     /// The files read for their PROTOs (EXTERNPROTO), by index in `Scene::files`: positions
     /// tagged with one of them point into it, not into the file being read (see
-    /// `extern_proto::tag`).
+    /// `position::tag`).
     sources: HashMap<u32, Rc<SourceWindow>>,
 }
 
@@ -357,10 +360,10 @@ impl Diags {
     /// The source that position `at` is in, and its offset there: `src` (the file being read)
     /// unless `at` is tagged with a file read for its PROTOs.
     fn locate<'a>(&'a self, src: &'a SourceWindow, at: u64) -> (&'a SourceWindow, u64) {
-        match extern_proto::tag_of(at) {
+        match position::tag_of(at) {
             Some(file) => (
                 self.sources.get(&file).map_or(src, |s| &**s),
-                extern_proto::offset_of(at),
+                position::offset_of(at),
             ),
             None => (src, at),
         }
@@ -475,10 +478,10 @@ impl Lowerer {
     }
 
     /// Where an IR item made at `at` comes from: the file being read, or the file a PROTO
-    /// body was read from (a tagged position, see `extern_proto::tag`).
+    /// body was read from (a tagged position, see `position::tag`).
     fn origin(&self, at: u64) -> Origin {
-        match extern_proto::tag_of(at) {
-            Some(file) => Origin::new(file, extern_proto::offset_of(at)),
+        match position::tag_of(at) {
+            Some(file) => Origin::new(file, position::offset_of(at)),
             None => Origin::new(self.files.current, at),
         }
     }

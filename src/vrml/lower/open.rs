@@ -11,43 +11,13 @@ use std::rc::Rc;
 
 use glam::DVec3;
 
-use super::declare::ProtoDecl;
 use super::lights::DirLights;
-use super::mesh::{Array, MeshState};
-use super::transform::TransformFields;
-use crate::scene::{DirectionalLight, Paint, PointLight, Scene, Viewpoint};
+use super::meshes::{Array, Geom, MeshState};
+use super::proto::ProtoDecl;
+use super::record::Name;
+use super::transform::{Marks, TransformFields};
+use crate::scene::{DirectionalLight, Paint, PointLight, Viewpoint};
 use crate::vrml::schema;
-
-/// How much of the IR existed when a grouping node opened.
-#[derive(Clone, Copy, Debug, Default)]
-pub(super) struct Marks {
-    pub(super) spheres: usize,
-    pub(super) surfaces: usize,
-    pub(super) lights: usize,
-    pub(super) views: usize,
-}
-
-impl Marks {
-    pub(super) fn of(scene: &Scene) -> Marks {
-        Marks {
-            spheres: scene.spheres.len(),
-            surfaces: scene.surfaces.len(),
-            lights: scene.lights.len(),
-            views: scene.viewpoints.len(),
-        }
-    }
-}
-
-/// What a closed geometry node is.
-#[derive(Clone, Copy, Debug)]
-pub(super) enum Geom {
-    Sphere(f64, u64),
-    /// A Box, Cylinder or Cone: index into `Meshes::solids`, node offset.
-    Solid(u32, u64),
-    /// An IndexedFaceSet or PointSet: index into `Meshes::parts`, node offset.
-    Mesh(u32, u64),
-    Other,
-}
 
 /// The nodes that are closed in place, without moving their frame out (most nodes of a
 /// particle file: see `close`). Small and `Copy`.
@@ -110,31 +80,6 @@ pub(super) enum Kind {
     Skip,
     /// Recorded, not lowered (PROTO instance, Switch choice, ignored LOD level or proxy).
     Quiet,
-}
-
-/// A node type or field name held while its node is open: the standard tables' own string
-/// when there is one (no allocation per node), a shared copy otherwise.
-#[derive(Clone, Debug)]
-pub(super) enum Name {
-    Static(&'static str),
-    Shared(Rc<str>),
-}
-
-impl std::ops::Deref for Name {
-    type Target = str;
-    #[inline]
-    fn deref(&self) -> &str {
-        match self {
-            Name::Static(s) => s,
-            Name::Shared(s) => s,
-        }
-    }
-}
-
-impl std::fmt::Display for Name {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self)
-    }
 }
 
 /// An open node.

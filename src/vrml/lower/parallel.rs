@@ -35,9 +35,9 @@
 //! - the main thread fails after the chunks (its message is one reader's to give).
 //!
 //! What it gains on two threads over one reader (`gtsphere bench parse`, 1e6 particles,
-//! medians of 5 runs taking turns): 1.42x on top-level sphere nodes, 1.72x in one Group,
-//! 1.79x on `convert`'s PROTO instances with 8-bit colours and 1.53x with a colour per
-//! particle; 0.99-1.00x on copies of PyMOL, VTK and Jmol exports, which it leaves to one
+//! medians of 5 runs taking turns, 2026-12-05): 1.81x on top-level sphere nodes and in one
+//! Group, 1.80x on `convert`'s PROTO instances with 8-bit colours and 1.79x with a colour per
+//! particle; 0.94-1.07x on copies of PyMOL, VTK and Jmol exports, which it leaves to one
 //! reader or gives up on early.
 
 use std::collections::BTreeMap;

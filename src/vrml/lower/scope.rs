@@ -13,7 +13,7 @@ use std::rc::Rc;
 
 use hashbrown::HashMap;
 
-use super::declare::ProtoDecl;
+use super::proto::{ProtoDecl, Protos};
 use crate::vrml::schema::same_bytes;
 
 /// A DEF: the arena range of its node's events, and its node type.
@@ -22,9 +22,6 @@ pub(super) struct DefEntry {
     pub(super) range: Range<usize>,
     pub(super) ty: Rc<str>,
 }
-
-/// PROTO names and their declarations.
-pub(super) type Protos = HashMap<Rc<str>, Rc<ProtoDecl>>;
 
 /// A DEF and PROTO namespace: one per file, one per PROTO body expansion.
 #[derive(Default)]

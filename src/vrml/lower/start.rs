@@ -7,9 +7,10 @@
 
 use glam::DVec3;
 
-use super::mesh::{Grid, MeshKind};
-use super::open::{Frame, Kind, Leaf, Marks, Name};
-use super::record::RecKind;
+use super::meshes::{Grid, MeshKind};
+use super::open::{Frame, Kind, Leaf};
+use super::record::{Name, RecKind};
+use super::transform::Marks;
 use super::Lowerer;
 use crate::error::Error;
 use crate::geom::shapes::Solid;

@@ -10,7 +10,7 @@
 //! Transform would be out of place, an instance value that is itself an `IS`) sends the
 //! instance down the replay instead, so the result is the replay's in every case
 //! (`tests/it/proto_template.rs` compares the two). With [`super::direct`] it reads
-//! `convert`'s files 3.1x (a colour per particle) to 3.4x (8-bit colours) as fast as replaying
+//! `convert`'s files 4.0x (8-bit colours) to 4.2x (a colour per particle) as fast as replaying
 //! (`gtsphere bench parse --layout proto --layout continuous`, with and without the hidden
 //! `--replay-every-instance`).
 
@@ -18,38 +18,17 @@ use std::ops::Range;
 
 use glam::DVec3;
 
-use super::declare::ProtoDecl;
-use super::open::{Kind, Marks};
+use super::open::Kind;
+use super::proto::{MaterialField, ProtoDecl, Slot, SphereTemplate};
 use super::record::Rec;
 use super::replay::MAX_REPLAY_DEPTH;
-use super::transform::TransformFields;
+use super::transform::{Marks, TransformFields};
 use super::Lowerer;
 use crate::error::Error;
 use crate::scene::{Material, Sphere};
 use crate::source::SourceWindow;
 use crate::vrml::parse::sphere::{SphereNode, MATERIAL_FIELDS};
 use crate::vrml::syntax::{OwnedEvent, OwnedValue};
-
-/// Where one value of the template comes from.
-#[derive(Clone, Debug)]
-enum Slot {
-    /// Written in the body (checked against its field's type when compiled).
-    Given([f64; 3]),
-    /// `IS` this interface field: the instance's value, or the field's default.
-    Is(u32),
-}
-
-/// A Material field the template sets, in the body's order: one of
-/// [`MATERIAL_FIELDS`], in that table's order (its name and number of values are there).
-#[derive(Clone, Copy, Debug)]
-enum MaterialField {
-    Diffuse,
-    Emissive,
-    Specular,
-    Shininess,
-    AmbientIntensity,
-    Transparency,
-}
 
 impl MaterialField {
     /// By index into [`MATERIAL_FIELDS`].
@@ -84,21 +63,6 @@ impl MaterialField {
     fn arity(self) -> usize {
         MATERIAL_FIELDS[self as usize].1
     }
-}
-
-/// A PROTO body whose first node is a Transform (translation only) holding one Shape whose
-/// geometry is a Sphere; see the module's comment.
-#[derive(Clone, Debug)]
-pub(super) struct SphereTemplate {
-    /// Where the body's Transform and Sphere start (what replaying reports and records).
-    transform_at: u64,
-    sphere_at: u64,
-    translation: Option<Slot>,
-    /// `None`: no Appearance, or an Appearance without Material (the unlit material).
-    material: Option<Vec<(MaterialField, Slot)>>,
-    radius: Option<Slot>,
-    /// Nodes of the first node (what replaying counts).
-    pub(super) nodes: u64,
 }
 
 /// Reads the body's first node as a template, if it is one.

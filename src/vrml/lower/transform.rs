@@ -8,11 +8,30 @@
 
 use glam::{DAffine3, DMat3, DQuat, DVec3};
 
-use super::open::Marks;
 use super::Lowerer;
 use crate::error::Error;
 use crate::scene::{EllipsoidId, Light, Scene};
 use crate::source::SourceWindow;
+
+/// How much of the IR existed when a grouping node opened.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Marks {
+    pub(super) spheres: usize,
+    pub(super) surfaces: usize,
+    pub(super) lights: usize,
+    pub(super) views: usize,
+}
+
+impl Marks {
+    pub(super) fn of(scene: &Scene) -> Marks {
+        Marks {
+            spheres: scene.spheres.len(),
+            surfaces: scene.surfaces.len(),
+            lights: scene.lights.len(),
+            views: scene.viewpoints.len(),
+        }
+    }
+}
 
 /// A Transform's fields, with VRML97 defaults.
 #[derive(Debug)]

@@ -14,10 +14,10 @@
 //! it can lower by template.
 //!
 //! What it saves (`gtsphere bench parse`, 1e6 particles, one reader, the hidden
-//! `--replay-every-instance` turning this and the PROTO templates off): 0.39 s against 1.21 s
-//! on top-level sphere nodes (`flat`, 3.1x), 0.47 against 1.46 s on `convert`'s PROTO
-//! instances with a colour per particle (3.1x), 0.32 against 0.84 s on copies of PyMOL's
-//! export (2.6x).
+//! `--replay-every-instance` turning this and the PROTO templates off, 2026-12-05): 0.38 s
+//! against 1.30 s on top-level sphere nodes (`flat`, 3.4x), 0.34 against 1.43 s on
+//! `convert`'s PROTO instances with a colour per particle (4.2x), 0.34 against 0.90 s on
+//! copies of PyMOL's export (2.6x).
 
 use super::super::lex::{identifier, number, starts_number, ws};
 use super::{is_reserved, plain_word};
