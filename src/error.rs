@@ -36,6 +36,11 @@ pub enum Error {
     /// A render stopped by its `Progress::cancelled`.
     #[error("cancelled")]
     Cancelled,
+    /// An invariant of gtsphere itself did not hold: a bug, whatever the input.
+    #[error("internal error (a bug; please report it): {0}")]
+    Internal(String),
+    /// A failure of the command line's own (starting threads, a bad path in a job array);
+    /// the library does not return it.
     #[error("{0}")]
     Other(String),
 }

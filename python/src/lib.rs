@@ -60,7 +60,7 @@ pub fn to_py(e: gtsphere::Error) -> PyErr {
         }
         E::Array { .. } | E::Invalid(_) => PyValueError::new_err(e.to_string()),
         E::Cancelled => pyo3::exceptions::PyKeyboardInterrupt::new_err("render cancelled"),
-        E::Image { .. } | E::Other(_) => Error::new_err(e.to_string()),
+        E::Image { .. } | E::Internal(_) | E::Other(_) => Error::new_err(e.to_string()),
     }
 }
 

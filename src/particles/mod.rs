@@ -68,7 +68,7 @@ pub fn convert_to_file(
         return Err(e);
     }
     written?;
-    summary.ok_or_else(|| Error::Other("conversion produced no summary".to_string()))
+    summary.ok_or_else(|| Error::Internal("the conversion gave no summary".to_string()))
 }
 
 /// Converts the table read from `input` (named `name` in messages) into VRML on `out`.
@@ -81,12 +81,15 @@ pub fn convert<W: Write>(
     table: TableOptions,
     opts: WriteOptions,
 ) -> Result<(W, Summary), Error> {
-    let io = |e: std::io::Error| Error::Other(format!("writing the VRML output: {e}"));
+    let io = |source| Error::Io {
+        path: "the VRML output".into(),
+        source,
+    };
     let radius = table.radius;
     let mut reader = ParticleReader::new(name, input, table).map_err(diag)?;
     let profiles = reader.has_profiles();
     if profiles && opts.plain {
-        return Err(Error::Other(format!(
+        return Err(Error::Invalid(format!(
             "{name}: the profile column needs the PROTO form (GasParticle): leave out --plain"
         )));
     }
@@ -99,7 +102,7 @@ pub fn convert<W: Write>(
             Some(d) => format!(" (every row was bad; the first: {})", d.headline()),
             None => String::new(),
         };
-        return Err(Error::Other(format!(
+        return Err(Error::Invalid(format!(
             "{name}: no particles in the table{why}"
         )));
     }

@@ -38,11 +38,7 @@ impl Lowerer {
             Rec::Ev(OwnedEvent::ProtoStart { name, external, at }) => {
                 (name.clone(), *external, *at)
             }
-            _ => {
-                return Err(Error::Other(
-                    "internal: PROTO recording without its start".into(),
-                ))
-            }
+            _ => return Err(Error::Internal("PROTO recording without its start".into())),
         };
         let mut fields: Vec<InterfaceField> = Vec::new();
         let mut i = range.start + 1;

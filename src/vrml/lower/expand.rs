@@ -74,9 +74,7 @@ impl Lowerer {
         at: u64,
     ) -> Result<(), Error> {
         let Some(sub) = self.expansions.substs.last() else {
-            return Err(Error::Other(
-                "internal: IS outside a PROTO expansion".into(),
-            ));
+            return Err(Error::Internal("IS outside a PROTO expansion".into()));
         };
         let given = sub.values[fi].clone();
         // An external PROTO's body sees its own file's PROTOs; the instance's value is read

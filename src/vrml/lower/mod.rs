@@ -190,7 +190,7 @@ pub struct LoadReport {
 /// Refuses options no scene can be lowered with.
 fn check_options(opts: &LoadOptions) -> Result<(), Error> {
     match opts.point_radius {
-        Some(r) if !(r > 0.0 && r.is_finite()) => Err(Error::Other(format!(
+        Some(r) if !(r > 0.0 && r.is_finite()) => Err(Error::Invalid(format!(
             "the point radius must be a positive number, found {r}"
         ))),
         _ => Ok(()),
