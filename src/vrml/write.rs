@@ -1,6 +1,6 @@
 //! The scene IR back out as VRML97: flattened, every sphere at its world
-//! position, each material an `Appearance` DEF'd at its first use and USE'd after, lights,
-//! viewpoints, headlight and background. Reading the output gives the same IR (spheres,
+//! position, each material an `Appearance` DEF'd at its first use and USE'd after (while the
+//! writer remembers it), lights, viewpoints, headlight and background. Reading the output gives the same IR (spheres,
 //! materials, lights, viewpoints) up to the rounding of rotations written as axis-angle.
 //!
 //! - Numbers are written by [`super::number`]'s rule (the shortest digits that read back as
@@ -380,8 +380,44 @@ fn directional(l: &Light) -> String {
     }
 }
 
-/// The Appearances written so far: each material's DEF number.
-type Defined = std::collections::HashMap<Paint, usize>;
+/// The Appearances written lately, by their DEF numbers: a direct-mapped table of
+/// [`Defined::SLOTS`] entries, so that a scene of few materials shares one Appearance per
+/// material while one of a colour per sphere (nothing to share) costs no memory per sphere.
+/// A material whose entry was taken by another is DEF'd again under a new name.
+struct Defined {
+    slots: Vec<Option<(Paint, usize)>>,
+    next: usize,
+}
+
+impl Default for Defined {
+    fn default() -> Self {
+        Defined {
+            slots: vec![None; Self::SLOTS],
+            next: 0,
+        }
+    }
+}
+
+impl Defined {
+    const SLOTS: usize = 4096;
+
+    /// The DEF number of `paint` and whether it is new.
+    fn number(&mut self, paint: Paint) -> (usize, bool) {
+        use std::hash::{BuildHasher, BuildHasherDefault};
+        let hash = BuildHasherDefault::<std::collections::hash_map::DefaultHasher>::default()
+            .hash_one(paint);
+        let slot = &mut self.slots[hash as usize % Self::SLOTS];
+        match *slot {
+            Some((p, i)) if p == paint => (i, false),
+            _ => {
+                let i = self.next;
+                self.next += 1;
+                *slot = Some((paint, i));
+                (i, true)
+            }
+        }
+    }
+}
 
 /// The `appearance` field of a Shape of material `paint`: DEF'd at its first use, USE'd after
 /// (`prefix` keeps the DEF names of the sphere and surface passes apart); none for unlit white.
@@ -390,10 +426,9 @@ fn appearance(scene: &Scene, paint: Paint, prefix: &str, defined: &mut Defined) 
     if m.unlit && m.diffuse == DVec3::ONE {
         return String::new();
     }
-    let next = defined.len();
-    match *defined.entry(paint).or_insert(next) {
-        i if i < next => format!("appearance USE {prefix}{i} "),
-        i => format!(
+    match defined.number(paint) {
+        (i, false) => format!("appearance USE {prefix}{i} "),
+        (i, true) => format!(
             "appearance DEF {prefix}{i} Appearance {{ material {} }} ",
             material(m)
         ),

@@ -477,3 +477,34 @@ fn scene_and_particle_writers_write_the_same_numbers() {
         }
     }
 }
+
+/// A scene of few materials shares one Appearance per material; one with a colour per sphere
+/// (more than the writer remembers) still reads back with every sphere's own colour.
+#[test]
+fn appearances_are_shared_and_every_colour_kept() {
+    let mut s = Scene::default();
+    let few = [0.25, 0.5, 0.75];
+    for k in 0..9000 {
+        let colour = if k % 2 == 0 {
+            DVec3::splat(few[k % 3])
+        } else {
+            DVec3::new(k as f64 / 9000.0, 1.0 / (k as f64 + 3.0), 0.5)
+        };
+        let m = Material {
+            diffuse: colour,
+            ..Material::default()
+        };
+        s.add_sphere(DVec3::new(k as f64, 0.0, 0.0), 0.4, &m);
+    }
+    let text = written(&s);
+    // The few colours: DEF'd once each and USE'd after (the others need no sharing).
+    assert!(
+        text.matches("appearance USE").count() >= 4000,
+        "too few USEs"
+    );
+    let back = reread(&s);
+    assert_eq!(back.spheres.len(), s.spheres.len());
+    for (a, b) in s.spheres.iter().zip(&back.spheres) {
+        assert_eq!(s.material_of(a), back.material_of(b));
+    }
+}
