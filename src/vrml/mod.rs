@@ -6,6 +6,7 @@ pub mod lower;
 pub mod number;
 pub mod parse;
 pub mod schema;
+pub mod sphere_node;
 pub(crate) mod split;
 pub mod syntax;
 pub mod write;

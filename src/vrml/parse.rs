@@ -84,6 +84,7 @@ enum Item<'a> {
 
 mod items;
 use items::*;
+pub(crate) use items::{is_reserved, plain_word};
 
 /// Parses one VRML97 source, pushing events to `sink`.
 pub struct Parser {
@@ -91,8 +92,7 @@ pub struct Parser {
     stack: Vec<Frame>,
     scratch: Scratch,
     /// The nodes read whole are read into these (see [`sphere`]).
-    sphere: sphere::SphereNode,
-    flat: sphere::FlatNode,
+    flat: flat::FlatNode,
     /// Stop at the end of the input, wherever it is, instead of requiring the file's end
     /// there (see [`Parser::resume`]).
     pub pause_at_end: bool,
@@ -130,8 +130,7 @@ impl Parser {
             src,
             stack: Vec::new(),
             scratch: Scratch::default(),
-            sphere: sphere::SphereNode::default(),
-            flat: sphere::FlatNode::default(),
+            flat: flat::FlatNode::default(),
             pause_at_end: false,
             floor: 0,
         }
@@ -274,16 +273,14 @@ impl Parser {
                 }
                 _ => {}
             }
-            // A plain sphere node, or a node of plain numbers, read whole if the sink takes it.
+            // A node read whole from its text by the sink, or a node of plain numbers read
+            // whole here, if the sink takes it.
             if matches!(top, Frame::Top | Frame::List) && first.is_ascii_alphabetic() {
-                if first == b'T'
-                    && sphere::read_sphere_node(self.src.rest(), &mut self.sphere)
-                    && sink.sphere_node(&self.src, at, &self.sphere)?
-                {
-                    self.src.pos += self.sphere.len;
+                if let Some(len) = sink.whole_node(&self.src, at, self.src.rest())? {
+                    self.src.pos += len;
                     continue;
                 }
-                if sphere::read_flat_node(self.src.rest(), &mut self.flat) {
+                if flat::read_flat_node(self.src.rest(), &mut self.flat) {
                     let text = self.src.rest();
                     if sink.flat_node(&self.src, at, text, &self.flat)? {
                         self.src.pos += self.flat.len;
@@ -504,7 +501,7 @@ fn emit<S: Sink + ?Sized>(
     }
 }
 
-pub mod sphere;
+pub mod flat;
 
 #[cfg(test)]
 mod tests;

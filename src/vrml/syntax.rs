@@ -99,20 +99,21 @@ pub trait Sink {
     /// `src` is there to turn offsets into positioned diagnostics.
     fn event(&mut self, src: &SourceWindow, ev: Event<'_>) -> Result<(), Error>;
 
-    /// A plain sphere node read whole (see [`crate::vrml::parse::sphere`]), starting at `at`
-    /// where a node may stand (the top level or a list of nodes): true if the sink took it,
-    /// false to be given its events instead (the default).
-    fn sphere_node(
+    /// The text from `at`, where a node starts that may stand there (the top level or a list
+    /// of nodes), for a sink that reads some nodes whole: the bytes it read the node from if
+    /// it took it, `None` to be given its events instead (the default). Text up to the end
+    /// of the window is there; a node that goes past it is left to the events.
+    fn whole_node(
         &mut self,
         src: &SourceWindow,
         at: u64,
-        node: &crate::vrml::parse::sphere::SphereNode,
-    ) -> Result<bool, Error> {
-        let _ = (src, at, node);
-        Ok(false)
+        text: &str,
+    ) -> Result<Option<usize>, Error> {
+        let _ = (src, at, text);
+        Ok(None)
     }
 
-    /// A node of plain numbers read whole (see [`crate::vrml::parse::sphere::flat_node`]),
+    /// A node of plain numbers read whole (see [`crate::vrml::parse::flat::flat_node`]),
     /// `text` from its start, at `at` where a node may stand: true if the sink took it,
     /// false to be given its events instead (the default).
     fn flat_node(
@@ -120,7 +121,7 @@ pub trait Sink {
         src: &SourceWindow,
         at: u64,
         text: &str,
-        node: &crate::vrml::parse::sphere::FlatNode,
+        node: &crate::vrml::parse::flat::FlatNode,
     ) -> Result<bool, Error> {
         let _ = (src, at, text, node);
         Ok(false)

@@ -14,7 +14,7 @@
 //! every instance).
 //!
 //! An instance the parser read whole, because its fields all hold plain numbers
-//! ([`crate::vrml::parse::sphere::FlatNode`]), takes the same checks without any events
+//! ([`crate::vrml::parse::flat::FlatNode`]), takes the same checks without any events
 //! ([`Lowerer::whole_instance`]); one that fails them is given to the events after all.
 
 use std::rc::Rc;
@@ -29,7 +29,7 @@ use crate::vrml::schema;
 use crate::vrml::syntax::{Event, Nums, OwnedEvent, OwnedValue, Value};
 
 use super::template::{padded3, Given};
-use crate::vrml::parse::sphere::FlatNode;
+use crate::vrml::parse::flat::FlatNode;
 
 /// One field value an instance gave, as written (the last of a name counts).
 #[derive(Clone, Copy, Debug)]
@@ -161,7 +161,7 @@ impl Lowerer {
     }
 
     /// A node of plain numbers read whole from the text (see
-    /// [`crate::vrml::parse::sphere::flat_node`]) at `at`: lowered at once if it is an
+    /// [`crate::vrml::parse::flat::flat_node`]) at `at`: lowered at once if it is an
     /// instance that [`Self::start_direct`] would read into its template and that template
     /// takes, with what its events would have done (the instance's node counted, its values
     /// checked as `expand` checks them). False: its events follow.

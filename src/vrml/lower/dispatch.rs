@@ -12,6 +12,7 @@ use super::Lowerer;
 use crate::error::Error;
 use crate::source::SourceWindow;
 use crate::vrml::schema::{Access, FieldType};
+use crate::vrml::sphere_node::read_sphere_node;
 use crate::vrml::syntax::{Event, OwnedEvent, OwnedValue, Sink, Value};
 
 impl Sink for Lowerer {
@@ -20,13 +21,21 @@ impl Sink for Lowerer {
         self.dispatch(src, ev)
     }
 
-    fn sphere_node(
+    /// Plain sphere nodes ([`crate::vrml::sphere_node`]) are taken whole.
+    fn whole_node(
         &mut self,
         src: &SourceWindow,
         at: u64,
-        node: &crate::vrml::parse::sphere::SphereNode,
-    ) -> Result<bool, Error> {
-        self.whole_sphere_node(src, at, node)
+        text: &str,
+    ) -> Result<Option<usize>, Error> {
+        if !text.starts_with('T') {
+            return Ok(None);
+        }
+        let mut node = self.sphere_text.take().unwrap_or_default();
+        let taken = read_sphere_node(text, &mut node) && self.whole_sphere_node(src, at, &node)?;
+        let len = node.len;
+        self.sphere_text = Some(node);
+        Ok(taken.then_some(len))
     }
 
     fn flat_node(
@@ -34,7 +43,7 @@ impl Sink for Lowerer {
         src: &SourceWindow,
         at: u64,
         text: &str,
-        node: &crate::vrml::parse::sphere::FlatNode,
+        node: &crate::vrml::parse::flat::FlatNode,
     ) -> Result<bool, Error> {
         self.whole_instance(src, at, text, node)
     }

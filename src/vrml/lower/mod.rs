@@ -183,7 +183,7 @@ pub struct LoadReport {
     /// (the same result; see `template.rs`).
     pub template_instances: u64,
     /// Plain sphere nodes (a Transform holding a Shape with a Sphere) read whole from the
-    /// text rather than event by event (the same result; see `vrml::parse::sphere`).
+    /// text rather than event by event (the same result; see `vrml::sphere_node`).
     pub whole_sphere_nodes: u64,
 }
 
@@ -340,6 +340,9 @@ struct Lowerer {
     poison: Option<hashbrown::HashSet<String>>,
     /// Why what was read in pieces must be read again by one reader.
     fallback: Option<String>,
+    /// The buffer plain sphere nodes are read into from their text (kept: a node is a few
+    /// hundred bytes).
+    sphere_text: Option<Box<crate::vrml::sphere_node::SphereNode>>,
 }
 
 /// Warnings (repeats folded) and the node types counted as skipped.
@@ -436,6 +439,7 @@ impl Lowerer {
             watch: None,
             poison: None,
             fallback: None,
+            sphere_text: None,
         };
         low.materials.unlit = low.scene.materials.add(&Material::unlit());
         low

@@ -27,7 +27,7 @@ use super::Lowerer;
 use crate::error::Error;
 use crate::scene::{Material, Sphere};
 use crate::source::SourceWindow;
-use crate::vrml::parse::sphere::{SphereNode, MATERIAL_FIELDS};
+use crate::vrml::sphere_node::{SphereNode, MATERIAL_FIELDS};
 use crate::vrml::syntax::{OwnedEvent, OwnedValue};
 
 impl MaterialField {
@@ -441,7 +441,7 @@ impl Lowerer {
         self.nodes.saturating_add(nodes) <= limit
     }
 
-    /// A plain sphere node read whole from the text (see [`crate::vrml::parse::sphere`]) at
+    /// A plain sphere node read whole from the text (see [`crate::vrml::sphere_node`]) at
     /// `at`: lowered as its events would be, if nothing is recorded and its values are ones
     /// that lower without a message. False: its events follow.
     pub(super) fn whole_sphere_node(
