@@ -33,6 +33,11 @@ pub fn check(bytes: Vec<u8>) {
             scene.materials.len()
         );
         assert!(
+            scene.materials.holds(s.color),
+            "sphere {i}: colour {:?} not in the materials",
+            s.color
+        );
+        assert!(
             s.ellipsoid.is_none_or(|e| e.index() < scene.ellipsoids.len()),
             "sphere {i}: ellipsoid index {:?} out of range ({})",
             s.ellipsoid,
@@ -46,6 +51,11 @@ pub fn check(bytes: Vec<u8>) {
             "surface {i}: material index {} out of range ({})",
             s.material,
             scene.materials.len()
+        );
+        assert!(
+            scene.materials.holds(s.color),
+            "surface {i}: colour {:?} not in the materials",
+            s.color
         );
     }
     // Touch the derived values.
