@@ -5,7 +5,7 @@
 //! what they return. Data flows one way:
 //!
 //! 1. Text: bytes ([`input`], gzip sniffed) -> a window of source text ([`source`]) -> syntax
-//!    events ([`vrml::lex`], [`vrml::parse`]: node types, fields, values and byte spans,
+//!    events ([`vrml::lex`], `vrml::parse`: node types, fields, values and byte spans,
 //!    nothing about what a Sphere means).
 //! 2. Scene IR: [`vrml::lower`] (DEF/USE, PROTO, the transform stack, light scopes, warnings)
 //!    builds a [`scene::Scene`]: spheres, ellipsoids, materials, lights, viewpoints. `scene`

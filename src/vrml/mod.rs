@@ -4,11 +4,11 @@ pub(crate) mod cut_file;
 pub mod lex;
 pub mod lower;
 pub mod number;
-pub mod parse;
+pub(crate) mod parse;
 pub mod schema;
-pub mod sphere_node;
+pub(crate) mod sphere_node;
 pub(crate) mod split;
-pub mod syntax;
+pub(crate) mod syntax;
 pub mod write;
 
 pub use lower::{load_bytes, load_path, load_str, LoadOptions, LoadReport};

@@ -72,6 +72,7 @@ impl SphereNode {
     }
 }
 
+#[cfg(test)]
 /// Reads a sphere node at the start of `text` (a `Transform` not preceded by DEF). `None`:
 /// not one, or the text ends first.
 pub fn sphere_node(text: &str) -> Option<SphereNode> {

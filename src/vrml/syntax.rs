@@ -251,8 +251,8 @@ pub enum OwnedEvent {
 }
 
 impl Value<'_> {
-    pub fn to_owned_value(&self) -> OwnedValue {
-        match *self {
+    pub fn to_owned_value(self) -> OwnedValue {
+        match self {
             Value::Numbers {
                 values,
                 integer,
@@ -303,8 +303,8 @@ impl OwnedValue {
 }
 
 impl Event<'_> {
-    pub fn to_owned_event(&self) -> OwnedEvent {
-        match *self {
+    pub fn to_owned_event(self) -> OwnedEvent {
+        match self {
             Event::NodeStart { def, ty, at } => OwnedEvent::NodeStart {
                 def: def.map(Rc::from),
                 ty: ty.into(),

@@ -66,6 +66,7 @@ impl FlatNode {
     }
 }
 
+#[cfg(test)]
 /// Reads a [`FlatNode`] at the start of `text`. `None`: not one, or the text ends first.
 pub fn flat_node(text: &str) -> Option<FlatNode> {
     let mut node = FlatNode::default();
