@@ -2,22 +2,22 @@
 //! picture ([`render()`]: a camera and [`RenderOptions`]) is traced in parallel tiles by the
 //! chosen integrator and averaged into a [`Film`].
 
-pub mod breakpoints;
+pub(crate) mod breakpoints;
 pub mod camera;
-pub mod density;
+pub(crate) mod density;
 pub mod film;
-pub mod gas;
+pub(crate) mod gas;
 pub mod integrators;
 pub mod light_grid;
 pub mod light_pieces;
-pub mod lighting;
+pub(crate) mod lighting;
 pub mod lights;
 pub mod packets;
 pub mod profile;
-pub mod quadrature;
+pub(crate) mod quadrature;
 pub mod sampler;
-pub mod segments;
-pub mod shadow_volume;
+pub(crate) mod segments;
+pub(crate) mod shadow_volume;
 pub mod surfaces;
 pub mod tiles;
 pub mod visibility;

@@ -144,7 +144,7 @@ pub fn material_of(prep: &Prepared, on: Opaque) -> crate::scene::Material {
     prep.materials.get(m, c)
 }
 
-/// `blockers`: see [`shade`] (kept from pixel to pixel by the caller).
+/// `blockers`: see `lighting::shade` (kept from pixel to pixel by the caller).
 pub fn radiance(
     prep: &View,
     o: DVec3,
