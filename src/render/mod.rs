@@ -400,13 +400,23 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
     } else {
         Vec::new()
     };
-    let record_colors = record_colors(&materials, &spheres, &surfaces);
+    // Per material record, the largest diffuse colour channel of the items that use it
+    // (`-inf`: none does), for `rest_bound`; the spheres' in the conversion's one pass.
+    let mut record_colors = vec![f64::NEG_INFINITY; materials.len()];
+    let mut note = |m: u32, c: crate::scene::Color| {
+        let r = &mut record_colors[m as usize];
+        *r = r.max(materials.diffuse(c).max_element());
+    };
+    for s in &surfaces {
+        note(s.material, s.color);
+    }
     // into_iter().map().collect() reuses the spheres' allocation (a packed primitive, 48
     // bytes, is smaller than a 56-byte Sphere), so a large scene does not hold both lists.
     let mut packed = spheres
         .into_iter()
         .enumerate()
         .map(|(i, s)| {
+            note(s.material, s.color);
             let gas = is_gas(&s);
             Packed::new(
                 s.center,
@@ -470,23 +480,6 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
         record_colors,
         prepare_time: start.elapsed(),
     })
-}
-
-/// Per material record, the largest diffuse colour channel of the spheres and surfaces that
-/// use it, `-inf` for a record nothing uses.
-fn record_colors(
-    materials: &MaterialTable,
-    spheres: &[crate::scene::Sphere],
-    surfaces: &[crate::scene::Surface],
-) -> Vec<f64> {
-    let mut most = vec![f64::NEG_INFINITY; materials.len()];
-    let items = spheres.iter().map(|s| (s.material, s.color));
-    for (m, c) in items.chain(surfaces.iter().map(|s| (s.material, s.color))) {
-        let top = materials.diffuse(c).max_element();
-        let r = &mut most[m as usize];
-        *r = r.max(top);
-    }
-    most
 }
 
 /// The largest channel of any Color a triangle carries (it replaces a diffuse colour).
