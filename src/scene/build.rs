@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use super::{Light, Material, MaterialTable, Origin, Paint, Scene, Sphere};
+use super::{Light, Material, Origin, Scene};
 use crate::Error;
 
 /// Sphere radii: one for all, or one per centre.
@@ -210,8 +210,8 @@ impl Scene {
             }
         }
 
-        let mut materials = MaterialTable::new();
-        let mut spheres = Vec::with_capacity(n);
+        let mut scene = Scene::default();
+        scene.spheres.reserve_exact(n);
         for i in 0..n {
             let mut m = Material::default();
             if let Some(v) = arrays.colors {
@@ -223,24 +223,13 @@ impl Scene {
             if let Some(t) = arrays.transparency {
                 m.transparency = t[i];
             }
-            let Paint { material, color } = materials.add(&m);
-            spheres.push(Sphere {
-                center: triple(c, i),
-                radius: match arrays.radii {
-                    Radii::One(r) => r,
-                    Radii::Each(r) => r[i],
-                },
-                color,
-                material,
-                ellipsoid: None,
-                origin: Origin::default(),
-            });
+            let radius = match arrays.radii {
+                Radii::One(r) => r,
+                Radii::Each(r) => r[i],
+            };
+            scene.add_sphere(triple(c, i), radius, &m);
         }
-        Ok(Scene {
-            spheres,
-            materials,
-            ..Scene::default()
-        })
+        Ok(scene)
     }
 
     /// Checks what rendering relies on, for scenes however built: spheres with finite
