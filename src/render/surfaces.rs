@@ -55,10 +55,7 @@ impl Surfaces {
                 sigma: 0.0,
                 profile: crate::scene::Profile::Constant,
             });
-            paints.push(Paint {
-                material: s.material,
-                color: s.color,
-            });
+            paints.push(s.paint());
             items.push(match s.shape {
                 SurfaceShape::Solid { solid, to_world } => Traced::Solid {
                     solid,

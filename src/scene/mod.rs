@@ -87,6 +87,17 @@ pub struct Sphere {
     pub origin: Origin,
 }
 
+impl Sphere {
+    /// What it refers to in [`Scene::materials`].
+    #[inline]
+    pub fn paint(&self) -> Paint {
+        Paint {
+            material: self.material,
+            color: self.color,
+        }
+    }
+}
+
 /// VRML97 Material (with VRML defaults), or the unlit white of a Shape without one.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Material {

@@ -95,6 +95,15 @@ impl Triangle {
 }
 
 impl Surface {
+    /// What it refers to in `Scene::materials`.
+    #[inline]
+    pub fn paint(&self) -> super::Paint {
+        super::Paint {
+            material: self.material,
+            color: self.color,
+        }
+    }
+
     /// World-space bounding box (conservative for the solids: the box of their object box's
     /// corners).
     pub fn bounds(&self) -> (DVec3, DVec3) {

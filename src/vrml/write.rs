@@ -453,11 +453,7 @@ fn write_sphere(
             ),
         };
     }
-    let paint = Paint {
-        material: s.material,
-        color: s.color,
-    };
-    let appearance = appearance(scene, paint, "M", defined);
+    let appearance = appearance(scene, s.paint(), "M", defined);
     match s.ellipsoid {
         None => writeln!(
             out,
@@ -482,11 +478,7 @@ fn write_surface(
     defined: &mut Defined,
     out: &mut impl Write,
 ) -> io::Result<()> {
-    let paint = Paint {
-        material: s.material,
-        color: s.color,
-    };
-    let appearance = appearance(scene, paint, "S", defined);
+    let appearance = appearance(scene, s.paint(), "S", defined);
     let on = |b: bool| if b { "TRUE" } else { "FALSE" };
     match &s.shape {
         SurfaceShape::Solid { solid, to_world } => {

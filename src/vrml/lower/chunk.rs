@@ -14,9 +14,7 @@ use super::transform::Marks;
 use super::Lowerer;
 use crate::error::Error;
 use crate::input::FileRange;
-use crate::scene::{
-    Color, EllipsoidId, Light, LightScope, MaterialTable, Paint, Sphere, Surface, Viewpoint,
-};
+use crate::scene::{EllipsoidId, Light, LightScope, MaterialTable, Sphere, Surface, Viewpoint};
 use crate::source::SourceWindow;
 use crate::vrml::parse::{Parser, Run};
 
@@ -318,13 +316,6 @@ impl Lowerer {
         src: &mut SourceWindow,
     ) -> Result<Vec<Sphere>, String> {
         let moved = self.scene.materials.append(&d.materials);
-        let repaint = |material: &mut u32, color: &mut Color| {
-            let p = moved(Paint {
-                material: *material,
-                color: *color,
-            });
-            (*material, *color) = (p.material, p.color);
-        };
         let scene = &mut self.scene;
         let (s0, f0, l0) = (
             scene.spheres.len(),
@@ -338,7 +329,8 @@ impl Lowerer {
         let base = d.ellipsoid_base;
         let mut foreign = false;
         scene.spheres.extend(d.spheres.drain(..).map(|mut s| {
-            repaint(&mut s.material, &mut s.color);
+            let p = moved(s.paint());
+            (s.material, s.color) = (p.material, p.color);
             if let Some(id) = s.ellipsoid {
                 let i = id.index();
                 foreign |= i < base;
@@ -351,7 +343,8 @@ impl Lowerer {
             return Err("a sphere of the chunk is an ellipsoid of its prefix".into());
         }
         for mut s in d.surfaces {
-            repaint(&mut s.material, &mut s.color);
+            let p = moved(s.paint());
+            (s.material, s.color) = (p.material, p.color);
             scene.surfaces.push(s);
         }
         let shift = |r: &mut LightScope, from: usize, to: usize| {
