@@ -57,6 +57,10 @@ pub enum BenchCommand {
         /// Threads for the full-render pass (the ray passes use one thread).
         #[arg(long, default_value_t = 1)]
         threads: usize,
+        /// Give every sphere a diffuse colour of its own (six decimals, as a colour map
+        /// writes), instead of one colour for all.
+        #[arg(long)]
+        colour_per_sphere: bool,
     },
     /// `gtsphere convert` speed (rows/s, MB/s, one core) and peak memory on a generated
     /// particle CSV of N rows (x, y, z, radius, red, green, blue as 0-255).
@@ -103,7 +107,8 @@ pub fn run(cmd: BenchCommand) -> Result<ExitCode, Error> {
             size,
             runs,
             threads,
-        } => trace::run(spheres, size, runs, threads),
+            colour_per_sphere,
+        } => trace::run(spheres, size, runs, threads, colour_per_sphere),
         BenchCommand::Gas(args) => gas::run(&args),
         BenchCommand::Convert { rows, runs, dir } => convert::run(rows, runs, dir),
         BenchCommand::Scale {
