@@ -4,6 +4,7 @@
 use std::fs::File;
 use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
 use crate::error::Error;
@@ -13,12 +14,79 @@ const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];
 
 /// Wraps a reader, decompressing it when it starts with the gzip magic number.
 pub fn sniff(reader: impl Read + Send + 'static) -> std::io::Result<Box<dyn Read + Send>> {
-    let mut br = BufReader::with_capacity(1 << 16, reader);
+    sniff_bounded(reader, u64::MAX)
+}
+
+/// Text that gzip data may inflate to whatever its compressed size (see [`sniff_bounded`]).
+pub const INFLATE_BASE: u64 = 16 << 20;
+
+/// [`sniff`], where gzip data may inflate to at most [`INFLATE_BASE`] plus `max_ratio` times
+/// the compressed bytes read so far; past that, reading fails (`InvalidData`), before the
+/// text is held or read on. Deflate can inflate 1032 times; VRML text compresses 3 to 12
+/// times (particle tables as `convert` writes them, copies of a tool's export).
+pub fn sniff_bounded(
+    reader: impl Read + Send + 'static,
+    max_ratio: u64,
+) -> std::io::Result<Box<dyn Read + Send>> {
+    let compressed = Arc::new(AtomicU64::new(0));
+    let counted = Counted {
+        inner: reader,
+        count: compressed.clone(),
+    };
+    let mut br = BufReader::with_capacity(1 << 16, counted);
     let head = br.fill_buf()?;
     if head.len() >= 2 && head[..2] == GZIP_MAGIC {
-        Ok(Box::new(flate2::bufread::MultiGzDecoder::new(br)))
+        Ok(Box::new(Inflated {
+            inner: flate2::bufread::MultiGzDecoder::new(br),
+            compressed,
+            inflated: 0,
+            max_ratio,
+        }))
     } else {
         Ok(Box::new(br))
+    }
+}
+
+/// A reader that counts the bytes read through it.
+struct Counted<R> {
+    inner: R,
+    count: Arc<AtomicU64>,
+}
+
+impl<R: Read> Read for Counted<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        self.count.fetch_add(n as u64, Ordering::Relaxed);
+        Ok(n)
+    }
+}
+
+/// Inflated gzip text, bounded by a ratio to the compressed bytes read.
+struct Inflated<R> {
+    inner: R,
+    compressed: Arc<AtomicU64>,
+    inflated: u64,
+    max_ratio: u64,
+}
+
+impl<R: Read> Read for Inflated<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        self.inflated += n as u64;
+        let compressed = self.compressed.load(Ordering::Relaxed);
+        let limit = INFLATE_BASE.saturating_add(self.max_ratio.saturating_mul(compressed));
+        if self.inflated > limit {
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::InvalidData,
+                format!(
+                    "the gzip data inflates more than {} times its compressed size ({} bytes \
+                     from {compressed}); `--max-expansion` (Python: `max_expansion`) raises \
+                     the ratio",
+                    self.max_ratio, self.inflated
+                ),
+            ));
+        }
+        Ok(n)
     }
 }
 
@@ -104,14 +172,15 @@ pub(crate) fn read_at(file: &File, buf: &mut [u8], offset: u64) -> std::io::Resu
     }
 }
 
-/// Opens a scene file as a streaming source window.
-pub fn open(path: &Path) -> Result<SourceWindow, Error> {
+/// Opens a scene file as a streaming source window; gzip data may inflate `max_ratio` times
+/// its size (see [`sniff_bounded`]).
+pub fn open(path: &Path, max_ratio: u64) -> Result<SourceWindow, Error> {
     let name: Arc<str> = Arc::from(path.display().to_string());
     let file = File::open(path).map_err(|e| Error::Io {
         path: name.to_string(),
         source: e,
     })?;
-    let reader = sniff(file).map_err(|e| Error::Io {
+    let reader = sniff_bounded(file, max_ratio).map_err(|e| Error::Io {
         path: name.to_string(),
         source: e,
     })?;

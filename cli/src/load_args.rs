@@ -20,6 +20,12 @@ pub struct GeometryArgs {
     /// 1: one reader). The scene, its order and its warnings are the same either way.
     #[arg(long, value_name = "N")]
     pub read_threads: Option<usize>,
+    /// How far USE, PROTO and IS copies may multiply the scene: to 4194304 nodes and values
+    /// plus K per byte of text read, with gzip data inflating to at most 8 K times its
+    /// compressed size (plus 16 MiB). Past it, reading stops with an error at the construct
+    /// that went over.
+    #[arg(long, value_name = "K", default_value_t = gtsphere::vrml::lower::DEFAULT_MAX_EXPANSION)]
+    pub max_expansion: u64,
     /// Read every PROTO instance by replaying its body and every sphere node event by event,
     /// without the reader's fast paths (the same scene, for measuring what they save).
     #[arg(long, hide = true)]
@@ -40,6 +46,7 @@ impl GeometryArgs {
             point_radius: self.point_radius,
             spheres_only: self.spheres_only,
             read_threads: self.read_threads.unwrap_or(opts.read_threads),
+            max_expansion: self.max_expansion,
             replay_every_instance: self.replay_every_instance,
             ..opts
         })

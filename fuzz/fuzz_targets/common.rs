@@ -4,7 +4,7 @@ use gtsphere::vrml::{load_bytes, LoadOptions};
 
 pub fn check(bytes: Vec<u8>) {
     let opts = LoadOptions {
-        max_nodes: 200_000,
+        expansion_base: 200_000,
         inline: false,
         ..Default::default()
     };
@@ -12,12 +12,13 @@ pub fn check(bytes: Vec<u8>) {
     let Ok((scene, report)) = load_bytes("fuzz.wrl", bytes, &opts) else {
         return;
     };
-    // The limit is max_nodes plus one node per byte read.
+    // The expansion limit: the base plus max_expansion per byte read; nodes spend from it.
+    let limit = opts.expansion_base + opts.max_expansion * report.bytes;
     assert!(
-        report.nodes <= opts.max_nodes + report.bytes,
-        "nodes {} > max_nodes + bytes {}",
+        report.nodes <= report.expansion && report.expansion <= limit,
+        "nodes {}, spent {}, limit {limit}",
         report.nodes,
-        report.bytes
+        report.expansion
     );
     for (i, s) in scene.spheres.iter().enumerate() {
         assert!(

@@ -109,6 +109,7 @@ def load(
     strict: bool = False,
     profile: Optional[_Profile] = None,
     profile_width: Optional[float] = None,
+    max_expansion: int = 16,
 ) -> Scene: ...
 @final
 class Camera:

@@ -307,13 +307,19 @@ impl Scene {
 /// median nearest-neighbour distance, said in a note). spheres_only: leave out everything
 /// that is not a sphere. strict: every warning becomes an error. profile (and profile_width): every
 /// gas sphere takes this density profile, as `render --profile` (default: each sphere's own,
-/// from GasParticle PROTO instances).
+/// from GasParticle PROTO instances). max_expansion: how far USE, PROTO and IS copies may
+/// multiply the scene (to 4194304 nodes and values plus this many per byte of text, gzip data
+/// to 8 times this its compressed size); past it, ParseError at the construct that went over.
 ///
 /// Warnings are issued as gtsphere.SceneWarning (and kept in Scene.warnings). A file that
 /// cannot be read raises gtsphere.ParseError whose message starts with file:line:col, or
 /// OSError (FileNotFoundError) for a missing file.
+// The default of `max_expansion` in the signature below (and in the stubs) is the library's.
+const _: () = assert!(gtsphere::vrml::lower::DEFAULT_MAX_EXPANSION == 16);
+
 #[pyfunction]
-#[pyo3(signature = (path, *, point_radius=None, spheres_only=false, strict=false, profile=None, profile_width=None))]
+#[allow(clippy::too_many_arguments)] // Python's keyword arguments, one each
+#[pyo3(signature = (path, *, point_radius=None, spheres_only=false, strict=false, profile=None, profile_width=None, max_expansion=16))]
 pub fn load(
     py: Python<'_>,
     path: PathBuf,
@@ -322,6 +328,7 @@ pub fn load(
     strict: bool,
     profile: Option<&str>,
     profile_width: Option<f64>,
+    max_expansion: u64,
 ) -> PyResult<Scene> {
     let prepare_opts = profile_options(profile, profile_width)?;
     if let Some(r) = point_radius {
@@ -335,6 +342,7 @@ pub fn load(
         strict,
         point_radius,
         spheres_only,
+        max_expansion,
         ..LoadOptions::default()
     };
     let (prepared, warnings) = py

@@ -137,3 +137,23 @@ def test_one_version_for_the_package_and_the_module():
     from importlib.metadata import version
 
     assert gt.__version__ == version("gtsphere")
+
+
+def test_a_use_blowup_is_refused_and_max_expansion_raises_the_limit(tmp_path):
+    # Each DEF USEs the one before twice: 2^k spheres from a few lines.
+    def bomb(levels):
+        lines = ["#VRML V2.0 utf8", "DEF L0 Shape { geometry Sphere { radius 0.01 } }"]
+        lines += [f"DEF L{i} Transform {{ translation 0.02 0 0 children [ USE L{i - 1} USE L{i - 1} ] }}"
+                  for i in range(1, levels + 1)]
+        return "\n".join(lines) + "\n"
+
+    path = tmp_path / "bomb.wrl"
+    path.write_text(bomb(30))
+    with pytest.raises(gt.ParseError, match=r"bomb\.wrl:\d+:\d+: this USE takes the scene past its expansion limit"):
+        gt.load(path)
+    # 2^19 - 1 spheres (each level is drawn too) from 1.5 KB pass the default limit; a
+    # higher one lets them through.
+    path.write_text(bomb(18))
+    with pytest.raises(gt.ParseError, match="expansion limit"):
+        gt.load(path)
+    assert gt.load(path, max_expansion=100_000).spheres == (1 << 19) - 1

@@ -152,7 +152,14 @@ impl Parser {
             self.src.ensure().map_err(|e| io_err(&self.src, e))?;
             let rest = ws(self.src.rest());
             if rest.is_empty() && !self.src.eof {
-                // Possibly inside a long comment: read more and skip again from here.
+                // White space to the end of the window: pass it, all but a comment still
+                // open on its last line (which must be skipped again with what follows), so
+                // that a long run of spaces is never held in memory; then read more.
+                let text = self.src.rest();
+                let line = text.rfind(['\n', '\r']).map_or(0, |i| i + 1);
+                let open_comment = text[line..].find('#').map(|i| line + i);
+                self.src
+                    .advance_to(text.len() - open_comment.unwrap_or(text.len()));
                 self.src.grow().map_err(|e| io_err(&self.src, e))?;
                 continue;
             }

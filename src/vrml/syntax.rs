@@ -277,6 +277,16 @@ impl Value<'_> {
 }
 
 impl OwnedValue {
+    /// How many values it holds (numbers, booleans or strings).
+    pub fn len(&self) -> usize {
+        match self {
+            OwnedValue::Numbers { values, .. } => values.len(),
+            OwnedValue::Bools { values, .. } => values.len(),
+            OwnedValue::Strings { values, .. } => values.len(),
+            OwnedValue::Empty | OwnedValue::Is(_) => 0,
+        }
+    }
+
     pub fn as_value(&self) -> Value<'_> {
         match self {
             OwnedValue::Numbers {

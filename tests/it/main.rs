@@ -8,6 +8,7 @@ mod corpus; // every ../shared/corpus file reads or fails with a positioned erro
 mod corpus_counts; // the hand-counted expectations of corpus files (data for `corpus`)
 mod depth_limits; // recursion bounds (USE, PROTO, Inline) at the bound and just past it
 mod errors; // each error and warning: message and line:col, exactly
+mod expansion; // USE, PROTO, IS, mesh and gzip blow-ups refused at the construct, before the copies
 mod extern_proto; // EXTERNPROTO from local files: by name or first, defaults, urls, cycles, depth
 mod gas_accuracy; // the exact cases of ../shared/cases/gas-accuracy as regression tests
 mod gas_mc; // the Monte Carlo integrator: standard errors honest, agrees with exact

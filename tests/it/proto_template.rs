@@ -9,11 +9,13 @@ use gtsphere::scene::Scene;
 use gtsphere::vrml::lower::{load_bytes, LoadOptions, LoadReport};
 use proptest::prelude::*;
 
-pub fn load(text: &str, replay: bool, max_nodes: u64) -> Result<(Scene, LoadReport), String> {
+/// Loads `text` with an expansion budget of `base` plus one per byte.
+pub fn load(text: &str, replay: bool, base: u64) -> Result<(Scene, LoadReport), String> {
     let opts = LoadOptions {
         read_threads: 1,
         replay_every_instance: replay,
-        max_nodes,
+        expansion_base: base,
+        max_expansion: 1,
         ..LoadOptions::default()
     };
     load_bytes("scene.wrl", text.as_bytes().to_vec(), &opts).map_err(|e| e.to_string())
@@ -21,8 +23,8 @@ pub fn load(text: &str, replay: bool, max_nodes: u64) -> Result<(Scene, LoadRepo
 
 /// Loads `text` both ways and checks they agree; the template's report (`None`: an error,
 /// the same both ways).
-pub fn same_limited(text: &str, max_nodes: u64) -> Option<LoadReport> {
-    match (load(text, true, max_nodes), load(text, false, max_nodes)) {
+pub fn same_limited(text: &str, base: u64) -> Option<LoadReport> {
+    match (load(text, true, base), load(text, false, base)) {
         (Ok((a, ra)), Ok((b, rb))) => {
             assert_eq!(ra.template_instances, 0);
             assert_eq!(ra.whole_sphere_nodes, 0);
@@ -32,6 +34,7 @@ pub fn same_limited(text: &str, max_nodes: u64) -> Option<LoadReport> {
             assert_eq!(ra.notes, rb.notes);
             assert_eq!(ra.skipped, rb.skipped);
             assert_eq!(ra.nodes, rb.nodes, "{text}");
+            assert_eq!(ra.expansion, rb.expansion, "{text}");
             Some(rb)
         }
         (Err(a), Err(b)) => {
@@ -47,7 +50,7 @@ pub fn same_limited(text: &str, max_nodes: u64) -> Option<LoadReport> {
 }
 
 pub fn same(text: &str) -> Option<LoadReport> {
-    same_limited(text, LoadOptions::default().max_nodes)
+    same_limited(text, LoadOptions::default().expansion_base)
 }
 
 /// The header `gtsphere convert` writes (its `PROTO Particle`), from the writer itself.
@@ -188,8 +191,8 @@ fn instances_of_several_protos_in_turn_are_the_replay() {
 }
 
 #[test]
-fn the_node_limit_is_the_replays() {
-    // Ten instances USEd fifty times: far more nodes than bytes, so that the limit (max_nodes
+fn the_expansion_limit_is_the_replays() {
+    // Ten instances USEd fifty times: far more spent than bytes, so that the limit (the base
     // plus one per byte read) is reached inside an instance, at each node in turn.
     let mut text = convert_header();
     text += "DEF G Group { children [";
@@ -203,7 +206,7 @@ fn the_node_limit_is_the_replays() {
     text += " ] }\n";
     let all = same(&text).expect("loads without a limit");
     assert_eq!(all.template_instances, 510);
-    let over = all.nodes - text.len() as u64;
+    let over = all.expansion - text.len() as u64;
     let (mut errs, mut oks) = (0, 0);
     for max in over - 13..=over + 1 {
         match same_limited(&text, max) {

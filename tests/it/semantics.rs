@@ -358,24 +358,27 @@ fn use_bomb(levels: usize) -> String {
 #[test]
 fn exponential_use_blowup_is_refused() {
     let opts = gtsphere::vrml::LoadOptions {
-        max_nodes: 1_000_000,
+        expansion_base: 1_000_000,
         ..Default::default()
     };
-    let e = gtsphere::vrml::load_bytes("bomb.wrl", use_bomb(40).into_bytes(), &opts)
+    let text = use_bomb(40);
+    let e = gtsphere::vrml::load_bytes("bomb.wrl", text.clone().into_bytes(), &opts)
         .expect_err("blow-up");
+    let limit = 1_000_000 + 16 * text.len();
     assert!(
-        e.to_string().contains("expands to more than 10")
-            && e.to_string()
-                .contains("nodes (1000000 plus one per byte read"),
+        e.to_string().contains(&format!(
+            "this USE takes the scene past its expansion limit: {limit} nodes and values \
+             (1000000 plus 16 per byte of text read)"
+        )),
         "{e}"
     );
 }
 
-/// The node limit grows with the text read: many PROTO instances, each a few nodes, load past
-/// `max_nodes` (a hundred million particles as `convert` writes them are 5e8 nodes; found
-/// when such a file was refused), while a blow-up of the same size is still refused.
+/// The expansion limit grows with the text read: many PROTO instances, each a few nodes, load
+/// past the base (a hundred million particles as `convert` writes them are 5e8 nodes), while
+/// a blow-up of the same size is still refused.
 #[test]
-fn many_proto_instances_load_past_max_nodes_but_a_blowup_does_not() {
+fn many_proto_instances_load_past_the_base_but_a_blowup_does_not() {
     let mut text = String::from(
         "#VRML V2.0 utf8\nPROTO P [ field SFVec3f at 0 0 0 ] { Transform { translation IS at \
          children Shape { appearance Appearance { material Material { } } geometry Sphere { } } } }\n",
@@ -383,18 +386,27 @@ fn many_proto_instances_load_past_max_nodes_but_a_blowup_does_not() {
     for i in 0..2000 {
         text.push_str(&format!("P {{ at {i} 0 0 }}\n"));
     }
-    let opts = gtsphere::vrml::LoadOptions {
-        max_nodes: 1000,
-        ..Default::default()
-    };
-    let (scene, _) =
-        gtsphere::vrml::load_bytes("many.wrl", text.clone().into_bytes(), &opts).expect("loads");
-    assert_eq!(scene.spheres.len(), 2000);
-    // The same instances reached through USE nest: far more nodes than bytes.
-    let bomb = use_bomb(20);
-    assert!(bomb.len() < text.len());
-    let e = gtsphere::vrml::load_bytes("bomb.wrl", bomb.into_bytes(), &opts).expect_err("blow-up");
-    assert!(e.to_string().contains("plus one per byte read"), "{e}");
+    for replay_every_instance in [false, true] {
+        let opts = gtsphere::vrml::LoadOptions {
+            expansion_base: 1000,
+            replay_every_instance,
+            ..Default::default()
+        };
+        let (scene, report) =
+            gtsphere::vrml::load_bytes("many.wrl", text.clone().into_bytes(), &opts)
+                .expect("loads");
+        assert_eq!(scene.spheres.len(), 2000);
+        assert!(report.expansion > 1000, "{}", report.expansion);
+        // The same instances reached through USE nest: far more nodes than bytes.
+        let bomb = use_bomb(20);
+        assert!(bomb.len() < text.len());
+        let e =
+            gtsphere::vrml::load_bytes("bomb.wrl", bomb.into_bytes(), &opts).expect_err("blow-up");
+        assert!(
+            e.to_string().contains("plus 16 per byte of text read"),
+            "{e}"
+        );
+    }
 }
 
 /// A PROTO may take a standard node type's name: from its declaration on, that name means

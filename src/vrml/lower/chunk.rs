@@ -24,9 +24,10 @@ pub(super) struct Watch {
     pub(super) arena_mark: usize,
     /// File-scope names the chunk USEd or ROUTEd from the prefix's DEFs.
     pub(super) imports: Vec<String>,
-    /// Nodes counted when the chunk began, and the most that nodes counted since ran ahead
-    /// of the chunk's bytes read (see [`Lowerer::add_nodes`]).
+    /// Nodes counted and budget spent when the chunk began, and the most that the budget
+    /// spent since ran ahead of the bytes before the cursor (see [`Lowerer::spend`]).
     pub(super) nodes_at_start: u64,
+    pub(super) spent_at_start: u64,
     /// PROTO instances lowered by a template when the chunk began.
     pub(super) templated_at_start: u64,
     /// Sphere nodes read whole when the chunk began.
@@ -55,6 +56,7 @@ pub(super) struct Delta {
     dirlights: Vec<usize>,
     skipped: BTreeMap<String, u64>,
     nodes: u64,
+    spent: u64,
     templated: u64,
     whole_nodes: u64,
     pub(super) excess: i64,
@@ -186,6 +188,7 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source)
         arena_mark,
         imports: Vec::new(),
         nodes_at_start: low.nodes,
+        spent_at_start: low.spent,
         templated_at_start: low.templated,
         whole_at_start: low.whole_nodes,
         excess: i64::MIN,
@@ -252,6 +255,7 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source)
         dirlights,
         skipped,
         nodes: low.nodes - watch.nodes_at_start,
+        spent: low.spent - watch.spent_at_start,
         templated: low.templated - watch.templated_at_start,
         whole_nodes: low.whole_nodes - watch.whole_at_start,
         excess: watch.excess,
@@ -299,11 +303,13 @@ impl Lowerer {
         d
     }
 
-    /// Notes how far the nodes counted in a chunk ran ahead of the bytes before the cursor.
+    /// Notes how far the budget spent in a chunk ran ahead of what the bytes before the
+    /// cursor allow.
     #[inline]
     pub(super) fn watch_nodes(&mut self, cursor: u64) {
         if let Some(w) = &mut self.watch {
-            let e = (self.nodes - w.nodes_at_start) as i64 - cursor as i64;
+            let allowed = self.opts.max_expansion.saturating_mul(cursor);
+            let e = (self.spent - w.spent_at_start) as i64 - allowed.min(i64::MAX as u64) as i64;
             w.excess = w.excess.max(e);
         }
     }
@@ -381,6 +387,7 @@ impl Lowerer {
             *self.diags.skipped.entry(ty).or_default() += n;
         }
         self.nodes += d.nodes;
+        self.spent += d.spent;
         self.templated += d.templated;
         self.whole_nodes += d.whole_nodes;
         self.meshes.spheres += d.mesh_spheres;

@@ -165,7 +165,7 @@ impl Lowerer {
                 let n = choices.len();
                 if let Some(range) = chosen {
                     self.open.frames.push(frame);
-                    self.replay_reused(src, range, at)?;
+                    self.replay_reused(src, range, at, "Switch choice")?;
                     let frame = self.open.frames.pop().expect("switch frame");
                     self.close_group_like(src, frame.kind, at)?;
                 } else {

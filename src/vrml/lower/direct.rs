@@ -220,8 +220,7 @@ impl Lowerer {
         }
         let given = &self.direct.given;
         // The instance's own node is counted before the template's.
-        let limit = self.opts.max_nodes.saturating_add(src.bytes_read);
-        if self.nodes.saturating_add(1 + tpl.nodes) > limit {
+        if !self.fits(1 + tpl.spent, src) {
             return Ok(false);
         }
         let lookup = |fi: usize| last_given(given, fi);
@@ -229,6 +228,7 @@ impl Lowerer {
             return Ok(false);
         };
         self.nodes += 1;
+        self.spent += 1;
         self.watch_nodes(src.offset());
         self.lower_template(src, tpl, inputs)?;
         Ok(true)

@@ -90,6 +90,7 @@ impl Lowerer {
         if let Rec::Ev(OwnedEvent::Field { value, at: vat, .. }) = &self.rec.arena[range.start] {
             if !matches!(value, OwnedValue::Is(_)) && self.rec.idle() {
                 let (v, vat) = (value.clone(), *vat);
+                self.spend(1 + v.len() as u64, src, at, "IS value")?;
                 return self.field(src, name, vat, v.as_value());
             }
         }
@@ -103,6 +104,7 @@ impl Lowerer {
         let r = match &self.rec.arena[range.start] {
             Rec::Ev(OwnedEvent::Field { value, at: vat, .. }) => {
                 let (v, vat) = (value.clone(), *vat);
+                self.spend(1 + v.len() as u64, src, at, "IS value")?;
                 self.dispatch(
                     src,
                     Event::Field {
@@ -115,7 +117,7 @@ impl Lowerer {
             Rec::Ev(OwnedEvent::NodesStart { at: vat, .. }) => {
                 let vat = *vat;
                 self.handle(src, Event::NodesStart { name, at: vat })
-                    .and_then(|_| self.replay(src, range.start + 1..range.end - 1, at))
+                    .and_then(|_| self.replay(src, range.start + 1..range.end - 1, at, "IS value"))
                     .and_then(|_| self.handle(src, Event::NodesEnd { at: vat }))
             }
             _ => Ok(()),
@@ -274,6 +276,7 @@ impl Lowerer {
         for (rec, &is) in events.iter().zip(is) {
             match rec {
                 Rec::Ev(ev) => {
+                    self.spend(super::event_cost(ev), src, at, "PROTO instance")?;
                     self.enter_replay(src, at, "PROTO expansions")?;
                     let r = match ev {
                         // `field IS target` of this body: the instance's value, found by index.

@@ -236,7 +236,7 @@ impl Lowerer {
     /// lowered nor counted) and apart from whatever is under way around it (recordings,
     /// expansions, open node-valued fields).
     fn read_library(&mut self, path: &Path) -> Result<Library, Error> {
-        let src = crate::input::open(path)?;
+        let src = crate::input::open(path, self.opts.inflate_ratio())?;
         let file = u32::try_from(self.scene.files.len()).unwrap_or(u32::MAX);
         self.scene.files.push(src.name.to_string());
         self.externs.paths.insert(file, path.to_path_buf());
@@ -246,7 +246,7 @@ impl Lowerer {
         let fields = std::mem::take(&mut self.open.fields);
         let substs = std::mem::take(&mut self.expansions.substs);
         let reusing = std::mem::replace(&mut self.replay.reusing, 0);
-        let nodes = self.nodes;
+        let (nodes, spent) = (self.nodes, self.spent);
         let from = self.rec.arena.len();
         self.scopes.push_file();
         self.open.push_quiet(Name::Static("<file>"), 0);
@@ -261,7 +261,7 @@ impl Lowerer {
         let protos = self.scopes.pop_protos();
         // Its positions point into it from now on.
         tag_all(&mut self.rec.arena[from..], file);
-        self.nodes = nodes;
+        (self.nodes, self.spent) = (nodes, spent);
         self.replay.reusing = reusing;
         self.expansions.substs = substs;
         self.open.fields = fields;

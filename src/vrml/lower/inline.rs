@@ -77,7 +77,7 @@ pub(super) enum Admit {
 
 impl Lowerer {
     pub(super) fn load_file(&mut self, path: &Path) -> Result<(), Error> {
-        let src = crate::input::open(path)?;
+        let src = crate::input::open(path, self.opts.inflate_ratio())?;
         self.load_source(src, path)
     }
 
@@ -196,7 +196,7 @@ impl Lowerer {
             return Admit::TooDeep;
         }
         let mut head = [0u8; 16];
-        let n = crate::input::open(path)
+        let n = crate::input::open(path, self.opts.inflate_ratio())
             .ok()
             .map(|mut w| {
                 let _ = w.fill(16);

@@ -233,8 +233,12 @@ impl Lowerer {
             self.add_nodes(c.nodes, src, at)?;
             if let Geom::Mesh(i, _) = c.geom {
                 if let Some(Some(p)) = self.meshes.parts.get(i as usize) {
-                    self.meshes.spheres += p.mesh_spheres();
-                    self.meshes.point_spheres += p.point_spheres();
+                    let (spheres, points) = (p.mesh_spheres(), p.point_spheres());
+                    // The copies of its spheres and triangles the Shape will add.
+                    let items = (p.spheres.len() + p.triangles.len()) as u64;
+                    self.spend(items, src, at, "USE of a mesh")?;
+                    self.meshes.spheres += spheres;
+                    self.meshes.point_spheres += points;
                 }
             }
             self.deliver(Result_::Geometry(c.geom));

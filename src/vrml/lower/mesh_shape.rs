@@ -52,6 +52,12 @@ impl Lowerer {
         m: &MeshState,
         at: u64,
     ) -> Result<MeshParts, Error> {
+        // An Extrusion's points and faces grow as its spine times its cross-section: paid for
+        // before they are made. (An ElevationGrid's come from heights in the text.)
+        if let MeshKind::Extrusion(e) = &m.kind {
+            let points = (e.spine.len() as u64).saturating_mul(e.cross_section.len() as u64);
+            self.spend(points.saturating_mul(2), src, at, "Extrusion")?;
+        }
         let mut cx = Ctx {
             meshes: &self.meshes,
             opts: &self.opts,

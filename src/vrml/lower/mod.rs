@@ -86,6 +86,7 @@ use crate::diag::{Diagnostic, Severity};
 use crate::error::Error;
 use crate::scene::{Material, Origin, Scene};
 use crate::source::SourceWindow;
+use crate::vrml::syntax::OwnedEvent;
 
 use close::Bound;
 use expand::Expansions;
@@ -99,14 +100,27 @@ use replay::Replay;
 use scope::Scopes;
 use transform::Transforms;
 
+/// The default [`LoadOptions::expansion_base`]: 2^22, room for a small file that builds a
+/// lattice of a million nodes by DEF and USE.
+pub const DEFAULT_EXPANSION_BASE: u64 = 1 << 22;
+
+/// The default [`LoadOptions::max_expansion`]: a scene may create 16 times its text.
+pub const DEFAULT_MAX_EXPANSION: u64 = 16;
+
 /// How to load a scene.
 #[derive(Clone, Debug)]
 pub struct LoadOptions {
     /// Every warning becomes an error.
     pub strict: bool,
-    /// Refuse scenes that expand (through USE and PROTO instances) to more nodes than this
-    /// plus one per byte of the file read so far.
-    pub max_nodes: u64,
+    /// The expansion budget: what USE, PROTO instances, `IS` and generated geometry may
+    /// create (nodes, replayed events and their values, the items a reused mesh and an
+    /// Extrusion add) is at most `expansion_base` plus this many per byte of scene text read
+    /// so far; past it, loading fails at the construct that went over. Text read straight
+    /// spends about one per byte, so only copies can exhaust it. Gzip data may inflate to 8
+    /// times this its compressed size ([`Self::inflate_ratio`]).
+    pub max_expansion: u64,
+    /// The part of the expansion budget that does not grow with the text.
+    pub expansion_base: u64,
     /// Read other files: load `Inline` nodes, and the PROTOs `EXTERNPROTO`s name (local
     /// relative files only).
     pub inline: bool,
@@ -132,11 +146,20 @@ pub struct LoadOptions {
     pub replay_every_instance: bool,
 }
 
+impl LoadOptions {
+    /// How many times its compressed size gzip data may inflate to (beyond
+    /// [`crate::input::INFLATE_BASE`]): 8 times [`Self::max_expansion`], 128 by default.
+    pub fn inflate_ratio(&self) -> u64 {
+        self.max_expansion.saturating_mul(8)
+    }
+}
+
 impl Default for LoadOptions {
     fn default() -> Self {
         LoadOptions {
             strict: false,
-            max_nodes: 500_000_000,
+            max_expansion: DEFAULT_MAX_EXPANSION,
+            expansion_base: DEFAULT_EXPANSION_BASE,
             inline: true,
             max_inline_depth: 16,
             point_radius: None,
@@ -160,6 +183,8 @@ pub struct LoadReport {
     pub seconds: f64,
     /// Nodes lowered (USE and PROTO expansions included).
     pub nodes: u64,
+    /// The expansion budget spent (see [`LoadOptions::max_expansion`]).
+    pub expansion: u64,
     /// Files read (the scene, its Inlines and the files its EXTERNPROTOs name).
     pub files: Vec<String>,
     /// Bytes held by the recorded DEF/PROTO events at the end.
@@ -208,7 +233,8 @@ pub fn load_path(path: &Path, opts: &LoadOptions) -> Result<(Scene, LoadReport),
             path: path.display().to_string(),
             source: e,
         };
-        crate::input::sniff(std::fs::File::open(path).map_err(io)?).map_err(io)
+        crate::input::sniff_bounded(std::fs::File::open(path).map_err(io)?, opts.inflate_ratio())
+            .map_err(io)
     };
     load_in_pieces((name, path, true), size, open, opts, t0)
 }
@@ -275,9 +301,11 @@ pub fn load_bytes(
     let bytes = Arc::new(bytes);
     let open = || -> Result<Box<dyn std::io::Read + Send>, Error> {
         let text = Shared(bytes.clone());
-        crate::input::sniff(std::io::Cursor::new(text)).map_err(|e| Error::Io {
-            path: name.to_string(),
-            source: e,
+        crate::input::sniff_bounded(std::io::Cursor::new(text), opts.inflate_ratio()).map_err(|e| {
+            Error::Io {
+                path: name.to_string(),
+                source: e,
+            }
         })
     };
     load_in_pieces(
@@ -300,8 +328,10 @@ pub fn load_str(name: &str, text: &str, opts: &LoadOptions) -> Result<(Scene, Lo
 struct Lowerer {
     opts: LoadOptions,
     scene: Scene,
-    /// Nodes lowered, USE and PROTO expansions included (bounded by `max_nodes`).
+    /// Nodes lowered, USE and PROTO expansions included.
     nodes: u64,
+    /// The expansion budget spent: nodes and what copies create (see [`Self::spend`]).
+    spent: u64,
     /// PROTO instances lowered by a sphere template (`template.rs`).
     templated: u64,
     /// Plain sphere nodes read whole from the text (`template.rs`).
@@ -420,6 +450,7 @@ impl Lowerer {
             opts,
             scene: Scene::default(),
             nodes: 0,
+            spent: 0,
             templated: 0,
             whole_nodes: 0,
             direct: direct::Direct::default(),
@@ -467,6 +498,7 @@ impl Lowerer {
             bytes: self.files.bytes,
             seconds: t0.elapsed().as_secs_f64(),
             nodes: self.nodes,
+            expansion: self.spent,
             files: self.scene.files.clone(),
             recorded_bytes: self.rec.arena.capacity() * std::mem::size_of::<Rec>(),
             mesh_spheres: self.meshes.spheres,
@@ -490,27 +522,58 @@ impl Lowerer {
         }
     }
 
-    /// Counts `n` more lowered nodes; an error past `max_nodes` plus one per byte of the file
-    /// read so far. A blow-up through USE or PROTO grows far faster than the text, while a
-    /// file of a hundred million particles (5e8 nodes from 13 GB of PROTO instances) is text
-    /// all the way.
+    /// Counts `n` more lowered nodes, which spend as much of the expansion budget.
     #[inline]
     fn add_nodes(&mut self, n: u64, src: &SourceWindow, at: u64) -> Result<(), Error> {
         self.nodes += n;
+        self.spend(n, src, at, "node")
+    }
+
+    /// The expansion budget once `bytes` of text are read: `expansion_base` plus
+    /// `max_expansion` per byte. A blow-up through USE or PROTO grows far faster than the
+    /// text, while a file of a hundred million particles (5e8 nodes from 13 GB of PROTO
+    /// instances) is text all the way.
+    #[inline(always)]
+    fn budget(&self, bytes: u64) -> u64 {
+        (self.opts.expansion_base).saturating_add(self.opts.max_expansion.saturating_mul(bytes))
+    }
+
+    /// Whether `n` more units fit the budget at the text read so far.
+    #[inline(always)]
+    fn fits(&self, n: u64, src: &SourceWindow) -> bool {
+        self.spent.saturating_add(n) <= self.budget(src.bytes_read)
+    }
+
+    /// Spends `n` units of the expansion budget on `what` at `at`, before what they stand for
+    /// is made; an error there once the budget is exceeded.
+    #[inline]
+    fn spend(&mut self, n: u64, src: &SourceWindow, at: u64, what: &str) -> Result<(), Error> {
+        self.spent = self.spent.saturating_add(n);
         self.watch_nodes(src.offset());
-        let limit = self.opts.max_nodes.saturating_add(src.bytes_read);
-        if self.nodes > limit {
+        let limit = self.budget(src.bytes_read);
+        if self.spent > limit {
             return Err(self.diags.error(
                 src,
                 at,
                 format!(
-                    "the scene expands to more than {limit} nodes ({} plus one per byte read: \
-                     a USE/PROTO blow-up?)",
-                    self.opts.max_nodes
+                    "this {what} takes the scene past its expansion limit: {limit} nodes and \
+                     values ({} plus {} per byte of text read), as USE, PROTO or IS copies \
+                     multiply; `--max-expansion` (Python: `max_expansion`) raises the {} \
+                     per byte",
+                    self.opts.expansion_base, self.opts.max_expansion, self.opts.max_expansion
                 ),
             ));
         }
         Ok(())
+    }
+}
+
+/// What replaying `ev` costs of the expansion budget: one unit, and one per value it carries.
+#[inline(always)]
+fn event_cost(ev: &OwnedEvent) -> u64 {
+    match ev {
+        OwnedEvent::Field { value, .. } => 1 + value.len() as u64,
+        _ => 1,
     }
 }
 

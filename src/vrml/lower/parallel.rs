@@ -30,8 +30,8 @@
 //! thrown away and the file read again by one reader (the same answer, slower) when:
 //! - a chunk USEs a name the prefix DEF'd that an earlier chunk DEF'd again, or the rest of
 //!   the file USEs or ROUTEs a name any chunk DEF'd;
-//! - the nodes counted might have passed `max_nodes` somewhere (checked against the bytes
-//!   before each node, which one reader has always read);
+//! - the expansion budget spent might have passed its limit somewhere (checked against the
+//!   bytes before each node, which one reader has always read);
 //! - the main thread fails after the chunks (its message is one reader's to give).
 //!
 //! What it gains on two threads over one reader (`gtsphere bench parse`, 1e6 particles,
@@ -462,8 +462,8 @@ fn put_chunks_in_place(
                 "chunk {placed} USEs '{n}', which an earlier chunk DEF'd again"
             ));
         }
-        if low.nodes as i64 + d.excess > low.opts.max_nodes as i64 {
-            return Err("the nodes counted may pass the limit".into());
+        if low.spent as i64 + d.excess > low.opts.expansion_base.min(i64::MAX as u64) as i64 {
+            return Err("the budget spent may pass the expansion limit".into());
         }
         defined.extend(d.exports.iter().cloned());
         let end = d.end;

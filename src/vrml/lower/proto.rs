@@ -110,6 +110,8 @@ pub(super) struct SphereTemplate {
     pub(super) radius: Option<Slot>,
     /// Nodes of the first node (what replaying counts).
     pub(super) nodes: u64,
+    /// What replaying spends of the expansion budget (see `Lowerer::spend`).
+    pub(super) spent: u64,
 }
 
 /// Where one value of the template comes from.

@@ -47,19 +47,24 @@ impl Lowerer {
         Ok(())
     }
 
-    /// Replays the arena's events in `range` (a DEF'd node or a Switch choice).
+    /// Replays the arena's events in `range` (a DEF'd node, a Switch choice or an `IS`
+    /// value) for the `what` at `at`, each spending its cost of the expansion budget.
     pub(super) fn replay(
         &mut self,
         src: &SourceWindow,
         range: Range<usize>,
         at: u64,
+        what: &str,
     ) -> Result<(), Error> {
         self.enter_replay(src, at, "USE and PROTO expansions")?;
         let mut i = range.start;
         while i < range.end {
             let rec = self.rec.arena[i].clone();
             match rec {
-                Rec::Ev(ev) => self.handle(src, ev.as_event())?,
+                Rec::Ev(ev) => {
+                    self.spend(super::event_cost(&ev), src, at, what)?;
+                    self.handle(src, ev.as_event())?
+                }
                 Rec::Used { range, at } => self.use_range(src, range, at)?,
             }
             i += 1;
@@ -75,12 +80,13 @@ impl Lowerer {
         src: &SourceWindow,
         range: Range<usize>,
         at: u64,
+        what: &str,
     ) -> Result<(), Error> {
         // Replaying must not record the replayed events again into the same recorders: they
         // already hold what stands for them (a `Used` entry, or the Switch's own events).
         let saved = std::mem::take(&mut self.rec.recorders);
         self.replay.reusing += 1;
-        let r = self.replay(src, range, at);
+        let r = self.replay(src, range, at, what);
         self.replay.reusing -= 1;
         self.rec.recorders = saved;
         r
@@ -105,7 +111,7 @@ impl Lowerer {
             if mesh && self.reuse_mesh(src, range.start, at)? {
                 return Ok(());
             }
-            self.replay_reused(src, range.clone(), at)?;
+            self.replay_reused(src, range.clone(), at, "USE")?;
             if mesh {
                 self.remember_mesh(range.start);
             }

@@ -85,6 +85,22 @@ pub(super) fn compile(decl: &ProtoDecl) -> Option<SphereTemplate> {
         .iter()
         .filter(|r| matches!(r, Rec::Ev(OwnedEvent::NodeStart { .. })))
         .count() as u64;
+    // And spends of the expansion budget: each node as it starts, each event (with the
+    // numbers written in it), and each IS value (one, and the numbers of its slot).
+    let written: u64 = events
+        .iter()
+        .map(|r| match r {
+            Rec::Ev(ev) => super::event_cost(ev),
+            Rec::Used { .. } => 0,
+        })
+        .sum();
+    let slots = (d.translation.iter().map(|s| (s, 3)))
+        .chain(d.radius.iter().map(|s| (s, 1)))
+        .chain(d.material.iter().flatten().map(|(f, s)| (s, f.arity())));
+    let is_values: u64 = slots
+        .filter(|(s, _)| matches!(s, Slot::Is(_)))
+        .map(|(_, arity)| 1 + arity as u64)
+        .sum();
     Some(SphereTemplate {
         transform_at,
         sphere_at: d.sphere_at?,
@@ -92,6 +108,7 @@ pub(super) fn compile(decl: &ProtoDecl) -> Option<SphereTemplate> {
         material: d.material,
         radius: d.radius,
         nodes,
+        spent: nodes + written + is_values,
     })
 }
 
@@ -297,9 +314,11 @@ pub(super) enum Given<'a> {
     Absent,
 }
 
-/// Where a sphere node's parts are, and how many nodes it has.
+/// Where a sphere node's parts are, how many nodes it has, and what it spends of the
+/// expansion budget.
 struct Placed {
     nodes: u64,
+    spent: u64,
     transform_at: u64,
     sphere_at: u64,
 }
@@ -352,7 +371,7 @@ impl Lowerer {
         given: impl Fn(usize) -> Given<'a>,
     ) -> Option<Inputs> {
         // An external PROTO's body sees other PROTOs.
-        if proto.home.is_some() || !self.sphere_fits_here(src, tpl.nodes) {
+        if proto.home.is_some() || !self.sphere_fits_here(src, tpl.spent) {
             return None;
         }
         let arena = &self.rec.arena;
@@ -437,8 +456,7 @@ impl Lowerer {
                 return false;
             }
         }
-        let limit = self.opts.max_nodes.saturating_add(src.bytes_read);
-        self.nodes.saturating_add(nodes) <= limit
+        self.fits(nodes, src)
     }
 
     /// A plain sphere node read whole from the text (see [`crate::vrml::sphere_node`]) at
@@ -478,6 +496,7 @@ impl Lowerer {
         };
         let placed = Placed {
             nodes: node.nodes,
+            spent: node.nodes,
             transform_at: at,
             sphere_at: at + node.sphere_at as u64,
         };
@@ -495,6 +514,7 @@ impl Lowerer {
     ) -> Result<(), Error> {
         let placed = Placed {
             nodes: tpl.nodes,
+            spent: tpl.spent,
             transform_at: tpl.transform_at,
             sphere_at: tpl.sphere_at,
         };
@@ -513,6 +533,7 @@ impl Lowerer {
         // Material is stored when it closes, the sphere when the Shape closes, and the
         // Transform moves it when it closes.
         self.nodes += tpl.nodes;
+        self.spent += tpl.spent;
         self.watch_nodes(src.offset());
         let marks = Marks::of(&self.scene);
         let paint = match inputs.material {

@@ -63,6 +63,23 @@ The defaults are VRML97's; a field that is not given has its default value.
 - **ROUTE**: checked, not run. A node not defined, an event the node lacks, an event of the
   wrong direction or two events of different types is a warning.
 - **Script**: not run (see [Script](#script)).
+
+## Limits
+
+A file costs what its text declares:
+
+- **Expansion.** What USE, PROTO instances, `IS` and generated geometry create (nodes,
+  copied events and their values, the triangles of a reused mesh, an Extrusion's points) may
+  reach 4,194,304 plus 16 per byte of text read. Text read straight spends about one per
+  byte, so only copies that multiply can pass it: a file of 30 DEFs each USEing the one
+  before twice (2^30 spheres from 2 KB) is refused at the USE that goes over, with its
+  `file:line:col`, before the copies are made. `--max-expansion K` (Python:
+  `load(..., max_expansion=K)`) sets the 16.
+- **Compressed text.** Gzip data may inflate to 16 MiB plus 8 K (128) times its compressed
+  size; VRML text compresses 3 to 12 times. Long runs of white space are passed as they are
+  read, not held.
+- **Nesting.** USE, Switch and PROTO replays nest at most 200 deep; Inline files and files
+  read for EXTERNPROTOs at most 16.
 "#;
 
 /// The name of a kind of node, for the page.
