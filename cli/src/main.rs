@@ -20,6 +20,7 @@ mod load_args;
 mod memory;
 mod merge;
 mod render;
+mod signals;
 
 #[derive(Debug, Parser)]
 #[command(
@@ -130,11 +131,17 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
 }
 
 fn main() -> ExitCode {
-    match run(Cli::parse()) {
+    let cli = Cli::parse();
+    if let Err(e) = signals::install() {
+        eprintln!("cannot watch for SIGINT and SIGTERM: {e}");
+        return ExitCode::from(1);
+    }
+    match run(cli) {
         Ok(code) => code,
         Err(e) => {
+            let code = signals::exit_code_for(&e);
             eprintln!("{e}");
-            ExitCode::from(1)
+            code
         }
     }
 }

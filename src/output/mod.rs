@@ -4,17 +4,23 @@
 //!
 //! Writing never leaves a half-written file at the destination: the bytes go to a hidden
 //! sibling `.NAME.tmp.PID`, which is synced and then renamed over `NAME` (atomic within one
-//! directory); on any failure, or a panic, the temporary file is removed.
+//! directory); on any failure, or a panic, the temporary file is removed. A program stopped by
+//! a signal removes the ones it is writing with [`remove_unfinished`]; those of a process that
+//! no longer exists are removed at the next write to the same `NAME` (on Linux, where
+//! `/proc/PID` tells whether it exists; elsewhere they stay).
 
 mod exr;
 mod npy;
 mod pfm;
 mod png;
+mod temp;
 
-use std::ffi::OsString;
+pub use temp::remove_unfinished;
+use temp::TempFile;
+
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, BufWriter, Write};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use crate::Error;
 
@@ -141,15 +147,11 @@ pub fn write_file_atomically(
         let file = out.into_inner().map_err(io::IntoInnerError::into_error)?;
         file.sync_all()?;
         drop(file);
-        fs::rename(&temp.path, path)
+        Ok(())
     })();
-    match written {
-        Ok(()) => {
-            temp.renamed = true;
-            Ok(())
-        }
-        Err(e) => Err(io_error(e)),
-    }
+    // On an error `temp` is dropped on return and removes the temporary file.
+    written.map_err(io_error)?;
+    temp.rename_to(path)
 }
 
 /// `path` opened for writing when it names something other than a regular file or nothing
@@ -224,17 +226,11 @@ fn write_placed(path: &Path, img: &Image, at: Option<Placement>) -> Result<(), E
         file.sync_all()?;
         // Closed before the rename (required on Windows).
         drop(file);
-        fs::rename(&temp.path, path)?;
         Ok(())
     })();
-    match written {
-        Ok(()) => {
-            temp.renamed = true;
-            Ok(())
-        }
-        // `temp` is dropped on return and removes the temporary file.
-        Err(fault) => Err(fault.at(path)),
-    }
+    // On an error `temp` is dropped on return and removes the temporary file.
+    written.map_err(|fault| fault.at(path))?;
+    temp.rename_to(path)
 }
 
 /// Reads PFM, EXR (RGB, and A and the other channels as layers if present) and PNG (decoded
@@ -331,63 +327,5 @@ fn image_error(path: &Path, message: String) -> Error {
     Error::Image {
         path: path.display().to_string(),
         message,
-    }
-}
-
-/// The hidden sibling the image is written to; removed on drop unless renamed.
-struct TempFile {
-    path: PathBuf,
-    renamed: bool,
-}
-
-impl TempFile {
-    /// Creates `.NAME.tmp.PID` next to `target` (`.NAME.tmp.PID.N` if that exists, say left by
-    /// a crashed run with the same id or another thread of this process). `create_new` never
-    /// opens a file someone else is writing.
-    fn create(target: &Path) -> Result<(TempFile, File), Error> {
-        let name = target
-            .file_name()
-            .ok_or_else(|| image_error(target, "not a file name".to_string()))?;
-        let dir = target.parent().unwrap_or(Path::new(""));
-        let pid = std::process::id();
-        for attempt in 0..1000u32 {
-            let mut temp_name = OsString::from(".");
-            temp_name.push(name);
-            temp_name.push(format!(".tmp.{pid}"));
-            if attempt > 0 {
-                temp_name.push(format!(".{attempt}"));
-            }
-            let path = dir.join(temp_name);
-            match OpenOptions::new().write(true).create_new(true).open(&path) {
-                Ok(file) => {
-                    let temp = TempFile {
-                        path,
-                        renamed: false,
-                    };
-                    return Ok((temp, file));
-                }
-                Err(e) if e.kind() == io::ErrorKind::AlreadyExists => continue,
-                Err(source) => {
-                    return Err(Error::Io {
-                        path: target.display().to_string(),
-                        source,
-                    })
-                }
-            }
-        }
-        Err(image_error(
-            target,
-            "cannot find a free temporary file name next to it".to_string(),
-        ))
-    }
-}
-
-impl Drop for TempFile {
-    fn drop(&mut self) {
-        if !self.renamed {
-            // The writer has closed the file by now. Nothing to report on failure: the
-            // caller already has the error that brought us here.
-            let _ = fs::remove_file(&self.path);
-        }
     }
 }

@@ -10,7 +10,7 @@
 //! median MB/s and seconds, particles per second per thread, IR bytes, peak resident bytes,
 //! peak / IR; and the median of the runs' speed-ups.
 
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
@@ -18,6 +18,7 @@ use clap::{Args, ValueEnum};
 
 use super::measure::median;
 use gtsphere::error::Error;
+use gtsphere::output::write_file_atomically;
 use gtsphere::scenes::{self, write_particles};
 
 /// Arguments of `gtsphere bench parse`.
@@ -126,17 +127,7 @@ fn generate(
         return Ok(path);
     }
     let layout = scenes::Layout::from(layout);
-    let io = |e| Error::Io {
-        path: path.display().to_string(),
-        source: e,
-    };
-    let tmp = path.with_extension("wrl.part");
-    let file = std::fs::File::create(&tmp).map_err(io)?;
-    let mut w = BufWriter::with_capacity(1 << 20, file);
-    write_particles(&mut w, n, layout).map_err(io)?;
-    w.flush().map_err(io)?;
-    drop(w);
-    std::fs::rename(&tmp, &path).map_err(io)?;
+    write_file_atomically(&path, |w| write_particles(w, n, layout))?;
     Ok(path)
 }
 
@@ -167,24 +158,17 @@ fn write_copies(file: &Path, n: usize, path: &Path) -> Result<(), Error> {
     )
     .map_err(read_err)?;
     let body = text.split_once('\n').map_or("", |(_, rest)| rest);
-    let io = |e| Error::Io {
-        path: path.display().to_string(),
-        source: e,
-    };
-    let tmp = path.with_extension("wrl.part");
-    let mut w = BufWriter::with_capacity(1 << 20, std::fs::File::create(&tmp).map_err(io)?);
-    writeln!(w, "#VRML V2.0 utf8").map_err(io)?;
-    for k in 0..n.div_ceil(spheres) {
-        let x = k as f64 * 1.1 * width;
-        writeln!(
-            w,
-            "Transform {{ translation {x} 0 0 children [\n{body}\n] }}"
-        )
-        .map_err(io)?;
-    }
-    w.flush().map_err(io)?;
-    drop(w);
-    std::fs::rename(&tmp, path).map_err(io)
+    write_file_atomically(path, |w| {
+        writeln!(w, "#VRML V2.0 utf8")?;
+        for k in 0..n.div_ceil(spheres) {
+            let x = k as f64 * 1.1 * width;
+            writeln!(
+                w,
+                "Transform {{ translation {x} 0 0 children [\n{body}\n] }}"
+            )?;
+        }
+        Ok(())
+    })
 }
 
 /// One `gtsphere info --json` of `path` on `threads` reading threads.

@@ -95,4 +95,8 @@ impl Progress for TileBar {
     fn finish(&self) {
         self.bar.finish_and_clear();
     }
+    /// After SIGINT or SIGTERM (see `crate::signals`).
+    fn cancelled(&self) -> bool {
+        crate::signals::received()
+    }
 }

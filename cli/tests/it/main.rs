@@ -6,4 +6,5 @@ mod cli_compare; // `compare`: hand-checked metrics, the heat map, `--max-rmse` 
 mod cli_convert; // `convert`: scenes and tables to VRML, exit codes, gzip, pipes, the sample
 mod cli_fov; // `render --fov-across` on PyMOL exports: framing against a closed form, notes
 mod cli_render; // `render`, `merge`: defaults, formats and AOVs, errors, framing, --as-gas, tiles
+mod cli_signals; // SIGINT and SIGTERM while rendering and writing; stale temporary files
 mod support; // helpers: run the binary, scratch directories, sample paths
