@@ -20,6 +20,7 @@ mod load_args;
 mod memory;
 mod merge;
 mod render;
+mod threads;
 
 #[derive(Debug, Parser)]
 #[command(
