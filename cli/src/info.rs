@@ -19,11 +19,14 @@ pub fn run(
     no_inline: bool,
     geometry: &crate::load_args::GeometryArgs,
 ) -> Result<ExitCode, Error> {
-    let opts = geometry.apply(LoadOptions {
+    let (opts, warning) = geometry.apply(LoadOptions {
         strict,
         inline: !no_inline,
         ..LoadOptions::default()
     })?;
+    if let Some(w) = warning {
+        eprintln!("{w}");
+    }
     let (scene, report) = load_path(path, &opts)?;
     if as_json {
         println!(

@@ -3,6 +3,7 @@
 use clap::Args;
 
 use gtsphere::error::Error;
+use gtsphere::render::limits;
 use gtsphere::vrml::LoadOptions;
 
 #[derive(Debug, Args, Clone, Default)]
@@ -17,7 +18,8 @@ pub struct GeometryArgs {
     #[arg(long)]
     pub spheres_only: bool,
     /// Threads that read a large scene file at once (default: as many as the command uses;
-    /// 1: one reader). The scene, its order and its warnings are the same either way.
+    /// 1: one reader; at most four per core). The scene, its order and its warnings are the
+    /// same either way.
     #[arg(long, value_name = "N")]
     pub read_threads: Option<usize>,
     /// How far USE, PROTO and IS copies may multiply the scene: to 4194304 nodes and values
@@ -33,8 +35,9 @@ pub struct GeometryArgs {
 }
 
 impl GeometryArgs {
-    /// `opts` with these options applied.
-    pub fn apply(&self, opts: LoadOptions) -> Result<LoadOptions, Error> {
+    /// `opts` with these options applied, and a warning when `--read-threads` was lowered
+    /// to [`limits::max_threads`].
+    pub fn apply(&self, opts: LoadOptions) -> Result<(LoadOptions, Option<String>), Error> {
         if let Some(r) = self.point_radius {
             if !(r > 0.0 && r.is_finite()) {
                 return Err(Error::Other(format!(
@@ -42,13 +45,24 @@ impl GeometryArgs {
                 )));
             }
         }
-        Ok(LoadOptions {
+        let (read_threads, warning) = match self.read_threads {
+            Some(asked) => {
+                let (n, why) = limits::capped_threads(asked);
+                (
+                    n,
+                    why.map(|w| format!("warning: --read-threads {asked} {w}")),
+                )
+            }
+            None => (opts.read_threads, None),
+        };
+        let opts = LoadOptions {
             point_radius: self.point_radius,
             spheres_only: self.spheres_only,
-            read_threads: self.read_threads.unwrap_or(opts.read_threads),
+            read_threads,
             max_expansion: self.max_expansion,
             replay_every_instance: self.replay_every_instance,
             ..opts
-        })
+        };
+        Ok((opts, warning))
     }
 }

@@ -21,6 +21,7 @@ mod memory;
 mod merge;
 mod render;
 mod signals;
+mod threads;
 
 #[derive(Debug, Parser)]
 #[command(

@@ -9,7 +9,7 @@ use clap::{Args, ValueEnum};
 use gtsphere::error::Error;
 use gtsphere::output::{format_for, write_film, write_part, Format, Placement};
 use gtsphere::render::{
-    prepare, pymol_export, tiles::render_view, Aovs, CameraChoice, FovAcross, Integrator,
+    limits, prepare, pymol_export, tiles::render_view, Aovs, CameraChoice, FovAcross, Integrator,
     PrepareOptions, Projection, RenderOptions, SamplerKind,
 };
 use gtsphere::scene::Profile;
@@ -90,14 +90,15 @@ pub struct RenderArgs {
     /// Default: the scene's name with .png, in the current directory.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
-    /// Image width in pixels.
+    /// Image width in pixels (at most 65536; an image whose buffers do not fit in the
+    /// memory available is refused before the scene is read).
     #[arg(long, default_value_t = 800)]
     pub width: u32,
-    /// Image height in pixels.
+    /// Image height in pixels (at most 65536).
     #[arg(long, default_value_t = 600)]
     pub height: u32,
     /// Samples per pixel, placed as --sampler says and averaged (a box filter); with
-    /// `--integrator mc`, the paths per pixel.
+    /// `--integrator mc`, the paths per pixel. At most 1048576.
     #[arg(long, default_value_t = 16)]
     pub spp: u32,
     /// Seed of the sample positions; the same seed gives the same image on any thread count.
@@ -136,8 +137,8 @@ pub struct RenderArgs {
     /// sees, through the gas in front, and casts no shadow.
     #[arg(long)]
     pub headlight_shadows: bool,
-    /// Worker threads (default: one per core); they also read the scene, unless
-    /// --read-threads says otherwise.
+    /// Worker threads (default: one per core; more than four per core are lowered to that,
+    /// with a warning); they also read the scene, unless --read-threads says otherwise.
     #[arg(long)]
     pub threads: Option<usize>,
     /// How gas is integrated (scenes without gas render the same with all three).
@@ -222,9 +223,10 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<Plan, Error> {
             args.width, args.height
         )));
     }
-    if args.spp == 0 || args.spp > 1 << 20 {
+    if args.spp == 0 || args.spp > limits::MAX_SPP {
         return Err(bad(format!(
-            "--spp must be between 1 and 1048576 (got {})",
+            "--spp must be between 1 and {} (got {})",
+            limits::MAX_SPP,
             args.spp
         )));
     }
@@ -238,6 +240,16 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<Plan, Error> {
     if args.threads == Some(0) {
         return Err(bad("--threads must be at least 1".into()));
     }
+    let (threads, threads_warning) = match args.threads {
+        Some(asked) => {
+            let (n, why) = limits::capped_threads(asked);
+            (
+                Some(n),
+                why.map(|w| format!("warning: --threads {asked} {w}")),
+            )
+        }
+        None => (None, None),
+    };
     let aovs = Aovs {
         depth: args.aov.contains(&AovArg::Depth),
         normal: args.aov.contains(&AovArg::Normal),
@@ -335,8 +347,16 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<Plan, Error> {
         tol: args.tol,
         headlight_shadows: args.headlight_shadows,
     };
+    // Sizes, samples and the memory they need, before the scene is read: the pool the
+    // render runs on has `threads` workers, or one per core.
+    let workers = threads.unwrap_or_else(|| {
+        std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
+    });
+    opts.validate_on(workers)?;
     Ok(Plan {
         opts,
+        threads,
+        threads_warning,
         camera: match (&args.viewpoint, args.vrml_default_camera) {
             (Some(n), _) => CameraChoice::Named(n.clone()),
             (None, true) => CameraChoice::VrmlDefault,
@@ -378,25 +398,35 @@ pub struct Plan {
     pub camera: CameraChoice,
     pub projection: Projection,
     pub prepare: PrepareOptions,
+    /// Worker threads (`--threads`, at most [`limits::max_threads`]; `None`: one per core).
+    pub threads: Option<usize>,
+    /// Why `--threads` was lowered, if it was.
+    pub threads_warning: Option<String>,
 }
 
 pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
     let out = output_path(args);
     let plan = options(args, &out)?;
     let opts = &plan.opts;
-    // Reading comes before the pool, but --threads bounds it too (unless --read-threads).
-    let load = args.geometry.apply(LoadOptions {
-        strict: args.strict,
-        inline: !args.no_inline,
-        read_threads: args.threads.unwrap_or(0),
-        ..LoadOptions::default()
-    })?;
-    let (scene, report) = load_path(&args.scene, &load)?;
     let say = |m: String| {
         if !args.quiet {
             eprintln!("{m}");
         }
     };
+    if let Some(w) = &plan.threads_warning {
+        say(w.clone());
+    }
+    // Reading comes before the pool, but --threads bounds it too (unless --read-threads).
+    let (load, warning) = args.geometry.apply(LoadOptions {
+        strict: args.strict,
+        inline: !args.no_inline,
+        read_threads: plan.threads.unwrap_or(0),
+        ..LoadOptions::default()
+    })?;
+    if let Some(w) = warning {
+        say(w);
+    }
+    let (scene, report) = load_path(&args.scene, &load)?;
     for w in report.warnings.iter().chain(&report.notes) {
         say(format!("{w}"));
     }
@@ -407,7 +437,7 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
     // Every stage after reading (the BVH build, the lights' grids, the render) runs on the
     // pool, so that --threads bounds all of them.
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0))
+        .num_threads(plan.threads.unwrap_or(0))
         .build()
         .map_err(|e| Error::Other(format!("cannot start worker threads: {e}")))?;
     let prep = pool

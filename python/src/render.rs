@@ -5,7 +5,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
 
 use gtsphere::render::{
-    self as lib, Aovs, Cancel, Integrator, Progress, RenderOptions, SamplerKind,
+    self as lib, limits, Aovs, Cancel, Integrator, Progress, RenderOptions, SamplerKind,
 };
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
@@ -251,7 +251,8 @@ fn aovs_of(names: Vec<String>) -> PyResult<Aovs> {
 /// spp: samples per pixel. integrator: "exact" (closed form and adaptive quadrature to
 /// `tol`, relative to the pixel's value), "march" (fixed steps of `step` world units, an
 /// approximation) or "mc" (unbiased Monte Carlo, `spp` paths). seed: the sample pattern's
-/// seed. threads: worker threads (None: every core). aovs: any of "depth", "normal", "id"
+/// seed. threads: worker threads (None: every core; more than four per core are lowered to
+/// that, with a RuntimeWarning). aovs: any of "depth", "normal", "id"
 /// ("error" is always returned). sampler: "stratified" or "center" (one sample at each
 /// pixel centre). progress: called as progress(tiles_done, tiles_total) from this thread
 /// every 50 ms when more tiles are done, last with tiles_done == tiles_total; an exception
@@ -259,8 +260,10 @@ fn aovs_of(names: Vec<String>) -> PyResult<Aovs> {
 /// directional light along the view that casts shadows (by default it is carried by the
 /// viewer and casts none, as in VRML browsers).
 ///
-/// The GIL is released while rendering; Ctrl-C (KeyboardInterrupt) stops the render within
-/// a pixel's time and leaves the scene usable. The pixels are the same for any thread count.
+/// A size, spp or set of aovs whose buffers would not fit in the memory available raises
+/// ValueError before anything is allocated. The GIL is released while rendering; Ctrl-C
+/// (KeyboardInterrupt) stops the render within a pixel's time and leaves the scene usable.
+/// The pixels are the same for any thread count.
 #[pyfunction]
 #[pyo3(
     signature = (scene, camera, width, height, *, spp=16, integrator="exact", tol=1e-4, seed=0, threads=None, aovs=Vec::new(), sampler="stratified", step=None, progress=None, headlight_shadows=false),
@@ -307,6 +310,20 @@ pub fn render(
     if threads == Some(0) {
         return Err(PyValueError::new_err("threads must be at least 1"));
     }
+    // More threads than a few per core only share the cores: at most limits::max_threads,
+    // with a RuntimeWarning when that lowers `threads`.
+    let threads = match threads {
+        Some(asked) => {
+            let (n, why) = limits::capped_threads(asked);
+            if let Some(w) = why {
+                let warn = py.import("warnings")?;
+                let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
+                warn.call_method1("warn", (format!("threads={asked} {w}"), &category, 1))?;
+            }
+            Some(n)
+        }
+        None => None,
+    };
     // The render shares the prepared scene, not the Python object: a change to the scene
     // meanwhile (from another thread) meets Scene::prepared_mut's error, which says why,
     // rather than pyo3's "Already borrowed".

@@ -2,8 +2,9 @@
 //! counters of the render. File writers take it ([`crate::output::write_film`]) or the f32
 //! [`Image`] it rounds to ([`Film::image`]).
 
-use super::Counters;
+use super::{Aovs, Counters};
 use crate::output::{Image, Layer};
+use crate::Error;
 
 /// A rendered picture (or the region of one that was asked for), row 0 at the top, pixel
 /// `(x, y)` at index `y * width + x`. The extra channels are `Some` only when asked for in
@@ -35,7 +36,52 @@ pub struct Film {
     pub grid_seconds: f64,
 }
 
+/// Bytes a film holds per pixel: RGB, alpha and the extra channels `aovs` asks for.
+pub(crate) fn bytes_per_pixel(aovs: Aovs) -> u64 {
+    let size = |on: bool, n: usize| if on { n as u64 } else { 0 };
+    size(true, size_of::<[f64; 3]>() + size_of::<f64>())
+        + size(aovs.error, size_of::<f64>())
+        + size(aovs.depth, size_of::<f64>())
+        + size(aovs.normal, size_of::<[f64; 3]>())
+        + size(aovs.id, size_of::<i64>())
+}
+
+/// `n` zeros, or an error when the memory for them cannot be had.
+fn zeros<T: Clone + Default>(n: usize) -> Result<Vec<T>, Error> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n).map_err(|_| {
+        Error::Invalid(format!(
+            "cannot allocate {n} pixels of {} bytes for the film",
+            size_of::<T>()
+        ))
+    })?;
+    v.resize(n, T::default());
+    Ok(v)
+}
+
 impl Film {
+    /// A black `width x height` film with the channels `aovs` asks for, its counters and
+    /// times zero; an error (no abort) when the memory cannot be had.
+    pub(crate) fn zeroed(width: usize, height: usize, aovs: Aovs) -> Result<Film, Error> {
+        let n = width
+            .checked_mul(height)
+            .ok_or_else(|| Error::Invalid(format!("a {width}x{height} film is too large")))?;
+        Ok(Film {
+            width,
+            height,
+            rgb: zeros(n)?,
+            alpha: zeros(n)?,
+            error: aovs.error.then(|| zeros(n)).transpose()?,
+            depth: aovs.depth.then(|| zeros(n)).transpose()?,
+            normal: aovs.normal.then(|| zeros(n)).transpose()?,
+            id: aovs.id.then(|| zeros(n)).transpose()?,
+            counters: Counters::default(),
+            max_error: 0.0,
+            seconds: 0.0,
+            grid_seconds: 0.0,
+        })
+    }
+
     /// The picture in f32, with the extra channels as the EXR layers `depth`, `normal.X`,
     /// `normal.Y`, `normal.Z`, `id` and `error` (in that order).
     pub fn image(&self) -> Image {

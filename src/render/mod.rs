@@ -12,6 +12,7 @@ pub mod light_grid;
 pub mod light_pieces;
 pub(crate) mod lighting;
 pub mod lights;
+pub mod limits;
 pub mod packets;
 pub mod profile;
 pub(crate) mod quadrature;
@@ -226,8 +227,17 @@ fn invalid(m: String) -> Error {
 }
 
 impl RenderOptions {
-    /// Checks the sizes, region, sample count and integrator settings.
+    /// Checks the sizes, region, sample count and integrator settings, and that the
+    /// render's buffers fit in the memory available ([`RenderOptions::validate_on`] with
+    /// the current rayon pool's threads).
     pub fn validate(&self) -> Result<(), Error> {
+        self.validate_on(rayon::current_num_threads())
+    }
+
+    /// [`RenderOptions::validate`] for a render on `threads` worker threads: the memory its
+    /// buffers need ([`RenderOptions::memory_bytes`]) is compared with what this machine has
+    /// available ([`limits::available_memory`]; not compared where that is unknown).
+    pub fn validate_on(&self, threads: usize) -> Result<(), Error> {
         if self.width == 0 || self.height == 0 {
             return Err(invalid(format!(
                 "the image size {}x{} is empty",
@@ -245,6 +255,13 @@ impl RenderOptions {
         if self.spp == 0 {
             return Err(invalid("spp must be at least 1".into()));
         }
+        if self.spp > limits::MAX_SPP {
+            return Err(invalid(format!(
+                "spp = {}: at most {} samples per pixel",
+                self.spp,
+                limits::MAX_SPP
+            )));
+        }
         // The tolerance is the exact integrator's; march and mc ignore it.
         if self.integrator == Integrator::Exact && !(self.tol > 0.0 && self.tol.is_finite()) {
             return Err(invalid(format!(
@@ -259,7 +276,8 @@ impl RenderOptions {
                 )));
             }
         }
-        Ok(())
+        self.check_memory(threads, limits::available_memory())
+            .map_err(invalid)
     }
 }
 

@@ -26,6 +26,12 @@ pub struct BandHits {
     stack: PacketStack,
 }
 
+/// Bytes a band holds per camera ray: the ray and its hit (the ray list may hold twice its
+/// length while it grows).
+pub(crate) fn bytes_per_sample() -> u64 {
+    (2 * size_of::<(DVec3, DVec3)>() + size_of::<Option<OpaqueHit>>()) as u64
+}
+
 impl BandHits {
     /// Traces the camera rays of pixels `x0..x1` by `y0..y1` (at most [`BAND`] rows), each
     /// pixel's samples as the tile loop makes them.

@@ -15,7 +15,29 @@ use super::Integrator;
 use super::{Camera, Counters, Film, Prepared, RenderOptions, View};
 use crate::Error;
 
-const TILE: u32 = 16;
+/// Pixels a side of a tile.
+pub(crate) const TILE: u32 = 16;
+
+/// Bytes the tile loop holds per pixel of the picture until the film is assembled: each
+/// finished pixel, and its centre ray's hit when an extra channel needs it.
+pub(crate) fn held_per_pixel(aovs: super::Aovs) -> u64 {
+    let hit = if aovs.any() {
+        size_of::<CentreHit>()
+    } else {
+        0
+    };
+    (size_of::<PixelOut>() + hit) as u64
+}
+
+/// Bytes one worker's buffers take while it traces a tile whose pixels hold `samples`
+/// samples each, a band's camera rays taking `per_ray` bytes each; `None` on overflow.
+pub(crate) fn worker_bytes(samples: u64, per_ray: u64) -> Option<u64> {
+    // A pixel's sample positions, the stratified sampler's permutation and the band's
+    // copy of the positions; the band's rays and hits.
+    let positions = (2 * size_of::<(f64, f64)>() + size_of::<usize>()) as u64;
+    let band = u64::from(TILE * BAND).checked_mul(per_ray)?;
+    samples.checked_mul(positions.checked_add(band)?)
+}
 
 /// A finished pixel: RGB, alpha and the error estimate.
 #[derive(Clone, Copy, Default)]
@@ -24,6 +46,10 @@ struct PixelOut {
     alpha: f64,
     error: f64,
 }
+
+/// A finished tile: its pixels row by row, their centre rays' hits (when an extra channel
+/// needs them) and its work counters.
+type TileOut = (Vec<PixelOut>, Vec<CentreHit>, Counters);
 
 /// What the ray through a pixel's centre hit first (traced only when depth, normal or id
 /// are asked for).
@@ -184,6 +210,9 @@ pub fn render(
 }
 
 /// [`render`] of a view made by [`Prepared::view`] (with the same options).
+///
+/// Cancelled, it stops within a tile's time: the tiles being traced stop at their next
+/// pixel, and a tile started after the cancel returns before it allocates anything.
 pub fn render_view(
     view: &View,
     opts: &RenderOptions,
@@ -194,12 +223,22 @@ pub fn render_view(
     // only on its own position, so a region equals the same pixels of a whole render.
     let (rx0, ry0, rx1, ry1) = opts.region.unwrap_or((0, 0, opts.width, opts.height));
     let (w, h) = (rx1 - rx0, ry1 - ry0);
-    let (tx, ty) = (w.div_ceil(TILE), h.div_ceil(TILE));
-    progress.start(u64::from(tx * ty));
-    let tiles: Vec<(Vec<PixelOut>, Vec<CentreHit>, Counters)> = (0..tx * ty)
+    // Tiles are counted in usize: (2^32 / 16)^2 overflows u32.
+    let (tx, ty) = (w.div_ceil(TILE) as usize, h.div_ceil(TILE) as usize);
+    let count = tx
+        .checked_mul(ty)
+        .ok_or_else(|| Error::Invalid(format!("a {w}x{h} image has too many tiles")))?;
+    // The film first: an image too large for the memory fails here, before any tracing.
+    let mut film = Film::zeroed(w as usize, h as usize, opts.aovs)?;
+    progress.start(count as u64);
+    // `None` for a tile cut short by a cancel: the collect then stops taking tiles.
+    let tiles: Option<Vec<TileOut>> = (0..count)
         .into_par_iter()
         .map(|t| {
-            let (x0, y0) = ((t % tx) * TILE, (t / tx) * TILE);
+            if progress.cancelled() {
+                return None;
+            }
+            let (x0, y0) = tile_origin(t, tx);
             let (x1, y1) = ((x0 + TILE).min(w), (y0 + TILE).min(h));
             let (x0, y0, x1, y1) = (x0 + rx0, y0 + ry0, x1 + rx0, y1 + ry0);
             let mut counters = Counters::default();
@@ -211,15 +250,18 @@ pub fn render_view(
             // a band's are traced first, four by four pixels in a packet.
             let packets = view.gas_spheres == 0;
             let mut band = BandHits::default();
-            'rows: for b0 in (y0..y1).step_by(BAND as usize) {
+            for b0 in (y0..y1).step_by(BAND as usize) {
                 let b1 = (b0 + BAND).min(y1);
-                if packets && !progress.cancelled() {
+                if progress.cancelled() {
+                    return None;
+                }
+                if packets {
                     band.trace(view, opts, (x0, x1), (b0, b1));
                 }
                 for j in b0..b1 {
                     for i in x0..x1 {
                         if progress.cancelled() {
-                            break 'rows;
+                            return None;
                         }
                         let at = ((j - b0) * (x1 - x0) + (i - x0)) as usize;
                         px.push(render_pixel(
@@ -238,34 +280,18 @@ pub fn render_view(
                 }
             }
             progress.tile_done();
-            (px, hits, counters)
+            Some((px, hits, counters))
         })
         .collect();
     progress.finish();
-    if progress.cancelled() {
-        return Err(Error::Cancelled);
-    }
-
-    let n = (w as usize) * (h as usize);
-    let aov = opts.aovs;
-    let mut film = Film {
-        width: w as usize,
-        height: h as usize,
-        rgb: vec![[0.0; 3]; n],
-        alpha: vec![0.0; n],
-        error: aov.error.then(|| vec![0.0; n]),
-        depth: aov.depth.then(|| vec![0.0; n]),
-        normal: aov.normal.then(|| vec![[0.0; 3]; n]),
-        id: aov.id.then(|| vec![0; n]),
-        counters: Counters::default(),
-        max_error: 0.0,
-        seconds: 0.0,
-        grid_seconds: 0.0,
+    let tiles = match tiles {
+        Some(tiles) if !progress.cancelled() => tiles,
+        _ => return Err(Error::Cancelled),
     };
+
     for (t, (px, hits, c)) in tiles.into_iter().enumerate() {
         film.counters += c;
-        let t = t as u32;
-        let (x0, y0) = ((t % tx) * TILE, (t / tx) * TILE);
+        let (x0, y0) = tile_origin(t, tx);
         let x1 = (x0 + TILE).min(w);
         for (k, p) in px.into_iter().enumerate() {
             let (i, j) = (x0 + k as u32 % (x1 - x0), y0 + k as u32 / (x1 - x0));
@@ -293,4 +319,10 @@ pub fn render_view(
     film.grid_seconds = view.grid_time.as_secs_f64();
     film.seconds = start.elapsed().as_secs_f64() + film.grid_seconds;
     Ok(film)
+}
+
+/// The top left pixel of tile `t` (row-major, `tx` tiles a row), relative to the region.
+fn tile_origin(t: usize, tx: usize) -> (u32, u32) {
+    // Both fit: a region is at most 2^32 - 1 pixels a side.
+    ((t % tx) as u32 * TILE, (t / tx) as u32 * TILE)
 }

@@ -318,11 +318,11 @@ fn progress_is_told_every_tile_and_can_cancel() {
         spp: 64,
         ..opts
     };
-    let t = std::time::Instant::now();
     let r = render::render(&prepared, &cam, &big, &stop);
     assert!(matches!(r, Err(Error::Cancelled)));
-    // A whole render would take minutes; the cancelled one stops after its first tiles.
-    assert!(t.elapsed().as_secs_f64() < 30.0);
+    // Of 16384 tiles, the first and those in flight when it cancelled are done.
+    let done = stop.done.load(Ordering::Relaxed);
+    assert!(done <= 1 + rayon::current_num_threads() as u64, "{done}");
     let flag = render::Cancel::default();
     flag.cancel();
     assert!(matches!(

@@ -33,6 +33,7 @@ mod profiled_reference; // the brute-force reference for profiled gas (numerical
 mod proto_template; // PROTO instances lowered by a compiled sphere template equal the body's replay
 mod regression; // inputs that once broke an invariant, named after what they guard
 mod render_gas; // gas emission and absorption against closed forms
+mod render_limits; // sizes beyond the memory refused before allocating; cancelled renders stop
 mod render_opaque; // opaque spheres against the VRML97 lighting equation in closed form
 mod render_surfaces; // cylinders, cones, boxes, triangles against the lighting equation, shadows both ways
 mod roundtrip; // property: random scene trees printed as VRML parse back to their IR

@@ -35,6 +35,7 @@ pub fn run_tradeoff(n: usize, size: u32, threads: usize) -> Result<ExitCode, Err
             "--spheres, --size and --threads must be positive".into(),
         ));
     }
+    let threads = crate::threads::capped(threads);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -483,6 +484,7 @@ pub fn run_scaling(args: &GasArgs) -> Result<ExitCode, Error> {
             "--size, --threads, --sizes and --runs must be positive".into(),
         ));
     }
+    let threads = crate::threads::capped(threads);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()

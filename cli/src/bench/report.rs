@@ -170,8 +170,9 @@ pub fn run(args: &ReportArgs) -> Result<ExitCode, Error> {
     if args.threads == 0 {
         return Err(Error::Other("--threads must be positive".into()));
     }
+    let threads = crate::threads::capped(args.threads);
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads)
+        .num_threads(threads)
         .build()
         .map_err(|e| Error::Other(format!("cannot start worker threads: {e}")))?;
     let io = |p: &Path| {
@@ -185,7 +186,7 @@ pub fn run(args: &ReportArgs) -> Result<ExitCode, Error> {
     for s in &scenes {
         eprintln!("{}: {}", s.name, s.description);
         let (r, ref_s) = pool.install(|| {
-            run_scene(s, args.threads, |r| {
+            run_scene(s, threads, |r| {
                 eprintln!(
                     "  {:<8} {:<18} {:>9.4} s  rel. RMS {:.2e}",
                     r.integrator, r.setting, r.seconds, r.rel_rms
@@ -227,7 +228,7 @@ pub fn run(args: &ReportArgs) -> Result<ExitCode, Error> {
         "# gtsphere bench{}\n\n{} threads; seconds are the median wall time of the render loop.\n\n\
          {notes}\n{}\n## Throughput\n\n{throughput}\n## Summary\n\n{}\n## Plot (bench.png)\n\n{}",
         if args.quick { " --quick" } else { "" },
-        args.threads,
+        threads,
         table(&rows),
         summary(&rows),
         super::plot::LEGEND

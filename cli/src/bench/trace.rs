@@ -159,6 +159,7 @@ pub fn run(
             "--spheres, --size and --threads must be positive".into(),
         ));
     }
+    let threads = crate::threads::capped(threads);
     let mut all = Vec::new();
     for _ in 0..runs.max(1) {
         all.push(one_run(spheres, size, threads, colour_per_sphere)?);

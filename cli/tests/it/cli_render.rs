@@ -5,6 +5,7 @@ use std::process::Output;
 
 use gtsphere::output::read_image;
 
+mod limits;
 mod scene_options;
 
 fn gtsphere(args: &[&str], dir: &Path) -> Output {
