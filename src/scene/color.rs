@@ -40,6 +40,11 @@ const LISTED: u64 = 15;
 const TRIED: [u64; 10] = [6, 8, 7, 3, 5, 4, 2, 1, 0, 9];
 
 impl Color {
+    /// Its packed word: equal colours of one table, equal words.
+    pub(crate) fn to_bits(self) -> u64 {
+        self.0
+    }
+
     fn listed(index: usize) -> Color {
         Color(LISTED << CODE_SHIFT | index as u64)
     }

@@ -3,6 +3,7 @@
 
 mod api; // scenes from arrays and validate, cameras, one prepared scene many cameras, cancel
 mod bvh; // the BVH's closest, any and all hits against a brute-force loop over every sphere
+mod coincident; // opaque copies in one place drawn once, coincident gas adding up
 mod convert_csv; // particle tables to VRML: dialects, columns, bad rows, table -> VRML -> IR
 mod corpus; // every ../shared/corpus file reads or fails with a positioned error
 mod corpus_counts; // the hand-counted expectations of corpus files (data for `corpus`)

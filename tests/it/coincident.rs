@@ -1,0 +1,76 @@
+//! Coincident copies: an opaque sphere repeated in one place is drawn once (the same picture
+//! and ids as one copy, one primitive in the BVH), while coincident gas adds up.
+
+use glam::DVec3;
+use gtsphere::render::{self, Aovs, RenderOptions};
+use gtsphere::scene::{Material, Scene};
+
+fn scene(copies: usize, transparency: f64) -> Scene {
+    let mut scene = Scene::default();
+    let red = Material {
+        diffuse: DVec3::new(0.8, 0.2, 0.1),
+        transparency,
+        ..Material::default()
+    };
+    for _ in 0..copies {
+        scene.add_sphere(DVec3::ZERO, 1.0, &red);
+    }
+    // A sphere beside them, with ids after theirs.
+    scene.add_sphere(DVec3::new(2.5, 0.0, 0.0), 0.5, &Material::default());
+    scene
+}
+
+fn picture(scene: Scene) -> (render::Film, usize) {
+    let prep = crate::support::prepare(scene);
+    let opts = RenderOptions {
+        width: 48,
+        height: 32,
+        spp: 2,
+        aovs: Aovs {
+            id: true,
+            depth: true,
+            ..Aovs::default()
+        },
+        ..RenderOptions::default()
+    };
+    let cam = prep.default_camera(48, 32).unwrap();
+    let film = render::render(&prep, &cam, &opts, &()).unwrap();
+    (film, prep.copies_dropped)
+}
+
+#[test]
+fn opaque_copies_in_one_place_are_drawn_once() {
+    let (one, dropped) = picture(scene(1, 0.0));
+    assert_eq!(dropped, 0);
+    let (many, dropped) = picture(scene(100_000, 0.0));
+    assert_eq!(dropped, 99_999);
+    assert_eq!(one.rgb, many.rgb);
+    assert_eq!(one.depth, many.depth);
+    // The copies' first is the one the id channel names; the sphere beside them keeps its
+    // index in the scene.
+    let ids = |f: &render::Film| {
+        let mut v: Vec<i64> = f.id.clone().unwrap();
+        v.sort();
+        v.dedup();
+        v
+    };
+    assert_eq!(ids(&one), vec![-1, 0, 1]);
+    assert_eq!(ids(&many), vec![-1, 0, 100_000]);
+}
+
+#[test]
+fn coincident_gas_adds_up() {
+    let (one, dropped) = picture(scene(1, 0.99));
+    assert_eq!(dropped, 0);
+    let (two, dropped) = picture(scene(2, 0.99));
+    assert_eq!(dropped, 0);
+    // Twice the gas along every ray through it scatters more of the light (the background is
+    // black); dropped as a copy, it would give the same pixels bit for bit.
+    let light = |f: &render::Film| f.rgb.iter().map(|p| p[0]).sum::<f64>();
+    assert!(
+        light(&two) > light(&one) + 0.05,
+        "{} {}",
+        light(&two),
+        light(&one)
+    );
+}
