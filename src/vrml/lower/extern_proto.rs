@@ -112,6 +112,12 @@ pub(super) struct Externs {
     paths: HashMap<u32, PathBuf>,
     /// For each file being read for its PROTOs (innermost last), the first PROTO declared.
     reading: Vec<Option<Rc<str>>>,
+    /// Their canonical paths, in the same order.
+    reading_paths: Vec<PathBuf>,
+    /// EXTERNPROTOs of a file read for its PROTOs left unloaded because they name a file
+    /// whose PROTOs were being read (by that file's canonical path and their name): what
+    /// needs one of them needs itself.
+    pending: Vec<(PathBuf, Rc<str>)>,
 }
 
 impl Externs {
@@ -156,10 +162,15 @@ impl Lowerer {
         }
         let base = self.base_dir(at);
         let mut tried = Vec::new();
+        let mut pending = false;
         for url in urls {
             let (file, wanted) = split_url(url);
-            let lib = match self.library(src, name, at, &base, url, file)? {
+            let (lib, canon) = match self.library(src, name, at, &base, url, file)? {
                 Ok(lib) => lib,
+                Err(why) if why.is_empty() => {
+                    pending = true;
+                    continue;
+                }
                 Err(why) => {
                     tried.push(why);
                     continue;
@@ -174,6 +185,13 @@ impl Lowerer {
                     let ext = ext.clone();
                     return Ok(Some(self.adopt(src, name, iface, &ext, &lib, url)));
                 }
+                Some(ext) if self.externs.pending.contains(&(canon, ext.name.clone())) => {
+                    let msg = format!(
+                        "EXTERNPROTO {name}: '{url}' names an EXTERNPROTO that needs a file \
+                         whose PROTOs are being read: it needs itself (a cycle)"
+                    );
+                    return Err(self.diags.error(src, at, msg));
+                }
                 Some(ext) => tried.push(format!(
                     "'{url}' (its {} is an EXTERNPROTO that was not loaded)",
                     ext.name
@@ -183,6 +201,14 @@ impl Lowerer {
                     None => format!("'{url}' (no PROTO at its top level)"),
                 }),
             }
+        }
+        // Declared in a file whose PROTOs are being read, naming one of those files: unused
+        // while declarations are read, so not worth a warning; noted, for what needs it.
+        if pending && tried.is_empty() {
+            if let Some(reading) = self.externs.reading_paths.last() {
+                self.externs.pending.push((reading.clone(), name.clone()));
+            }
+            return Ok(None);
         }
         let what = if tried.is_empty() {
             "no url".to_string()
@@ -195,8 +221,8 @@ impl Lowerer {
     }
 
     /// The file `file` (of `url`) read for its PROTOs: from the cache, or read now. Why not
-    /// if it cannot be read (not a local relative path, no such file, not VRML97); an error
-    /// at `at` if it is being read (a cycle) or would nest too deep.
+    /// if it cannot be read (not a local relative path, no such file, not VRML97; nothing to
+    /// say if its PROTOs are being read); an error at `at` if it would nest too deep.
     fn library(
         &mut self,
         src: &SourceWindow,
@@ -205,15 +231,27 @@ impl Lowerer {
         base: &Path,
         url: &str,
         file: &str,
-    ) -> Result<Result<Rc<Library>, String>, Error> {
+    ) -> Result<Result<(Rc<Library>, PathBuf), String>, Error> {
         let (path, canon) = match local_path(base, file) {
             Ok(p) => p,
             Err(why) => return Ok(Err(format!("'{url}' ({why})"))),
         };
         if let Some(lib) = self.externs.libraries.get(&canon) {
-            return Ok(Ok(lib.clone()));
+            return Ok(Ok((lib.clone(), canon)));
         }
-        match self.admit(&path, &canon) {
+        // A file read for its PROTOs names itself, or a file whose PROTOs are being read:
+        // those PROTOs are not all declared yet. Nothing needs them while declarations are
+        // read; an instance of this EXTERNPROTO is then skipped like any not loaded.
+        if self.externs.reading_paths.contains(&canon) {
+            return Ok(Err(String::new()));
+        }
+        // A file being read as a scene (the very file of this EXTERNPROTO, or one that
+        // Inlines it) is read again for its PROTO declarations only, not its scene: no cycle.
+        let admitted = match self.admit(&path, &canon) {
+            Admit::Cycle => self.admit_file(&path),
+            other => other,
+        };
+        match admitted {
             Admit::Yes => {}
             Admit::Cycle => {
                 let msg = format!("EXTERNPROTO {name}: '{url}' names a file being read (a cycle)");
@@ -226,9 +264,12 @@ impl Lowerer {
             }
             Admit::NotVrml97 => return Ok(Err(format!("'{url}' (not a VRML97 file)"))),
         }
-        let lib = Rc::new(self.read_library(&path)?);
-        self.externs.libraries.insert(canon, lib.clone());
-        Ok(Ok(lib))
+        self.externs.reading_paths.push(canon.clone());
+        let lib = self.read_library(&path);
+        self.externs.reading_paths.pop();
+        let lib = Rc::new(lib?);
+        self.externs.libraries.insert(canon.clone(), lib.clone());
+        Ok(Ok((lib, canon)))
     }
 
     /// Reads the file at `path` for its PROTO declarations: parsed into the lowering like any

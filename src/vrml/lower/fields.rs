@@ -248,26 +248,18 @@ impl Lowerer {
             Kind::Switch { which, .. } if name == "whichChoice" => *which = num1(v) as i64,
             Kind::Leaf(Leaf::Material) => {
                 let m = self.materials.open.last_mut().expect("open Material");
+                // VRML97 keeps every one in [0, 1]. Shininess and transparency outside are
+                // clamped (VMD writes its raw Phong exponent, 40, as shininess); a negative
+                // colour or intensity is clamped to 0. Each with a warning. (Values above 1
+                // are used as given: brighter than VRML97 allows, as the model defines them.)
+                let p = &mut problem;
                 match name {
-                    "diffuseColor" => m.diffuse = vec3(v),
-                    "emissiveColor" => m.emissive = vec3(v),
-                    "specularColor" => m.specular = vec3(v),
-                    "shininess" => {
-                        let x = num1(v);
-                        if !(0.0..=1.0).contains(&x) {
-                            // VMD writes its raw Phong exponent (40) here; VRML97 says [0, 1].
-                            problem = Some(format!("shininess {x} is outside [0, 1]: clamped"));
-                        }
-                        m.shininess = x.clamp(0.0, 1.0);
-                    }
-                    "ambientIntensity" => m.ambient_intensity = num1(v),
-                    "transparency" => {
-                        let t = num1(v);
-                        if !(0.0..=1.0).contains(&t) {
-                            problem = Some(format!("transparency {t} is outside [0, 1]: clamped"));
-                        }
-                        m.transparency = t.clamp(0.0, 1.0);
-                    }
+                    "diffuseColor" => m.diffuse = colour(name, vec3(v), p),
+                    "emissiveColor" => m.emissive = colour(name, vec3(v), p),
+                    "specularColor" => m.specular = colour(name, vec3(v), p),
+                    "shininess" => m.shininess = unit(name, num1(v), p),
+                    "ambientIntensity" => m.ambient_intensity = intensity(name, num1(v), p),
+                    "transparency" => m.transparency = unit(name, num1(v), p),
                     _ => {}
                 }
             }
@@ -289,9 +281,9 @@ impl Lowerer {
             }
             Kind::PointLight(l) => match name {
                 "location" => l.location = vec3(v),
-                "color" => l.color = vec3(v),
-                "intensity" => l.intensity = num1(v),
-                "ambientIntensity" => l.ambient_intensity = num1(v),
+                "color" => l.color = colour(name, vec3(v), &mut problem),
+                "intensity" => l.intensity = intensity(name, num1(v), &mut problem),
+                "ambientIntensity" => l.ambient_intensity = intensity(name, num1(v), &mut problem),
                 "attenuation" => l.attenuation = vec3(v),
                 "radius" => {
                     l.radius = num1(v);
@@ -304,9 +296,9 @@ impl Lowerer {
             },
             Kind::DirectionalLight(l) => match name {
                 "direction" => l.direction = vec3(v),
-                "color" => l.color = vec3(v),
-                "intensity" => l.intensity = num1(v),
-                "ambientIntensity" => l.ambient_intensity = num1(v),
+                "color" => l.color = colour(name, vec3(v), &mut problem),
+                "intensity" => l.intensity = intensity(name, num1(v), &mut problem),
+                "ambientIntensity" => l.ambient_intensity = intensity(name, num1(v), &mut problem),
                 "on" => l.on = bool1(v),
                 _ => {}
             },
@@ -345,4 +337,31 @@ impl Lowerer {
         }
         Ok(())
     }
+}
+
+/// `x` clamped to [0, 1], VRML97's range for `name`; outside, `problem` says so.
+fn unit(name: &str, x: f64, problem: &mut Option<String>) -> f64 {
+    if !(0.0..=1.0).contains(&x) {
+        *problem = Some(format!("{name} {x} is outside [0, 1]: clamped"));
+    }
+    x.clamp(0.0, 1.0)
+}
+
+/// `x`, or 0 if it is negative (`problem` then says so).
+fn intensity(name: &str, x: f64, problem: &mut Option<String>) -> f64 {
+    if x < 0.0 {
+        *problem = Some(format!("{name} {x} is negative: clamped to 0"));
+    }
+    x.max(0.0)
+}
+
+/// [`intensity`] for each channel of a colour.
+fn colour(name: &str, c: DVec3, problem: &mut Option<String>) -> DVec3 {
+    if !c.cmpge(DVec3::ZERO).all() {
+        *problem = Some(format!(
+            "{name} {} {} {} is negative: clamped to 0",
+            c.x, c.y, c.z
+        ));
+    }
+    c.max(DVec3::ZERO)
 }

@@ -190,6 +190,11 @@ impl Lowerer {
         {
             return Admit::Cycle;
         }
+        self.admit_file(path)
+    }
+
+    /// [`Self::admit`] but for cycles: whether the file nests too deep or is not VRML97.
+    pub(super) fn admit_file(&self, path: &Path) -> Admit {
         // The stack holds the scene file and the files being read inside it: this one
         // would be number `stack.len()` down from the scene file.
         if self.files.stack.len() > self.opts.max_inline_depth {

@@ -46,17 +46,16 @@ impl MaterialField {
         Some(Self::ALL[i])
     }
     /// Sets this field of `m` to `v` (its `arity` values), as replaying would without a
-    /// warning; `None` where replaying would warn (a shininess or transparency outside
-    /// [0, 1]).
+    /// warning; `None` where replaying would warn ([`in_range`]).
     fn set(self, m: &mut Material, v: &[f64]) -> Option<()> {
         match self {
+            _ if !in_range(self, v) => return None,
             MaterialField::Diffuse => m.diffuse = DVec3::from_slice(v),
             MaterialField::Emissive => m.emissive = DVec3::from_slice(v),
             MaterialField::Specular => m.specular = DVec3::from_slice(v),
-            MaterialField::Shininess if in_range(self, v[0]) => m.shininess = v[0],
+            MaterialField::Shininess => m.shininess = v[0],
             MaterialField::AmbientIntensity => m.ambient_intensity = v[0],
-            MaterialField::Transparency if in_range(self, v[0]) => m.transparency = v[0],
-            _ => return None,
+            MaterialField::Transparency => m.transparency = v[0],
         }
         Some(())
     }
@@ -248,9 +247,9 @@ impl<'a> Matcher<'a> {
         };
         let f = MaterialField::of(name)?;
         let s = self.slot(value, f.arity())?;
-        if let (Slot::Given(v), 1) = (&s, f.arity()) {
-            // (Replaying would warn about a shininess or transparency outside [0, 1].)
-            if !in_range(f, v[0]) {
+        if let Slot::Given(v) = &s {
+            // (Replaying would warn about a value outside [0, 1].)
+            if !in_range(f, &v[..f.arity()]) {
                 return None;
             }
         }
@@ -278,11 +277,12 @@ impl<'a> Matcher<'a> {
     }
 }
 
-/// A value replaying stores without a warning (shininess and transparency in [0, 1]).
-fn in_range(f: MaterialField, x: f64) -> bool {
+/// A Material value replaying stores without a warning: shininess and transparency in
+/// [0, 1], colours and ambientIntensity not negative.
+fn in_range(f: MaterialField, v: &[f64]) -> bool {
     match f {
-        MaterialField::Shininess | MaterialField::Transparency => (0.0..=1.0).contains(&x),
-        _ => true,
+        MaterialField::Shininess | MaterialField::Transparency => (0.0..=1.0).contains(&v[0]),
+        _ => v.iter().all(|x| *x >= 0.0),
     }
 }
 
