@@ -364,3 +364,117 @@ fn grazing_rays_through_the_bvh() {
     }
     assert!(hit > 200 && miss > 200, "packets: hit {hit} miss {miss}");
 }
+
+/// `n` spheres, sphere `i` at `center(i)` of radius `radius(i)`.
+fn cluster(n: usize, center: impl Fn(usize) -> DVec3, radius: impl Fn(usize) -> f64) -> Vec<Prim> {
+    (0..n)
+        .map(|i| Prim {
+            center: center(i),
+            radius: radius(i),
+            color: gtsphere::scene::Color::default(),
+            material: 0,
+            sphere: i as u32,
+            ellipsoid: None,
+            gas: false,
+            sigma: 0.0,
+            profile: gtsphere::scene::Profile::Constant,
+        })
+        .collect()
+}
+
+/// A depth bound of `O(log n)`: twice the depth of a balanced binary tree, plus a little.
+fn assert_log_depth(bvh: &SphereBvh, n: usize) {
+    let bound = 2 * n.next_power_of_two().trailing_zeros() as usize + 4;
+    assert!(
+        bvh.depth() <= bound,
+        "{n} primitives: depth {} > {bound}",
+        bvh.depth()
+    );
+}
+
+/// Closest hits of rays aimed near the centres of `ps[aim]` against brute force.
+fn check_cluster_rays(ps: &[Prim], aim: std::ops::Range<usize>, bvh: &SphereBvh, seed: u64) {
+    let mut rng = Rng(seed);
+    let mut hits = 0;
+    for _ in 0..200 {
+        let target = ps[aim.start + (rng.f() * aim.len() as f64) as usize % aim.len()].center;
+        let o = target + rng.unit() * 3.0;
+        let d = (target + (DVec3::new(rng.f(), rng.f(), rng.f()) - 0.5) * 0.03 - o).normalize();
+        let got = bvh
+            .closest(o, d, 0.0, f64::INFINITY, |_, _, (t0, _)| {
+                (t0 > 0.0).then_some(t0)
+            })
+            .map(|h| (h.t, bvh.prim(h.prim).sphere));
+        // Ties between coincident spheres go to the first, as in the brute force.
+        let want = brute_closest(ps, o, d);
+        assert_eq!(got, want, "ray {o} {d}");
+        hits += usize::from(want.is_some());
+    }
+    assert!(hits > 50, "only {hits} rays hit: the test lost its teeth");
+}
+
+/// Coincident spheres (one centre, one radius) build a tree `O(log n)` deep: PLOC alone
+/// merges one pair of equal boxes per pass, a chain as deep as the cluster.
+#[test]
+fn coincident_spheres_build_a_shallow_tree() {
+    let n = 4096;
+    let ps = cluster(n, |_| DVec3::new(0.3, -0.2, 0.1), |_| 0.01);
+    let bvh = SphereBvh::build(ps.clone(), &[]);
+    assert_log_depth(&bvh, n);
+    check_cluster_rays(&ps, 0..n, &bvh, 11);
+}
+
+/// Concentric spheres of growing radii (one Morton code, costs rising along the input
+/// order), and a few centres among them.
+#[test]
+fn concentric_spheres_build_a_shallow_tree() {
+    let n = 3000;
+    let ps = cluster(
+        n,
+        |i| DVec3::new((i % 3) as f64 * 0.5, 0.0, 0.0),
+        |i| 0.01 + 1e-5 * i as f64,
+    );
+    let bvh = SphereBvh::build(ps.clone(), &[]);
+    assert_log_depth(&bvh, n);
+    check_cluster_rays(&ps, 0..n, &bvh, 12);
+}
+
+/// 1e5 coincident spheres and a few far ones: a bounded depth, every hit as brute force.
+#[test]
+fn coincident_cluster_with_far_spheres_builds_a_shallow_tree() {
+    let n = 100_000;
+    let far = [
+        DVec3::new(50.0, 0.0, 0.0),
+        DVec3::new(0.0, -80.0, 3.0),
+        DVec3::splat(1e3),
+    ];
+    let ps = cluster(
+        n + far.len(),
+        |i| if i < n { DVec3::ZERO } else { far[i - n] },
+        |i| if i < n { 0.5 } else { 1.0 },
+    );
+    let bvh = SphereBvh::build(ps.clone(), &[]);
+    assert_log_depth(&bvh, ps.len());
+    check_cluster_rays(&ps, n - 5..ps.len(), &bvh, 13);
+}
+
+/// A row of equally spaced spheres and one sphere 1e12 away: the far one puts the whole
+/// row in one Morton cell, whose equal merge costs PLOC alone pairs one per pass.
+#[test]
+fn row_of_spheres_beside_a_far_one_builds_a_shallow_tree() {
+    let n = 4096;
+    let ps = cluster(
+        n + 1,
+        |i| {
+            if i < n {
+                DVec3::new(i as f64 * 0.03, 0.0, 0.0)
+            } else {
+                DVec3::splat(1e12)
+            }
+        },
+        |_| 0.01,
+    );
+    let bvh = SphereBvh::build(ps.clone(), &[]);
+    assert_log_depth(&bvh, ps.len());
+    check_cluster_rays(&ps, 0..n, &bvh, 14);
+}

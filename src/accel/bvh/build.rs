@@ -1,6 +1,7 @@
 //! Building the BVH: the primitives in Morton order, cut into at most [`MAX_CHUNKS`] chunks at
 //! Morton cell boundaries, each chunk's padded f32 boxes built into a CWBVH by obvhs (PLOC,
-//! reinsertion, conversion), the chunks side by side on the worker threads.
+//! with clusters of equal Morton codes built apart (clusters.rs), reinsertion, conversion),
+//! the chunks side by side on the worker threads.
 
 use std::ops::Range;
 use std::time::Instant;
@@ -8,12 +9,13 @@ use std::time::Instant;
 use glam::{DAffine3, DVec3, Vec3A};
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
-use obvhs::ploc::PlocBuilder;
 use obvhs::BvhBuildParams;
 use rayon::prelude::*;
 
 use super::{Chunk, Packed, PaddedBox, Prim, SphereBvh, MAX_CHUNKS, MIN_CHUNK, PAD_ULPS};
 use crate::scene::{EllipsoidId, Profile};
+
+mod clusters;
 
 /// What [`SphereBvh::build_packed`] asks of a primitive: its ellipsoid map (when
 /// [`Packed::is_ellipsoid`]), its extinction and its density profile (when [`Packed::is_gas`]).
@@ -330,13 +332,7 @@ impl SphereBvh {
                 // 1e7 spheres and traces `bench trace`'s rays 7 % faster (camera rays 2.71
                 // against 2.35 M/s/core), the same pictures.
                 let params = BvhBuildParams::very_fast_build();
-                let mut bvh2 = PlocBuilder::with_capacity(boxes.len()).build(
-                    params.ploc_search_distance,
-                    &boxes,
-                    (0..boxes.len() as u32).collect::<Vec<_>>(),
-                    params.sort_precision,
-                    params.search_depth_threshold,
-                );
+                let mut bvh2 = clusters::build(&boxes, &params);
                 ReinsertionOptimizer::default().run(
                     &mut bvh2,
                     params.reinsertion_batch_ratio,

@@ -300,6 +300,12 @@ impl SphereBvh {
             + self.to_object.capacity() * std::mem::size_of::<DAffine3>()
     }
 
+    /// Depth in nodes of the deepest chunk's tree (0 when empty): what a walk's stack holds,
+    /// and a measure of the build's work, which grows with it.
+    pub fn depth(&self) -> usize {
+        self.chunks.iter().map(|c| c.depth).max().unwrap_or(0)
+    }
+
     /// Number of primitives.
     #[inline]
     pub fn len(&self) -> usize {
