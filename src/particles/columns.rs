@@ -113,6 +113,20 @@ impl fmt::Display for Role {
 }
 
 /// `name` lower-cased, without a bracketed unit and without separators.
+/// `names` for a message: the first 16, and how many more.
+pub fn listed(names: &[String]) -> String {
+    const SHOWN: usize = 16;
+    let mut s = names[..names.len().min(SHOWN)].join(", ");
+    if names.len() > SHOWN {
+        s += &format!(", and {} more", names.len() - SHOWN);
+    }
+    s
+}
+
+/// The most columns a particle table may have: far more than any particle attributes, and
+/// what keeps a header line of megabytes from costing memory and a message of that size.
+pub const MAX_COLUMNS: usize = 4096;
+
 pub fn normalise(name: &str) -> String {
     let cut = name.find(['[', '(']).unwrap_or(name.len());
     name[..cut]
@@ -258,7 +272,7 @@ impl ColumnMap {
                         .ok_or_else(|| {
                             format!(
                                 "--columns {role}={target}: no column named \"{target}\"; the columns are: {}",
-                                self.names.join(", ")
+                                listed(&self.names)
                             )
                         })?
                 }
@@ -292,7 +306,7 @@ impl ColumnMap {
             return Err(format!(
                 "no column for {} (columns: {}); name them with --columns, e.g. --columns x=COL",
                 missing.join(", "),
-                self.names.join(", ")
+                listed(&self.names)
             ));
         }
         if !radius_given
@@ -302,7 +316,7 @@ impl ColumnMap {
         {
             return Err(format!(
                 "no radius column (columns: {}); give every particle a radius with --radius R, or name the column with --columns radius=COL",
-                self.names.join(", ")
+                listed(&self.names)
             ));
         }
         let rgb = [Role::Red, Role::Green, Role::Blue].map(|r| self.get(r).is_some());

@@ -102,8 +102,10 @@ pub fn convert<W: Write>(
             Some(d) => format!(" (every row was bad; the first: {})", d.headline()),
             None => String::new(),
         };
+        // Positioned where the table ends.
+        let end = reader.lines_read() + 1;
         return Err(Error::Invalid(format!(
-            "{name}: no particles in the table{why}"
+            "{name}:{end}:1: no particles in the table{why}"
         )));
     }
     let bounds = writer.bounds();

@@ -231,6 +231,11 @@ fn guess_delimiter(head: &[u8]) -> Delimiter {
 }
 
 impl ParticleReader {
+    /// The lines read so far (the header's included).
+    pub fn lines_read(&self) -> u64 {
+        self.line
+    }
+
     /// Whether the table has a profile column (its particles are then `GasParticle`s).
     pub fn has_profiles(&self) -> bool {
         self.map.get(Role::Profile).is_some()
@@ -312,8 +317,11 @@ impl ParticleReader {
     }
 
     fn read_row(&mut self, rec: &mut ByteRecord) -> Result<Option<u64>, Diagnostic> {
-        let got = self.rows.next(rec);
-        got.map_err(|m| self.read_failed(m))
+        let got = self.rows.next(rec).map_err(|m| self.read_failed(m))?;
+        if let Some(line) = got {
+            self.line = line;
+        }
+        Ok(got)
     }
 
     /// Whether an XYZ frame has rows beyond those held.

@@ -401,7 +401,7 @@ fn bad_rows_are_positioned_errors() {
             "x,y,z,radius,red,green,blue\n1,2,3,1,0.5,,0.5\n",
             "t.csv:2:6: column \"green\": empty, but",
         ),
-        ("x,y,z,radius\n", "t.csv: no particles in the table"),
+        ("x,y,z,radius\n", "t.csv:2:1: no particles in the table"),
         (
             "1 2 3 4 5 6\n",
             "t.csv:1:1: the first row is numbers, not a header, and 6 columns are too many",
@@ -570,4 +570,25 @@ fn bad_profiles_are_positioned_errors() {
     )
     .expect_err("refused");
     assert!(e.contains("the profile column needs the PROTO form"), "{e}");
+}
+
+#[test]
+fn a_header_of_thousands_of_columns_is_refused_and_messages_stay_short() {
+    let names: Vec<String> = (0..5000).map(|i| format!("c{i}")).collect();
+    let table = format!("{}\n{}\n", names.join(","), vec!["1"; 5000].join(","));
+    let e = err(&table, TableOptions::default());
+    assert_eq!(
+        e,
+        "t.csv:1:1: the first row has 5000 columns: a particle table has at most 4096"
+    );
+    // Within the bound, a message lists 16 columns and counts the rest.
+    let names: Vec<String> = ["x", "y", "z"]
+        .map(String::from)
+        .into_iter()
+        .chain((0..40).map(|i| format!("c{i}")))
+        .collect();
+    let table = format!("{}\n{}\n", names.join(","), vec!["1"; 43].join(","));
+    let e = err(&table, TableOptions::default());
+    assert!(e.contains("(columns: x, y, z, c0, c1, c2, c3, c4, c5, c6, c7, c8, c9, c10, c11, c12, and 27 more)"), "{e}");
+    assert!(e.len() < 300, "{e}");
 }

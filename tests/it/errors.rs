@@ -247,3 +247,43 @@ fn a_spheres_origin_turns_into_file_line_col_after_loading() {
         format!("mem.wrl:byte {offset}")
     );
 }
+
+#[test]
+fn negative_colours_and_intensities_are_clamped_with_a_positioned_warning() {
+    let text = "#VRML V2.0 utf8\n\
+                Shape { appearance Appearance { material Material { diffuseColor -1 0.5 0 } } geometry Sphere {} }\n\
+                PointLight { intensity -2 }\n";
+    let (s, r) = super::support::load(text);
+    let heads: Vec<String> = r.warnings.iter().map(|w| w.headline()).collect();
+    assert_eq!(
+        heads,
+        [
+            "test.wrl:2:53: warning: diffuseColor -1 0.5 0 is negative: clamped to 0",
+            "test.wrl:3:14: warning: intensity -2 is negative: clamped to 0",
+        ]
+    );
+    assert_eq!(
+        s.materials.diffuse(s.spheres[0].color),
+        glam::DVec3::new(0.0, 0.5, 0.0)
+    );
+    // The scene renders (it did not before: the render refused the material, unpositioned).
+    let prep = super::support::prepare(s);
+    assert!(prep
+        .view(&prep.default_camera(8, 8).unwrap(), &Default::default())
+        .is_ok());
+    let e = strict_error_of(text);
+    assert_eq!(
+        first_line(&e),
+        "test.wrl:2:53: diffuseColor -1 0.5 0 is negative: clamped to 0"
+    );
+    // Read by a PROTO template the same.
+    let proto = "#VRML V2.0 utf8\n\
+                 PROTO P [ field SFColor c 1 1 1 ] { Transform { children Shape { appearance Appearance { material Material { diffuseColor IS c } } geometry Sphere {} } } }\n\
+                 P { c 0 -0.25 0 }\n";
+    let (s, r) = super::support::load(proto);
+    assert_eq!(r.warnings.len(), 1, "{:?}", r.warnings);
+    assert!(r.warnings[0]
+        .headline()
+        .contains("is negative: clamped to 0"));
+    assert_eq!(s.materials.diffuse(s.spheres[0].color), glam::DVec3::ZERO);
+}

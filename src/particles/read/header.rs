@@ -3,6 +3,8 @@
 
 use csv::ByteRecord;
 
+use crate::particles::columns::{listed, MAX_COLUMNS};
+
 use super::*;
 
 impl ParticleReader {
@@ -44,6 +46,16 @@ impl ParticleReader {
                 }
             }
         }
+        if first.len() > MAX_COLUMNS {
+            return Err(self.error(
+                line,
+                1,
+                format!(
+                    "the first row has {} columns: a particle table has at most {MAX_COLUMNS}",
+                    first.len()
+                ),
+            ));
+        }
         let xyz = self.remaining.is_some();
         let non_number = |f: &[u8]| number(f, comma).is_none();
         let (names, is_header) = match self.opts.columns.positional.clone() {
@@ -77,7 +89,7 @@ impl ParticleReader {
         };
         if !is_header && self.opts.columns.positional.is_none() {
             self.notes
-                .push(format!("no header: columns taken as {}", names.join(", ")));
+                .push(format!("no header: columns taken as {}", listed(&names)));
         }
         let mut map = ColumnMap::from_names(&names).map_err(|m| self.error(line, 1, m))?;
         map.apply_overrides(&self.opts.columns.overrides)
@@ -107,7 +119,7 @@ impl ParticleReader {
         }
         if !map.ignored.is_empty() {
             self.notes
-                .push(format!("columns not used: {}", map.ignored.join(", ")));
+                .push(format!("columns not used: {}", listed(&map.ignored)));
         }
         self.map = map;
         if !is_header {

@@ -54,7 +54,9 @@ The defaults are VRML97's; a field that is not given has its default value.
   node's are. A PROTO may take a standard node's name; the name then means the PROTO.
 - **EXTERNPROTO**: the PROTO is read from the first url that names a readable local file
   (`file.wrl#Name`, or the first PROTO of `file.wrl`), by the rules of Inline. None
-  readable: a warning, and each instance is skipped with a warning.
+  readable: a warning, and each instance is skipped with a warning. A url may name the
+  file itself (`own.wrl#Ball` inside own.wrl) or a file being read: its PROTO declarations
+  are read again, not its scene. Only a declaration that needs itself is refused (a cycle).
 - **GasParticle**: a PROTO of this name with a `field SFString profile` gives the spheres
   of its instances a density profile (see [the rendering model](model.md)); other viewers
   draw its body.
@@ -78,6 +80,9 @@ A file costs what its text declares:
 - **Compressed text.** Gzip data may inflate to 16 MiB plus 8 K (128) times its compressed
   size; VRML text compresses 3 to 12 times. Long runs of white space are passed as they are
   read, not held.
+- **Colours.** A negative colour or intensity (Material, PointLight, DirectionalLight) is
+  clamped to 0 with a warning; a shininess or transparency outside [0, 1] is clamped to it
+  with a warning. Values above 1 are used as given.
 - **Nesting.** USE, Switch and PROTO replays nest at most 200 deep; Inline files and files
   read for EXTERNPROTOs at most 16.
 "#;
