@@ -50,8 +50,8 @@ pub(crate) fn area_normal(points: &[DVec3], polygon: &[u32]) -> Option<(DVec3, f
 /// [`newell_normal`]).
 ///
 /// - A triangle gives itself; a strictly convex quad the fan `[0, 1, 2], [0, 2, 3]`.
-/// - Otherwise, ears are clipped in the plane of the Newell normal (O(n^2) typically, O(n^3)
-///   at worst). A corner whose neighbours are collinear with it (a repeated vertex, a
+/// - Otherwise, ears are clipped in the plane of the Newell normal (each ear tested against
+///   the reflex corners near it; O(n^2) at worst). A corner whose neighbours are collinear with it (a repeated vertex, a
 ///   straight corner, a spike) is removed without a triangle, so such polygons give fewer
 ///   than `n - 2`. If no ear can be found (a self-intersecting polygon), the most convex
 ///   corner is clipped anyway; no triangle of the opposite orientation is ever emitted.
@@ -92,6 +92,15 @@ pub fn triangulate(points: &[DVec3], polygon: &[u32], out: &mut Vec<[u32; 3]>) -
 }
 
 /// Ear clipping of the positively turning polygon `q` (see [`triangulate`]).
+///
+/// Only a corner that is not strictly convex (reflex, or straight within rounding) can lie in
+/// an ear of a simple polygon without one such corner lying in it too, so an ear is tested
+/// against those alone, found through a grid ([`Reflex`]; a clipped ear's neighbours may turn
+/// convex, no corner turns reflex). Polygons of 100 000 corners written with six decimals
+/// (`gtsphere info`): a circle 13.0 s testing every remaining corner, 6.0 s testing the
+/// reflex ones from a list, 2.8 s through the grid; a star of alternating radii 8.4, 5.0 and
+/// 2.5 s. What is left is quadratic: clipping grows fans whose triangles cover much of the
+/// polygon while many reflex corners remain.
 fn ear_clip(q: &[DVec2], extent: f64, out: &mut Vec<[u32; 3]>) -> usize {
     let n = q.len();
     let mut next: Vec<usize> = (1..=n).map(|k| k % n).collect();
@@ -102,6 +111,13 @@ fn ear_clip(q: &[DVec2], extent: f64, out: &mut Vec<[u32; 3]>) -> usize {
         let t = turn(a, b, c);
         t.abs() <= 8.0 * f64::EPSILON * extent * ((q[b] - q[a]).length() + (q[c] - q[b]).length())
     };
+    let not_convex = |a: usize, b: usize, c: usize| turn(a, b, c) <= 0.0 || straight(a, b, c);
+    let mut reflex = Reflex::new(
+        q,
+        (0..n)
+            .filter(|&k| not_convex(prev[k], k, next[k]))
+            .collect(),
+    );
     let mut emitted = 0;
     let mut left = n;
     let mut cur = 0;
@@ -110,7 +126,7 @@ fn ear_clip(q: &[DVec2], extent: f64, out: &mut Vec<[u32; 3]>) -> usize {
         let corners = left;
         for _ in 0..corners {
             let (a, c) = (prev[i], next[i]);
-            let ear = straight(a, i, c) || (turn(a, i, c) > 0.0 && !blocked(q, &next, a, i, c));
+            let ear = straight(a, i, c) || (turn(a, i, c) > 0.0 && !reflex.blocks(q, a, i, c));
             if ear {
                 if !straight(a, i, c) {
                     out.push([a as u32, i as u32, c as u32]);
@@ -118,6 +134,13 @@ fn ear_clip(q: &[DVec2], extent: f64, out: &mut Vec<[u32; 3]>) -> usize {
                 }
                 next[a] = c;
                 prev[c] = a;
+                reflex.leave(i);
+                // Its neighbours may have turned convex: they leave the grid.
+                for v in [a, c] {
+                    if !not_convex(prev[v], v, next[v]) {
+                        reflex.leave(v);
+                    }
+                }
                 left -= 1;
                 cur = a;
                 continue 'clip;
@@ -141,6 +164,7 @@ fn ear_clip(q: &[DVec2], extent: f64, out: &mut Vec<[u32; 3]>) -> usize {
         emitted += 1;
         next[a] = c;
         prev[c] = a;
+        reflex.leave(best);
         left -= 1;
         cur = a;
     }
@@ -152,29 +176,100 @@ fn ear_clip(q: &[DVec2], extent: f64, out: &mut Vec<[u32; 3]>) -> usize {
     emitted
 }
 
-/// Whether a remaining corner other than `a`, `b`, `c` lies in or on the triangle `a b c`
-/// (positively turning); corners at the same position as one of the three do not count.
-fn blocked(q: &[DVec2], next: &[usize], a: usize, b: usize, c: usize) -> bool {
-    let (qa, qb, qc) = (q[a], q[b], q[c]);
-    let lo = qa.min(qb).min(qc);
-    let hi = qa.max(qb).max(qc);
-    let mut k = next[c];
-    while k != a {
-        let x = q[k];
-        if x.cmpge(lo).all()
-            && x.cmple(hi).all()
-            && x != qa
-            && x != qb
-            && x != qc
-            && (qb - qa).perp_dot(x - qa) >= 0.0
-            && (qc - qb).perp_dot(x - qb) >= 0.0
-            && (qa - qc).perp_dot(x - qc) >= 0.0
-        {
-            return true;
+/// The corners not strictly convex when clipping began, in a uniform grid of about one
+/// per cell (so that an ear, a small triangle, meets a few), and which have left: clipped,
+/// or turned convex.
+struct Reflex {
+    /// Every one of them not yet clipped (pruned as it is scanned), for triangles that cover
+    /// more cells than it holds corners.
+    live: Vec<u32>,
+    cells: Vec<Vec<u32>>,
+    side: usize,
+    lo: DVec2,
+    per_unit: DVec2,
+    /// By corner: in the grid and not left.
+    member: Vec<bool>,
+    /// How many are.
+    count: usize,
+}
+
+impl Reflex {
+    fn new(q: &[DVec2], corners: Vec<usize>) -> Reflex {
+        let side = ((corners.len() as f64).sqrt().ceil() as usize).clamp(1, 1024);
+        let (lo, hi) = corners.iter().fold(
+            (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+            |(lo, hi), &k| (lo.min(q[k]), hi.max(q[k])),
+        );
+        let span = (hi - lo).max(DVec2::splat(f64::MIN_POSITIVE));
+        let mut reflex = Reflex {
+            live: corners.iter().map(|&k| k as u32).collect(),
+            cells: vec![Vec::new(); side * side],
+            side,
+            lo,
+            per_unit: DVec2::splat(side as f64) / span,
+            member: vec![false; q.len()],
+            count: corners.len(),
+        };
+        for k in corners {
+            let (i, j) = reflex.cell(q[k]);
+            reflex.cells[j * side + i].push(k as u32);
+            reflex.member[k] = true;
         }
-        k = next[k];
+        reflex
     }
-    false
+
+    /// Corner `k` leaves (clipped, or turned convex); its entries go when next met.
+    fn leave(&mut self, k: usize) {
+        if std::mem::take(&mut self.member[k]) {
+            self.count -= 1;
+        }
+    }
+
+    /// The cell holding `x` (clamped to the grid).
+    fn cell(&self, x: DVec2) -> (usize, usize) {
+        let c = ((x - self.lo) * self.per_unit).floor();
+        let max = (self.side - 1) as f64;
+        (c.x.clamp(0.0, max) as usize, c.y.clamp(0.0, max) as usize)
+    }
+
+    /// Whether a remaining corner of the grid other than `a`, `b`, `c` lies in or on the
+    /// triangle `a b c` (positively turning); corners at the same position as one of the
+    /// three do not count.
+    fn blocks(&mut self, q: &[DVec2], a: usize, b: usize, c: usize) -> bool {
+        let (qa, qb, qc) = (q[a], q[b], q[c]);
+        let lo = qa.min(qb).min(qc);
+        let hi = qa.max(qb).max(qc);
+        let inside = |k: u32| {
+            let (k, x) = (k as usize, q[k as usize]);
+            k != a
+                && k != b
+                && k != c
+                && x.cmpge(lo).all()
+                && x.cmple(hi).all()
+                && x != qa
+                && x != qb
+                && x != qc
+                && (qb - qa).perp_dot(x - qa) >= 0.0
+                && (qc - qb).perp_dot(x - qb) >= 0.0
+                && (qa - qc).perp_dot(x - qc) >= 0.0
+        };
+        let ((i0, j0), (i1, j1)) = (self.cell(lo), self.cell(hi));
+        let member = &self.member;
+        if (i1 - i0 + 1) * (j1 - j0 + 1) > self.count {
+            self.live.retain(|&k| member[k as usize]);
+            return self.live.iter().any(|&k| inside(k));
+        }
+        for j in j0..=j1 {
+            for i in i0..=i1 {
+                let cell = &mut self.cells[j * self.side + i];
+                cell.retain(|&k| member[k as usize]);
+                if cell.iter().any(|&k| inside(k)) {
+                    return true;
+                }
+            }
+        }
+        false
+    }
 }
 
 #[cfg(test)]
