@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 use gtsphere::render::{self, Aovs, RenderOptions};
-use gtsphere::scene::{Material, Scene};
+use gtsphere::scene::{Material, Scene, Surface, SurfaceShape, Triangle};
 
 fn scene(copies: usize, transparency: f64) -> Scene {
     let mut scene = Scene::default();
@@ -73,4 +73,43 @@ fn coincident_gas_adds_up() {
         light(&two),
         light(&one)
     );
+}
+
+/// `copies` copies of one triangle in front of a sphere (ids after the sphere's).
+fn triangles(copies: usize) -> Scene {
+    let mut scene = Scene::default();
+    scene.add_sphere(DVec3::new(0.0, 0.0, -2.0), 1.0, &Material::default());
+    let paint = scene.materials.add(&Material {
+        diffuse: DVec3::new(0.1, 0.7, 0.2),
+        ..Material::default()
+    });
+    let t = Triangle {
+        p: [
+            DVec3::new(-1.0, -1.0, 0.0),
+            DVec3::new(1.0, -1.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.5),
+        ],
+        n: None,
+        color: None,
+        solid: false,
+    };
+    for _ in 0..copies {
+        scene.surfaces.push(Surface {
+            shape: SurfaceShape::Triangle(Box::new(t)),
+            color: paint.color,
+            material: paint.material,
+            origin: Default::default(),
+        });
+    }
+    scene
+}
+
+#[test]
+fn copies_of_a_triangle_are_traced_once_and_keep_their_ids() {
+    let prep = crate::support::prepare(triangles(50_000));
+    assert_eq!(prep.surfaces.bvh.len(), 1);
+    let (one, _) = picture(triangles(1));
+    let (many, _) = picture(triangles(50_000));
+    assert_eq!(one.rgb, many.rgb);
+    assert_eq!(one.id, many.id);
 }
