@@ -430,6 +430,9 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
     for w in report.warnings.iter().chain(&report.notes) {
         say(format!("{w}"));
     }
+    if plan.camera == CameraChoice::Auto && scene.viewpoints.is_empty() {
+        unframable(&scene)?;
+    }
     let spheres = scene.spheres.len();
     let surfaces = scene.surfaces.len();
     let headlight = scene.headlight;
@@ -551,4 +554,27 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// A scene without a Viewpoint that no camera can frame (it reaches near the largest f64):
+/// refused before the BVH is built, at the item that reaches farthest.
+fn unframable(scene: &gtsphere::scene::Scene) -> Result<(), Error> {
+    let Some((c, r)) = scene.bounding_ball() else {
+        return Ok(());
+    };
+    if gtsphere::scene::framing_position(c, r).is_some() {
+        return Ok(());
+    }
+    let reach = |p: glam::DVec3, r: f64| p.abs().max_element() + r;
+    let sphere = (scene.spheres.iter()).map(|s| (reach(s.center, s.radius), s.origin));
+    let surface = (scene.surfaces.iter()).map(|s| {
+        let (p, r) = s.bounding_ball();
+        (reach(p, r), s.origin)
+    });
+    let far = sphere.chain(surface).max_by(|a, b| a.0.total_cmp(&b.0));
+    let at = far.map_or(String::new(), |(_, o)| format!("{}: ", scene.position(o)));
+    Err(Error::Invalid(format!(
+        "{at}the scene reaches this far from the origin: a camera framing it would stand beyond \
+         the range of f64; give the scene a Viewpoint"
+    )))
 }

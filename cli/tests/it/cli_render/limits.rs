@@ -82,3 +82,29 @@ fn threads_beyond_four_per_core_are_lowered_with_a_warning() {
     );
     assert!(dir.join("x.png").exists());
 }
+
+/// A scene no camera can frame (it reaches 1e308) is refused at the item that reaches
+/// farthest, before the BVH is built, and nothing is written.
+#[test]
+fn a_scene_beyond_framing_is_refused_at_its_farthest_item() {
+    let dir = scratch("beyond_framing");
+    std::fs::write(
+        dir.join("far.wrl"),
+        "#VRML V2.0 utf8\nShape { geometry Sphere {} }\n\
+         Transform { translation 1e308 0 0 children Shape { geometry Sphere { radius 1e307 } } }\n",
+    )
+    .unwrap();
+    let out = gtsphere(
+        &[
+            "render", "far.wrl", "-o", "x.png", "--width", "8", "--height", "8",
+        ],
+        &dir,
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.starts_with("far.wrl:3:61: the scene reaches this far from the origin"),
+        "{err}"
+    );
+    assert!(!dir.join("x.png").exists());
+}
