@@ -197,3 +197,15 @@ fn the_documented_limits_are_the_readers() {
     }
     assert_eq!(gtsphere::input::INFLATE_BASE, 16 << 20);
 }
+
+#[test]
+fn a_gzip_stream_cut_short_is_a_positioned_error() {
+    let gz = gzip(b"#VRML V2.0 utf8\nShape { geometry Sphere {} }\n");
+    for cut in [5, gz.len() / 2, gz.len() - 4] {
+        let e = load(&gz[..cut], &LoadOptions::default()).unwrap_err();
+        assert!(
+            e.starts_with("scene.wrl:") && e.contains("cannot read further"),
+            "{cut}: {e}"
+        );
+    }
+}
