@@ -116,8 +116,8 @@ pub struct LoadOptions {
     /// create (nodes, replayed events and their values, the items a reused mesh and an
     /// Extrusion add) is at most `expansion_base` plus this many per byte of scene text read
     /// so far; past it, loading fails at the construct that went over. Text read straight
-    /// spends about one per byte, so only copies can exhaust it. Gzip data may inflate to 8
-    /// times this its compressed size ([`Self::inflate_ratio`]).
+    /// spends about one per byte, so only copies can exhaust it. It also bounds how far gzip
+    /// data may inflate ([`Self::inflate_ratio`]).
     pub max_expansion: u64,
     /// The part of the expansion budget that does not grow with the text.
     pub expansion_base: u64,
@@ -535,7 +535,9 @@ impl Lowerer {
     /// instances) is text all the way.
     #[inline(always)]
     fn budget(&self, bytes: u64) -> u64 {
-        (self.opts.expansion_base).saturating_add(self.opts.max_expansion.saturating_mul(bytes))
+        self.opts
+            .expansion_base
+            .saturating_add(self.opts.max_expansion.saturating_mul(bytes))
     }
 
     /// Whether `n` more units fit the budget at the text read so far.
