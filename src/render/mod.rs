@@ -124,7 +124,10 @@ pub enum Integrator {
     /// the points where the integrand has kinks, to `tol`.
     Exact,
     /// Fixed-step ray marching with midpoint samples (step in world units).
-    March { step: f64 },
+    March {
+        /// The step length, in world units, positive and finite.
+        step: f64,
+    },
     /// Unbiased Monte Carlo: emission and transmittance as expected values, single scattering
     /// from one sampled collision point per gas segment, `spp` samples per pixel.
     Mc,
