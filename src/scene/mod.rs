@@ -106,10 +106,11 @@ impl Sphere {
 /// VRML97 Material (with VRML defaults), or the unlit white of a Shape without one.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Material {
-    /// `diffuseColor`: RGB reflectance, each channel at least 0.
+    /// `diffuseColor`: RGB reflectance of a surface, or the scattering albedo of gas; each
+    /// channel at least 0.
     pub diffuse: DVec3,
-    /// `emissiveColor`: RGB radiance the surface (or gas) gives off by itself, each channel at
-    /// least 0.
+    /// `emissiveColor`: RGB radiance a surface gives off by itself, or the emission colour of
+    /// gas (emitted per unit optical depth); each channel at least 0.
     pub emissive: DVec3,
     /// `specularColor`: RGB weight of the specular highlight, each channel at least 0.
     pub specular: DVec3,
@@ -117,8 +118,8 @@ pub struct Material {
     pub shininess: f64,
     /// `ambientIntensity`: how much of the lights' ambient term it reflects, at least 0.
     pub ambient_intensity: f64,
-    /// `transparency`, in [0, 1]: 0 is opaque; above 0 makes a sphere gas, whose transmittance
-    /// along a diameter it is (see [`Material::sigma`]).
+    /// `transparency`, in [0, 1]: 0 is opaque; above 0 makes a sphere that is not unlit gas,
+    /// whose transmittance along a diameter it is (see [`Material::sigma`]).
     pub transparency: f64,
     /// A Shape with no Appearance or no Material: colour (1,1,1), lights ignored (VRML 4.14.2).
     pub unlit: bool,
