@@ -11,12 +11,18 @@
 
 use crate::output::Image;
 
+/// Error metrics of an image against a reference (see the module comment for definitions).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Metrics {
+    /// Root mean square of the differences, over every channel value.
     pub rmse: f64,
+    /// `rmse` over the reference's root mean square; infinite when the reference is black.
     pub relative_rmse: f64,
+    /// Peak signal-to-noise ratio in dB; infinite for identical images.
     pub psnr: f64,
+    /// The largest absolute difference of one channel value (NaN if any difference is NaN).
     pub max_abs: f64,
+    /// The pixel `(x, y)` of `max_abs`, row 0 at the top.
     pub max_at: (usize, usize),
 }
 

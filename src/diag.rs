@@ -7,7 +7,9 @@ use std::sync::Arc;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Severity {
+    /// A problem that stops the command.
     Error,
+    /// A problem that is skipped over (an error under `--strict`).
     Warning,
     /// Information about a choice made (not a problem).
     Note,
@@ -16,10 +18,15 @@ pub enum Severity {
 /// One message with its position in a source file (1-based line and column).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Diagnostic {
+    /// How bad it is.
     pub severity: Severity,
+    /// The source file's name.
     pub file: Arc<str>,
+    /// The 1-based line.
     pub line: u64,
+    /// The 1-based column, in bytes (in characters when the line is in `snippet`).
     pub col: u64,
+    /// What is wrong, one sentence without the position.
     pub message: String,
     /// The text of the offending line, when it was still in the reading window.
     pub snippet: Option<String>,

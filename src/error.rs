@@ -2,6 +2,7 @@
 
 use crate::diag::Diagnostic;
 
+/// Everything the library can fail with; its `Display` is the message for the user.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
     /// A positioned problem in a scene file (syntax, types, undefined names, bad values).
@@ -10,23 +11,35 @@ pub enum Error {
     /// Several positioned problems (for example every warning under `--strict`).
     #[error("{}", .0.iter().map(|d| d.to_string()).collect::<Vec<_>>().join("\n"))]
     Diags(Vec<Diagnostic>),
+    /// A file or stream that could not be opened, read or written.
     #[error("{path}: {source}")]
     Io {
+        /// The file's path as given (or a name such as `<stdin>`).
         path: String,
+        /// What the operating system reported.
         #[source]
         source: std::io::Error,
     },
     /// A picture that cannot be written or read: unsupported extension, inconsistent buffers,
     /// a malformed or truncated file. `message` says what is wrong.
     #[error("{path}: {message}")]
-    Image { path: String, message: String },
+    Image {
+        /// The picture's path.
+        path: String,
+        /// What is wrong.
+        message: String,
+    },
     /// An input array of a scene built in code has a bad value: `array[index] = value:
     /// message`, e.g. `radii[17] = -1: radius must be positive and finite`.
     #[error("{array}[{index}] = {value}: {message}")]
     Array {
+        /// The array's name, e.g. `radii`.
         array: String,
+        /// The 0-based index of the bad element.
         index: usize,
+        /// The bad element, as text.
         value: String,
+        /// What is wrong with it.
         message: String,
     },
     /// Options, a camera or a scene built in code that cannot be rendered (the message says

@@ -47,6 +47,8 @@
 //! `cargo bench` and the tests share. docs/internals.md follows the data flow module by
 //! module.
 
+#![warn(missing_docs)]
+
 pub mod accel;
 pub mod compare;
 pub mod diag;

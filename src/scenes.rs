@@ -247,12 +247,14 @@ pub enum Cloud {
 }
 
 impl Cloud {
+    /// Its name, `thick` or `thin`, as the scaling benchmark prints it and names its files.
     pub fn name(self) -> &'static str {
         match self {
             Cloud::Thick => "thick",
             Cloud::Thin => "thin",
         }
     }
+    /// Its spheres' transparency: the transmittance along a diameter.
     pub fn transparency(self) -> f64 {
         match self {
             Cloud::Thick => (-4.0f64).exp(),

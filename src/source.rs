@@ -35,6 +35,7 @@ impl Default for LineIndex {
 }
 
 impl LineIndex {
+    /// An index holding only line 1, starting at offset 0.
     pub fn new() -> Self {
         LineIndex {
             low: vec![0],
@@ -80,6 +81,7 @@ impl LineIndex {
         }
         (lo as u64 + 1, offset - self.start(lo) + 1)
     }
+    /// Bytes it holds on the heap.
     pub fn heap_bytes(&self) -> usize {
         self.low.capacity() * 4 + self.spans.capacity() * 8
     }
@@ -99,22 +101,30 @@ impl LineIndex {
 
 /// A window over the source text; `buf[0]` is at absolute offset `base`.
 pub struct SourceWindow {
+    /// The source's name, as diagnostics print it.
     pub name: Arc<str>,
     reader: Box<dyn Read>,
+    /// The text in the window.
     pub buf: String,
+    /// Absolute byte offset of `buf[0]` in the source.
     pub base: u64,
+    /// The cursor: index into `buf` of the first unread byte.
     pub pos: usize,
+    /// Whether the reader is exhausted, so that `buf` ends where the text ends.
     pub eof: bool,
     pending: Vec<u8>,
+    /// The line starts seen so far.
     pub lines: LineIndex,
     /// Absolute offset of the first invalid UTF-8 byte, if any (replaced by `?`).
     pub bad_utf8: Option<u64>,
+    /// Bytes of text read so far, those skipped by [`Self::jump`] included.
     pub bytes_read: u64,
     /// The end of the text read before the last [`Self::jump`], and its offset.
     held: (u64, String),
 }
 
 impl SourceWindow {
+    /// A window over the text of `reader`, named `name`, nothing read yet.
     pub fn new(name: Arc<str>, reader: Box<dyn Read>) -> Self {
         SourceWindow {
             name,
@@ -149,6 +159,7 @@ impl SourceWindow {
         self.base + (self.buf.len() - rest.len()) as u64
     }
 
+    /// Moves the cursor to the suffix of the window that is `rest_len` bytes long.
     #[inline]
     pub fn advance_to(&mut self, rest_len: usize) {
         self.pos = self.buf.len() - rest_len;

@@ -27,8 +27,11 @@ use crate::Error;
 /// A finished picture in linear float, row 0 at the TOP, pixel (x, y) at index `y * width + x`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Image {
+    /// Width in pixels.
     pub width: usize,
+    /// Height in pixels.
     pub height: usize,
+    /// Linear RGB, `width * height` pixels.
     pub rgb: Vec<[f32; 3]>,
     /// Coverage in `[0, 1]`; written as A in EXR.
     pub alpha: Vec<f32>,
@@ -40,7 +43,9 @@ pub struct Image {
 /// One extra single-channel layer, `width * height` values in the same order as [`Image::rgb`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct Layer {
+    /// Its EXR channel name.
     pub name: String,
+    /// Its values, one per pixel.
     pub data: Vec<f32>,
 }
 
@@ -167,9 +172,13 @@ fn special_target(path: &Path) -> io::Result<Option<File>> {
 /// Where a part of a picture goes in the whole: its top-left pixel and the whole's size.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Placement {
+    /// The column of the part's top-left pixel in the whole picture.
     pub x: usize,
+    /// The row of the part's top-left pixel in the whole picture, row 0 at the top.
     pub y: usize,
+    /// The whole picture's width in pixels.
     pub full_width: usize,
+    /// The whole picture's height in pixels.
     pub full_height: usize,
 }
 

@@ -10,14 +10,21 @@ use std::fmt;
 /// What a column means for a particle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Role {
+    /// The centre's x.
     X,
+    /// The centre's y.
     Y,
+    /// The centre's z.
     Z,
+    /// The sphere's radius.
     Radius,
     /// A diameter; the radius is half of it.
     Diameter,
+    /// The diffuse colour's red channel (0-1 or 0-255, see [`ColorScale`](super::ColorScale)).
     Red,
+    /// The diffuse colour's green channel.
     Green,
+    /// The diffuse colour's blue channel.
     Blue,
     /// Extinction coefficient sigma (per world unit) of a gas sphere.
     Density,
@@ -27,8 +34,11 @@ pub enum Role {
     Transparency,
     /// Grey emission: the same value in all three channels.
     Emission,
+    /// The emissive colour's red channel.
     EmissionRed,
+    /// The emissive colour's green channel.
     EmissionGreen,
+    /// The emissive colour's blue channel.
     EmissionBlue,
     /// A chemical element symbol: van der Waals radius and CPK colour when the table gives
     /// none.
@@ -41,6 +51,7 @@ pub enum Role {
 }
 
 impl Role {
+    /// Every role, in declaration order.
     pub const ALL: [Role; 18] = [
         Role::X,
         Role::Y,
@@ -127,6 +138,8 @@ pub fn listed(names: &[String]) -> String {
 /// what keeps a header line of megabytes from costing memory and a message of that size.
 pub const MAX_COLUMNS: usize = 4096;
 
+/// A column name as it is matched: cut at its first `[` or `(` (a unit), without spaces,
+/// tabs, `_`, `-`, `.` and `:`, in lower case.
 pub fn normalise(name: &str) -> String {
     let cut = name.find(['[', '(']).unwrap_or(name.len());
     name[..cut]
@@ -205,6 +218,7 @@ pub struct ColumnMap {
 }
 
 impl ColumnMap {
+    /// The 0-based column that holds `role`, if any.
     pub fn get(&self, role: Role) -> Option<usize> {
         self.cols[role.index()]
     }

@@ -21,12 +21,15 @@ pub use write::{Extras, ParticleWriter};
 /// What a conversion did.
 #[derive(Debug)]
 pub struct Summary {
+    /// Particles written.
     pub particles: u64,
     /// Rows skipped under `--skip-bad`, and the first one's reason.
     pub skipped: u64,
+    /// The first skipped row's reason.
     pub first_skip: Option<Diagnostic>,
     /// What was decided about the input (dialect, columns, colour scale).
     pub notes: Vec<String>,
+    /// The box `(min, max)` of every sphere written; `None` when none were.
     pub bounds: Option<(glam::DVec3, glam::DVec3)>,
 }
 
@@ -35,6 +38,7 @@ pub struct Summary {
 pub struct WriteOptions {
     /// Transform/Shape/Sphere nodes instead of PROTO instances.
     pub plain: bool,
+    /// The viewpoint and lights to add after the particles.
     pub extras: Extras,
 }
 

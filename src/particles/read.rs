@@ -33,8 +33,11 @@ pub const SNIFF_ROWS: usize = 1000;
 /// The field separator of a table.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Delimiter {
+    /// `,` (a CSV file).
     Comma,
+    /// `;`, with a decimal comma read as a decimal point.
     Semicolon,
+    /// A tab character (TSV).
     Tab,
     /// One or more spaces or tabs.
     Whitespace,
@@ -52,10 +55,13 @@ pub enum ColorScale {
 /// How to read a particle table.
 #[derive(Clone, Debug, Default)]
 pub struct TableOptions {
+    /// `--columns`: the roles of the columns, for a table without a header.
     pub columns: ColumnSpec,
     /// `--radius`: the radius of every particle (overrides a radius column).
     pub radius: Option<f64>,
+    /// `--delimiter`; `None` guesses it from the first line.
     pub delimiter: Option<Delimiter>,
+    /// `--color-scale`; `None` guesses it from the first [`SNIFF_ROWS`] rows.
     pub color_scale: Option<ColorScale>,
     /// Skip bad rows (counted) instead of stopping at the first.
     pub skip_bad: bool,
@@ -64,16 +70,23 @@ pub struct TableOptions {
 /// A number and, when it was read as is, its text (written back verbatim, digits kept).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Num<'a> {
+    /// The number read.
     pub value: f64,
+    /// Its text in the table, when VRML can take that text as is; `None` otherwise (a value
+    /// computed, such as a radius from a diameter or a 0-255 colour, or one with a decimal comma).
     pub text: Option<&'a [u8]>,
 }
 
 /// One particle. Colours are linear 0-1.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Particle<'a> {
+    /// The centre's x, y and z, in world units.
     pub position: [Num<'a>; 3],
+    /// The radius, in world units.
     pub radius: Num<'a>,
+    /// The diffuse colour's red, green and blue, 0-1; `None` when the table gives none.
     pub color: Option<[Num<'a>; 3]>,
+    /// The emissive colour's red, green and blue; `None` when the table gives none.
     pub emission: Option<[Num<'a>; 3]>,
     /// VRML transparency: 0 opaque, in (0, 1] a gas sphere.
     pub transparency: Option<f64>,
@@ -171,6 +184,7 @@ pub struct ParticleReader {
     remaining: Option<u64>,
     /// Rows skipped with `--skip-bad`, and the first reason.
     pub skipped: u64,
+    /// The reason the first of them was skipped.
     pub first_skip: Option<Diagnostic>,
     /// What was decided about the file, for the user (one line each).
     pub notes: Vec<String>,
@@ -303,6 +317,7 @@ impl ParticleReader {
         Ok(me)
     }
 
+    /// The delimiter the table is read with, given or guessed.
     pub fn delimiter(&self) -> Delimiter {
         self.delimiter
     }

@@ -31,9 +31,15 @@ pub enum CameraChoice {
 pub enum Projection {
     /// Perspective; a Viewpoint's `fieldOfView` is the angle across the `fov_across` side of
     /// the image (VRML97: the smaller one, [`Projection::PERSPECTIVE`]).
-    Perspective { fov_across: FovAcross },
+    Perspective {
+        /// The image side the field of view spans.
+        fov_across: FovAcross,
+    },
     /// Orthographic; `height` = world size of the smaller image side (None: fit the scene).
-    Ortho { height: Option<f64> },
+    Ortho {
+        /// World size of the smaller image side, positive; `None` fits the scene.
+        height: Option<f64>,
+    },
 }
 
 impl Projection {
@@ -114,9 +120,15 @@ pub fn pymol_export(viewpoints: &[Viewpoint]) -> bool {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Lens {
     /// Perspective with this field of view (radians, `0 < fov < pi`) across the smaller side.
-    Perspective { fov: f64 },
+    Perspective {
+        /// Field of view across the smaller side, in radians, `0 < fov < pi`.
+        fov: f64,
+    },
     /// Orthographic; `height` is the world size of the smaller side (`> 0`).
-    Orthographic { height: f64 },
+    Orthographic {
+        /// World size of the smaller side, positive and finite.
+        height: f64,
+    },
 }
 
 impl Default for Lens {
@@ -138,24 +150,35 @@ impl Default for Lens {
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
+    /// The eye, in world space.
     pub position: DVec3,
+    /// Unit vector towards the image's right edge.
     pub right: DVec3,
+    /// Unit vector towards the image's top edge.
     pub up: DVec3,
+    /// Unit viewing direction, at right angles to `right` and `up`.
     pub forward: DVec3,
+    /// How it projects.
     pub lens: Lens,
 }
 
 /// The rays of one picture: a camera at a given image size.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ImagePlane {
+    /// The eye, in world space.
     pub position: DVec3,
+    /// Unit vector towards the image's right edge.
     pub right: DVec3,
+    /// Unit vector towards the image's top edge.
     pub up: DVec3,
+    /// Unit viewing direction, at right angles to `right` and `up`.
     pub forward: DVec3,
     /// Half extents of the image plane: tangents of the half angles (perspective) or world
     /// half sizes (orthographic).
     pub half_w: f64,
+    /// Half height of the image plane, in the same units as `half_w`.
     pub half_h: f64,
+    /// Whether the projection is orthographic (parallel rays) rather than perspective.
     pub ortho: bool,
 }
 

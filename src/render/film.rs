@@ -11,7 +11,9 @@ use crate::Error;
 /// [`super::Aovs`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct Film {
+    /// Width in pixels.
     pub width: usize,
+    /// Height in pixels.
     pub height: usize,
     /// Linear RGB, the mean of each pixel's samples.
     pub rgb: Vec<[f64; 3]>,
@@ -27,6 +29,7 @@ pub struct Film {
     /// What the centre ray hit: spheres numbered in file order, then the other surfaces;
     /// -1 on a miss.
     pub id: Option<Vec<i64>>,
+    /// The work the render did, summed over its tiles.
     pub counters: Counters,
     /// The largest per-pixel error estimate.
     pub max_error: f64,

@@ -56,10 +56,14 @@ pub enum Class {
     Zero,
 }
 
+/// A part `[t0, t1]` of a segment over which one light's integrand is of one class.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Piece {
+    /// Its start, a parameter along the camera ray.
     pub t0: f64,
+    /// Its end, at least `t0`.
     pub t1: f64,
+    /// What its integrand is.
     pub class: Class,
 }
 
@@ -133,6 +137,8 @@ pub enum Chord {
     Blocked,
 }
 
+/// The light ray from `x` (unit `dir`, `dist` long) against shadower `p`: its length inside
+/// gas, or [`Chord::Blocked`] when an opaque `p` is entered before the light.
 #[inline]
 pub fn chord(prep: &Prepared, p: &Prim, x: DVec3, dir: DVec3, dist: f64) -> Chord {
     if p.is_gas() {

@@ -11,26 +11,36 @@ use glam::DVec3;
 
 use crate::scene::{Light, LightScope};
 
+/// Where a light's light comes from and what it reaches.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LightKind {
     /// Lights points within `radius` of `position`, attenuated by
     /// `1 / max(a0 + a1 d + a2 d^2, 1)`.
     Point {
+        /// The light's position, in world space.
         position: DVec3,
+        /// The coefficients `(a0, a1, a2)`.
         attenuation: DVec3,
+        /// Distance beyond which it lights nothing, in world units.
         radius: f64,
     },
     /// Unit vector towards the light (opposite to VRML's `direction`); lights the spheres
     /// of `scope` and the surfaces of `surface_scope`.
     Directional {
+        /// The unit vector towards the light.
         to_light: DVec3,
+        /// The spheres it lights.
         scope: LightScope,
+        /// The surfaces it lights.
         surface_scope: LightScope,
     },
 }
 
+/// A light that is on, as the integrators use it: its kind and its colours premultiplied by
+/// its intensities.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LightSource {
+    /// Where its light comes from and what it reaches.
     pub kind: LightKind,
     /// `C_i * I_i`.
     pub direct: DVec3,
@@ -114,6 +124,7 @@ pub fn in_surface_scope(l: &LightSource, surface: u32) -> bool {
 /// How the headlight is added, if at all.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Headlight {
+    /// No headlight.
     Off,
     /// Carried by the viewer: no shadows (docs/model.md section 1).
     Carried,

@@ -42,8 +42,11 @@ pub use tiles::{render, Cancel, Progress};
 /// then the other surfaces; -1 on a miss).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Aovs {
+    /// Keep the `depth` channel.
     pub depth: bool,
+    /// Keep the `normal` channel.
     pub normal: bool,
+    /// Keep the `id` channel.
     pub id: bool,
     /// The pixel's estimated absolute error: the mean of its samples' quadrature error
     /// estimates (exact), or the standard error of its samples' mean (mc); 0 where exact.
@@ -61,12 +64,17 @@ impl Aovs {
 /// from CLI arguments or Python keywords). The camera is given beside it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderOptions {
+    /// Image width in pixels, positive.
     pub width: u32,
+    /// Image height in pixels, positive.
     pub height: u32,
     /// Samples per pixel (ignored by the centre sampler).
     pub spp: u32,
+    /// Seed of the random numbers; with it, a pixel's samples are the same on any thread count.
     pub seed: u64,
+    /// Where in each pixel the samples lie.
     pub sampler: SamplerKind,
+    /// Which extra channels to keep beside the colour.
     pub aovs: Aovs,
     /// How camera rays are integrated.
     pub integrator: Integrator,
@@ -116,7 +124,10 @@ pub enum Integrator {
     /// the points where the integrand has kinks, to `tol`.
     Exact,
     /// Fixed-step ray marching with midpoint samples (step in world units).
-    March { step: f64 },
+    March {
+        /// The step length, in world units, positive and finite.
+        step: f64,
+    },
     /// Unbiased Monte Carlo: emission and transmittance as expected values, single scattering
     /// from one sampled collision point per gas segment, `spp` samples per pixel.
     Mc,
@@ -125,7 +136,9 @@ pub enum Integrator {
 /// Work counters, summed over tiles.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Counters {
+    /// Camera rays traced.
     pub camera_rays: u64,
+    /// Shadow rays traced.
     pub shadow_rays: u64,
     /// Integrand evaluations of the exact integrator's quadrature.
     pub quadrature_nodes: u64,
@@ -165,6 +178,7 @@ impl std::ops::AddAssign for Counters {
 /// }
 /// ```
 pub struct Prepared {
+    /// The BVH over the spheres and ellipsoids, opaque and gas.
     pub bvh: SphereBvh,
     /// The opaque surfaces other than spheres.
     pub surfaces: surfaces::Surfaces,
@@ -172,6 +186,7 @@ pub struct Prepared {
     pub spheres: usize,
     /// Opaque spheres dropped as copies of one before them (see `Copies`).
     pub copies_dropped: usize,
+    /// The scene's material records, indexed by [`Prim::material`](crate::accel::Prim::material).
     pub materials: MaterialTable,
     /// The scene's lights; they may be changed between renders (they are not in the BVH).
     pub lights: Vec<Light>,
@@ -183,6 +198,7 @@ pub struct Prepared {
     pub bounds: Option<Bounds>,
     /// A ball holding the whole scene, as `Scene::bounding_ball` (framing cameras).
     pub bounding_ball: Option<(DVec3, f64)>,
+    /// The colour of a ray that meets nothing, linear RGB.
     pub background: DVec3,
     /// Gas spheres present.
     pub gas_spheres: usize,
@@ -201,10 +217,15 @@ pub struct Prepared {
 /// the integrators use (switched-off lights dropped, the headlight along this camera), the
 /// integrator and its tolerance. Dereferences to the prepared scene.
 pub struct View<'a> {
+    /// The prepared scene.
     pub prep: &'a Prepared,
+    /// The camera at this image size.
     pub camera: ImagePlane,
+    /// The lights that are on, the headlight among them when there is one.
     pub lights: Vec<LightSource>,
+    /// How camera rays are integrated.
     pub integrator: Integrator,
+    /// Target relative error of the exact integrator, as [`RenderOptions::tol`].
     pub tol: f64,
     /// An upper bound on the radiance anything in the scene can send along a ray (largest RGB
     /// channel): emission plus single scattering of any gas, any lit surface, the background.

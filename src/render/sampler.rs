@@ -14,9 +14,11 @@ pub fn mix(mut z: u64) -> u64 {
 pub struct Rng(u64);
 
 impl Rng {
+    /// The generator of stream `stream` under `seed`; distinct streams give unrelated sequences.
     pub fn new(seed: u64, stream: u64) -> Rng {
         Rng(mix(seed ^ mix(stream.wrapping_add(0x9E37_79B9_7F4A_7C15))))
     }
+    /// The next 64 uniformly distributed bits.
     #[inline]
     pub fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);

@@ -19,12 +19,16 @@ use super::lights::LightKind;
 /// A surface as the renderer sees it.
 #[derive(Clone, Debug)]
 pub enum Traced {
+    /// A Box, Cylinder or Cone, traced in its object space.
     Solid {
+        /// The primitive, in its object space.
         solid: Solid,
+        /// The map from the world to its object space.
         to_object: DAffine3,
         /// Object-space normals to world-space ones: the inverse transpose of `to_world`.
         normal_to_world: DMat3,
     },
+    /// A triangle, in world space.
     Triangle(Triangle),
 }
 
@@ -75,13 +79,18 @@ fn first_copies(surfaces: &[Surface]) -> Vec<bool> {
 
 /// The surfaces of a scene and their BVH.
 pub struct Surfaces {
+    /// A BVH over balls bounding the items (copies of an earlier item left out), each [`Prim`]'s
+    /// `sphere` the item's index.
     pub bvh: SphereBvh,
+    /// The surfaces, in the scene's order.
     pub items: Vec<Traced>,
     /// What each item refers to in `Scene::materials`.
     pub paints: Vec<Paint>,
 }
 
 impl Surfaces {
+    /// The surfaces made ready to trace; a copy of an earlier surface (same shape, colour and
+    /// material) keeps its index but stays out of the BVH.
     pub fn build(surfaces: Vec<Surface>) -> Surfaces {
         let first = first_copies(&surfaces);
         let mut items = Vec::with_capacity(surfaces.len());
@@ -117,6 +126,7 @@ impl Surfaces {
         }
     }
 
+    /// Whether there are no surfaces.
     pub fn is_empty(&self) -> bool {
         self.items.is_empty()
     }

@@ -85,9 +85,12 @@ impl Progress for () {}
 pub struct Cancel(AtomicBool);
 
 impl Cancel {
+    /// Asks the render to stop: it returns [`Error::Cancelled`] once the pixels being
+    /// traced are done.
     pub fn cancel(&self) {
         self.0.store(true, Ordering::Relaxed);
     }
+    /// Whether [`Cancel::cancel`] was called.
     pub fn is_cancelled(&self) -> bool {
         self.0.load(Ordering::Relaxed)
     }

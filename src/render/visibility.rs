@@ -44,6 +44,7 @@ pub fn visible(prep: &Prepared, x: DVec3, l: DVec3, dist: f64, own: Option<Opaqu
 pub struct Blockers([Option<u32>; Blockers::SLOTS]);
 
 impl Blockers {
+    /// Number of slots: lights `k` and `k + SLOTS` share one.
     pub const SLOTS: usize = 8;
 
     /// Light `k`'s slot.

@@ -9,7 +9,9 @@ use crate::Error;
 /// Sphere radii: one for all, or one per centre.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Radii<'a> {
+    /// The radius of every sphere, positive and finite.
     One(f64),
+    /// One radius per sphere, each positive and finite.
     Each(&'a [f64]),
 }
 
@@ -20,10 +22,15 @@ pub enum Radii<'a> {
 /// Missing colours are VRML's default diffuse grey 0.8; missing emissive colours are black.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SphereArrays<'a> {
+    /// Centres, `x, y, z` of sphere `i` at `3 i .. 3 i + 3`.
     pub centers: &'a [f64],
+    /// The radii.
     pub radii: Radii<'a>,
+    /// Diffuse RGB colours, three per sphere; `None`: grey 0.8.
     pub colors: Option<&'a [f64]>,
+    /// Transparency, one per sphere; `None`: every sphere opaque.
     pub transparency: Option<&'a [f64]>,
+    /// Emissive RGB colours, three per sphere; `None`: black.
     pub emissive: Option<&'a [f64]>,
 }
 

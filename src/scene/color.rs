@@ -169,11 +169,14 @@ impl Colors {
         &self.listed
     }
 
+    /// Frees unused list capacity and the lookup index; adding colours after this rebuilds the
+    /// index.
     pub fn shrink_to_fit(&mut self) {
         self.listed.shrink_to_fit();
         self.index = None;
     }
 
+    /// Bytes it holds on the heap, the lookup index's estimated at 32 bytes an entry.
     pub fn heap_bytes(&self) -> usize {
         self.listed.capacity() * std::mem::size_of::<DVec3>()
             + self.index.as_ref().map_or(0, |m| m.capacity() * 32)

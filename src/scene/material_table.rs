@@ -16,6 +16,7 @@ use super::Material;
 pub struct Paint {
     /// Index of the record (everything but the diffuse colour).
     pub material: u32,
+    /// The item's own diffuse colour.
     pub color: Color,
 }
 
@@ -39,6 +40,7 @@ fn rest_key(m: &Material) -> [u64; 12] {
 }
 
 impl MaterialTable {
+    /// An empty table.
     pub fn new() -> Self {
         Self::default()
     }
@@ -48,6 +50,7 @@ impl MaterialTable {
         self.records.len()
     }
 
+    /// Whether no record is stored.
     pub fn is_empty(&self) -> bool {
         self.records.is_empty()
     }

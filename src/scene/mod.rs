@@ -46,6 +46,7 @@ impl Origin {
     const MAX_OFFSET: u64 = (1 << Self::OFFSET_BITS) - 1;
     const MAX_FILE: u32 = (1 << (64 - Self::OFFSET_BITS)) - 1;
 
+    /// The origin of byte `offset` in file `file`, each capped at its maximum (see [`Origin`]).
     pub fn new(file: u32, offset: u64) -> Self {
         let file = u64::from(file.min(Self::MAX_FILE));
         Origin(file << Self::OFFSET_BITS | offset.min(Self::MAX_OFFSET))
@@ -76,7 +77,10 @@ impl std::fmt::Debug for Origin {
 /// are its centre and a bounding radius.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sphere {
+    /// Its centre, in world space.
     pub center: DVec3,
+    /// Its radius in world units, positive and finite; for an ellipsoid, a radius about `center`
+    /// that bounds it.
     pub radius: f64,
     /// Its diffuse colour (see [`MaterialTable`]).
     pub color: Color,
@@ -84,6 +88,7 @@ pub struct Sphere {
     pub material: u32,
     /// `None` for a true sphere.
     pub ellipsoid: Option<EllipsoidId>,
+    /// Where in the input it was defined.
     pub origin: Origin,
 }
 
@@ -101,11 +106,20 @@ impl Sphere {
 /// VRML97 Material (with VRML defaults), or the unlit white of a Shape without one.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Material {
+    /// `diffuseColor`: RGB reflectance of a surface, or the scattering albedo of gas; each
+    /// channel at least 0.
     pub diffuse: DVec3,
+    /// `emissiveColor`: RGB radiance a surface gives off by itself, or the emission colour of
+    /// gas (emitted per unit optical depth); each channel at least 0.
     pub emissive: DVec3,
+    /// `specularColor`: RGB weight of the specular highlight, each channel at least 0.
     pub specular: DVec3,
+    /// `shininess`, in [0, 1]: the Phong exponent is 128 times it.
     pub shininess: f64,
+    /// `ambientIntensity`: how much of the lights' ambient term it reflects, at least 0.
     pub ambient_intensity: f64,
+    /// `transparency`, in [0, 1]: 0 is opaque; above 0 makes a sphere that is not unlit gas,
+    /// whose transmittance along a diameter it is (see [`Material::sigma`]).
     pub transparency: f64,
     /// A Shape with no Appearance or no Material: colour (1,1,1), lights ignored (VRML 4.14.2).
     pub unlit: bool,
@@ -170,30 +184,46 @@ impl Material {
     }
 }
 
+/// VRML97 PointLight: light from a point, in every direction, out to `radius`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PointLight {
+    /// Its position, in world space.
     pub location: DVec3,
+    /// RGB colour of its light, each channel at least 0.
     pub color: DVec3,
+    /// Brightness multiplying `color` for direct light, at least 0.
     pub intensity: f64,
+    /// Brightness multiplying `color` for the ambient term, at least 0.
     pub ambient_intensity: f64,
+    /// Coefficients `(a0, a1, a2)`: at distance `d` the light is scaled by
+    /// `1 / max(a0 + a1 d + a2 d^2, 1)`.
     pub attenuation: DVec3,
+    /// Distance beyond which it lights nothing, in world units, not negative.
     pub radius: f64,
+    /// Whether it shines; a light that is off contributes nothing.
     pub on: bool,
+    /// Where in the input it was defined.
     pub origin: Origin,
 }
 
+/// VRML97 DirectionalLight: parallel light from infinitely far away, lighting only its scope.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DirectionalLight {
     /// Unit direction the light travels in (world space).
     pub direction: DVec3,
+    /// RGB colour of its light, each channel at least 0.
     pub color: DVec3,
+    /// Brightness multiplying `color` for direct light, at least 0.
     pub intensity: f64,
+    /// Brightness multiplying `color` for the ambient term, at least 0.
     pub ambient_intensity: f64,
+    /// Whether it shines; a light that is off contributes nothing.
     pub on: bool,
     /// The spheres it lights (VRML scoping).
     pub scope: LightScope,
     /// The surfaces it lights (indices into [`Scene::surfaces`]).
     pub surface_scope: LightScope,
+    /// Where in the input it was defined.
     pub origin: Origin,
 }
 
@@ -204,7 +234,12 @@ pub enum LightScope {
     /// Everything of the scene (a light built in code, the headlight).
     All,
     /// `Scene::spheres[start..end]` (or `Scene::surfaces[start..end]`).
-    Range { start: u32, end: u32 },
+    Range {
+        /// The first index lit.
+        start: u32,
+        /// One past the last index lit; `start == end` lights nothing.
+        end: u32,
+    },
 }
 
 impl LightScope {
@@ -267,21 +302,29 @@ impl Default for DirectionalLight {
     }
 }
 
+/// A light of the scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Light {
+    /// A point light.
     Point(PointLight),
+    /// A directional light.
     Directional(DirectionalLight),
 }
 
+/// VRML97 Viewpoint: a camera position and orientation the scene offers.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Viewpoint {
     /// DEF name, if any.
     pub name: Option<String>,
+    /// Its `description` text, empty if none was given.
     pub description: String,
+    /// The eye's position, in world space.
     pub position: DVec3,
+    /// Rotation from the default view (looking down -z with +y up) to its view.
     pub orientation: DQuat,
     /// Angle of the smaller image side, radians.
     pub field_of_view: f64,
+    /// Where in the input it was defined.
     pub origin: Origin,
 }
 
@@ -299,14 +342,21 @@ impl Default for Viewpoint {
     }
 }
 
+/// Everything a picture needs: spheres (opaque or gas), other opaque surfaces, materials,
+/// lights and viewpoints, each item remembering where it came from.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
+    /// The spheres and ellipsoids, opaque or gas, in input order.
     pub spheres: Vec<Sphere>,
+    /// Affine maps from the unit sphere to the world, indexed by [`Sphere::ellipsoid`].
     pub ellipsoids: Vec<DAffine3>,
     /// Opaque surfaces other than spheres: Box, Cylinder, Cone, triangles.
     pub surfaces: Vec<Surface>,
+    /// The material records that spheres and surfaces refer to.
     pub materials: MaterialTable,
+    /// The lights, in input order (the headlight is not among them).
     pub lights: Vec<Light>,
+    /// The viewpoints, in input order (VRML binds the first at start).
     pub viewpoints: Vec<Viewpoint>,
     /// NavigationInfo.headlight of the first NavigationInfo (default TRUE).
     pub headlight: bool,
@@ -335,7 +385,9 @@ impl Default for Scene {
 /// Axis-aligned bounds.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Bounds {
+    /// Smallest x, y and z.
     pub min: [f64; 3],
+    /// Largest x, y and z.
     pub max: [f64; 3],
 }
 
@@ -379,6 +431,7 @@ impl Scene {
             .count()
     }
 
+    /// The number of gas spheres (see [`Material::is_gas`]).
     pub fn gas_count(&self) -> usize {
         if !self.materials.may_have_gas() {
             return 0;
@@ -388,18 +441,21 @@ impl Scene {
             .filter(|s| self.materials.record(s.material).is_gas())
             .count()
     }
+    /// The number of spheres that are ellipsoids.
     pub fn ellipsoid_count(&self) -> usize {
         self.spheres
             .iter()
             .filter(|s| s.ellipsoid.is_some())
             .count()
     }
+    /// The number of point lights, on or off.
     pub fn point_light_count(&self) -> usize {
         self.lights
             .iter()
             .filter(|l| matches!(l, Light::Point(_)))
             .count()
     }
+    /// The number of directional lights, on or off.
     pub fn directional_light_count(&self) -> usize {
         self.lights.len() - self.point_light_count()
     }

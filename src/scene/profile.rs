@@ -15,11 +15,14 @@ pub enum Profile {
     /// docs/model.md section 3's gas, the default.
     #[default]
     Constant,
+    /// `f(u) = 1 - u`.
     Linear,
+    /// `f(u) = 1 - u^2`.
     Quadratic,
     /// Cut at `u = 1`; `width` is `s` in units of the radius, in (0, 1] ([`Profile::parse`]
     /// checks it; the integrals assume it).
     Gaussian {
+        /// The width `s`, in units of the radius, in (0, 1].
         width: f64,
     },
 }
@@ -30,10 +33,13 @@ pub const DEFAULT_WIDTH: f64 = 1.0 / 3.0;
 /// Why a profile name or width was refused by [`Profile::parse`].
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ProfileError {
+    /// A name other than `constant`, `linear`, `quadratic` and `gaussian`.
     #[error("unknown density profile `{0}` (expected constant, linear, quadratic or gaussian)")]
     UnknownName(String),
+    /// A gaussian width outside (0, 1], or NaN.
     #[error("gaussian width {0} is outside (0, 1] (in units of the sphere's radius)")]
     Width(f64),
+    /// A width given to a profile (named here) that takes none.
     #[error("the {0} profile takes no width (only gaussian has one)")]
     NoWidth(&'static str),
 }

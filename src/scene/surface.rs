@@ -11,20 +11,28 @@ use crate::geom::shapes::Solid;
 /// An opaque surface in world space.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Surface {
+    /// Its geometry, in world space or with the map there.
     pub shape: SurfaceShape,
     /// Its diffuse colour (a triangle's corner colours replace it where it has them).
     pub color: super::Color,
     /// Index of its material's record in `Scene::materials`.
     pub material: u32,
+    /// Where in the input it was defined.
     pub origin: Origin,
 }
 
+/// The geometry of a [`Surface`].
 #[derive(Clone, Debug, PartialEq)]
 pub enum SurfaceShape {
     /// A Box, Cylinder or Cone in its VRML object space, and the map from there to the
     /// world (an invertible affine map: rays are intersected in object space, where they keep
     /// their parameters).
-    Solid { solid: Solid, to_world: DAffine3 },
+    Solid {
+        /// The primitive, in its object space.
+        solid: Solid,
+        /// The map from its object space to the world.
+        to_world: DAffine3,
+    },
     /// One triangle of an IndexedFaceSet (boxed: most scenes have none, and a Surface stays
     /// small for the solids).
     Triangle(Box<Triangle>),
@@ -34,6 +42,7 @@ pub enum SurfaceShape {
 /// counter-clockwise (the lowering applies `ccw` and mirroring Transforms by reordering).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Triangle {
+    /// Its corners, in world space.
     pub p: [DVec3; 3],
     /// Unit shading normals at the corners (the front side's), interpolated across the face;
     /// `None`: flat, the geometric normal.
@@ -49,12 +58,16 @@ pub struct Triangle {
 /// transpose) and whether it mirrors, worked out once for all the surfaces it moves.
 #[derive(Clone, Copy, Debug)]
 pub struct Mapping {
+    /// The map from local coordinates to the world.
     pub map: DAffine3,
+    /// The inverse transpose of `map`'s linear part, which maps normals (not normalised).
     pub normals: DMat3,
+    /// Whether `map` mirrors (its linear part has a negative determinant).
     pub mirrors: bool,
 }
 
 impl Mapping {
+    /// The mapping of `map`; `map` must be invertible for `normals` to be finite.
     pub fn new(map: &DAffine3) -> Mapping {
         Mapping {
             map: *map,
@@ -159,13 +172,18 @@ impl Surface {
 /// How many surfaces of each kind (for `info`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct SurfaceCounts {
+    /// VRML Boxes.
     pub boxes: usize,
+    /// VRML Cylinders.
     pub cylinders: usize,
+    /// VRML Cones.
     pub cones: usize,
+    /// Triangles of IndexedFaceSets.
     pub triangles: usize,
 }
 
 impl SurfaceCounts {
+    /// Counts the surfaces of `surfaces` by kind.
     pub fn of(surfaces: &[Surface]) -> SurfaceCounts {
         let mut c = SurfaceCounts::default();
         for s in surfaces {

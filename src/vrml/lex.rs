@@ -139,14 +139,18 @@ pub fn starts_number(i: &str) -> bool {
 /// A parsed number and whether it was written as an integer (decimal or hex, no `.` or exponent).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Number {
+    /// The number's value, correctly rounded to f64.
     pub value: f64,
+    /// Whether it was written as an integer (decimal or hex, without `.` or exponent).
     pub integer: bool,
 }
 
 /// Errors of number parsing that deserve their own message.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum NumberProblem {
+    /// The text is not a number in VRML's syntax.
     NotANumber,
+    /// The number is too large: beyond f64's range, or a hex integer beyond 64 bits.
     OutOfRange,
 }
 

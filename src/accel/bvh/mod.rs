@@ -84,11 +84,13 @@ const PAD_ULPS: f64 = 64.0;
 /// [`SphereBvh::build`] takes. The BVH stores it as a 40-byte [`Packed`] record plus side arrays.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Prim {
+    /// Its centre, in world space.
     pub center: DVec3,
     /// Radius; for an ellipsoid, a bounding radius (the exact shape is in `to_object`).
     pub radius: f64,
-    /// Its diffuse colour and the index of its material's record in `Scene::materials`.
+    /// Its diffuse colour.
     pub color: crate::scene::Color,
+    /// Index of its material's record in `Scene::materials`.
     pub material: u32,
     /// Index of the sphere in `Scene::spheres` (light scopes and the `id` channel use it).
     pub sphere: u32,
@@ -104,6 +106,7 @@ pub struct Prim {
 }
 
 impl Prim {
+    /// Whether it is gas (a participating medium) rather than an opaque surface.
     #[inline]
     pub fn is_gas(&self) -> bool {
         self.gas
@@ -122,8 +125,11 @@ impl Prim {
 /// are empty unless some primitive has them; the top bits of `tagged` say which.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Packed {
+    /// Its centre, in world space.
     pub center: DVec3,
+    /// Its radius; for an ellipsoid, a bounding radius.
     pub radius: f64,
+    /// Its diffuse colour.
     pub color: crate::scene::Color,
     /// Material record index, with [`GAS`] and [`ELLIPSOID`] in the top bits.
     tagged: u32,
@@ -162,14 +168,17 @@ impl Packed {
             sphere,
         }
     }
+    /// Index of its material's record in `Scene::materials`.
     #[inline]
     pub fn material(&self) -> u32 {
         self.tagged & (ELLIPSOID - 1)
     }
+    /// Whether it is gas rather than an opaque surface.
     #[inline]
     pub fn is_gas(&self) -> bool {
         self.tagged & GAS != 0
     }
+    /// Whether it is an ellipsoid, its map in [`SphereBvh::to_object`].
     #[inline]
     pub fn is_ellipsoid(&self) -> bool {
         self.tagged & ELLIPSOID != 0
@@ -178,7 +187,9 @@ impl Packed {
 
 /// A ball in world space: what the light grids need of a primitive.
 pub trait Ball {
+    /// The ball's centre, in world space.
     fn center(&self) -> DVec3;
+    /// The ball's radius, in world units.
     fn radius(&self) -> f64;
 }
 
@@ -207,7 +218,9 @@ impl Ball for Packed {
 /// A closest hit: ray parameter and the primitive's index (see [`SphereBvh::prim`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hit {
+    /// Its parameter along the ray.
     pub t: f64,
+    /// The primitive's index in leaf order, for [`SphereBvh::prim`].
     pub prim: u32,
 }
 
@@ -251,6 +264,9 @@ impl ChunkBoxes {
     }
 }
 
+/// The spheres and ellipsoids of a scene in a BVH of f32 boxes, cut into at most
+/// [`MAX_CHUNKS`] chunks; its queries (closest hit, any hit, all hits) test exactly, in f64,
+/// the primitives whose padded boxes a ray meets.
 pub struct SphereBvh {
     chunks: Vec<Chunk>,
     /// The chunks' boxes again, axis by axis (lane `k` is chunk `k`), for testing them all
@@ -312,6 +328,7 @@ impl SphereBvh {
         self.packed.len()
     }
 
+    /// Whether it holds no primitives.
     #[inline]
     pub fn is_empty(&self) -> bool {
         self.packed.is_empty()

@@ -8,11 +8,19 @@ use glam::{DQuat, DVec2, DVec3};
 /// An Extrusion's geometry fields.
 #[derive(Clone, Debug)]
 pub struct Extrusion {
+    /// `crossSection`: the 2D outline, in the x-z plane of each spine point's cross-section plane.
     pub cross_section: Vec<DVec2>,
+    /// `spine`: the points the cross-section is swept along, in local space.
     pub spine: Vec<DVec3>,
+    /// `scale`: the cross-section's scale in x and z at each spine point (one value for all, or
+    /// one per point).
     pub scale: Vec<DVec2>,
+    /// `orientation`: the cross-section's rotation at each spine point (one for all, or one per
+    /// point).
     pub orientation: Vec<DQuat>,
+    /// `beginCap`: whether the cross-section at the first spine point is closed by a face.
     pub begin_cap: bool,
+    /// `endCap`: whether the cross-section at the last spine point is closed by a face.
     pub end_cap: bool,
 }
 

@@ -25,22 +25,34 @@ pub use triangle::triangle_hit;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Solid {
     /// VRML Box: centred at the origin, half extents `half` (all > 0).
-    Cuboid { half: DVec3 },
+    Cuboid {
+        /// Half its extent along x, y and z, each positive.
+        half: DVec3,
+    },
     /// VRML Cylinder: axis y, from y = -half_height to +half_height, radius `radius`; which
     /// parts exist (VRML fields bottom, side, top).
     Cylinder {
+        /// Radius of the side and caps, positive.
         radius: f64,
+        /// Half its height along y, positive.
         half_height: f64,
+        /// Whether the bottom cap (at y = -half_height) exists.
         bottom: bool,
+        /// Whether the curved side exists.
         side: bool,
+        /// Whether the top cap (at y = +half_height) exists.
         top: bool,
     },
     /// VRML Cone: axis y, apex at y = +half_height, base disc of radius `radius` at
     /// y = -half_height; parts side, bottom.
     Cone {
+        /// Radius of the base disc, positive.
         radius: f64,
+        /// Half its height along y, positive.
         half_height: f64,
+        /// Whether the slanted side exists.
         side: bool,
+        /// Whether the base disc exists.
         bottom: bool,
     },
 }
@@ -49,13 +61,16 @@ pub enum Solid {
 /// normal there (unit length; for caps +-y, for faces +-axis).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Crossing {
+    /// Its parameter on the line `o + t d`.
     pub t: f64,
+    /// The outward unit normal there, in object space.
     pub normal: DVec3,
 }
 
 /// A triangle hit: the parameter and the barycentric weights of `p[1]` and `p[2]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TriHit {
+    /// Its parameter on the line `o + t d`.
     pub t: f64,
     /// Barycentric weight of `p[1]`.
     pub b1: f64,
@@ -68,15 +83,23 @@ pub struct TriHit {
 pub enum ShadowLight {
     /// A direction towards the light (not necessarily unit): the light ray from x is
     /// x + s w, s > 0.
-    Directional { to_light: DVec3 },
+    Directional {
+        /// The direction `w` towards the light, non-zero.
+        to_light: DVec3,
+    },
     /// A point light at `position`: the light ray from x is x + s (position - x), s in (0, 1).
-    Point { position: DVec3 },
+    Point {
+        /// The light's position, in object space.
+        position: DVec3,
+    },
 }
 
 /// What casts a shadow: a solid, or one triangle of a mesh.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Shape<'a> {
+    /// A VRML Box, Cylinder or Cone in its object space.
     Solid(&'a Solid),
+    /// A triangle's three corners, in the same space as the ray.
     Triangle(&'a [DVec3; 3]),
 }
 

@@ -57,14 +57,19 @@ use crate::render::{Counters, View};
 /// Sub-intervals the quadrature may use per camera ray before it reports what it has.
 const MAX_INTERVALS: usize = 4000;
 
-/// Shares of the tolerance: camera-ray truncation, dark pieces, quadrature (they sum to 1).
+/// The tolerance's share for truncating the camera ray; the shares of camera-ray truncation,
+/// dark pieces and quadrature sum to 1.
 pub const CAMERA_SHARE: f64 = 0.125;
+/// The tolerance's share for the dark pieces, those left unintegrated because their optical
+/// depth to the light is at least `tau_cut`.
 pub const LIGHT_SHARE: f64 = 0.125;
+/// The tolerance's share for the quadrature of single scattering.
 pub const QUAD_SHARE: f64 = 0.75;
 /// In scenes with profiled gas, the quadrature's share is split: [`PROFILED_QUAD_SHARE`] for
 /// the scattering, [`EMIT_SHARE`] for the emission of segments whose members differ in colour
 /// (the only emission without a closed form).
 pub const PROFILED_QUAD_SHARE: f64 = 0.5;
+/// The tolerance's share for the quadrature of emission, in scenes with profiled gas.
 pub const EMIT_SHARE: f64 = 0.25;
 /// How far past `tau_cut` a light ray's optical depth is followed at a quadrature node.
 pub const NODE_MARGIN: f64 = 5.0;
@@ -117,6 +122,8 @@ fn attenuation_max(light: &LightSource, o: DVec3, d: DVec3, t0: f64, t1: f64) ->
     }
 }
 
+/// The radiance along the camera ray `o + t d`, to `view.tol`: gas emission and absorption
+/// in closed form, single scattering by adaptive quadrature, then what lies behind the gas.
 pub fn radiance(
     view: &View,
     o: DVec3,

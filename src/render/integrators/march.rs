@@ -11,6 +11,7 @@ use super::{behind, gas_along, lights_at, scatter_at, Estimate, Scratch};
 
 use crate::render::{Counters, View};
 
+/// The radiance along the camera ray `o + t d`, marched in steps of length `step`.
 pub fn radiance(
     view: &View,
     o: DVec3,

@@ -51,6 +51,8 @@ use crate::render::segments::{emission_absorption, Member, Segment};
 
 use crate::render::{Counters, View};
 
+/// An unbiased Monte Carlo estimate of the radiance along the camera ray `o + t d`, its random
+/// numbers drawn from `rng`.
 pub fn radiance(
     view: &View,
     o: DVec3,

@@ -35,9 +35,14 @@ pub struct Estimate {
 /// Reusable buffers of one worker (no allocation per ray once they have grown).
 #[derive(Default)]
 pub struct Scratch {
+    /// The camera ray's intervals inside gas spheres, before they are cut into segments.
     pub intervals: Vec<Interval>,
+    /// The sweep's own buffers.
     pub sweep: super::segments::SweepBuffers,
+    /// The camera ray's gas segments, in order along it.
     pub segments: Vec<Segment>,
+    /// The constant-density gas spheres of the segments (primitive indices), each segment's in
+    /// one run that it indexes.
     pub members: Vec<u32>,
     /// The segments' profiled members.
     pub profiled: Vec<Member>,
@@ -46,10 +51,13 @@ pub struct Scratch {
     /// The exact integrator's: shadow pieces of one segment and light, the lit pieces of the
     /// whole ray with their shadowers, and the quadrature's buffers.
     pub light: super::light_pieces::Buffers,
+    /// The exact integrator's pieces `(t0, t1)` of the ray, one integrand each.
     pub pieces: Vec<(f64, f64)>,
+    /// What each of `pieces` integrates.
     pub meta: Vec<exact::PieceMeta>,
     /// The lit pieces' active gas shadowers, whole (the integrand reads them in a row).
     pub active: Vec<crate::accel::Prim>,
+    /// The quadrature's buffers.
     pub quad: super::quadrature::QuadScratch,
     /// The exact integrator's unshadowed scattering bound of each segment.
     pub unshadowed_by_segment: Vec<f64>,

@@ -15,7 +15,9 @@ use crate::render::{Counters, Prepared, View};
 /// An opaque hit: ray parameter and what was hit.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct OpaqueHit {
+    /// Its parameter along the ray.
     pub t: f64,
+    /// What was hit.
     pub on: Opaque,
 }
 

@@ -174,6 +174,7 @@ impl Default for LoadOptions {
 /// What loading found besides the scene.
 #[derive(Clone, Debug, Default)]
 pub struct LoadReport {
+    /// The warnings met while loading, each with its position.
     pub warnings: Vec<Diagnostic>,
     /// Node types that are not modelled, with the number of instances met.
     pub skipped: BTreeMap<String, u64>,

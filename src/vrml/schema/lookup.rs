@@ -10,7 +10,9 @@ use super::{Access, FieldSpec};
 /// A standard node type and its interface, in declaration order.
 #[derive(Debug)]
 pub struct NodeSpec {
+    /// The node type's name as written in a file, e.g. `Transform`.
     pub name: &'static str,
+    /// Its interface members, in the standard's declaration order.
     pub fields: &'static [FieldSpec],
     /// An open-addressing table over `fields` (index + 1, 0 for empty) by [`name_slot`], so
     /// that a field name is found without scanning the list.

@@ -28,25 +28,45 @@ use FieldType::*;
 /// The 20 field types of VRML97 (clause 5), by their file-format names.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum FieldType {
+    /// One boolean, `TRUE` or `FALSE`.
     SFBool,
+    /// One RGB colour, three floats in [0, 1].
     SFColor,
+    /// One single-precision float.
     SFFloat,
+    /// One image: width, height, components per pixel, then one integer per pixel.
     SFImage,
+    /// One 32-bit integer.
     SFInt32,
+    /// One node, or `NULL`.
     SFNode,
+    /// One rotation: an axis (three floats) and an angle in radians.
     SFRotation,
+    /// One double-quoted UTF-8 string.
     SFString,
+    /// One time, a double in seconds since 1970-01-01 00:00 UTC.
     SFTime,
+    /// One 2D vector, two floats.
     SFVec2f,
+    /// One 3D vector, three floats.
     SFVec3f,
+    /// Zero or more RGB colours.
     MFColor,
+    /// Zero or more single-precision floats.
     MFFloat,
+    /// Zero or more 32-bit integers.
     MFInt32,
+    /// Zero or more nodes.
     MFNode,
+    /// Zero or more rotations.
     MFRotation,
+    /// Zero or more strings.
     MFString,
+    /// Zero or more times.
     MFTime,
+    /// Zero or more 2D vectors.
     MFVec2f,
+    /// Zero or more 3D vectors.
     MFVec3f,
 }
 
@@ -66,8 +86,11 @@ pub enum Access {
 /// One member of a node's interface.
 #[derive(Debug)]
 pub struct FieldSpec {
+    /// Its name as written in a file, e.g. `diffuseColor`.
     pub name: &'static str,
+    /// The type of its values.
     pub ty: FieldType,
+    /// How it may be used: set in the file, routed, or both.
     pub access: Access,
 }
 
