@@ -4,7 +4,7 @@
 //! All metrics run over every RGB channel value of every pixel (alpha and extra layers are
 //! ignored):
 //! - `rmse = sqrt(mean (a - b)^2)`;
-//! - `relative_rmse = rmse / sqrt(mean b^2)` (`b` is the reference);
+//! - `relative_rmse = rmse / sqrt(mean b^2)` (`b` is the reference; 0 when both are black);
 //! - `psnr = 20 log10(peak / rmse)` dB, `peak` = the reference's largest value (1 if that is
 //!   not positive); infinite for identical images;
 //! - `max_abs` = the largest `|a - b|`, at pixel `max_at` (x, y; row 0 at the top).
@@ -16,7 +16,8 @@ use crate::output::Image;
 pub struct Metrics {
     /// Root mean square of the differences, over every channel value.
     pub rmse: f64,
-    /// `rmse` over the reference's root mean square; infinite when the reference is black.
+    /// `rmse` over the reference's root mean square; when the reference is black, 0 for an
+    /// identical image and infinite otherwise.
     pub relative_rmse: f64,
     /// Peak signal-to-noise ratio in dB; infinite for identical images.
     pub psnr: f64,
@@ -45,6 +46,16 @@ pub fn metrics_of<T: Copy + Into<f64>>(
             a_size.0, a_size.1, b_size.0, b_size.1
         ));
     }
+    let pixels = a_size.0.saturating_mul(a_size.1);
+    if a.len() != pixels || b.len() != pixels {
+        return Err(format!(
+            "the images hold {} and {} pixels, not {}x{}",
+            a.len(),
+            b.len(),
+            a_size.0,
+            a_size.1
+        ));
+    }
     let width = a_size.0;
     let (mut se, mut ref2, mut peak) = (0.0f64, 0.0f64, f64::NEG_INFINITY);
     let (mut max_abs, mut max_at) = (0.0f64, (0, 0));
@@ -70,6 +81,8 @@ pub fn metrics_of<T: Copy + Into<f64>>(
         rmse,
         relative_rmse: if ref_rms > 0.0 {
             rmse / ref_rms
+        } else if rmse == 0.0 {
+            0.0
         } else {
             f64::INFINITY
         },
@@ -216,6 +229,16 @@ mod tests {
         assert_eq!((same.rmse, same.max_abs), (0.0, 0.0));
         assert!(same.psnr.is_infinite());
         assert!(metrics(&a, &img(1, 2, &[[0.0; 3]; 2])).is_err());
+        // Two black images are identical: no relative error; against black, any is infinite.
+        let black = img(2, 1, &[[0.0; 3]; 2]);
+        assert_eq!(metrics(&black, &black).unwrap().relative_rmse, 0.0);
+        assert!(metrics(&a, &black).unwrap().relative_rmse.is_infinite());
+        // Buffers that do not hold width x height pixels are refused, not compared in part.
+        let short = Image {
+            rgb: vec![[0.0; 3]],
+            ..black.clone()
+        };
+        assert!(metrics(&short, &black).is_err());
     }
 
     #[test]

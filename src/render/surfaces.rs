@@ -25,7 +25,8 @@ pub enum Traced {
         solid: Solid,
         /// The map from the world to its object space.
         to_object: DAffine3,
-        /// Object-space normals to world-space ones: the inverse transpose of `to_world`.
+        /// Object-space normals to world-space ones: the inverse transpose of the surface's
+        /// map from object space to the world.
         normal_to_world: DMat3,
     },
     /// A triangle, in world space.

@@ -16,9 +16,7 @@
 //! Why a scaled frame. The f32 frame is scaled by a power of two (exact) so that `R` becomes
 //! about `2^20`, whatever the scene's size: the node test clamps a box's entry at 0, and every
 //! f32 ray starts `BACKUP` units before its true start, so that the rounding of its f32
-//! origin cannot put a box the true segment meets behind it. (obvhs's own node test, used
-//! until 2026-12-04, clamped the entry at an absolute `1e-4`; the frame made that harmless
-//! too.)
+//! origin cannot put a box the true segment meets behind it.
 //!
 //! Why chunks. The build needs well over 100 bytes per primitive while it runs (obvhs's
 //! binary nodes, then the conversion's tables), more than the whole finished structure. The
