@@ -12,7 +12,10 @@ use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
 use obvhs::BvhBuildParams;
 use rayon::prelude::*;
 
-use super::{Chunk, Packed, PaddedBox, Prim, SphereBvh, MAX_CHUNKS, MIN_CHUNK, PAD_ULPS};
+use super::{
+    Chunk, Packed, PaddedBox, Prim, SphereBvh, FRAME_FLOOR, MAX_CHUNKS, MIN_CHUNK, OUTLIER_CHUNKS,
+    PAD_ULPS,
+};
 use crate::scene::{EllipsoidId, Profile};
 
 mod clusters;
@@ -218,6 +221,65 @@ fn prim_box(p: &Packed, to_world: Option<&DAffine3>) -> (DVec3, DVec3) {
     }
 }
 
+/// The f32 frame of a chunk whose f64 box is `lo..hi`: its centre, its scale (a power of two
+/// making the half-size `R_c` about `2^20`) and its padding `PAD_ULPS * 2^-24 * R_c`
+/// (world units), where `R_c` is the box's half-diagonal, but at least `floor` (see the
+/// module comment).
+fn frame(lo: DVec3, hi: DVec3, floor: f64) -> (DVec3, f64, f64) {
+    let origin = (lo + hi) * 0.5;
+    let half = ((hi - lo) * 0.5).length().max(floor).max(f64::MIN_POSITIVE);
+    let pad = PAD_ULPS * half * f64::from(f32::EPSILON) * 0.5;
+    let scale = 2f64.powi(20 - half.log2().ceil().clamp(-1000.0, 1000.0) as i32);
+    (origin, scale, pad)
+}
+
+/// Moves the primitives whose boxes reach far outside the bulk of `prims` to its end and
+/// returns how many stay in front. The bulk's box is, per axis, the 1st percentile of the
+/// boxes' low faces to the 99th of their high faces (over a sample of at most about 4096),
+/// grown on every side by four times its half-diagonal; a primitive whose box does not fit
+/// in it (an outsized sphere, or one far from the rest) is an outlier. Fewer than 64
+/// primitives have none.
+fn split_outliers(
+    prims: &mut [Packed],
+    boxes_of: &(impl Fn(&Packed) -> (DVec3, DVec3) + Sync),
+) -> usize {
+    let n = prims.len();
+    if n < 64 {
+        return n;
+    }
+    let sample: Vec<(DVec3, DVec3)> = prims
+        .iter()
+        .step_by((n / 4096).max(1))
+        .map(boxes_of)
+        .collect();
+    let m = sample.len();
+    let (low, high) = (m / 100, m - 1 - m / 100);
+    let (mut lo, mut hi) = (DVec3::ZERO, DVec3::ZERO);
+    for a in 0..3 {
+        let mut v: Vec<f64> = sample.iter().map(|b| b.0[a]).collect();
+        lo[a] = *v.select_nth_unstable_by(low, f64::total_cmp).1;
+        let mut v: Vec<f64> = sample.iter().map(|b| b.1[a]).collect();
+        hi[a] = *v.select_nth_unstable_by(high, f64::total_cmp).1;
+    }
+    let grow = 4.0 * ((hi - lo) * 0.5).length();
+    let (lo, hi) = (lo - grow, hi + grow);
+    let inside = |p: &Packed| {
+        let (a, b) = boxes_of(p);
+        a.cmpge(lo).all() && b.cmple(hi).all()
+    };
+    if prims.par_iter().all(inside) {
+        return n;
+    }
+    let mut k = 0;
+    for i in 0..n {
+        if inside(&prims[i]) {
+            prims.swap(k, i);
+            k += 1;
+        }
+    }
+    k
+}
+
 impl SphereBvh {
     /// Builds the BVH. `ellipsoids` are the unit-sphere-to-world maps of `Scene::ellipsoids`.
     pub fn build(prims: Vec<Prim>, ellipsoids: &[DAffine3]) -> SphereBvh {
@@ -282,23 +344,41 @@ impl SphereBvh {
                 None
             }
         };
+        let boxes_of = |p: &Packed| prim_box(p, to_world(p));
         let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
         for p in &prims {
-            let (a, b) = prim_box(p, to_world(p));
+            let (a, b) = boxes_of(p);
             lo = lo.min(a);
             hi = hi.max(b);
         }
-        if prims.is_empty() {
-            (lo, hi) = (DVec3::ZERO, DVec3::ZERO);
-        }
-        let origin = (lo + hi) * 0.5;
-        let half = ((hi - lo) * 0.5).length().max(f64::MIN_POSITIVE);
-        let pad = PAD_ULPS * half * f64::from(f32::EPSILON) * 0.5;
-        let scale = 2f64.powi(20 - half.log2().ceil().clamp(-1000.0, 1000.0) as i32);
-        let pad32 = (pad * scale) as f32;
+        // The least frame half-size (see the module comment, "Why the f32 boxes are safe").
+        let floor = (((hi - lo) * 0.5).length())
+            .max(((lo + hi) * 0.5).abs().max_element())
+            .max(0.0)
+            * FRAME_FLOOR;
         let start = Instant::now();
         let mut prims = prims;
-        let ranges = morton_sort(&mut prims, lo, hi, per_chunk);
+        // The outliers' chunks at the end, each level the outliers of the level before.
+        let n = prims.len();
+        let bulk = split_outliers(&mut prims, &boxes_of);
+        let mut tails = Vec::new();
+        let mut at = bulk;
+        while at < n {
+            let k = at + split_outliers(&mut prims[at..], &boxes_of);
+            if k == at || tails.len() + 1 == OUTLIER_CHUNKS {
+                tails.push(at..n);
+                break;
+            }
+            tails.push(at..k);
+            at = k;
+        }
+        let (mut blo, mut bhi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for p in &prims[..bulk] {
+            blo = blo.min(p.center);
+            bhi = bhi.max(p.center);
+        }
+        let mut ranges = morton_sort(&mut prims[..bulk], blo, bhi, per_chunk);
+        ranges.extend(tails);
         // The chunks are disjoint runs of `prims`, built side by side (each alone, so the
         // result does not depend on the number of threads; each build's temporary peak is
         // paid once per thread at work).
@@ -313,12 +393,17 @@ impl SphereBvh {
             .into_par_iter()
             .map(|(base, part)| {
                 let (mut clo, mut chi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+                for p in part.iter() {
+                    let (a, b) = boxes_of(p);
+                    clo = clo.min(a);
+                    chi = chi.max(b);
+                }
+                let (origin, scale, pad) = frame(clo, chi, floor);
+                let pad32 = (pad * scale) as f32;
                 let boxes: Vec<PaddedBox> = part
                     .iter()
                     .map(|p| {
-                        let (a, b) = prim_box(p, to_world(p));
-                        clo = clo.min(a);
-                        chi = chi.max(b);
+                        let (a, b) = boxes_of(p);
                         let a = ((a - origin) * scale).as_vec3a() - Vec3A::splat(pad32);
                         let b = ((b - origin) * scale).as_vec3a() + Vec3A::splat(pad32);
                         PaddedBox(Aabb::new(a, b))
@@ -349,10 +434,12 @@ impl SphereBvh {
                 // (A chunk holds at most 2^17 or a sixteenth of the primitives, fewer than 2^32.)
                 debug_assert!(part.len() <= super::node8::MAX_CHUNK_PRIMS);
                 bvh.nodes.shrink_to_fit();
+                let frame = (origin, scale, pad);
                 (
                     bvh.nodes,
                     depth,
                     base as u32,
+                    frame,
                     clo - pad * 2.0,
                     chi + pad * 2.0,
                 )
@@ -362,14 +449,28 @@ impl SphereBvh {
             // compressed ones), each chunk's compressed nodes freed as it is done: the peak
             // stays the build's, not the build's plus the decoded trees.
             .into_par_iter()
-            .map(|(compressed, depth, base, lo, hi)| Chunk {
-                nodes: super::node8::decode(&compressed),
-                depth,
-                base,
-                lo,
-                hi,
-            })
+            .map(
+                |(compressed, depth, base, (origin, scale, pad), lo, hi)| Chunk {
+                    nodes: super::node8::decode(&compressed),
+                    depth,
+                    base,
+                    origin,
+                    scale,
+                    pad,
+                    lo,
+                    hi,
+                },
+            )
             .collect();
+        // The scene's box: the union of the chunks' padded boxes.
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for c in &chunks {
+            lo = lo.min(c.lo);
+            hi = hi.max(c.hi);
+        }
+        if chunks.is_empty() {
+            (lo, hi) = (DVec3::ZERO, DVec3::ZERO);
+        }
         // The side arrays, in leaf order, only when some primitive needs them.
         let sigmas = if prims.iter().any(Packed::is_gas) {
             prims
@@ -409,11 +510,8 @@ impl SphereBvh {
             to_object,
             chunk_boxes: super::ChunkBoxes::of(&chunks),
             chunks,
-            origin,
-            scale,
-            pad,
-            lo: lo - pad * 2.0,
-            hi: hi + pad * 2.0,
+            lo,
+            hi,
             build_time,
         }
     }

@@ -3,17 +3,38 @@
 //! (node8.rs says why); every sphere test is done exactly in f64 by the caller's closure
 //! (the BVH knows boxes, the caller knows spheres).
 //!
-//! Why the f32 boxes are safe. Before anything is rounded to f32, coordinates are taken
-//! relative to the centre `O` of the scene's f64 bounding box, whose half-diagonal is `R`, and a
-//! ray is first clipped in f64 to that (padded) box, so its f32 origin lies within about `R` of
-//! `O` and its f32 parameter range is at most about `2R`. Every rounding the traversal makes
-//! (the f32 origin and direction, the quantised child boxes, the slab arithmetic, and obvhs's
-//! clamping of `1/d` to `1/f32::EPSILON` for near-axis-parallel rays) moves a box face by at
-//! most a few `2^-24 R`. Each primitive box is padded by `PAD_ULPS` `* 2^-24 * R`, far
-//! beyond that, so a box the exact ray meets is never culled. Padding only costs extra exact
-//! tests, never a wrong answer; the f64 closure decides every hit.
+//! Why the f32 boxes are safe. Each chunk (below) has its own f32 frame. Before anything is
+//! rounded to f32, coordinates are taken relative to the centre `O_c` of the chunk's f64
+//! bounding box, whose half-diagonal `R_c` is floored at `FRAME_FLOOR` (`2^-20`) times the
+//! larger of the scene's half-diagonal and its centre's largest coordinate. A ray entering
+//! a chunk is first clipped in f64 to the chunk's (padded) box and expressed in the chunk's
+//! frame from its f64 entry point, so its f32 origin lies within about `R_c` of `O_c` and its
+//! f32 parameter range is at most about `2R_c`. Every rounding the traversal makes (the f32
+//! origin and direction, the quantised child boxes, the slab arithmetic, and obvhs's clamping
+//! of `1/d` to `1/f32::EPSILON` for near-axis-parallel rays) moves a box face by at most a
+//! few `2^-24 R_c`; the f64 entry point and the f64 clipping are off by a few `2^-53 X`,
+//! where `X` is the larger of the ray origin's coordinates and its distance to the chunk,
+//! which the floor keeps below `2^-24 R_c` for any ray starting within about `2^7` scene
+//! sizes (or `2^7` times the scene's distance from the world origin) of the scene. Each
+//! primitive box is padded by `PAD_ULPS` `* 2^-24 * R_c` (chunk boxes by twice that), far
+//! beyond all of these, so a box the exact ray meets is never culled. Padding only costs
+//! extra exact tests, never a wrong answer; the f64 closure decides every hit.
 //!
-//! Why a scaled frame. The f32 frame is scaled by a power of two (exact) so that `R` becomes
+//! Why a frame per chunk, and outliers apart. A frame's padding and rounding scale with its
+//! `R_c`, so a single frame for a scene whose extent dwarfs its detail (one atom of a
+//! molecule scaled by 2e9) would pad every box beyond its neighbours, and each ray would test
+//! nearly every primitive exactly. Before the Morton chunks are cut, primitives whose boxes
+//! do not fit in the bulk's box (per axis the 1st to 99th percentile of the boxes' faces,
+//! grown by four times its half-diagonal) go to a chunk of their own, and the outliers of
+//! those to the next, up to `OUTLIER_CHUNKS` such chunks, whatever the scene's size.
+//! Measured 2026-12-05: `gtsphere render jmol_edit.wrl --width 64 --height 48 --spp 1
+//! --stats` (a Jmol export of 20 088 triangles with one atom scaled by 2e9) takes render
+//! seconds 0.80-0.86 with one frame, 0.003-0.015 with a frame per chunk (0.002-0.003 without
+//! the atom); `bench trace --spheres 1000000 --runs 3 --threads 1`, five and six runs side by
+//! side on a loaded machine (medians): camera 5.07 and shadow 3.86 Mrays/s with one frame,
+//! 4.95 and 3.87 with a frame per chunk, within the runs' spread (camera 4.4-5.6 either way).
+//!
+//! Why a scaled frame. Each f32 frame is scaled by a power of two (exact) so that `R_c` becomes
 //! about `2^20`, whatever the scene's size: the node test clamps a box's entry at 0, and every
 //! f32 ray starts `BACKUP` units before its true start, so that the rounding of its f32
 //! origin cannot put a box the true segment meets behind it.
@@ -21,7 +42,8 @@
 //! Why chunks. The build needs well over 100 bytes per primitive while it runs (obvhs's
 //! binary nodes, then the conversion's tables), more than the whole finished structure. The
 //! spheres are therefore sorted in Morton order and cut, at Morton cell boundaries where
-//! possible, into at most [`MAX_CHUNKS`] spatially compact chunks, each with its own tree, so
+//! possible, into at most [`MAX_CHUNKS`] spatially compact chunks (besides the outliers'),
+//! each with its own tree and frame, so
 //! that the build's peak is paid for one chunk at a time (and the trees are decoded only
 //! once every chunk is built).
 //! A ray visits the chunks its f64 box test reaches, nearest first, and stops at the first
@@ -71,12 +93,20 @@ use crate::scene::Profile;
 /// How far (in scaled f32 units) each f32 ray starts before its true start.
 const BACKUP: f32 = 4e-4;
 
-/// At most this many chunks; each holds at least `MIN_CHUNK` spheres.
+/// At most this many chunks of the bulk; each holds at least `MIN_CHUNK` spheres.
 pub const MAX_CHUNKS: usize = 16;
+/// At most this many chunks of outliers (see the module comment), after the bulk's.
+const OUTLIER_CHUNKS: usize = 4;
+/// At most this many chunks in all.
+const ALL_CHUNKS: usize = MAX_CHUNKS + OUTLIER_CHUNKS;
 const MIN_CHUNK: usize = 1 << 17;
 
-/// Box padding in units of `2^-24 R` (see the module comment).
+/// Box padding in units of `2^-24 R_c` (see the module comment).
 const PAD_ULPS: f64 = 64.0;
+
+/// A chunk's frame half-size `R_c` is at least this times the larger of the scene's
+/// half-diagonal and its centre's largest coordinate (see the module comment).
+const FRAME_FLOOR: f64 = 1.0 / (1u64 << 20) as f64;
 
 /// One sphere (or ellipsoid) as the renderer sees it: what [`SphereBvh::prim`] returns, and what
 /// [`SphereBvh::build`] takes. The BVH stores it as a 40-byte [`Packed`] record plus side arrays.
@@ -231,13 +261,20 @@ impl Boundable for PaddedBox {
     }
 }
 
-/// One chunk: the decoded CWBVH over `prims[base..base + len]` (see node8.rs), and its padded
-/// f64 box.
+/// One chunk: the decoded CWBVH over `prims[base..base + len]` (see node8.rs), its f32 frame
+/// and its padded f64 box.
 struct Chunk {
     nodes: Vec<node8::Node8>,
     /// The tree's depth in nodes, for the size of a walk's stack.
     depth: usize,
     base: u32,
+    /// Centre of the chunk's f32 frame.
+    origin: DVec3,
+    /// f32 coordinates are `(x - origin) * scale`, a power of two making the frame's
+    /// half-size `R_c` about `2^20`.
+    scale: f64,
+    /// The padding of every primitive box of the chunk (world units).
+    pad: f64,
     lo: DVec3,
     hi: DVec3,
 }
@@ -245,8 +282,8 @@ struct Chunk {
 /// Chunk boxes as arrays per axis, so that the slab tests of four chunks are one SIMD pass.
 #[derive(Clone, Copy, Debug, Default)]
 struct ChunkBoxes {
-    lo: [[f64; MAX_CHUNKS]; 3],
-    hi: [[f64; MAX_CHUNKS]; 3],
+    lo: [[f64; ALL_CHUNKS]; 3],
+    hi: [[f64; ALL_CHUNKS]; 3],
 }
 
 impl ChunkBoxes {
@@ -282,13 +319,7 @@ pub struct SphereBvh {
     ellipsoids: Vec<Option<crate::scene::EllipsoidId>>,
     /// World-to-object maps of the ellipsoids (object space: the unit sphere).
     pub to_object: Vec<DAffine3>,
-    /// Centre of the f32 frame.
-    origin: DVec3,
-    /// f32 coordinates are `(x - origin) * scale`, a power of two making `R` about `2^20`.
-    scale: f64,
-    /// The padding of every primitive box (world units).
-    pad: f64,
-    /// The f64 scene box, padded like the primitive boxes, for clipping rays.
+    /// The f64 scene box, the union of the chunks' padded boxes, for clipping rays.
     lo: DVec3,
     hi: DVec3,
     /// Wall time of the build (Morton sort, obvhs builds, reordering).

@@ -19,9 +19,9 @@
 //! Why the shared frame is safe. A ray's f32 origin is its point at the packet's start, the
 //! earliest entry into the chunk among its rays, so it may lie before the ray's own entry.
 //! Rays entering more than the chunk's diagonal after the start walk alone (packet_query.rs),
-//! so every f32 origin lies within about three half-diagonals `R` of the scene's centre,
+//! so every f32 origin lies within about three half-diagonals `R_c` of the chunk's centre,
 //! where the single walk's lie within one: the roundings of the box test grow to a few
-//! `2^-24 3R`, still far inside the boxes' padding of 64 `2^-24 R` (mod.rs).
+//! `2^-24 3R_c`, still far inside the boxes' padding of 64 `2^-24 R_c` (mod.rs).
 
 use obvhs::ray::Ray as Ray32;
 

@@ -5,7 +5,7 @@
 use glam::DVec3;
 
 use super::packet::{self, PacketStack, Rays, PACKET};
-use super::{Hit, Prim, SphereBvh, MAX_CHUNKS};
+use super::{Hit, Prim, SphereBvh, ALL_CHUNKS};
 
 impl SphereBvh {
     /// [`SphereBvh::closest`] for up to [`PACKET`] rays at once (`rays[k] = (o, d)`: `o + t d`, all over
@@ -30,10 +30,10 @@ impl SphereBvh {
         let d: [DVec3; PACKET] = std::array::from_fn(|k| rays.get(k).map_or(DVec3::X, |r| r.1));
         best[..n].fill(None);
         // Each chunk's entry and exit per ray (NaN where the ray does not reach it).
-        let mut enter = [[f64::NAN; PACKET]; MAX_CHUNKS];
-        let mut leave = [[f64::NAN; PACKET]; MAX_CHUNKS];
-        let mut first = [f64::INFINITY; MAX_CHUNKS];
-        let mut list = [(0.0, 0.0, 0u32); MAX_CHUNKS];
+        let mut enter = [[f64::NAN; PACKET]; ALL_CHUNKS];
+        let mut leave = [[f64::NAN; PACKET]; ALL_CHUNKS];
+        let mut first = [f64::INFINITY; ALL_CHUNKS];
+        let mut list = [(0.0, 0.0, 0u32); ALL_CHUNKS];
         for k in 0..n {
             let m = self.chunks_on(o[k], d[k], tmin, tmax, &mut list);
             for &(t0, t1, c) in &list[..m] {
@@ -43,7 +43,7 @@ impl SphereBvh {
                 first[c] = first[c].min(t0);
             }
         }
-        let mut order: [usize; MAX_CHUNKS] = std::array::from_fn(|c| c);
+        let mut order: [usize; ALL_CHUNKS] = std::array::from_fn(|c| c);
         let count = self.chunks.len();
         order[..count].sort_unstable_by(|&a, &b| first[a].total_cmp(&first[b]));
         for &c in &order[..count] {
@@ -63,9 +63,9 @@ impl SphereBvh {
                     start = start.min(t0);
                 }
             }
-            // One frame for the packet: parameters from `start`. A ray entering the chunk
-            // further than the chunk's size after `start` (in distance) would put its f32
-            // origin far outside the scene; it walks alone.
+            // One frame for the packet: the chunk's, parameters from `start`. A ray entering
+            // the chunk further than the chunk's size after `start` (in distance) would put its
+            // f32 origin far outside the chunk; it walks alone.
             let size = (chunk.hi - chunk.lo).length();
             let mut packet = Rays::new();
             let mut members = [0usize; PACKET];
@@ -75,7 +75,7 @@ impl SphereBvh {
                 if active > 1 && (enter[c][k] - start) * d[k].length() <= size {
                     let t1 = leave[c][k].min(best[k].map_or(tmax, |h| h.t));
                     members[packet.count] = k;
-                    packet.push(&self.ray32(o[k], d[k], start, t1));
+                    packet.push(&Self::ray32(chunk, o[k], d[k], start, t1));
                 } else {
                     alone[lone] = k;
                     lone += 1;
@@ -109,7 +109,7 @@ impl SphereBvh {
                 let t = test(k, i, p, roots)?;
                 if t > tmin && self.better(t, p, best[k], tmax) {
                     best[k] = Some(Hit { t, prim: i });
-                    return Some(self.t32_above(t, start));
+                    return Some(Self::t32_above(chunk, t, start));
                 }
                 None
             });

@@ -6,7 +6,7 @@ use glam::{DVec3, Vec3A};
 use obvhs::ray::Ray as Ray32;
 
 use super::node8::{self, leaf_range, stack_len, Step, STACK};
-use super::{Chunk, Hit, Prim, SphereBvh, BACKUP, MAX_CHUNKS};
+use super::{Chunk, Hit, Prim, SphereBvh, ALL_CHUNKS, BACKUP};
 
 /// One axis of the slab test: `(t0, t1)` clipped to where `o + t d` lies between the planes
 /// `lo` and `hi` of that axis (`inv = 1 / d`). `d == 0` gives +-inf (or NaN when `o` is on a
@@ -41,26 +41,26 @@ pub(super) fn walk<const ORDERED: bool>(
 }
 
 impl SphereBvh {
-    /// The f32 ray for chunk `c` over `[t0, t1]` (already clipped to the chunk's box): it
-    /// starts at the entry point, so its f32 origin lies inside the scene.
+    /// The f32 ray for chunk `c` over `[t0, t1]` (already clipped to the chunk's box), in the
+    /// chunk's frame: it starts at the entry point, so its f32 origin lies inside the chunk.
     #[inline]
-    pub(super) fn ray32(&self, o: DVec3, d: DVec3, t0: f64, t1: f64) -> Ray32 {
+    pub(super) fn ray32(c: &Chunk, o: DVec3, d: DVec3, t0: f64, t1: f64) -> Ray32 {
         // `+ 0.0` turns -0.0 into +0.0. (obvhs's node test, used until 2026-12-04, picked the
         // near planes from `d < 0` but divided by the signed zero; ours picks them from the sign
         // of `1/d` itself, so either zero is safe.)
         let dir = d.as_vec3a() + Vec3A::ZERO;
-        let start = ((o + t0 * d - self.origin) * self.scale).as_vec3a() - BACKUP * dir;
+        let start = ((o + t0 * d - c.origin) * c.scale).as_vec3a() - BACKUP * dir;
         // Widen the f32 range: the f32 exit must not fall short of the f64 one.
-        let len = (((t1 - t0) * self.scale) as f32 + BACKUP) * (1.0 + 4.0 * f32::EPSILON)
+        let len = (((t1 - t0) * c.scale) as f32 + BACKUP) * (1.0 + 4.0 * f32::EPSILON)
             + f32::MIN_POSITIVE;
         Ray32::new(start, dir, 0.0, len)
     }
 
-    /// The f32 ray parameter of world parameter `t` on a ray from [`SphereBvh::ray32`] that
-    /// started at `t0`, rounded up so that no closer box is culled.
+    /// The f32 ray parameter of world parameter `t` on a ray from [`SphereBvh::ray32`] for
+    /// chunk `c` that started at `t0`, rounded up so that no closer box is culled.
     #[inline]
-    pub(super) fn t32_above(&self, t: f64, t0: f64) -> f32 {
-        let r = ((t - t0) * self.scale) as f32 + BACKUP;
+    pub(super) fn t32_above(c: &Chunk, t: f64, t0: f64) -> f32 {
+        let r = ((t - t0) * c.scale) as f32 + BACKUP;
         r + r.abs() * 4.0 * f32::EPSILON + f32::MIN_POSITIVE
     }
 
@@ -74,7 +74,7 @@ impl SphereBvh {
         d: DVec3,
         tmin: f64,
         tmax: f64,
-        list: &mut [(f64, f64, u32); MAX_CHUNKS],
+        list: &mut [(f64, f64, u32); ALL_CHUNKS],
     ) -> usize {
         let inv = d.recip();
         let Some(whole) = slab(self.lo, self.hi, o, inv, tmin, tmax) else {
@@ -95,9 +95,9 @@ impl SphereBvh {
         // the met chunks inserted by entry parameter.
         let b = &self.chunk_boxes;
         let count = self.chunks.len();
-        let mut t0s = [0f64; MAX_CHUNKS];
-        let mut t1s = [0f64; MAX_CHUNKS];
-        let mut met = [false; MAX_CHUNKS];
+        let mut t0s = [0f64; ALL_CHUNKS];
+        let mut t1s = [0f64; ALL_CHUNKS];
+        let mut met = [false; ALL_CHUNKS];
         for g in (0..count).step_by(4) {
             for k in g..g + 4 {
                 let (t0, t1) = (0..3).fold((tmin, tmax), |t, a| {
@@ -137,7 +137,7 @@ impl SphereBvh {
         mut test: impl FnMut(u32, &Prim, (f64, f64)) -> Option<f64>,
     ) -> Option<Hit> {
         let mut best: Option<Hit> = None;
-        let mut list = [(0.0, 0.0, 0u32); MAX_CHUNKS];
+        let mut list = [(0.0, 0.0, 0u32); ALL_CHUNKS];
         let n = self.chunks_on(o, d, tmin, tmax, &mut list);
         for &(t0, t1, k) in &list[..n] {
             let best_t = best.map_or(tmax, |h| h.t);
@@ -184,7 +184,7 @@ impl SphereBvh {
         let c = &self.chunks[c];
         walk::<true>(
             c,
-            &self.ray32(o, d, t0, t1),
+            &Self::ray32(c, o, d, t0, t1),
             #[inline(always)]
             |i| {
                 let i = c.base + i;
@@ -193,7 +193,7 @@ impl SphereBvh {
                     if let Some(t) = test(i, p, roots) {
                         if t > tmin && self.better(t, p, *best, tmax) {
                             *best = Some(Hit { t, prim: i });
-                            return Step::Shrink(self.t32_above(t, t0));
+                            return Step::Shrink(Self::t32_above(c, t, t0));
                         }
                     }
                 }
@@ -253,14 +253,14 @@ impl SphereBvh {
         skip: Option<u32>,
         mut blocks: impl FnMut(u32) -> bool,
     ) -> bool {
-        let mut list = [(0.0, 0.0, 0u32); MAX_CHUNKS];
+        let mut list = [(0.0, 0.0, 0u32); ALL_CHUNKS];
         let n = self.chunks_on(o, d, tmin, tmax, &mut list);
         let mut blocked = false;
         for &(t0, t1, k) in &list[..n] {
             let c = &self.chunks[k as usize];
             walk::<false>(
                 c,
-                &self.ray32(o, d, t0, t1),
+                &Self::ray32(c, o, d, t0, t1),
                 // Inlined by hand, as in `closest`: this is the shadow rays' leaf test, and
                 // left out of line it was not compiled for the caller's instruction set
                 // (see mod.rs, "Why the ray entry points are compiled twice").
@@ -294,12 +294,11 @@ impl SphereBvh {
         mut visit: impl FnMut(u32, &Prim),
         stack: &mut Vec<u32>,
     ) {
-        let inv = 1.0 / self.scale;
-        let pad = DVec3::splat(2.0 * self.pad);
         for c in &self.chunks {
             if c.nodes.is_empty() || !near(c.lo, c.hi) {
                 continue;
             }
+            let (inv, pad) = (1.0 / c.scale, DVec3::splat(2.0 * c.pad));
             stack.clear();
             stack.push(0);
             while let Some(index) = stack.pop() {
@@ -315,7 +314,7 @@ impl SphereBvh {
                     }
                     // The child box in world space, padded again for the f32 rounding of its
                     // decoding.
-                    if !near(lo * inv + self.origin - pad, hi * inv + self.origin + pad) {
+                    if !near(lo * inv + c.origin - pad, hi * inv + c.origin + pad) {
                         continue;
                     }
                     let r = node.child[child];
@@ -343,11 +342,11 @@ impl SphereBvh {
         tmax: f64,
         mut visit: impl FnMut(u32, &Prim, (f64, f64)),
     ) {
-        let mut list = [(0.0, 0.0, 0u32); MAX_CHUNKS];
+        let mut list = [(0.0, 0.0, 0u32); ALL_CHUNKS];
         let n = self.chunks_on(o, d, tmin, tmax, &mut list);
         for &(t0, t1, k) in &list[..n] {
             let c = &self.chunks[k as usize];
-            walk::<false>(c, &self.ray32(o, d, t0, t1), |i| {
+            walk::<false>(c, &Self::ray32(c, o, d, t0, t1), |i| {
                 let i = c.base + i;
                 if let Some(roots) = self.roots_of(i, o, d) {
                     visit(i, &self.prim(i), roots);

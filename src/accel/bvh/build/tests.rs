@@ -176,3 +176,59 @@ fn permutation_in_place_matches_a_copy() {
         assert_eq!(got, want);
     }
 }
+
+/// A cluster of 1000 small spheres and one sphere of radius 1e9 far away (an extent 1e10
+/// times the cluster's detail): segments through the cluster test few primitives exactly
+/// (each chunk's f32 frame fits its own primitives, and the outsized one has a chunk of its
+/// own), and still every sphere whose box a segment meets.
+#[test]
+fn an_outsized_far_sphere_leaves_the_cluster_cheap_to_trace() {
+    let mut rng = Rng::new(7);
+    let sphere = |center: DVec3, radius: f64, i: usize| crate::accel::Prim {
+        center,
+        radius,
+        color: crate::scene::Color::default(),
+        material: 0,
+        sphere: i as u32,
+        ellipsoid: None,
+        gas: false,
+        sigma: 0.0,
+        profile: crate::scene::Profile::Constant,
+    };
+    let mut ps: Vec<_> = (0..1000)
+        .map(|i| {
+            let c = DVec3::new(rng.f(), rng.f(), rng.f()) * 2.0 - 1.0;
+            sphere(c, 0.01, i)
+        })
+        .collect();
+    ps.push(sphere(DVec3::new(1e10, 3e9, -2e9), 1e9, 1000));
+    let bvh = crate::accel::SphereBvh::build(ps.clone(), &[]);
+    let (mut tested, rays) = (0usize, 200);
+    for _ in 0..rays {
+        let o = DVec3::new(rng.f(), rng.f(), rng.f()) * 6.0 - 3.0;
+        let target = DVec3::new(rng.f(), rng.f(), rng.f()) * 2.0 - 1.0;
+        let d = target - o;
+        let mut seen = vec![false; ps.len()];
+        bvh.any_prim_except((o, d), (0.0, 2.0), None, |i| {
+            tested += 1;
+            seen[bvh.prim(i).sphere as usize] = true;
+            false
+        });
+        // Every sphere whose box the segment meets is among those tested.
+        for p in &ps {
+            let (lo, hi) = (p.center - p.radius, p.center + p.radius);
+            let (mut t0, mut t1) = (0.0f64, 2.0f64);
+            for a in 0..3 {
+                let (u, v) = ((lo[a] - o[a]) / d[a], (hi[a] - o[a]) / d[a]);
+                t0 = t0.max(u.min(v));
+                t1 = t1.min(u.max(v));
+            }
+            assert!(
+                t0 > t1 || seen[p.sphere as usize],
+                "sphere {} missed",
+                p.sphere
+            );
+        }
+    }
+    assert!(tested < 50 * rays, "{} exact tests per ray", tested / rays);
+}
