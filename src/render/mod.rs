@@ -4,6 +4,7 @@
 
 pub(crate) mod breakpoints;
 pub mod camera;
+mod copies;
 pub(crate) mod density;
 pub mod film;
 pub(crate) mod gas;
@@ -184,7 +185,7 @@ pub struct Prepared {
     pub surfaces: surfaces::Surfaces,
     /// Spheres in the scene (the `id` channel numbers surfaces after them).
     pub spheres: usize,
-    /// Opaque spheres dropped as copies of one before them (see `Copies`).
+    /// Opaque spheres dropped as copies of one before them (see `render::copies`).
     pub copies_dropped: usize,
     /// The scene's material records, indexed by [`Prim::material`](crate::accel::Prim::material).
     pub materials: MaterialTable,
@@ -454,7 +455,7 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
     let sphere_count = spheres.len();
     // into_iter().filter_map().collect() reuses the spheres' allocation (a packed primitive,
     // 48 bytes, is smaller than a 56-byte Sphere), so a large scene does not hold both lists.
-    let mut copies = Copies::default();
+    let mut copies = copies::Copies::default();
     let mut packed = spheres
         .into_iter()
         .enumerate()
@@ -524,61 +525,6 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
         record_colors,
         prepare_time: start.elapsed(),
     })
-}
-
-/// Opaque spheres met before, found by a table of the last sphere seen per hash slot: a
-/// copy of an opaque sphere (the same centre, radius, material and colour, no ellipsoid) is
-/// hidden by it everywhere, and is dropped so that coincident copies cost one primitive (a
-/// DEF'd atom USEd a million times in one place, a point cloud of one point repeated). The
-/// first copy stays, the one a closest hit reports among equals. Gas spheres are never dropped:
-/// coincident gas adds up. Copies apart by more than the table's reach may stay; they are
-/// drawn the same either way. On `bench scale`'s 1e7 spheres (no copies) a table of 2^14
-/// slots made `prepare` 2.83-2.98 s against 2.70-2.78 s without it (3 runs each, taking
-/// turns); the 2^10 slots kept fit in L2. 524 287 copies at 19 centres: the BVH build takes
-/// 0.02 s instead of 54 s (0.18 s with the clustered build alone).
-struct Copies {
-    slots: Vec<Option<Packed>>,
-    dropped: usize,
-}
-
-impl Default for Copies {
-    fn default() -> Self {
-        Copies {
-            slots: vec![None; 1 << Copies::BITS],
-            dropped: 0,
-        }
-    }
-}
-
-impl Copies {
-    const BITS: u32 = 10;
-
-    /// What makes two opaque spheres draw alike: centre, radius, colour and material.
-    fn key(q: &Packed) -> [u64; 6] {
-        let c = q.center;
-        let (x, y, z) = (c.x.to_bits(), c.y.to_bits(), c.z.to_bits());
-        let (r, m) = (q.radius.to_bits(), u64::from(q.material()));
-        [x, y, z, r, q.color.to_bits(), m]
-    }
-
-    /// Whether `q` is to be kept: not an opaque copy of the sphere last seen in its slot.
-    fn first(&mut self, q: &Packed) -> bool {
-        if q.is_gas() || q.is_ellipsoid() {
-            return true;
-        }
-        let key = Self::key(q);
-        let h = key.iter().fold(0u64, |h, &k| {
-            (h.rotate_left(5) ^ k).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95)
-        });
-        let slot = &mut self.slots[(h >> (64 - Self::BITS)) as usize];
-        let same = slot.is_some_and(|p| Self::key(&p) == key);
-        if same {
-            self.dropped += 1;
-        } else {
-            *slot = Some(*q);
-        }
-        !same
-    }
 }
 
 /// The largest channel of any Color a triangle carries (it replaces a diffuse colour).

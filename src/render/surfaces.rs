@@ -50,7 +50,7 @@ impl Traced {
 /// shape, colour and material): a copy is hidden by it everywhere, and leaving it out of the
 /// BVH keeps coincident copies (a DEF'd mesh USEd many times in one place) from costing every
 /// ray a test of each (524 288 copies of one triangle: 62 s for 64 x 48 pixels when all were
-/// traced). As for spheres (see `Copies` in `render`), copies far apart in the list may stay.
+/// traced). As for spheres (see `render::copies`), copies far apart in the list may stay.
 fn first_copies(surfaces: &[Surface]) -> Vec<bool> {
     const BITS: u32 = 10;
     let mut slots = vec![usize::MAX; 1 << BITS];
