@@ -9,10 +9,12 @@ use crate::accel::Packed;
 /// DEF'd atom USEd a million times in one place, a point cloud of one point repeated). The
 /// first copy stays, the one a closest hit reports among equals. Gas spheres are never dropped:
 /// coincident gas adds up. Copies apart by more than the table's reach may stay; they are
-/// drawn the same either way. On `bench scale`'s 1e7 spheres (no copies) a table of 2^14
-/// slots made `prepare` 2.83-2.98 s against 2.70-2.78 s without it (3 runs each, taking
-/// turns); the 2^10 slots kept fit in L2. 524 287 copies at 19 centres: the BVH build takes
-/// 0.02 s instead of 54 s (0.18 s with the clustered build alone).
+/// drawn the same either way. Measured 2026-12-05 on `bench scale`'s 1e7 spheres (no
+/// copies; `render FILE --width 64 --height 64 --spp 1 --stats`, 3 runs each, taking turns):
+/// `prepare` 3.02-3.08 s with these 2^10 slots against 2.88-2.98 s without dropping, about
+/// 10 ns a sphere (a table of 2^14 slots, out of L2, cost twice that). 524 287 copies at 19
+/// centres: the BVH build takes 0.02 s instead of 54 s (0.18 s with the clustered build
+/// alone).
 pub(super) struct Copies {
     slots: Vec<Option<Packed>>,
     pub(super) dropped: usize,
