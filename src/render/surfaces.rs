@@ -14,6 +14,7 @@ use crate::accel::{Prim, SphereBvh};
 use crate::geom::shapes::{shadow_breaks, shadowed, triangle_hit, ShadowLight, Shape, Solid};
 use crate::scene::{Paint, Surface, SurfaceShape, Triangle};
 
+use super::copies::{hash, LastSeen};
 use super::lights::LightKind;
 
 /// A surface as the renderer sees it.
@@ -47,33 +48,21 @@ impl Traced {
 }
 
 /// Per surface, whether it is not a copy of the surface last seen in its hash slot (the same
-/// shape, colour and material): a copy is hidden by it everywhere, and leaving it out of the
-/// BVH keeps coincident copies (a DEF'd mesh USEd many times in one place) from costing every
-/// ray a test of each (524 288 copies of one triangle: 62 s for 64 x 48 pixels when all were
-/// traced). As for spheres (see `render::copies`), copies far apart in the list may stay.
-fn first_copies(surfaces: &[Surface]) -> Vec<bool> {
-    const BITS: u32 = 10;
-    let mut slots = vec![usize::MAX; 1 << BITS];
-    let same = |a: &Surface, b: &Surface| {
+/// shape, colour and material; see `render::copies`), from the balls bounding them.
+fn first_copies(surfaces: &[Surface], balls: &[(DVec3, f64)]) -> Vec<bool> {
+    let mut seen = LastSeen::new();
+    let same = |&a: &usize, &b: &usize| {
+        let (a, b) = (&surfaces[a], &surfaces[b]);
         a.shape == b.shape && a.color == b.color && a.material == b.material
     };
-    (0..surfaces.len())
-        .map(|i| {
-            let s = &surfaces[i];
-            let (c, r) = s.bounding_ball();
+    (surfaces.iter().zip(balls).enumerate())
+        .map(|(i, (s, &(c, r)))| {
             let key = [c.x, c.y, c.z, r].map(f64::to_bits);
-            let h = key
-                .iter()
-                .chain([s.color.to_bits(), u64::from(s.material)].iter())
-                .fold(0u64, |h, &k| {
-                    (h.rotate_left(5) ^ k).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95)
-                });
-            let slot = &mut slots[(h >> (64 - BITS)) as usize];
-            let copy = *slot != usize::MAX && same(&surfaces[*slot], s);
-            if !copy {
-                *slot = i;
-            }
-            !copy
+            let h = hash(
+                key.into_iter()
+                    .chain([s.color.to_bits(), u64::from(s.material)]),
+            );
+            !seen.copy(h, i, same)
         })
         .collect()
 }
@@ -93,12 +82,12 @@ impl Surfaces {
     /// The surfaces made ready to trace; a copy of an earlier surface (same shape, colour and
     /// material) keeps its index but stays out of the BVH.
     pub fn build(surfaces: Vec<Surface>) -> Surfaces {
-        let first = first_copies(&surfaces);
+        let balls: Vec<(DVec3, f64)> = surfaces.iter().map(Surface::bounding_ball).collect();
+        let first = first_copies(&surfaces, &balls);
         let mut items = Vec::with_capacity(surfaces.len());
         let mut paints = Vec::with_capacity(surfaces.len());
         let mut prims = Vec::with_capacity(surfaces.len());
-        for (i, s) in surfaces.into_iter().enumerate() {
-            let (center, radius) = s.bounding_ball();
+        for (i, (s, (center, radius))) in surfaces.into_iter().zip(balls).enumerate() {
             // A copy keeps its index (and id) but is left out of the BVH.
             if !first[i] {
                 paints.push(s.paint());
