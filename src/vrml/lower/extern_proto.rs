@@ -103,6 +103,14 @@ struct Library {
     first: Option<Rc<str>>,
 }
 
+/// Why a file an EXTERNPROTO's url names gives no PROTOs.
+enum Unread {
+    /// It cannot be read: the reason, for the warning.
+    Why(String),
+    /// Its PROTOs are being read (it is the declaring file, or one that names it).
+    Pending,
+}
+
 /// The files read for their PROTOs.
 #[derive(Default)]
 pub(super) struct Externs {
@@ -167,11 +175,11 @@ impl Lowerer {
             let (file, wanted) = split_url(url);
             let (lib, canon) = match self.library(src, name, at, &base, url, file)? {
                 Ok(lib) => lib,
-                Err(why) if why.is_empty() => {
+                Err(Unread::Pending) => {
                     pending = true;
                     continue;
                 }
-                Err(why) => {
+                Err(Unread::Why(why)) => {
                     tried.push(why);
                     continue;
                 }
@@ -221,8 +229,8 @@ impl Lowerer {
     }
 
     /// The file `file` (of `url`) read for its PROTOs: from the cache, or read now. Why not
-    /// if it cannot be read (not a local relative path, no such file, not VRML97; nothing to
-    /// say if its PROTOs are being read); an error at `at` if it would nest too deep.
+    /// if it cannot be read (not a local relative path, no such file, not VRML97), or that
+    /// its PROTOs are being read; an error at `at` if it would nest too deep.
     fn library(
         &mut self,
         src: &SourceWindow,
@@ -231,10 +239,10 @@ impl Lowerer {
         base: &Path,
         url: &str,
         file: &str,
-    ) -> Result<Result<(Rc<Library>, PathBuf), String>, Error> {
+    ) -> Result<Result<(Rc<Library>, PathBuf), Unread>, Error> {
         let (path, canon) = match local_path(base, file) {
             Ok(p) => p,
-            Err(why) => return Ok(Err(format!("'{url}' ({why})"))),
+            Err(why) => return Ok(Err(Unread::Why(format!("'{url}' ({why})")))),
         };
         if let Some(lib) = self.externs.libraries.get(&canon) {
             return Ok(Ok((lib.clone(), canon)));
@@ -243,7 +251,7 @@ impl Lowerer {
         // those PROTOs are not all declared yet. Nothing needs them while declarations are
         // read; an instance of this EXTERNPROTO is then skipped like any not loaded.
         if self.externs.reading_paths.contains(&canon) {
-            return Ok(Err(String::new()));
+            return Ok(Err(Unread::Pending));
         }
         // A file being read as a scene (the very file of this EXTERNPROTO, or one that
         // Inlines it) is read again for its PROTO declarations only, not its scene: no cycle.
@@ -262,7 +270,9 @@ impl Lowerer {
                 let msg = format!("EXTERNPROTO {name}: '{url}' nests deeper than {max} files");
                 return Err(self.diags.error(src, at, msg));
             }
-            Admit::NotVrml97 => return Ok(Err(format!("'{url}' (not a VRML97 file)"))),
+            Admit::NotVrml97 => {
+                return Ok(Err(Unread::Why(format!("'{url}' (not a VRML97 file)"))))
+            }
         }
         self.externs.reading_paths.push(canon.clone());
         let lib = self.read_library(&path);
