@@ -3,7 +3,6 @@
 use clap::Args;
 
 use gtsphere::error::Error;
-use gtsphere::render::limits;
 use gtsphere::vrml::LoadOptions;
 
 #[derive(Debug, Args, Clone, Default)]
@@ -46,13 +45,7 @@ impl GeometryArgs {
             }
         }
         let (read_threads, warning) = match self.read_threads {
-            Some(asked) => {
-                let (n, why) = limits::capped_threads(asked);
-                (
-                    n,
-                    why.map(|w| format!("warning: --read-threads {asked} {w}")),
-                )
-            }
+            Some(asked) => crate::threads::cap("--read-threads", asked),
             None => (opts.read_threads, None),
         };
         let opts = LoadOptions {

@@ -242,11 +242,8 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<Plan, Error> {
     }
     let (threads, threads_warning) = match args.threads {
         Some(asked) => {
-            let (n, why) = limits::capped_threads(asked);
-            (
-                Some(n),
-                why.map(|w| format!("warning: --threads {asked} {w}")),
-            )
+            let (n, warning) = crate::threads::cap("--threads", asked);
+            (Some(n), warning)
         }
         None => (None, None),
     };

@@ -1,13 +1,21 @@
-//! `--threads N` of the benchmarks: at most [`limits::max_threads`], with a warning on
-//! stderr when that lowers it (`render` says it in its own messages, under `--quiet`).
+//! Thread options (`--threads N`, `--read-threads N`): at most [`limits::max_threads`], with
+//! a warning when that lowers them. `render` says the warning in its own messages (under
+//! `--quiet`); the benchmarks print it on stderr.
 
 use gtsphere::render::limits;
 
-/// `n` threads, or [`limits::max_threads`] and a warning on stderr if that is fewer.
-pub fn capped(asked: usize) -> usize {
+/// `asked` threads of option `flag`, or [`limits::max_threads`] and the warning to give if
+/// that is fewer.
+pub fn cap(flag: &str, asked: usize) -> (usize, Option<String>) {
     let (n, why) = limits::capped_threads(asked);
-    if let Some(w) = why {
-        eprintln!("warning: --threads {asked} {w}");
+    (n, why.map(|w| format!("warning: {flag} {asked} {w}")))
+}
+
+/// `--threads asked` of a benchmark, [`cap`]ped, the warning on stderr.
+pub fn capped(asked: usize) -> usize {
+    let (n, warning) = cap("--threads", asked);
+    if let Some(w) = warning {
+        eprintln!("{w}");
     }
     n
 }
