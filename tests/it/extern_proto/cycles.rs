@@ -6,27 +6,20 @@ use super::{error, folder, headlines, load, write};
 #[test]
 fn a_declaration_that_needs_itself_is_a_positioned_error() {
     let dir = folder("self_cycle");
-    let a = write(&dir, "a.wrl", "EXTERNPROTO P [ ] \"a.wrl#P\"\nP { }\n");
-    assert_eq!(
-        error(&a),
+    // The message, at the EXTERNPROTO on line 2 of `file`.
+    let needs_itself = |file: &std::path::Path| {
         format!(
             "{}:2:1: EXTERNPROTO P: 'a.wrl#P' names an EXTERNPROTO that needs a file whose \
              PROTOs are being read: it needs itself (a cycle)",
-            a.display()
+            file.display()
         )
-    );
+    };
+    let a = write(&dir, "a.wrl", "EXTERNPROTO P [ ] \"a.wrl#P\"\nP { }\n");
+    assert_eq!(error(&a), needs_itself(&a));
     // The same through another file: b's P needs a's P, which is b's.
     let a = write(&dir, "a.wrl", "EXTERNPROTO P [ ] \"b.wrl#P\"\nP { }\n");
-    let b_text = "EXTERNPROTO P [ ] \"a.wrl#P\"\n";
-    let b = write(&dir, "b.wrl", b_text);
-    assert_eq!(
-        error(&a),
-        format!(
-            "{}:2:1: EXTERNPROTO P: 'a.wrl#P' names an EXTERNPROTO that needs a file whose \
-             PROTOs are being read: it needs itself (a cycle)",
-            b.display()
-        )
-    );
+    let b = write(&dir, "b.wrl", "EXTERNPROTO P [ ] \"a.wrl#P\"\n");
+    assert_eq!(error(&a), needs_itself(&b));
 }
 
 /// A file may name its own PROTOs (`own.wrl#Ball` inside own.wrl), as FreeWRL's tests do:
