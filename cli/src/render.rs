@@ -9,8 +9,11 @@ use clap::{Args, ValueEnum};
 use gtsphere::error::Error;
 use gtsphere::output::{format_for, write_film, write_part, Format, Placement};
 use gtsphere::render::{
-    limits, prepare, pymol_export, tiles::render_view, Aovs, CameraChoice, FovAcross, Integrator,
-    PrepareOptions, Projection, RenderOptions, SamplerKind,
+    ao::{AoSettings, Weighting},
+    limits, prepare, pymol_export,
+    tiles::render_view,
+    Aovs, CameraChoice, FovAcross, Integrator, PrepareOptions, Projection, RenderOptions,
+    SamplerKind,
 };
 use gtsphere::scene::Profile;
 use gtsphere::vrml::{load_path, LoadOptions};
@@ -52,6 +55,9 @@ pub enum IntegratorArg {
     /// Unbiased Monte Carlo (scattering sampled at one point per gas segment), --spp samples
     /// per pixel.
     Mc,
+    /// Ambient occlusion as the picture: the unoccluded fraction at each visible point,
+    /// exact for opaque spheres (see --ao-reach, --ao-colours).
+    Ao,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -147,6 +153,14 @@ pub struct RenderArgs {
     /// Step length (world units) of `--integrator march`.
     #[arg(long)]
     pub step: Option<f64>,
+    /// `--integrator ao`: the distance within which a sphere occludes (world units; default:
+    /// any distance, at a cost per pixel that grows with the scene).
+    #[arg(long)]
+    pub ao_reach: Option<f64>,
+    /// `--integrator ao`: the unoccluded fraction times each surface's diffuseColor, instead
+    /// of on white.
+    #[arg(long)]
+    pub ao_colours: bool,
     /// Target error of `--integrator exact`, relative to the pixel's value (absolute floor
     /// `tol * 1e-3`). What cannot change a ray within it (gas behind a large optical depth,
     /// light paths through it) is bounded instead of computed, and the bound is in the error
@@ -266,7 +280,24 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<Plan, Error> {
         (_, Some(_)) => return Err(bad("--step is only for --integrator march".into())),
         (IntegratorArg::Exact, None) => Integrator::Exact,
         (IntegratorArg::Mc, None) => Integrator::Mc,
+        (IntegratorArg::Ao, None) => Integrator::Ao(AoSettings {
+            reach: args.ao_reach.unwrap_or(f64::INFINITY),
+            weighting: Weighting::Cosine,
+            colours: args.ao_colours,
+        }),
     };
+    if args.integrator != IntegratorArg::Ao && (args.ao_reach.is_some() || args.ao_colours) {
+        return Err(bad(
+            "--ao-reach and --ao-colours are only for --integrator ao".into(),
+        ));
+    }
+    if let Some(d) = args.ao_reach {
+        if d.is_nan() || d <= 0.0 {
+            return Err(bad(format!(
+                "--ao-reach must be a positive distance (got {d})"
+            )));
+        }
+    }
     if !(args.tol.is_finite() && args.tol > 0.0 && args.tol < 1.0) {
         return Err(bad(format!(
             "--tol must be between 0 and 1 (got {})",
@@ -475,7 +506,21 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
         },
         description
     ));
-    if prep.gas_spheres > 0 {
+    if let Integrator::Ao(ao) = opts.integrator {
+        say(format!(
+            "ambient occlusion, exact, reach {}{}",
+            if ao.reach.is_finite() {
+                format!("{}", ao.reach)
+            } else {
+                "unlimited".into()
+            },
+            if ao.colours {
+                ", on diffuse colours"
+            } else {
+                ""
+            }
+        ));
+    } else if prep.gas_spheres > 0 {
         say(format!(
             "{} gas spheres; integrator {}",
             prep.gas_spheres,
@@ -483,6 +528,7 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
                 Integrator::Exact => format!("exact (tol {:e})", opts.tol),
                 Integrator::March { step } => format!("march (step {step}; an approximation)"),
                 Integrator::Mc => format!("mc ({} paths per pixel)", opts.spp),
+                Integrator::Ao(_) => unreachable!("said above"),
             }
         ));
     }

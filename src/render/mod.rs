@@ -2,6 +2,7 @@
 //! picture ([`render()`]: a camera and [`RenderOptions`]) is traced in parallel tiles by the
 //! chosen integrator and averaged into a [`Film`].
 
+pub mod ao;
 pub(crate) mod breakpoints;
 pub mod camera;
 mod copies;
@@ -132,6 +133,9 @@ pub enum Integrator {
     /// Unbiased Monte Carlo: emission and transmittance as expected values, single scattering
     /// from one sampled collision point per gas segment, `spp` samples per pixel.
     Mc,
+    /// Ambient occlusion as the picture: the unoccluded fraction at each camera ray's first
+    /// opaque hit, exact for opaque spheres (docs/model.md section 11).
+    Ao(ao::AoSettings),
 }
 
 /// Work counters, summed over tiles.
@@ -300,6 +304,14 @@ impl RenderOptions {
                 )));
             }
         }
+        if let Integrator::Ao(ao) = self.integrator {
+            if ao.reach.is_nan() || ao.reach <= 0.0 {
+                return Err(invalid(format!(
+                    "reach = {}: the AO reach must be positive (or infinite)",
+                    ao.reach
+                )));
+            }
+        }
         self.check_memory(threads, limits::available_memory())
             .map_err(invalid)
     }
@@ -312,6 +324,11 @@ impl Prepared {
     pub fn view(&self, camera: &Camera, opts: &RenderOptions) -> Result<View<'_>, Error> {
         opts.validate()?;
         camera.lens.validate()?;
+        if let Integrator::Ao(_) = opts.integrator {
+            if let Some(why) = ao::unsupported(self) {
+                return Err(invalid(why));
+            }
+        }
         for (i, l) in self.lights.iter().enumerate() {
             if let Some(m) = l.problem() {
                 return Err(invalid(format!("lights[{i}]: {m}")));

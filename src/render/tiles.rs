@@ -137,7 +137,24 @@ fn render_pixel(
             Some((band, at)) => {
                 let (rays, hits) = band.of_pixel(at);
                 let (o, d) = rays[k];
-                surface::radiance_of_hit(view, o, d, hits[k], &mut scratch.blockers, counters)
+                match &view.integrator {
+                    Integrator::Ao(ao) => super::ao::radiance_of_hit(
+                        view,
+                        ao,
+                        (o, d),
+                        hits[k],
+                        &mut scratch.ao,
+                        counters,
+                    ),
+                    _ => surface::radiance_of_hit(
+                        view,
+                        o,
+                        d,
+                        hits[k],
+                        &mut scratch.blockers,
+                        counters,
+                    ),
+                }
             }
             None => {
                 let (o, d) = cam.ray((f64::from(i) + sx) / w, (f64::from(j) + sy) / h);

@@ -70,6 +70,7 @@ impl Case {
             (_, Integrator::Exact) => "exact",
             (_, Integrator::March { .. }) => "march",
             (_, Integrator::Mc) => "mc",
+            (_, Integrator::Ao(_)) => "ao",
         }
     }
     /// The swept parameter: tol, step or spp.

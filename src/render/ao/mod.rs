@@ -1,0 +1,165 @@
+//! Ambient occlusion, exact for opaque spheres (docs/model.md section 11): at a surface point,
+//! the cosine-weighted fraction of the hemisphere about its normal whose rays meet no other
+//! sphere within the reach.
+//!
+//! - [`cap`]: what one sphere blocks, a cap of directions;
+//! - [`union`]: the cosine-weighted measure of the caps' union, in closed form.
+//!
+//! The spheres that can block are those whose nearest point is within the reach and whose
+//! box rises above the point's tangent plane; the BVH finds them ([`SphereBvh::near_region`]),
+//! so the cost of a point grows with the spheres within its reach, not with the scene. With
+//! no reach (`f64::INFINITY`), every sphere above the tangent plane is a candidate: a cost
+//! that grows with the scene, for each pixel.
+
+pub mod cap;
+pub mod union;
+
+use glam::DVec3;
+
+use super::integrators::surface::{material_of, surface_point, OpaqueHit};
+use super::integrators::Estimate;
+use super::visibility::Opaque;
+use super::{Counters, Prepared, View};
+use crate::accel::SphereBvh;
+use cap::{blocked_by_ball, Blocked, Cap};
+pub use union::Weighting;
+use union::{covered_fraction, UnionScratch};
+
+/// How ambient occlusion is computed and shown.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AoSettings {
+    /// The distance within which a sphere occludes (`f64::INFINITY`: any distance).
+    pub reach: f64,
+    /// How directions are weighted.
+    pub weighting: Weighting,
+    /// The picture is the unoccluded fraction times each surface's diffuse colour (`true`) or
+    /// on white (`false`).
+    pub colours: bool,
+}
+
+impl Default for AoSettings {
+    fn default() -> Self {
+        AoSettings {
+            reach: f64::INFINITY,
+            weighting: Weighting::Cosine,
+            colours: false,
+        }
+    }
+}
+
+/// Reusable buffers of one worker.
+#[derive(Default)]
+pub struct AoScratch {
+    caps: Vec<Cap>,
+    stack: Vec<u32>,
+    union: UnionScratch,
+}
+
+/// The unoccluded fraction at `x` on a surface of unit normal `n`: one minus the fraction of
+/// the hemisphere about `n`, weighted by `w`, covered by the opaque spheres of `bvh` within
+/// `reach`, the sphere `own` (the one `x` is on) left out. 0 if `x` is inside
+/// a sphere; a point on a sphere's surface to rounding (within 1e-10 of its radius) is on it.
+pub fn unoccluded(
+    bvh: &SphereBvh,
+    x: DVec3,
+    n: DVec3,
+    own: Option<u32>,
+    (reach, w): (f64, Weighting),
+    s: &mut AoScratch,
+) -> f64 {
+    s.caps.clear();
+    let mut everything = false;
+    let reach2 = reach * reach;
+    bvh.near_region(
+        |lo, hi| {
+            let below = (lo - x).max(DVec3::ZERO) + (x - hi).max(DVec3::ZERO);
+            // The box's corner farthest along the normal.
+            let top = DVec3::select(n.cmpge(DVec3::ZERO), hi, lo);
+            below.length_squared() <= reach2 && (top - x).dot(n) > 0.0
+        },
+        |i, p| {
+            if Some(i) == own || p.is_gas() || everything {
+                return;
+            }
+            match blocked_by_ball(x, p.center, p.radius, reach) {
+                Blocked::Nothing => {}
+                Blocked::Cap(c) => s.caps.push(c),
+                Blocked::Everything => everything = true,
+            }
+        },
+        &mut s.stack,
+    );
+    if everything {
+        return 0.0;
+    }
+    1.0 - covered_fraction(n, &s.caps, w, &mut s.union)
+}
+
+/// The AO picture's radiance along a camera ray whose first opaque hit is `hit`: the
+/// unoccluded fraction there, on white or on the surface's diffuse colour; the background
+/// where the ray meets nothing. Exact up to rounding: the error estimate is 0.
+pub fn radiance_of_hit(
+    view: &View,
+    ao: &AoSettings,
+    (o, d): (DVec3, DVec3),
+    hit: Option<OpaqueHit>,
+    s: &mut AoScratch,
+    counters: &mut Counters,
+) -> Estimate {
+    counters.camera_rays += 1;
+    let Some(hit) = hit else {
+        return Estimate {
+            value: view.background,
+            error: 0.0,
+            covered: false,
+        };
+    };
+    let sp = surface_point(view, o, d, hit);
+    let own = match hit.on {
+        Opaque::Sphere(prim) => Some(prim),
+        Opaque::Surface(_) => None,
+    };
+    let v = unoccluded(&view.bvh, sp.x, sp.n, own, (ao.reach, ao.weighting), s);
+    let colour = if ao.colours {
+        material_of(view, hit.on).diffuse
+    } else {
+        DVec3::ONE
+    };
+    Estimate {
+        value: colour * v,
+        error: 0.0,
+        covered: true,
+    }
+}
+
+/// Why `prep` cannot be rendered with exact AO, if it cannot: the occluders exact AO knows
+/// are opaque spheres.
+pub fn unsupported(prep: &Prepared) -> Option<String> {
+    let ellipsoids = prep
+        .bvh
+        .packed()
+        .iter()
+        .filter(|q| q.is_ellipsoid())
+        .count();
+    let what = [
+        (prep.gas_spheres, "gas spheres"),
+        (ellipsoids, "ellipsoids (spheres under a non-uniform scale)"),
+        (prep.surfaces.items.len(), "surfaces other than spheres"),
+    ];
+    let found: Vec<String> = what
+        .iter()
+        .filter(|(k, _)| *k > 0)
+        .map(|(k, w)| format!("{k} {w}"))
+        .collect();
+    (!found.is_empty()).then(|| {
+        format!(
+            "ambient occlusion is exact for opaque spheres only, and this scene has {}",
+            found.join(", ")
+        )
+    })
+}
+
+#[cfg(test)]
+mod reference;
+#[cfg(test)]
+mod tests;
