@@ -12,6 +12,7 @@
 //! that grows with the scene, for each pixel.
 
 pub mod cap;
+pub mod sky;
 pub mod union;
 
 use glam::DVec3;
@@ -22,6 +23,7 @@ use super::visibility::Opaque;
 use super::{Counters, Prepared, View};
 use crate::accel::SphereBvh;
 use cap::{blocked_by_ball, Blocked, Cap};
+use sky::Sky;
 pub use union::Weighting;
 use union::{covered_fraction, UnionScratch};
 
@@ -53,46 +55,125 @@ pub struct AoScratch {
     caps: Vec<Cap>,
     stack: Vec<u32>,
     union: UnionScratch,
+    sky: Option<Sky>,
 }
 
+/// Occluders whose nearest point is within this many typical radii (the median radius) of
+/// the shading point are gathered first; beyond it, only those the sky they leave open can
+/// show (see [`sky`]).
+const NEAR_RADII: f64 = 4.0;
+
+/// More caps than this are pruned by the sky before their union is measured.
+const PRUNE: usize = 16;
+
 /// The unoccluded fraction at `x` on a surface of unit normal `n`: one minus the fraction of
-/// the hemisphere about `n`, weighted by `w`, covered by the opaque spheres of `bvh` within
-/// `reach`, the sphere `own` (the one `x` is on) left out. 0 if `x` is inside
-/// a sphere; a point on a sphere's surface to rounding (within 1e-10 of its radius) is on it.
+/// the hemisphere about `n`, weighted by `w`, covered by the opaque spheres of `prep` within
+/// `reach`, the sphere `own` (the one `x` is on) left out. 0 if `x` is inside a sphere; a
+/// point on a sphere's surface to rounding (within 1e-10 of its radius) is on it.
+///
+/// The spheres near `x` are gathered first. When the reach goes beyond them, their caps,
+/// largest first, mark the cells of the sky they hold whole (a cap inside cells already
+/// marked is dropped), and the rest of the scene is searched only where the sky is open:
+/// a BVH box or a sphere whose directions all fall in marked cells is left out. What is left
+/// out lies within the union of the caps kept, so the union is the same.
 pub fn unoccluded(
-    bvh: &SphereBvh,
+    prep: &Prepared,
     x: DVec3,
     n: DVec3,
     own: Option<u32>,
     (reach, w): (f64, Weighting),
     s: &mut AoScratch,
 ) -> f64 {
+    let near = (NEAR_RADII * prep.typical_radius).min(reach);
     s.caps.clear();
-    let mut everything = false;
-    let reach2 = reach * reach;
-    bvh.near_region(
-        |lo, hi| {
-            let below = (lo - x).max(DVec3::ZERO) + (x - hi).max(DVec3::ZERO);
-            // The box's corner farthest along the normal.
-            let top = DVec3::select(n.cmpge(DVec3::ZERO), hi, lo);
-            below.length_squared() <= reach2 && (top - x).dot(n) > 0.0
-        },
-        |i, p| {
-            if Some(i) == own || p.is_gas() || everything {
-                return;
-            }
-            match blocked_by_ball(x, p.center, p.radius, reach) {
-                Blocked::Nothing => {}
-                Blocked::Cap(c) => s.caps.push(c),
-                Blocked::Everything => everything = true,
-            }
-        },
-        &mut s.stack,
-    );
-    if everything {
+    let around = Around { x, n, own, reach };
+    if around.gather(&prep.bvh, (0.0, near), None, &mut s.caps, &mut s.stack) {
         return 0.0;
     }
+    if near < reach || s.caps.len() > PRUNE {
+        s.caps.sort_unstable_by(|a, b| a.cos.total_cmp(&b.cos));
+        let sky = s.sky.insert(Sky::new(n));
+        s.caps.retain(|c| {
+            let alpha = c.cos.acos();
+            if sky.hides(c.axis, alpha) {
+                return false;
+            }
+            sky.cover(c.axis, alpha);
+            true
+        });
+        if near < reach {
+            around.gather(
+                &prep.bvh,
+                (near, reach),
+                Some(sky),
+                &mut s.caps,
+                &mut s.stack,
+            );
+        }
+    }
     1.0 - covered_fraction(n, &s.caps, w, &mut s.union)
+}
+
+/// A shading point and what may occlude it.
+struct Around {
+    x: DVec3,
+    n: DVec3,
+    own: Option<u32>,
+    reach: f64,
+}
+
+impl Around {
+    /// Adds to `caps` the caps of the opaque spheres whose nearest point is at a distance in
+    /// `from..to` and rises above the horizon, leaving out those the `sky` hides; whether `x`
+    /// is inside one of them.
+    fn gather(
+        &self,
+        bvh: &SphereBvh,
+        (from, to): (f64, f64),
+        sky: Option<&Sky>,
+        caps: &mut Vec<Cap>,
+        stack: &mut Vec<u32>,
+    ) -> bool {
+        let Around { x, n, own, reach } = *self;
+        let mut everything = false;
+        bvh.near_region(
+            |lo, hi| {
+                let below = (lo - x).max(DVec3::ZERO) + (x - hi).max(DVec3::ZERO);
+                let beyond = (lo - x).abs().max((hi - x).abs());
+                // The box's corner farthest along the normal.
+                let top = DVec3::select(n.cmpge(DVec3::ZERO), hi, lo);
+                below.length_squared() < to * to
+                    && beyond.length_squared() >= from * from
+                    && (top - x).dot(n) > 0.0
+                    && !sky.is_some_and(|sky| {
+                        let (centre, radius) = (0.5 * (lo + hi), 0.5 * (hi - lo).length());
+                        let d = (centre - x).length();
+                        d > radius && sky.hides((centre - x) / d, (radius / d).asin())
+                    })
+            },
+            |i, p| {
+                if Some(i) == own || p.is_gas() || everything {
+                    return;
+                }
+                let gap = (p.center - x).length() - p.radius;
+                // (Nearer than `from == 0`: inside or cutting the shading point's sphere.)
+                if gap >= to || (from > 0.0 && gap < from) {
+                    return;
+                }
+                match blocked_by_ball(x, p.center, p.radius, reach) {
+                    Blocked::Nothing => {}
+                    Blocked::Cap(c) => {
+                        if !sky.is_some_and(|sky| sky.hides(c.axis, c.cos.acos())) {
+                            caps.push(c);
+                        }
+                    }
+                    Blocked::Everything => everything = true,
+                }
+            },
+            stack,
+        );
+        everything
+    }
 }
 
 /// The AO picture's radiance along a camera ray whose first opaque hit is `hit`: the
@@ -119,7 +200,7 @@ pub fn radiance_of_hit(
         Opaque::Sphere(prim) => Some(prim),
         Opaque::Surface(_) => None,
     };
-    let v = unoccluded(&view.bvh, sp.x, sp.n, own, (ao.reach, ao.weighting), s);
+    let v = unoccluded(view, sp.x, sp.n, own, (ao.reach, ao.weighting), s);
     let colour = if ao.colours {
         material_of(view, hit.on).diffuse
     } else {

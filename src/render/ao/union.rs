@@ -130,6 +130,20 @@ enum Meets {
 const TANGENT: f64 = 1e-13;
 
 fn meets(i: &Circle, j: &Circle) -> Meets {
+    // Far from every tangency, the cosine of the angle between the axes decides at once:
+    // below cos(α_i + α_j) by a margin, the circles are apart; above cos(α_i - α_j), nested.
+    let dot = i.axis.dot(j.axis);
+    let (cc, ss) = (i.cos * j.cos, i.sin * j.sin);
+    if dot < cc - ss - 1e-9 {
+        return Meets::Outside;
+    }
+    if dot > cc + ss + 1e-9 {
+        return if i.angle < j.angle {
+            Meets::Inside
+        } else {
+            Meets::Outside
+        };
+    }
     let gap = i.axis.cross(j.axis).length().atan2(i.axis.dot(j.axis));
     let apart = (i.angle - j.angle).abs();
     if gap <= TANGENT && apart <= TANGENT {
