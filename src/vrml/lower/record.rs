@@ -348,3 +348,17 @@ pub(super) fn value_end(arena: &[Rec], i: usize) -> usize {
         _ => i + 1,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::Rec;
+    use crate::vrml::syntax::OwnedEvent;
+
+    #[test]
+    fn recorded_events_stay_small() {
+        // The arena holds one per recorded event (a large PROTO library, DEF'd meshes): a
+        // position is one word, and a resolved USE fits in an event's room.
+        assert_eq!(std::mem::size_of::<OwnedEvent>(), 80);
+        assert_eq!(std::mem::size_of::<Rec>(), 80);
+    }
+}
