@@ -1,5 +1,6 @@
 //! Streaming source text: a window over a decoded UTF-8 stream with absolute byte offsets,
-//! a line index for `line:col`, and the refill/retry protocol the parser relies on.
+//! a line index for `line:col`, the refill/retry protocol the parser relies on, and [`Pos`],
+//! a position in the scene text that may be in another file than the one being read.
 
 use std::io::Read;
 
@@ -16,6 +17,72 @@ const CHUNK: usize = 1 << 20;
 /// a rule of the cursor alone, so that it does not depend on how the text was read in (one
 /// stream, or pieces read apart and joined with [`SourceWindow::jump`]).
 pub const KEEP: u64 = 64 * 1024;
+
+/// A position in the scene text: a byte offset in the file being read, or one *tagged* with
+/// the index in `Scene::files` of the file it is in, for positions recorded from a file read
+/// for its PROTOs (EXTERNPROTO), whose messages and IR items must point into that file
+/// although they are made while another is read.
+///
+/// One word: the low 44 bits are the byte offset, the 20 above the file's index (0: the file
+/// being read), the layout of [`crate::scene::Origin`]. Offsets are ordered within one file.
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default)]
+pub struct Pos(u64);
+
+impl Pos {
+    /// How many low bits hold the byte offset.
+    const OFFSET_BITS: u32 = 44;
+    const OFFSET_MASK: u64 = (1 << Self::OFFSET_BITS) - 1;
+    const MAX_FILE: u32 = (1 << (64 - Self::OFFSET_BITS)) - 1;
+
+    /// Byte `offset` of the file being read.
+    #[inline(always)]
+    pub const fn at(offset: u64) -> Pos {
+        Pos(offset)
+    }
+
+    /// This position, tagged with file `file` (its index in `Scene::files`, never 0; capped
+    /// at 2^20 - 1, the offset at 2^44 - 1); a position already tagged keeps its file (it
+    /// came from yet another file).
+    pub fn tagged(self, file: u32) -> Pos {
+        if self.file().is_some() {
+            return self;
+        }
+        Pos(u64::from(file.min(Self::MAX_FILE)) << Self::OFFSET_BITS
+            | self.0.min(Self::OFFSET_MASK))
+    }
+
+    /// The file a tagged position is in (its index in `Scene::files`); `None`: the file
+    /// being read.
+    #[inline(always)]
+    pub fn file(self) -> Option<u32> {
+        let file = (self.0 >> Self::OFFSET_BITS) as u32;
+        (file != 0).then_some(file)
+    }
+
+    /// The byte offset in its file, tagged or not.
+    #[inline(always)]
+    pub fn offset(self) -> u64 {
+        self.0 & Self::OFFSET_MASK
+    }
+}
+
+/// The position `bytes` further on, in the same file.
+impl std::ops::Add<u64> for Pos {
+    type Output = Pos;
+    #[inline(always)]
+    fn add(self, bytes: u64) -> Pos {
+        Pos(self.0 + bytes)
+    }
+}
+
+impl std::fmt::Debug for Pos {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.file() {
+            Some(file) => write!(f, "Pos(file {file}, {})", self.offset()),
+            None => write!(f, "Pos({})", self.offset()),
+        }
+    }
+}
 
 /// Byte offsets of line starts, for turning offsets into 1-based line and column.
 ///
@@ -310,7 +377,9 @@ impl SourceWindow {
         self.pos -= keep;
     }
 
-    /// A diagnostic at an absolute offset, with the line's text if it is still in the window.
+    /// A diagnostic at an absolute offset of this window's text, with the line's text if it
+    /// is still in the window. (A window is one file and knows nothing of [`Pos`] tags: a
+    /// tagged position is placed in the window of its own file, by its [`Pos::offset`].)
     pub fn diagnostic(&self, severity: Severity, offset: u64, message: String) -> Diagnostic {
         let (line, byte_col) = self.lines.line_col(offset);
         let line_start = offset + 1 - byte_col;
@@ -352,7 +421,23 @@ impl SourceWindow {
 
 #[cfg(test)]
 mod tests {
-    use super::{LineIndex, SourceWindow, CHUNK, LOOKAHEAD};
+    use super::{LineIndex, Pos, SourceWindow, CHUNK, LOOKAHEAD};
+    use crate::scene::Origin;
+
+    #[test]
+    fn tagged_positions_have_the_layout_of_origins() {
+        for (file, offset) in [(1, 0), (3, 123_456_789), (Pos::MAX_FILE, Pos::OFFSET_MASK)] {
+            let at = Pos::at(offset).tagged(file);
+            assert_eq!((at.file(), at.offset()), (Some(file), offset));
+            let o = Origin::new(file, offset);
+            assert_eq!((o.file(), o.offset()), (file, offset));
+        }
+        // Untagged positions are in the file being read; a tag is not replaced.
+        assert_eq!(Pos::at(12).file(), None);
+        assert_eq!(Pos::at(5).tagged(2).tagged(7).file(), Some(2));
+        // One word, as the positions recorded in events were.
+        assert_eq!(std::mem::size_of::<Pos>(), std::mem::size_of::<u64>());
+    }
 
     /// A reader that gives at most `step` bytes a call.
     struct Dribble(std::io::Cursor<Vec<u8>>, usize);

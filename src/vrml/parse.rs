@@ -9,7 +9,7 @@ use super::lex::{self, identifier, number, starts_number, string, ws, NumberProb
 use super::syntax::{Event, Sink, Value};
 use crate::diag::Severity;
 use crate::error::Error;
-use crate::source::SourceWindow;
+use crate::source::{Pos, SourceWindow};
 
 #[derive(Clone, Copy, Debug)]
 enum Frame {
@@ -230,7 +230,7 @@ impl Parser {
     pub fn resume<S: Sink + ?Sized>(&mut self, sink: &mut S) -> Result<Run, Error> {
         loop {
             let next = self.skip_ws()?;
-            let at = self.src.offset();
+            let at = Pos::at(self.src.offset());
             let top = *self.stack.last().unwrap_or(&Frame::Top);
             let Some((first, ahead)) = next else {
                 if self.pause_at_end {
@@ -255,14 +255,14 @@ impl Parser {
                     self.skip_ws()?;
                     let at2 = self.src.offset();
                     if external {
-                        self.step(sink, at2, ItemIn::Urls)?;
+                        self.step(sink, Pos::at(at2), ItemIn::Urls)?;
                     } else {
                         if !self.src.rest().starts_with('{') {
                             return Err(self.error_at(at2, "expected '{' to open the PROTO body"));
                         }
                         self.src.pos += 1;
                         self.stack.push(Frame::ProtoBody);
-                        sink.event(&self.src, Event::ProtoBody { at: at2 })?;
+                        sink.event(&self.src, Event::ProtoBody { at: Pos::at(at2) })?;
                     }
                     continue;
                 }
@@ -308,7 +308,7 @@ impl Parser {
     /// Runs one item parser, retrying with more input when it ran into the end of the window,
     /// then turns the item into events.
     #[inline(always)]
-    fn step<S: Sink + ?Sized>(&mut self, sink: &mut S, at: u64, what: ItemIn) -> Result<(), Error> {
+    fn step<S: Sink + ?Sized>(&mut self, sink: &mut S, at: Pos, what: ItemIn) -> Result<(), Error> {
         loop {
             let eof = self.src.eof;
             let i = self.src.rest();
@@ -387,9 +387,9 @@ enum StackOp {
     PopCloseSingle,
 }
 
-/// Offset of the start of `rest`-relative text, for events inside one item.
-fn off(src: &SourceWindow, s: &str) -> u64 {
-    src.offset_of(s)
+/// Position of the start of `rest`-relative text, for events inside one item.
+fn off(src: &SourceWindow, s: &str) -> Pos {
+    Pos::at(src.offset_of(s))
 }
 
 #[inline(always)]
@@ -397,7 +397,7 @@ fn emit_val<S: Sink + ?Sized>(
     src: &SourceWindow,
     sink: &mut S,
     name: &str,
-    at: u64,
+    at: Pos,
     v: Val<'_>,
     end: &str,
 ) -> Result<StackOp, Error> {
@@ -435,7 +435,7 @@ fn emit_val<S: Sink + ?Sized>(
 fn emit<S: Sink + ?Sized>(
     src: &SourceWindow,
     sink: &mut S,
-    at: u64,
+    at: Pos,
     item: Item<'_>,
     top: Option<Frame>,
     under: Option<Frame>,

@@ -7,7 +7,7 @@
 use std::rc::Rc;
 
 use crate::error::Error;
-use crate::source::SourceWindow;
+use crate::source::{Pos, SourceWindow};
 
 /// A non-node field value, read without knowing the field's type (checked later).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -32,36 +32,36 @@ pub enum Value<'a> {
     Is(&'a str),
 }
 
-/// One piece of the scene text. `at` is the absolute byte offset where the piece starts.
+/// One piece of the scene text. `at` is where the piece starts.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Event<'a> {
     NodeStart {
         def: Option<&'a str>,
         ty: &'a str,
-        at: u64,
+        at: Pos,
     },
     NodeEnd {
-        at: u64,
+        at: Pos,
     },
     Field {
         name: &'a str,
-        at: u64,
+        at: Pos,
         value: Value<'a>,
     },
     /// An SFNode or MFNode field: node events, `Use` and `Null` follow until `NodesEnd`.
     NodesStart {
         name: &'a str,
-        at: u64,
+        at: Pos,
     },
     NodesEnd {
-        at: u64,
+        at: Pos,
     },
     Use {
         name: &'a str,
-        at: u64,
+        at: Pos,
     },
     Null {
-        at: u64,
+        at: Pos,
     },
     /// An interface declaration (PROTO, EXTERNPROTO or Script): `access type name`; for
     /// `field` and `exposedField` outside EXTERNPROTO a value event follows, named `name`.
@@ -69,20 +69,20 @@ pub enum Event<'a> {
         access: &'a str,
         ty: &'a str,
         name: &'a str,
-        at: u64,
+        at: Pos,
     },
     ProtoStart {
         name: &'a str,
-        at: u64,
+        at: Pos,
         external: bool,
     },
     /// The `{` that opens a PROTO body.
     ProtoBody {
-        at: u64,
+        at: Pos,
     },
     /// The end of a PROTO (its `}`) or EXTERNPROTO (after its URL list).
     ProtoEnd {
-        at: u64,
+        at: Pos,
         urls: &'a [String],
     },
     Route {
@@ -90,7 +90,7 @@ pub enum Event<'a> {
         from_field: &'a str,
         to_node: &'a str,
         to_field: &'a str,
-        at: u64,
+        at: Pos,
     },
 }
 
@@ -106,7 +106,7 @@ pub trait Sink {
     fn whole_node(
         &mut self,
         src: &SourceWindow,
-        at: u64,
+        at: Pos,
         text: &str,
     ) -> Result<Option<usize>, Error> {
         let _ = (src, at, text);
@@ -119,7 +119,7 @@ pub trait Sink {
     fn flat_node(
         &mut self,
         src: &SourceWindow,
-        at: u64,
+        at: Pos,
         text: &str,
         node: &crate::vrml::parse::flat::FlatNode,
     ) -> Result<bool, Error> {
@@ -199,46 +199,46 @@ pub enum OwnedEvent {
     NodeStart {
         def: Option<Rc<str>>,
         ty: Rc<str>,
-        at: u64,
+        at: Pos,
     },
     NodeEnd {
-        at: u64,
+        at: Pos,
     },
     Field {
         name: Rc<str>,
-        at: u64,
+        at: Pos,
         value: OwnedValue,
     },
     NodesStart {
         name: Rc<str>,
-        at: u64,
+        at: Pos,
     },
     NodesEnd {
-        at: u64,
+        at: Pos,
     },
     Use {
         name: Rc<str>,
-        at: u64,
+        at: Pos,
     },
     Null {
-        at: u64,
+        at: Pos,
     },
     Decl {
         access: Rc<str>,
         ty: Rc<str>,
         name: Rc<str>,
-        at: u64,
+        at: Pos,
     },
     ProtoStart {
         name: Rc<str>,
-        at: u64,
+        at: Pos,
         external: bool,
     },
     ProtoBody {
-        at: u64,
+        at: Pos,
     },
     ProtoEnd {
-        at: u64,
+        at: Pos,
         urls: Rc<[String]>,
     },
     Route {
@@ -246,7 +246,7 @@ pub enum OwnedEvent {
         from_field: Rc<str>,
         to_node: Rc<str>,
         to_field: Rc<str>,
-        at: u64,
+        at: Pos,
     },
 }
 

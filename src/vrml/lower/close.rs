@@ -16,7 +16,7 @@ use super::Lowerer;
 use crate::error::Error;
 use crate::geom::shapes::Solid;
 use crate::scene::{Paint, Sphere, Surface, SurfaceShape};
-use crate::source::SourceWindow;
+use crate::source::{Pos, SourceWindow};
 use crate::vrml::syntax::OwnedEvent;
 
 /// The first NavigationInfo and Background are bound; later ones are ignored.
@@ -128,7 +128,7 @@ impl Lowerer {
 
     /// What a leaf node lowers to when it closes (a Shape: a sphere, if its geometry is one).
     #[inline(always)]
-    fn close_leaf(&mut self, leaf: Leaf, at: u64) -> Result_ {
+    fn close_leaf(&mut self, leaf: Leaf, at: Pos) -> Result_ {
         match leaf {
             Leaf::Shape {
                 appearance,
@@ -219,7 +219,7 @@ impl Lowerer {
         &mut self,
         src: &SourceWindow,
         kind: Kind,
-        at: u64,
+        at: Pos,
     ) -> Result<(), Error> {
         let (transform, marks, dirlights) = match kind {
             Kind::Group {
@@ -271,7 +271,7 @@ impl Lowerer {
     /// A Shape whose geometry is a Box, Cylinder or Cone.
     #[cold]
     #[inline(never)]
-    fn shape_solid(&mut self, i: u32, paint: Paint, at: u64) {
+    fn shape_solid(&mut self, i: u32, paint: Paint, at: Pos) {
         let Some(&solid) = self.meshes.solids.get(i as usize) else {
             return;
         };
@@ -302,7 +302,7 @@ impl Lowerer {
     /// colours) and its triangles.
     #[cold]
     #[inline(never)]
-    fn shape_mesh(&mut self, i: u32, paint: Paint, at: u64) {
+    fn shape_mesh(&mut self, i: u32, paint: Paint, at: Pos) {
         let Some(parts) = self.mesh_parts_for_shape(i) else {
             return;
         };

@@ -24,7 +24,7 @@ use super::proto::{ProtoDecl, SphereTemplate};
 use super::record::{Name, Rec, RecKind};
 use super::Lowerer;
 use crate::error::Error;
-use crate::source::SourceWindow;
+use crate::source::{Pos, SourceWindow};
 use crate::vrml::schema;
 use crate::vrml::syntax::{Event, Nums, OwnedEvent, OwnedValue, Value};
 
@@ -38,7 +38,7 @@ struct GivenField {
     fi: u32,
     len: u8,
     integer: bool,
-    at: u64,
+    at: Pos,
     numbers: [f64; 3],
 }
 
@@ -46,7 +46,7 @@ struct GivenField {
 struct Reading {
     proto: Rc<ProtoDecl>,
     ty: Name,
-    at: u64,
+    at: Pos,
 }
 
 /// The instance read into its template, if any, and the buffer of its values.
@@ -86,7 +86,7 @@ impl FieldMemo {
         proto: &ProtoDecl,
         k: usize,
         name: &str,
-        at: u64,
+        at: Pos,
         values: &[f64],
         integer: bool,
     ) -> Option<GivenField> {
@@ -134,7 +134,7 @@ impl Lowerer {
         proto: &Rc<ProtoDecl>,
         ty: &Name,
         def: Option<&str>,
-        at: u64,
+        at: Pos,
     ) -> bool {
         let may = def.is_none() && self.template_may_read(proto);
         if may {
@@ -168,7 +168,7 @@ impl Lowerer {
     pub(super) fn whole_instance(
         &mut self,
         src: &SourceWindow,
-        at: u64,
+        at: Pos,
         text: &str,
         node: &FlatNode,
     ) -> Result<bool, Error> {
@@ -191,7 +191,7 @@ impl Lowerer {
     fn whole_instance_with(
         &mut self,
         src: &SourceWindow,
-        at: u64,
+        at: Pos,
         text: &str,
         node: &FlatNode,
         proto: &Rc<ProtoDecl>,
@@ -331,7 +331,7 @@ impl Lowerer {
 fn given_field(
     proto: &ProtoDecl,
     name: &str,
-    at: u64,
+    at: Pos,
     values: &[f64],
     integer: bool,
 ) -> Option<GivenField> {

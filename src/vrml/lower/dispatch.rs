@@ -10,7 +10,7 @@
 use super::record::{Rec, RecKind};
 use super::Lowerer;
 use crate::error::Error;
-use crate::source::SourceWindow;
+use crate::source::{Pos, SourceWindow};
 use crate::vrml::schema::{Access, FieldType};
 use crate::vrml::sphere_node::read_sphere_node;
 use crate::vrml::syntax::{Event, OwnedEvent, OwnedValue, Sink, Value};
@@ -25,7 +25,7 @@ impl Sink for Lowerer {
     fn whole_node(
         &mut self,
         src: &SourceWindow,
-        at: u64,
+        at: Pos,
         text: &str,
     ) -> Result<Option<usize>, Error> {
         if !text.starts_with('T') {
@@ -41,7 +41,7 @@ impl Sink for Lowerer {
     fn flat_node(
         &mut self,
         src: &SourceWindow,
-        at: u64,
+        at: Pos,
         text: &str,
         node: &crate::vrml::parse::flat::FlatNode,
     ) -> Result<bool, Error> {
@@ -98,7 +98,7 @@ impl Lowerer {
 
     /// The fast path's NodeStart (without DEF): `handle` without recording.
     #[inline(always)]
-    fn fast_node_start(&mut self, src: &SourceWindow, ty: &str, at: u64) -> Result<(), Error> {
+    fn fast_node_start(&mut self, src: &SourceWindow, ty: &str, at: Pos) -> Result<(), Error> {
         self.node_start(src, None, ty, at)?;
         // (A Switch choice or PROTO instance starts recording at this event.)
         if !self.rec.recorders.is_empty() {
@@ -231,7 +231,7 @@ impl Lowerer {
     }
 
     /// `USE name`: replays the DEF'd node's events (or records the USE).
-    fn on_use(&mut self, src: &SourceWindow, name: &str, at: u64) -> Result<(), Error> {
+    fn on_use(&mut self, src: &SourceWindow, name: &str, at: Pos) -> Result<(), Error> {
         let Some(d) = self.lookup_def(name) else {
             let open = self.scopes.is_open(name);
             if open && self.open.quiet > 0 {

@@ -16,7 +16,7 @@ use super::proto::ProtoDecl;
 use super::record::{value_end, Rec};
 use super::Lowerer;
 use crate::error::Error;
-use crate::source::SourceWindow;
+use crate::source::{Pos, SourceWindow};
 use crate::vrml::schema;
 use crate::vrml::syntax::{Event, OwnedEvent, OwnedValue};
 
@@ -46,7 +46,7 @@ impl Lowerer {
         src: &SourceWindow,
         name: &str,
         target: &str,
-        at: u64,
+        at: Pos,
     ) -> Result<(), Error> {
         let Some(sub) = self.expansions.substs.last() else {
             return Err(self.diags.error(
@@ -71,7 +71,7 @@ impl Lowerer {
         src: &SourceWindow,
         name: &str,
         fi: usize,
-        at: u64,
+        at: Pos,
     ) -> Result<(), Error> {
         let Some(sub) = self.expansions.substs.last() else {
             return Err(Error::Internal("IS outside a PROTO expansion".into()));
@@ -135,7 +135,7 @@ impl Lowerer {
         src: &SourceWindow,
         proto: Rc<ProtoDecl>,
         inst: Range<usize>,
-        at: u64,
+        at: Pos,
     ) -> Result<(), Error> {
         // The instance's fields (skip its NodeStart and NodeEnd).
         let mut values = self.expansions.spare_values.pop().unwrap_or_default();
@@ -235,7 +235,7 @@ impl Lowerer {
         src: &SourceWindow,
         proto: Rc<ProtoDecl>,
         values: Vec<Option<Range<usize>>>,
-        at: u64,
+        at: Pos,
     ) -> Result<(), Error> {
         // The body runs in a namespace of its own (under its file's PROTOs if it came from
         // another file), with this instance's substitutions.
@@ -271,7 +271,7 @@ impl Lowerer {
         src: &SourceWindow,
         events: &[Rec],
         is: &[u32],
-        at: u64,
+        at: Pos,
     ) -> Result<(), Error> {
         for (rec, &is) in events.iter().zip(is) {
             match rec {

@@ -21,7 +21,7 @@
 //! read. So that its messages, and the IR items it makes, still point into its own file,
 //! every position recorded from that file is *tagged* with the file's index in
 //! `Scene::files`, in the top bits, as [`crate::scene::Origin`] packs them (see
-//! `position`); `Diags` keeps the file's line index to turn tagged positions
+//! [`crate::source::Pos`]); `Diags` keeps the file's line index to turn tagged positions
 //! into `file:line:col`, and `Lowerer::origin` turns them into origins in that file.
 
 use std::path::{Path, PathBuf};
@@ -30,17 +30,16 @@ use std::rc::Rc;
 use hashbrown::HashMap;
 
 use super::inline::{local_path, Admit};
-use super::position::tag;
 use super::proto::{InterfaceField, ProtoDecl, Protos};
 use super::record::{Name, Rec};
 use super::Lowerer;
 use crate::error::Error;
-use crate::source::SourceWindow;
+use crate::source::{Pos, SourceWindow};
 use crate::vrml::parse::Parser;
 use crate::vrml::syntax::OwnedEvent;
 
 /// The position a recorded event stands at.
-fn position_mut(rec: &mut Rec) -> &mut u64 {
+fn position_mut(rec: &mut Rec) -> &mut Pos {
     match rec {
         Rec::Used { at, .. } => at,
         Rec::Ev(ev) => match ev {
@@ -64,7 +63,7 @@ fn position_mut(rec: &mut Rec) -> &mut u64 {
 fn tag_all(recs: &mut [Rec], file: u32) {
     for r in recs {
         let at = position_mut(r);
-        *at = tag(*at, file);
+        *at = at.tagged(file);
     }
 }
 
@@ -78,7 +77,7 @@ fn tagged(decl: &ProtoDecl, file: u32) -> ProtoDecl {
     // (Its template's positions would be untagged; a PROTO of another file is replayed.)
     d.sphere = None;
     for f in &mut d.fields {
-        f.at = tag(f.at, file);
+        f.at = f.at.tagged(file);
     }
     d
 }
@@ -163,7 +162,7 @@ impl Lowerer {
         name: &Rc<str>,
         iface: &[InterfaceField],
         urls: &[String],
-        at: u64,
+        at: Pos,
     ) -> Result<Option<ProtoDecl>, Error> {
         if !self.opts.inline {
             return Ok(None);
@@ -235,7 +234,7 @@ impl Lowerer {
         &mut self,
         src: &SourceWindow,
         name: &str,
-        at: u64,
+        at: Pos,
         base: &Path,
         url: &str,
         file: &str,
@@ -300,7 +299,7 @@ impl Lowerer {
         let (nodes, spent) = (self.nodes, self.spent);
         let from = self.rec.arena.len();
         self.scopes.push_file();
-        self.open.push_quiet(Name::Static("<file>"), 0);
+        self.open.push_quiet(Name::Static("<file>"), Pos::at(0));
         let depth = self.open.frames.len();
         self.externs.reading.push(None);
         let mut parser = Parser::new(src);
@@ -323,7 +322,7 @@ impl Lowerer {
         let src = parser.src;
         if let Some(at) = src.bad_utf8 {
             self.diags
-                .warn(&src, at, "invalid UTF-8 (bytes replaced by '?')");
+                .warn(&src, Pos::at(at), "invalid UTF-8 (bytes replaced by '?')");
         }
         self.files.bytes += src.bytes_read;
         self.diags.sources.insert(file, Rc::new(kept(src)));

@@ -16,7 +16,7 @@ use super::transform::quat;
 use super::{Diags, Lowerer};
 use crate::error::Error;
 use crate::geom::shapes::Solid;
-use crate::source::SourceWindow;
+use crate::source::{Pos, SourceWindow};
 use crate::vrml::schema::{self, Access};
 use crate::vrml::syntax::Value;
 
@@ -33,7 +33,7 @@ pub(super) fn warn_if_event(
     name: &str,
     ty: &str,
     access: Access,
-    at: u64,
+    at: Pos,
 ) {
     if is_event(access) {
         let msg = format!(
@@ -110,7 +110,7 @@ impl Lowerer {
         &mut self,
         src: &SourceWindow,
         name: &str,
-        at: u64,
+        at: Pos,
         value: Value<'_>,
     ) -> Result<(), Error> {
         if self.open.quiet > 0 {
@@ -164,7 +164,7 @@ impl Lowerer {
         &mut self,
         src: &SourceWindow,
         name: &str,
-        at: u64,
+        at: Pos,
     ) -> Option<(&'static schema::FieldSpec, Access)> {
         let frame = self.open.frames.last()?;
         let found = frame.spec?.event(name);
@@ -181,7 +181,7 @@ impl Lowerer {
         &mut self,
         src: &SourceWindow,
         name: &str,
-        at: u64,
+        at: Pos,
     ) -> Result<(), Error> {
         let idx = self.open.frames.len().saturating_sub(1);
         let mut known = None;
@@ -221,7 +221,7 @@ impl Lowerer {
         &mut self,
         src: &SourceWindow,
         name: &str,
-        at: u64,
+        at: Pos,
         v: &Value<'_>,
     ) -> Result<(), Error> {
         let frame = self.open.frames.last_mut().expect("open frame");

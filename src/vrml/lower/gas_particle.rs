@@ -27,7 +27,7 @@ use super::record::Rec;
 use super::Lowerer;
 use crate::error::Error;
 use crate::scene::profile::{Profile, ProfileError};
-use crate::source::SourceWindow;
+use crate::source::{Pos, SourceWindow};
 use crate::vrml::schema::{Access, FieldType};
 use crate::vrml::syntax::{OwnedEvent, OwnedValue};
 
@@ -61,10 +61,10 @@ impl Lowerer {
         proto: &ProtoDecl,
         gas: GasFields,
         values: &[Option<Range<usize>>],
-        at: u64,
+        at: Pos,
     ) -> Result<Profile, Error> {
         // A value: the instance's, or the interface default; with its position.
-        let value = |fi: usize| -> Option<(&OwnedValue, u64, bool)> {
+        let value = |fi: usize| -> Option<(&OwnedValue, Pos, bool)> {
             let (range, given) = match values.get(fi).cloned().flatten() {
                 Some(r) => (r, true),
                 None => (proto.fields[fi].default.clone()?, false),

@@ -14,7 +14,7 @@ use super::record::{Name, SetAside};
 use super::transform::Marks;
 use super::Lowerer;
 use crate::error::Error;
-use crate::source::SourceWindow;
+use crate::source::{Pos, SourceWindow};
 use crate::vrml::parse::Parser;
 
 /// The file being read and the chain of files that include it.
@@ -106,7 +106,8 @@ impl Lowerer {
             dirlights: None,
             inline_urls: None,
         };
-        self.open.push(Name::Static("<file>"), None, root, 0);
+        self.open
+            .push(Name::Static("<file>"), None, root, Pos::at(0));
         let depth = self.open.frames.len();
         // A new file is a new namespace, even when reached again through a USE'd Inline.
         let reusing = std::mem::replace(&mut self.replay.reusing, 0);
@@ -139,11 +140,11 @@ impl Lowerer {
     pub(super) fn close_file(&mut self, opened: Opened, src: &SourceWindow) -> Result<(), Error> {
         if let Some(at) = src.bad_utf8 {
             self.diags
-                .warn(src, at, "invalid UTF-8 (bytes replaced by '?')");
+                .warn(src, Pos::at(at), "invalid UTF-8 (bytes replaced by '?')");
         }
         debug_assert_eq!(self.open.frames.len(), opened.depth);
         let root = self.open.frames.pop().expect("file root frame");
-        self.close_group_like(src, root.kind, 0)?;
+        self.close_group_like(src, root.kind, Pos::at(0))?;
         self.scopes.pop();
         self.files.stack.pop();
         self.files.bytes += src.bytes_read;
@@ -170,8 +171,8 @@ impl Lowerer {
 
     /// The folder the relative urls of a node at `at` are resolved in: that of the file it
     /// was written in (the file being read, or the file an external PROTO's body came from).
-    pub(super) fn base_dir(&self, at: u64) -> PathBuf {
-        let file = match super::position::tag_of(at) {
+    pub(super) fn base_dir(&self, at: Pos) -> PathBuf {
+        let file = match at.file() {
             Some(tag) => self.externs.path_of(tag),
             None => self.files.stack.last().map(PathBuf::as_path),
         };
@@ -218,7 +219,7 @@ impl Lowerer {
     }
 
     /// Loads the first of `urls` that is a local VRML97 file; a warning if none is.
-    fn load_inline(&mut self, src: &SourceWindow, at: u64, urls: &[String]) -> Result<(), Error> {
+    fn load_inline(&mut self, src: &SourceWindow, at: Pos, urls: &[String]) -> Result<(), Error> {
         if !self.opts.inline {
             return Ok(());
         }

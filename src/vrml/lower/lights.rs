@@ -9,7 +9,7 @@ use glam::DVec3;
 use super::transform::Marks;
 use super::Lowerer;
 use crate::scene::{DirectionalLight, Light, LightScope, PointLight};
-use crate::source::SourceWindow;
+use crate::source::{Pos, SourceWindow};
 
 /// The DirectionalLights among a grouping node's children (indices into the scene's lights).
 /// Rare, so boxed: the open-node frames stay small enough to move without a `memcpy` call.
@@ -26,7 +26,7 @@ impl Lowerer {
         &mut self,
         src: &SourceWindow,
         mut l: DirectionalLight,
-        at: u64,
+        at: Pos,
     ) {
         let d = l.direction;
         if d.length_squared() == 0.0 || !d.is_finite() {

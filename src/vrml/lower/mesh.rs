@@ -12,7 +12,7 @@ use super::open::{Kind, Result_};
 use super::record::{Name, Rec};
 use super::Lowerer;
 use crate::error::Error;
-use crate::source::SourceWindow;
+use crate::source::{Pos, SourceWindow};
 use crate::vrml::syntax::{OwnedEvent, Value};
 
 fn triples(values: &[f64]) -> Vec<DVec3> {
@@ -118,7 +118,7 @@ impl Lowerer {
     /// no table: as for a skipped node, none of them is checked or warned about.
     #[cold]
     #[inline(never)]
-    pub(super) fn open_mesh(&mut self, ty: Name, at: u64, kind: MeshKind) {
+    pub(super) fn open_mesh(&mut self, ty: Name, at: Pos, kind: MeshKind) {
         let kind = Kind::Mesh(Box::new(MeshState {
             kind,
             coord: None,
@@ -142,7 +142,7 @@ impl Lowerer {
     /// neither lowered nor counted (as when the mesh was skipped whole).
     #[cold]
     #[inline(never)]
-    pub(super) fn mesh_child(&mut self, ty: Name, at: u64) {
+    pub(super) fn mesh_child(&mut self, ty: Name, at: Pos) {
         let Some(ctx) = self.open.fields.last() else {
             return;
         };
@@ -176,7 +176,7 @@ impl Lowerer {
         &mut self,
         src: &SourceWindow,
         m: &MeshState,
-        at: u64,
+        at: Pos,
     ) -> Result<Result_, Error> {
         // (Only a Shape's geometry is drawn: elsewhere it counts as skipped.)
         let drawable = !m.malformed
@@ -227,7 +227,7 @@ impl Lowerer {
         &mut self,
         src: &SourceWindow,
         start: usize,
-        at: u64,
+        at: Pos,
     ) -> Result<bool, Error> {
         if let Some(c) = self.meshes.cache.get(&start).copied() {
             self.add_nodes(c.nodes, src, at)?;

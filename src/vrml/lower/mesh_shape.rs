@@ -20,7 +20,7 @@ use crate::error::Error;
 use crate::geom::mesh::{components, crease_normals, faces, first_bad_index, triangulate};
 use crate::geom::sphere_fit;
 use crate::scene::Triangle;
-use crate::source::SourceWindow;
+use crate::source::{Pos, SourceWindow};
 
 /// The colour (or normal) of the corner at position `pos` of `coord_index`, in face `face`,
 /// by VRML97's rules for `colorIndex`/`colorPerVertex` (and the same for normals).
@@ -50,7 +50,7 @@ impl Lowerer {
         &mut self,
         src: &SourceWindow,
         m: &MeshState,
-        at: u64,
+        at: Pos,
     ) -> Result<MeshParts, Error> {
         // An Extrusion's points and faces grow as its spine times its cross-section: paid for
         // before they are made. (An ElevationGrid's come from heights in the text.)
@@ -145,7 +145,7 @@ struct Ctx<'a> {
     opts: &'a LoadOptions,
     diags: &'a mut Diags,
     src: &'a SourceWindow,
-    at: u64,
+    at: Pos,
 }
 
 impl Ctx<'_> {

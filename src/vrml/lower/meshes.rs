@@ -6,6 +6,7 @@ use glam::DVec3;
 use hashbrown::{HashMap, HashSet};
 
 use crate::scene::Triangle;
+use crate::source::Pos;
 
 /// Which array a child node of a mesh fills.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -141,10 +142,10 @@ impl MeshParts {
 /// What a closed geometry node is.
 #[derive(Clone, Copy, Debug)]
 pub(super) enum Geom {
-    Sphere(f64, u64),
-    /// A Box, Cylinder or Cone: index into `Meshes::solids`, node offset.
-    Solid(u32, u64),
-    /// An IndexedFaceSet or PointSet: index into `Meshes::parts`, node offset.
-    Mesh(u32, u64),
+    Sphere(f64, Pos),
+    /// A Box, Cylinder or Cone: index into `Meshes::solids`, node position.
+    Solid(u32, Pos),
+    /// An IndexedFaceSet or PointSet: index into `Meshes::parts`, node position.
+    Mesh(u32, Pos),
     Other,
 }

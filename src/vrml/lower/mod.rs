@@ -62,7 +62,6 @@ mod mesh_shape;
 mod meshes;
 mod open;
 mod parallel;
-mod position;
 mod proto;
 mod record;
 mod replay;
@@ -85,7 +84,7 @@ use std::time::Instant;
 use crate::diag::{Diagnostic, Severity};
 use crate::error::Error;
 use crate::scene::{Material, Origin, Scene};
-use crate::source::SourceWindow;
+use crate::source::{Pos, SourceWindow};
 use crate::vrml::syntax::OwnedEvent;
 
 use close::Bound;
@@ -386,25 +385,22 @@ struct Diags {
     notes: Vec<Diagnostic>,
     /// The files read for their PROTOs (EXTERNPROTO), by index in `Scene::files`: positions
     /// tagged with one of them point into it, not into the file being read (see
-    /// `position::tag`).
+    /// [`Pos::tagged`]).
     sources: HashMap<u32, Rc<SourceWindow>>,
 }
 
 impl Diags {
     /// The source that position `at` is in, and its offset there: `src` (the file being read)
     /// unless `at` is tagged with a file read for its PROTOs.
-    fn locate<'a>(&'a self, src: &'a SourceWindow, at: u64) -> (&'a SourceWindow, u64) {
-        match position::tag_of(at) {
-            Some(file) => (
-                self.sources.get(&file).map_or(src, |s| &**s),
-                position::offset_of(at),
-            ),
-            None => (src, at),
+    fn locate<'a>(&'a self, src: &'a SourceWindow, at: Pos) -> (&'a SourceWindow, u64) {
+        match at.file() {
+            Some(file) => (self.sources.get(&file).map_or(src, |s| &**s), at.offset()),
+            None => (src, at.offset()),
         }
     }
 
     /// A note: not a problem (`--strict` does not refuse it), a choice the user should see.
-    fn note(&mut self, src: &SourceWindow, at: u64, msg: impl Into<String>) {
+    fn note(&mut self, src: &SourceWindow, at: Pos, msg: impl Into<String>) {
         let (src, at) = self.locate(src, at);
         let d = src.diagnostic(Severity::Note, at, msg.into());
         // Repeats (a PROTO of points instanced many times) are folded, as warnings are.
@@ -420,7 +416,7 @@ impl Diags {
     }
 
     /// A warning; repeats of the same message in the same file are folded into the first.
-    fn warn(&mut self, src: &SourceWindow, at: u64, msg: impl Into<String>) {
+    fn warn(&mut self, src: &SourceWindow, at: Pos, msg: impl Into<String>) {
         let (src, at) = self.locate(src, at);
         let msg = msg.into();
         let key = (src.name.clone(), msg);
@@ -434,7 +430,7 @@ impl Diags {
     }
 
     /// An error at `at` (in `src`, or in the file `at` is tagged with).
-    fn error(&self, src: &SourceWindow, at: u64, msg: impl Into<String>) -> Error {
+    fn error(&self, src: &SourceWindow, at: Pos, msg: impl Into<String>) -> Error {
         let (src, at) = self.locate(src, at);
         Error::Diag(Box::new(src.diagnostic(Severity::Error, at, msg.into())))
     }
@@ -515,17 +511,16 @@ impl Lowerer {
     }
 
     /// Where an IR item made at `at` comes from: the file being read, or the file a PROTO
-    /// body was read from (a tagged position, see `position::tag`).
-    fn origin(&self, at: u64) -> Origin {
-        match position::tag_of(at) {
-            Some(file) => Origin::new(file, position::offset_of(at)),
-            None => Origin::new(self.files.current, at),
-        }
+    /// body was read from (a tagged position, see [`Pos::tagged`]): the one conversion of
+    /// positions to origins.
+    #[inline]
+    fn origin(&self, at: Pos) -> Origin {
+        Origin::new(at.file().unwrap_or(self.files.current), at.offset())
     }
 
     /// Counts `n` more lowered nodes, which spend as much of the expansion budget.
     #[inline]
-    fn add_nodes(&mut self, n: u64, src: &SourceWindow, at: u64) -> Result<(), Error> {
+    fn add_nodes(&mut self, n: u64, src: &SourceWindow, at: Pos) -> Result<(), Error> {
         self.nodes += n;
         self.spend(n, src, at, "node")
     }
@@ -550,7 +545,7 @@ impl Lowerer {
     /// Spends `n` units of the expansion budget on `what` at `at`, before what they stand for
     /// is made; an error there once the budget is exceeded.
     #[inline]
-    fn spend(&mut self, n: u64, src: &SourceWindow, at: u64, what: &str) -> Result<(), Error> {
+    fn spend(&mut self, n: u64, src: &SourceWindow, at: Pos, what: &str) -> Result<(), Error> {
         self.spent = self.spent.saturating_add(n);
         self.watch_nodes(src.offset());
         let limit = self.budget(src.bytes_read);

@@ -17,6 +17,7 @@ use super::proto::ProtoDecl;
 use super::record::Name;
 use super::transform::{Marks, TransformFields};
 use crate::scene::{DirectionalLight, Paint, PointLight, Viewpoint};
+use crate::source::Pos;
 use crate::vrml::schema;
 
 /// The nodes that are closed in place, without moving their frame out (most nodes of a
@@ -90,7 +91,7 @@ pub(super) struct Frame {
     /// The PROTO whose instance this is (interface used for field checks).
     pub(super) proto: Option<Rc<ProtoDecl>>,
     pub(super) kind: Kind,
-    pub(super) at: u64,
+    pub(super) at: Pos,
     /// This frame started a suppression (contents are not lowered).
     pub(super) quiet: bool,
 }
@@ -128,7 +129,7 @@ impl Open {
         ty: Name,
         spec: Option<&'static schema::NodeSpec>,
         kind: Kind,
-        at: u64,
+        at: Pos,
     ) {
         self.frames.push(Frame {
             ty,
@@ -158,7 +159,7 @@ impl Open {
     }
 
     /// Pushes a frame whose contents are recorded or ignored, not lowered.
-    pub(super) fn push_quiet(&mut self, ty: Name, at: u64) {
+    pub(super) fn push_quiet(&mut self, ty: Name, at: Pos) {
         self.push_suppressing(Frame {
             ty,
             spec: None,

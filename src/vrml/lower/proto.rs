@@ -9,6 +9,7 @@ use std::rc::Rc;
 use hashbrown::HashMap;
 
 use super::record::Rec;
+use crate::source::Pos;
 use crate::vrml::schema::{Access, FieldType};
 
 /// One member of a PROTO's interface.
@@ -20,7 +21,7 @@ pub(super) struct InterfaceField {
     /// The default value's events (one Field event, or NodesStart .. NodesEnd).
     pub(super) default: Option<Range<usize>>,
     /// Where it is declared (for the EXTERNPROTO interface checks).
-    pub(super) at: u64,
+    pub(super) at: Pos,
 }
 
 /// A declared PROTO or EXTERNPROTO.
@@ -102,8 +103,8 @@ pub(super) type Protos = HashMap<Rc<str>, Rc<ProtoDecl>>;
 #[derive(Clone, Debug)]
 pub(super) struct SphereTemplate {
     /// Where the body's Transform and Sphere start (what replaying reports and records).
-    pub(super) transform_at: u64,
-    pub(super) sphere_at: u64,
+    pub(super) transform_at: Pos,
+    pub(super) sphere_at: Pos,
     pub(super) translation: Option<Slot>,
     /// `None`: no Appearance, or an Appearance without Material (the unlit material).
     pub(super) material: Option<Vec<(MaterialField, Slot)>>,

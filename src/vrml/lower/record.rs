@@ -13,6 +13,7 @@ use std::rc::Rc;
 
 use hashbrown::HashSet;
 
+use crate::source::Pos;
 use crate::vrml::syntax::{Event, OwnedEvent};
 
 /// A node type or field name held while its node is open: the standard tables' own string
@@ -47,7 +48,7 @@ pub(super) enum Rec {
     /// A USE resolved when it was recorded (later redefinitions do not change what it means).
     Used {
         range: Range<usize>,
-        at: u64,
+        at: Pos,
     },
 }
 
@@ -230,7 +231,7 @@ impl Recording {
 
     /// Starts recording a DEF'd node whose NodeStart is being handled (and was recorded just
     /// before, if anything was recording).
-    pub(super) fn start_def(&mut self, def: &Rc<str>, ty: &str, at: u64) {
+    pub(super) fn start_def(&mut self, def: &Rc<str>, ty: &str, at: Pos) {
         let start = if self.recorders.is_empty() {
             self.arena.push(Rec::Ev(OwnedEvent::NodeStart {
                 def: Some(def.clone()),
@@ -249,7 +250,7 @@ impl Recording {
     }
 
     /// Starts a recorder of `kind` whose first event is the NodeStart just handled.
-    pub(super) fn start_here(&mut self, ty: &Name, def: Option<&str>, at: u64, kind: RecKind) {
+    pub(super) fn start_here(&mut self, ty: &Name, def: Option<&str>, at: Pos, kind: RecKind) {
         let start = if self.recorders.is_empty() {
             let ty = match ty {
                 Name::Shared(rc) => rc.clone(),
@@ -345,5 +346,19 @@ pub(super) fn value_end(arena: &[Rec], i: usize) -> usize {
             arena.len()
         }
         _ => i + 1,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Rec;
+    use crate::vrml::syntax::OwnedEvent;
+
+    #[test]
+    fn recorded_events_stay_small() {
+        // The arena holds one per recorded event (a large PROTO library, DEF'd meshes): a
+        // position is one word, and a resolved USE fits in an event's room.
+        assert_eq!(std::mem::size_of::<OwnedEvent>(), 80);
+        assert_eq!(std::mem::size_of::<Rec>(), 80);
     }
 }

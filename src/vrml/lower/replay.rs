@@ -11,7 +11,7 @@ use super::open::{Frame, Kind};
 use super::record::Rec;
 use super::Lowerer;
 use crate::error::Error;
-use crate::source::SourceWindow;
+use crate::source::{Pos, SourceWindow};
 
 /// How many USE, Switch choice and PROTO body replays may nest (each level is a few stack
 /// frames of the event handlers, well within a 2 MiB thread stack).
@@ -33,7 +33,7 @@ impl Lowerer {
     pub(super) fn enter_replay(
         &mut self,
         src: &SourceWindow,
-        at: u64,
+        at: Pos,
         what: &str,
     ) -> Result<(), Error> {
         if self.replay.depth >= MAX_REPLAY_DEPTH {
@@ -53,7 +53,7 @@ impl Lowerer {
         &mut self,
         src: &SourceWindow,
         range: Range<usize>,
-        at: u64,
+        at: Pos,
         what: &str,
     ) -> Result<(), Error> {
         self.enter_replay(src, at, "USE and PROTO expansions")?;
@@ -79,7 +79,7 @@ impl Lowerer {
         &mut self,
         src: &SourceWindow,
         range: Range<usize>,
-        at: u64,
+        at: Pos,
         what: &str,
     ) -> Result<(), Error> {
         // Replaying must not record the replayed events again into the same recorders: they
@@ -97,7 +97,7 @@ impl Lowerer {
         &mut self,
         src: &SourceWindow,
         range: Range<usize>,
-        at: u64,
+        at: Pos,
     ) -> Result<(), Error> {
         if !self.rec.recorders.is_empty() {
             self.rec.arena.push(Rec::Used {

@@ -6,7 +6,7 @@
 //! warning, not an error.
 
 use super::Lowerer;
-use crate::source::SourceWindow;
+use crate::source::{Pos, SourceWindow};
 use crate::vrml::schema::{self, Access, FieldType};
 
 impl Lowerer {
@@ -19,7 +19,7 @@ impl Lowerer {
         ff: &str,
         to: &str,
         tf: &str,
-        at: u64,
+        at: Pos,
     ) {
         let end = |this: &mut Self, node: &str, field: &str, want_out: bool| -> Option<FieldType> {
             let Some(d) = this.lookup_def(node) else {

@@ -15,7 +15,7 @@ use super::Lowerer;
 use crate::error::Error;
 use crate::geom::shapes::Solid;
 use crate::scene::{DirectionalLight, LightScope, Material, PointLight, Viewpoint};
-use crate::source::SourceWindow;
+use crate::source::{Pos, SourceWindow};
 use crate::vrml::schema;
 
 /// What a standard node type lowers to.
@@ -117,7 +117,7 @@ impl Lowerer {
         src: &SourceWindow,
         def: Option<&str>,
         ty: &str,
-        at: u64,
+        at: Pos,
     ) -> Result<(), Error> {
         let def_rc: Option<std::rc::Rc<str>> = def.map(std::rc::Rc::from);
         if self.rec.proto_decls > 0 {
@@ -321,7 +321,7 @@ impl Lowerer {
 
     /// Warns when a node type does not belong in the field it stands in.
     #[inline(always)]
-    pub(super) fn check_child(&mut self, src: &SourceWindow, ty: &str, at: u64) {
+    pub(super) fn check_child(&mut self, src: &SourceWindow, ty: &str, at: Pos) {
         let Some(ctx) = self.open.fields.last() else {
             return;
         };

@@ -26,7 +26,7 @@ use super::transform::{Marks, TransformFields};
 use super::Lowerer;
 use crate::error::Error;
 use crate::scene::{Material, Sphere};
-use crate::source::SourceWindow;
+use crate::source::{Pos, SourceWindow};
 use crate::vrml::sphere_node::{SphereNode, MATERIAL_FIELDS};
 use crate::vrml::syntax::{OwnedEvent, OwnedValue};
 
@@ -119,7 +119,7 @@ struct Draft {
     shape: bool,
     appearance: bool,
     material: Option<Vec<(MaterialField, Slot)>>,
-    sphere_at: Option<u64>,
+    sphere_at: Option<Pos>,
     radius: Option<Slot>,
 }
 
@@ -147,7 +147,7 @@ impl<'a> Matcher<'a> {
         &mut self,
         ty: &str,
         member: impl Fn(&mut Self, &'a OwnedEvent) -> Option<()>,
-    ) -> Option<u64> {
+    ) -> Option<Pos> {
         let at = match self.next()? {
             OwnedEvent::NodeStart {
                 def: None,
@@ -319,8 +319,8 @@ pub(super) enum Given<'a> {
 struct Placed {
     nodes: u64,
     spent: u64,
-    transform_at: u64,
-    sphere_at: u64,
+    transform_at: Pos,
+    sphere_at: Pos,
 }
 
 /// An instance's values as the template needs them, read before anything changes.
@@ -465,7 +465,7 @@ impl Lowerer {
     pub(super) fn whole_sphere_node(
         &mut self,
         src: &SourceWindow,
-        at: u64,
+        at: Pos,
         node: &SphereNode,
     ) -> Result<bool, Error> {
         if self.opts.replay_every_instance

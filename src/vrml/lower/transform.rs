@@ -11,7 +11,7 @@ use glam::{DAffine3, DMat3, DQuat, DVec3};
 use super::Lowerer;
 use crate::error::Error;
 use crate::scene::{EllipsoidId, Light, Scene};
-use crate::source::SourceWindow;
+use crate::source::{Pos, SourceWindow};
 
 /// How much of the IR existed when a grouping node opened.
 #[derive(Clone, Copy, Debug, Default)]
@@ -176,7 +176,7 @@ impl Lowerer {
         src: &SourceWindow,
         t: &TransformFields,
         marks: Marks,
-        at: u64,
+        at: Pos,
     ) -> Result<(), Error> {
         let shift = translation_only(t);
         if let Some(d) = shift {
