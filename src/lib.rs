@@ -43,13 +43,15 @@
 //!
 //! Beside the flow: [`particles`] streams a particle table row by row to VRML (no Scene);
 //! [`vrml::number`] is the one rule both VRML writers format numbers by; [`compare`] holds
-//! image metrics; [`scenes`] generates the benchmark scenes that `gtsphere bench`,
+//! image metrics; `bench` holds the generated benchmark scenes that `gtsphere bench`,
 //! `cargo bench` and the tests share. docs/internals.md follows the data flow module by
 //! module.
 
 #![warn(missing_docs)]
 
 pub mod accel;
+#[doc(hidden)]
+pub mod bench;
 pub mod compare;
 pub mod diag;
 pub mod error;
@@ -59,7 +61,6 @@ pub mod output;
 pub mod particles;
 pub mod render;
 pub mod scene;
-pub mod scenes;
 pub mod source;
 #[cfg(test)]
 mod testing;

@@ -5,7 +5,7 @@ use super::*;
 /// The benchmark scene of `gtsphere bench trace` at 20 000 spheres, prepared, and its
 /// spheres (centre and radius) for brute force.
 fn benchmark_scene() -> (Vec<(DVec3, f64)>, gtsphere::render::Prepared) {
-    let scene = gtsphere::scenes::random_spheres(20_000);
+    let scene = gtsphere::bench::scenes::random_spheres(20_000);
     let spheres = scene.spheres.iter().map(|s| (s.center, s.radius)).collect();
     (spheres, crate::support::prepare(scene))
 }
@@ -162,7 +162,7 @@ fn shadow_rays_after_the_last_blocker_match_brute_force() {
 fn last_blockers_leave_gas_transmittance_unchanged() {
     use gtsphere::render::visibility::{visible, visible_after};
     use gtsphere::scene::Material;
-    let mut scene = gtsphere::scenes::random_spheres(3000);
+    let mut scene = gtsphere::bench::scenes::random_spheres(3000);
     let gas = Material {
         transparency: 0.3,
         ..Material::default()
