@@ -153,7 +153,7 @@ fn write_clouds(dir: &std::path::Path, sizes: &[usize], clouds: &[CloudArg]) -> 
         for &c in clouds {
             let c = Cloud::from(c);
             let path = dir.join(format!("cloud-{}-{n}.wrl", c.name()));
-            gtsphere::vrml::write::write_scene_file(&path, &cloud(n, c))?;
+            gtsphere::vrml::write_scene_file(&path, &cloud(n, c))?;
             eprintln!("wrote {}", path.display());
         }
     }

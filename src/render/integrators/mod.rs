@@ -222,3 +222,6 @@ pub fn scatter_for(view: &View, seg: &Segment, members: &[u32], i: usize) -> DVe
         _ => seg.scatter,
     }
 }
+
+#[cfg(test)]
+pub(crate) mod tests;
