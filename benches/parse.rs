@@ -2,7 +2,7 @@
 //! The million-particle figures with peak memory come from `gtsphere bench parse`.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use gtsphere::scenes::{write_particles, Layout};
+use gtsphere::bench::scenes::{write_particles, Layout};
 use gtsphere::vrml::{load_bytes, LoadOptions};
 
 fn parse(c: &mut Criterion) {

@@ -17,14 +17,16 @@ pub fn sniff(reader: impl Read + Send + 'static) -> std::io::Result<Box<dyn Read
     sniff_bounded(reader, u64::MAX)
 }
 
-/// Text that gzip data may inflate to whatever its compressed size (see [`sniff_bounded`]).
+/// Text that gzip data may inflate to whatever its compressed size, when a scene is loaded:
+/// beyond it, at most [`LoadOptions::inflate_ratio`](crate::vrml::LoadOptions::inflate_ratio)
+/// times the compressed bytes read so far.
 pub const INFLATE_BASE: u64 = 16 << 20;
 
 /// [`sniff`], where gzip data may inflate to at most [`INFLATE_BASE`] plus `max_ratio` times
 /// the compressed bytes read so far; past that, reading fails (`InvalidData`), before the
 /// text is held or read on. Deflate can inflate 1032 times; VRML text compresses 3 to 12
 /// times (particle tables as `convert` writes them, copies of a tool's export).
-pub fn sniff_bounded(
+pub(crate) fn sniff_bounded(
     reader: impl Read + Send + 'static,
     max_ratio: u64,
 ) -> std::io::Result<Box<dyn Read + Send>> {
@@ -174,7 +176,7 @@ pub(crate) fn read_at(file: &File, buf: &mut [u8], offset: u64) -> std::io::Resu
 
 /// Opens a scene file as a streaming source window; gzip data may inflate `max_ratio` times
 /// its size (see [`sniff_bounded`]).
-pub fn open(path: &Path, max_ratio: u64) -> Result<SourceWindow, Error> {
+pub(crate) fn open(path: &Path, max_ratio: u64) -> Result<SourceWindow, Error> {
     let name: Arc<str> = Arc::from(path.display().to_string());
     let file = File::open(path).map_err(|e| Error::Io {
         path: name.to_string(),
@@ -192,7 +194,7 @@ pub fn open(path: &Path, max_ratio: u64) -> Result<SourceWindow, Error> {
 /// ([`crate::scene::Origin`]), and the line index is dropped after loading (it would cost
 /// 4 bytes per line, 40 MB for a 1e7-line file, for errors that are rare). `None` if the
 /// file cannot be read or is shorter than `offset` (changed since it was loaded).
-pub fn line_col_in(path: &Path, offset: u64) -> Option<(u64, u64)> {
+pub(crate) fn line_col_in(path: &Path, offset: u64) -> Option<(u64, u64)> {
     let mut reader = sniff(File::open(path).ok()?).ok()?;
     let (mut line, mut line_start, mut at) = (1u64, 0u64, 0u64);
     let mut buf = vec![0u8; 1 << 16];

@@ -148,10 +148,6 @@ impl LineIndex {
         }
         (lo as u64 + 1, offset - self.start(lo) + 1)
     }
-    /// Bytes it holds on the heap.
-    pub fn heap_bytes(&self) -> usize {
-        self.low.capacity() * 4 + self.spans.capacity() * 8
-    }
 
     /// Room for `more` lines, if it can be had (a hint: asked for without aborting).
     pub fn try_reserve(&mut self, more: usize) {

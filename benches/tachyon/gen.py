@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
-"""Write `gtsphere bench trace`'s scene (gtsphere::scenes::random_spheres) twice: as VRML97
+"""Write `gtsphere bench trace`'s scene (gtsphere::bench::scenes::random_spheres) twice: as VRML97
 for gtsphere and as a Tachyon scene file (.dat), the same spheres, camera and lights.
 
     gen.py N OUT.wrl OUT.dat [--size PX] [--plain]
 
-Only the Python 3 standard library. The scene (as in src/scenes.rs and benches/embree):
+Only the Python 3 standard library. The scene (as in src/bench/scenes.rs and benches/embree):
 
 - N spheres: SplitMix64 with state 1, three draws (x, y, z) per sphere, u = (next >> 11) *
   2^-53, centre 2u - 1; every radius 0.6 * N^(-1/3). All opaque, VRML's default Material

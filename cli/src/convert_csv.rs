@@ -12,7 +12,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use gtsphere::error::Error;
 use gtsphere::input::sniff;
-use gtsphere::particles::columns::ColumnSpec;
+use gtsphere::particles::ColumnSpec;
 use gtsphere::particles::{self, ColorScale, Delimiter, Extras, TableOptions, WriteOptions};
 
 /// `--delimiter` ([`Delimiter`]).

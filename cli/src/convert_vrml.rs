@@ -1,11 +1,11 @@
 //! `gtsphere convert scene.wrl -o out.wrl`: the scene as the renderer sees it, written back as
-//! flattened VRML97 (see [`gtsphere::vrml::write`]).
+//! flattened VRML97 (see [`gtsphere::vrml::write_scene`]).
 
 use std::path::Path;
 use std::process::ExitCode;
 
 use gtsphere::error::Error;
-use gtsphere::vrml::write::write_scene_file;
+use gtsphere::vrml::write_scene_file;
 use gtsphere::vrml::{load_path, LoadOptions};
 
 pub fn run(input: &Path, output: &Path, strict: bool, quiet: bool) -> Result<ExitCode, Error> {

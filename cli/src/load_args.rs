@@ -25,7 +25,7 @@ pub struct GeometryArgs {
     /// plus K per byte of text read, with gzip data inflating to at most 8 K times its
     /// compressed size (plus 16 MiB). Past it, reading stops with an error at the construct
     /// that went over.
-    #[arg(long, value_name = "K", default_value_t = gtsphere::vrml::lower::DEFAULT_MAX_EXPANSION)]
+    #[arg(long, value_name = "K", default_value_t = gtsphere::vrml::DEFAULT_MAX_EXPANSION)]
     pub max_expansion: u64,
     /// Read every PROTO instance by replaying its body and every sphere node event by event,
     /// without the reader's fast paths (the same scene, for measuring what they save).

@@ -10,10 +10,8 @@ use gtsphere::error::Error;
 use gtsphere::output::{format_for, write_film, write_part, Format, Placement};
 use gtsphere::render::{
     ao::{AoSettings, Weighting},
-    limits, prepare, pymol_export,
-    tiles::render_view,
-    Aovs, CameraChoice, FovAcross, Integrator, PrepareOptions, Projection, RenderOptions,
-    SamplerKind,
+    limits, prepare, pymol_export, render_view, Aovs, CameraChoice, FovAcross, Integrator,
+    PrepareOptions, Projection, RenderOptions, SamplerKind,
 };
 use gtsphere::scene::Profile;
 use gtsphere::vrml::{load_path, LoadOptions};
@@ -498,7 +496,7 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
         } else {
             String::new()
         },
-        view.lights.len(),
+        view.light_count(),
         if headlight {
             " (headlight included)"
         } else {
@@ -576,22 +574,15 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
         println!("read pieces        {}", report.read_pieces);
         println!("render seconds     {:.3}", done.seconds);
         println!("prepare seconds    {:.3}", prep.prepare_time.as_secs_f64());
-        if view.grids.iter().any(Option::is_some) {
-            println!("light grids seconds {:.3}", view.grid_time.as_secs_f64());
-            println!(
-                "light grids bytes  {}",
-                view.grids
-                    .iter()
-                    .flatten()
-                    .map(|g| g.heap_bytes())
-                    .sum::<usize>()
-            );
+        if let Some((seconds, bytes)) = view.grids() {
+            println!("light grids seconds {:.3}", seconds.as_secs_f64());
+            println!("light grids bytes  {bytes}");
         }
         println!(
             "BVH build seconds  {:.3}",
-            prep.bvh.build_time.as_secs_f64()
+            prep.bvh_build_time().as_secs_f64()
         );
-        println!("BVH + prims bytes  {}", prep.bvh.heap_bytes());
+        println!("BVH + prims bytes  {}", prep.bvh_bytes());
         if let Some(p) = crate::memory::peak_rss_bytes() {
             println!("peak resident      {p}");
         }

@@ -351,7 +351,7 @@ pub fn render(
         let waiting = std::thread::current();
         std::thread::scope(|s| {
             let job = s.spawn(|| {
-                let r = pool.install(|| lib::tiles::render_view(&view, &opts, &watch));
+                let r = pool.install(|| lib::render_view(&view, &opts, &watch));
                 waiting.unpark(); // return at once, not at the next 50 ms tick
                 r
             });

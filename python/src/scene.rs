@@ -294,7 +294,7 @@ impl Scene {
             "<gtsphere.Scene: {} spheres ({} gas), {} other surfaces, {} lights{}>",
             p.spheres,
             p.gas_spheres,
-            p.surfaces.items.len(),
+            p.surface_count(),
             p.lights.len(),
             if p.headlight { " + headlight" } else { "" }
         )
@@ -315,7 +315,7 @@ impl Scene {
 /// cannot be read raises gtsphere.ParseError whose message starts with file:line:col, or
 /// OSError (FileNotFoundError) for a missing file.
 // The default of `max_expansion` in the signature below (and in the stubs) is the library's.
-const _: () = assert!(gtsphere::vrml::lower::DEFAULT_MAX_EXPANSION == 16);
+const _: () = assert!(gtsphere::vrml::DEFAULT_MAX_EXPANSION == 16);
 
 #[pyfunction]
 #[allow(clippy::too_many_arguments)] // Python's keyword arguments, one each

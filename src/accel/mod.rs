@@ -3,3 +3,6 @@
 pub mod bvh;
 
 pub use bvh::{Ball, Hit, Packed, PacketStack, Prim, SphereBvh, PACKET};
+
+#[cfg(test)]
+mod tests;

@@ -27,6 +27,7 @@ pub const MIN_REACH: f64 = 0.75;
 
 /// The sphere through `points` (x, y, z triples): [`sphere_fit`] of the triples; `None` also
 /// when the length is not a multiple of 3.
+#[cfg(test)]
 pub fn sphere_through(points: &[f64]) -> Option<(DVec3, f64)> {
     if points.len() % 3 != 0 || points.len() / 3 < MIN_POINTS {
         return None;

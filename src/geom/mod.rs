@@ -14,12 +14,8 @@ pub mod shapes;
 mod sphere;
 
 pub use ellipsoid::{ellipsoid_normal, ellipsoid_roots};
-pub use fit::{sphere_fit, sphere_through, MIN_POINTS, MIN_REACH, RADIUS_TOLERANCE};
-pub use mesh::{
-    components, crease_normals, faces, first_bad_index, newell_normal, triangulate, Component,
-};
-pub use nearest::median_nearest_distance;
-pub use sphere::{enters_between, segment_chord, sphere_roots};
+pub use fit::sphere_fit;
+pub use sphere::{enters_between, sphere_roots};
 
 /// Distance from `c` to the segment `[a, b]`.
 pub fn distance_to_segment(c: DVec3, a: DVec3, b: DVec3) -> f64 {
@@ -32,3 +28,6 @@ pub fn distance_to_segment(c: DVec3, a: DVec3, b: DVec3) -> f64 {
     };
     (a + u * ab - c).length()
 }
+
+#[cfg(test)]
+mod tests;

@@ -7,7 +7,7 @@
 //! (TwoSum), `v` is formed with exact products (Dekker), the closest-point parameter is refined
 //! once, and the constant term `|o - c|^2 - r^2` is summed without cancellation error. The
 //! result: hit or miss is decided correctly whenever the exact closest-approach distance differs
-//! from `r` by more than about `1e-15 r`, whatever the distance to the sphere (tests/it/geom.rs).
+//! from `r` by more than about `1e-15 r`, whatever the distance to the sphere (src/geom/tests/).
 
 use glam::DVec3;
 
@@ -22,7 +22,7 @@ use super::eft::{two_sum, Dekker, ExactProducts, Fused};
 /// - `None` for `d == 0`, for `r < 0` and for non-finite input. Never NaN for finite input. A
 ///   root beyond the f64 range saturates to `±inf` (possible only when `|d|` is below about
 ///   `|o - c| / f64::MAX`).
-/// - Accuracy (tests/it/geom.rs): each root within ~4 eps `(|t| + r^2 / (|d| h))` of the
+/// - Accuracy (src/geom/tests/): each root within ~4 eps `(|t| + r^2 / (|d| h))` of the
 ///   exact root of the given f64 inputs (`eps = 2^-53`, `h` the world half chord): a few ulps,
 ///   plus the sensitivity of near-tangent rays to one ulp of the closest-approach distance.
 ///   The root nearer 0 is also within ~10 eps of itself, so a ray leaving a surface gets a
@@ -213,6 +213,7 @@ pub fn enters_between(o: DVec3, d: DVec3, c: DVec3, r: f64, dist: f64) -> bool {
 ///
 /// The world length of the chord is this times `|d|` (for a unit `d`, it is the world length).
 /// `ta = -inf` or `tb = +inf` are allowed (a ray to infinity).
+#[cfg(test)]
 pub fn segment_chord(o: DVec3, d: DVec3, c: DVec3, r: f64, ta: f64, tb: f64) -> f64 {
     match sphere_roots(o, d, c, r) {
         Some((t0, t1)) => {
@@ -395,7 +396,7 @@ mod tests {
 
     /// The plain estimate decides most of the shadow rays that meet a sphere (the careful
     /// roots are then skipped), and decides them as the careful roots do. (Agreement at the
-    /// margins is tested in tests/it/geom.rs.)
+    /// margins is tested in src/geom/tests/.)
     #[test]
     fn clear_entries_skip_the_careful_roots() {
         let mut rng = crate::testing::Rng::new(43);

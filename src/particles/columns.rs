@@ -304,11 +304,6 @@ impl ColumnMap {
         Ok(())
     }
 
-    /// The largest column index used, plus one: rows need at least this many fields.
-    pub fn width(&self) -> usize {
-        self.cols.iter().flatten().map(|c| c + 1).max().unwrap_or(0)
-    }
-
     /// Checks that the roles make a particle; `radius_given` is `--radius`.
     pub fn check(&self, radius_given: bool) -> Result<(), String> {
         let missing: Vec<&str> = [Role::X, Role::Y, Role::Z]

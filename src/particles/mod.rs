@@ -1,13 +1,13 @@
 //! Particle tables (CSV, TSV, white-space columns, XYZ) to VRML97, streamed: a row is read,
 //! checked and written before the next is read, so memory does not grow with the row count.
 //!
-//! [`read`] finds the dialect, the header and what each column means ([`columns`]);
-//! [`write`](mod@write) writes a `PROTO Particle` instance (or plain nodes) per row and the framing.
+//! `read` finds the dialect, the header and what each column means (`columns`); `write`
+//! writes a `PROTO Particle` instance (or plain nodes) per row and the framing.
 
-pub mod columns;
-pub mod elements;
-pub mod read;
-pub mod write;
+pub(crate) mod columns;
+pub(crate) mod elements;
+pub(crate) mod read;
+pub(crate) mod write;
 
 use std::io::{Read, Write};
 use std::path::Path;
@@ -15,8 +15,11 @@ use std::path::Path;
 use crate::diag::Diagnostic;
 use crate::error::Error;
 use crate::output::write_file_atomically;
-pub use read::{ColorScale, Delimiter, ParticleReader, TableOptions};
-pub use write::{Extras, ParticleWriter};
+pub use columns::{ColumnSpec, Role};
+use read::ParticleReader;
+pub use read::{ColorScale, Delimiter, TableOptions, SNIFF_ROWS};
+pub use write::Extras;
+use write::ParticleWriter;
 
 /// What a conversion did.
 #[derive(Debug)]

@@ -345,7 +345,7 @@ impl Camera {
     /// aspect), with a sentence saying which camera it is. A perspective [`Projection`] says
     /// which image side a Viewpoint's `fieldOfView` spans ([`FovAcross::smaller_side_fov`]);
     /// that changes nothing for the other cameras (VRML's default, one framing the scene).
-    pub fn for_scene(
+    pub(crate) fn for_scene(
         viewpoints: &[Viewpoint],
         bounds: Option<(DVec3, DVec3)>,
         ball: Option<(DVec3, f64)>,

@@ -71,6 +71,8 @@ pub struct Piece {
 /// `lo > hi`); by convexity of the set of points it shadows, that part is one interval.
 #[derive(Clone, Copy, Debug)]
 struct Shadower {
+    /// Its index in the BVH (read by the tests through [`Buffers::shadowers`]).
+    #[cfg(test)]
     prim: u32,
     lo: f64,
     hi: f64,
@@ -122,7 +124,8 @@ impl Buffers {
         }
     }
 
-    /// The shadowers the last [`resolve`] found (primitive indices), for tests and counters.
+    /// The shadowers the last [`resolve`] found (primitive indices).
+    #[cfg(test)]
     pub fn shadowers(&self) -> impl Iterator<Item = u32> + '_ {
         self.shadowers.iter().map(|s| s.prim)
     }
@@ -253,7 +256,11 @@ pub fn resolve<'b>(
             let p = &prep.bvh.prim(i);
             let s = shadowed_part(prep, p, o, d, light, (ta, tb), rim_cap, &mut b.own);
             b.breaks.extend_from_slice(&b.own);
-            b.shadowers.push(Shadower { prim: i, ..s });
+            b.shadowers.push(Shadower {
+                #[cfg(test)]
+                prim: i,
+                ..s
+            });
         }
         // Keep `seen` sorted for the next band's look-ups.
         b.seen.extend(b.found.iter().copied());
@@ -381,6 +388,7 @@ fn shadowed_part(
         prev = next;
     }
     Shadower {
+        #[cfg(test)]
         prim: 0,
         lo,
         hi,

@@ -119,7 +119,11 @@ impl RenderOptions {
     /// Refuses a render whose buffers ([`RenderOptions::memory_bytes`] on `threads` workers)
     /// would not fit in `available` bytes (`None`: unknown, then only a count too large for
     /// 64 bits is refused).
-    pub fn check_memory(&self, threads: usize, available: Option<u64>) -> Result<(), String> {
+    pub(crate) fn check_memory(
+        &self,
+        threads: usize,
+        available: Option<u64>,
+    ) -> Result<(), String> {
         let (w, h) = (self.width, self.height);
         let what = match self.region {
             Some((x0, y0, x1, y1)) => {

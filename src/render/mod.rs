@@ -4,26 +4,27 @@
 
 pub mod ao;
 pub(crate) mod breakpoints;
-pub mod camera;
+pub(crate) mod camera;
 mod copies;
 pub(crate) mod density;
-pub mod film;
+pub(crate) mod film;
 pub(crate) mod gas;
-pub mod integrators;
-pub mod light_grid;
-pub mod light_pieces;
+pub(crate) mod integrators;
+pub(crate) mod light_grid;
+pub(crate) mod light_pieces;
 pub(crate) mod lighting;
-pub mod lights;
+pub(crate) mod lights;
 pub mod limits;
-pub mod packets;
-pub mod profile;
+pub(crate) mod packets;
+pub(crate) mod profile;
 pub(crate) mod quadrature;
-pub mod sampler;
+pub(crate) mod sampler;
 pub(crate) mod segments;
 pub(crate) mod shadow_volume;
-pub mod surfaces;
-pub mod tiles;
-pub mod visibility;
+pub(crate) mod surfaces;
+pub(crate) mod tiles;
+pub(crate) mod view;
+pub(crate) mod visibility;
 
 use std::time::{Duration, Instant};
 
@@ -34,9 +35,9 @@ use crate::scene::{Bounds, EllipsoidId, Light, MaterialTable, Scene, Viewpoint};
 use crate::Error;
 pub use camera::{pymol_export, Camera, CameraChoice, FovAcross, ImagePlane, Lens, Projection};
 pub use film::Film;
-pub use lights::LightSource;
 pub use sampler::SamplerKind;
-pub use tiles::{render, Cancel, Progress};
+pub use tiles::{render, render_view, Cancel, Progress};
+pub use view::View;
 
 /// Which per-pixel extra channels to keep in the [`Film`] (and write to EXR), from the ray
 /// through the pixel's centre: `depth` (ray parameter of the first opaque hit, +inf on a
@@ -184,14 +185,15 @@ impl std::ops::AddAssign for Counters {
 /// ```
 pub struct Prepared {
     /// The BVH over the spheres and ellipsoids, opaque and gas.
-    pub bvh: SphereBvh,
+    pub(crate) bvh: SphereBvh,
     /// The opaque surfaces other than spheres.
-    pub surfaces: surfaces::Surfaces,
+    pub(crate) surfaces: surfaces::Surfaces,
     /// Spheres in the scene (the `id` channel numbers surfaces after them).
     pub spheres: usize,
     /// Opaque spheres dropped as copies of one before them (see `render::copies`).
     pub copies_dropped: usize,
-    /// The scene's material records, indexed by [`Prim::material`](crate::accel::Prim::material).
+    /// The scene's material records, indexed by each item's `material`
+    /// ([`Sphere::material`](crate::scene::Sphere::material)).
     pub materials: MaterialTable,
     /// The scene's lights; they may be changed between renders (they are not in the BVH).
     pub lights: Vec<Light>,
@@ -208,7 +210,7 @@ pub struct Prepared {
     /// Gas spheres present.
     pub gas_spheres: usize,
     /// The median sphere radius (sets the depth of the first shadow band, `light_pieces`).
-    pub typical_radius: f64,
+    pub(crate) typical_radius: f64,
     /// The largest channel of any Color a triangle carries (for [`View::rest_bound`]).
     surface_colors: f64,
     /// Per material record, the largest channel of the diffuse colours of the items that use
@@ -218,39 +220,7 @@ pub struct Prepared {
     pub prepare_time: Duration,
 }
 
-/// One render's view of a [`Prepared`] scene: the camera's rays at the image size, the lights
-/// the integrators use (switched-off lights dropped, the headlight along this camera), the
-/// integrator and its tolerance. Dereferences to the prepared scene.
-pub struct View<'a> {
-    /// The prepared scene.
-    pub prep: &'a Prepared,
-    /// The camera at this image size.
-    pub camera: ImagePlane,
-    /// The lights that are on, the headlight among them when there is one.
-    pub lights: Vec<LightSource>,
-    /// How camera rays are integrated.
-    pub integrator: Integrator,
-    /// Target relative error of the exact integrator, as [`RenderOptions::tol`].
-    pub tol: f64,
-    /// An upper bound on the radiance anything in the scene can send along a ray (largest RGB
-    /// channel): emission plus single scattering of any gas, any lit surface, the background.
-    /// Behind a transmittance `T`, what is left of a camera ray adds at most `T * rest_bound`.
-    pub rest_bound: f64,
-    /// Per light, the scene as it sees it, for the exact integrator's shadow searches in
-    /// scenes with gas (`None` otherwise).
-    pub grids: Vec<Option<light_grid::LightGrid>>,
-    /// Wall time of building `grids`.
-    pub grid_time: Duration,
-}
-
-impl std::ops::Deref for View<'_> {
-    type Target = Prepared;
-    fn deref(&self) -> &Prepared {
-        self.prep
-    }
-}
-
-fn invalid(m: String) -> Error {
+pub(crate) fn invalid(m: String) -> Error {
     Error::Invalid(m)
 }
 
@@ -318,64 +288,19 @@ impl RenderOptions {
 }
 
 impl Prepared {
-    /// The view of this scene that `render` traces: `camera` at the options' image size.
-    /// The lights, which may have changed since `prepare` validated them, are checked again
-    /// ([`Light::problem`]).
-    pub fn view(&self, camera: &Camera, opts: &RenderOptions) -> Result<View<'_>, Error> {
-        opts.validate()?;
-        camera.lens.validate()?;
-        if let Integrator::Ao(_) = opts.integrator {
-            if let Some(why) = ao::unsupported(self) {
-                return Err(invalid(why));
-            }
-        }
-        for (i, l) in self.lights.iter().enumerate() {
-            if let Some(m) = l.problem() {
-                return Err(invalid(format!("lights[{i}]: {m}")));
-            }
-        }
-        let headlight = match (self.headlight, opts.headlight_shadows) {
-            (false, _) => lights::Headlight::Off,
-            (true, false) => lights::Headlight::Carried,
-            (true, true) => lights::Headlight::Shadowed,
-        };
-        let lights = lights::collect(
-            &self.lights,
-            headlight,
-            self.spheres,
-            self.surfaces.items.len(),
-            camera.forward,
-        );
-        let rest_bound = rest_bound(
-            &self.materials,
-            &self.record_colors,
-            &lights,
-            self.background,
-            self.surface_colors,
-        );
-        let start = Instant::now();
-        let grids = lights
-            .iter()
-            .map(|l| {
-                let wanted = opts.integrator == Integrator::Exact
-                    && self.gas_spheres > 0
-                    && l.direct != DVec3::ZERO
-                    && !l.carried;
-                wanted
-                    .then(|| light_grid::LightGrid::build(&l.kind, self.bvh.packed()))
-                    .flatten()
-            })
-            .collect();
-        Ok(View {
-            prep: self,
-            camera: camera.image_plane(opts.width, opts.height),
-            grids,
-            grid_time: start.elapsed(),
-            lights,
-            integrator: opts.integrator,
-            tol: opts.tol,
-            rest_bound,
-        })
+    /// Wall time of building the sphere BVH (part of [`Prepared::prepare_time`]).
+    pub fn bvh_build_time(&self) -> Duration {
+        self.bvh.build_time
+    }
+
+    /// Heap bytes of the sphere BVH and its primitives.
+    pub fn bvh_bytes(&self) -> usize {
+        self.bvh.heap_bytes()
+    }
+
+    /// The opaque surfaces other than spheres and ellipsoids.
+    pub fn surface_count(&self) -> usize {
+        self.surfaces.items.len()
     }
 
     /// The camera `render` uses by default: the first Viewpoint, or else one looking down -z
@@ -567,36 +492,5 @@ fn median_radius(prims: &[Packed]) -> f64 {
     *r.select_nth_unstable_by(mid, f64::total_cmp).1
 }
 
-/// [`Prepared::rest_bound`]: the largest of the background, any used material's surface
-/// radiance (emission, ambient and direct terms of every light at full strength, or its
-/// colour when unlit) and any used material's gas source `C + p a sum_i C_i I_i` (attenuation
-/// and visibility are at most 1), each channel bounded by its largest.
-fn rest_bound(
-    materials: &MaterialTable,
-    record_colors: &[f64],
-    lights: &[LightSource],
-    background: DVec3,
-    surface_colors: f64,
-) -> f64 {
-    let direct: f64 = lights.iter().map(|l| l.direct.max_element()).sum();
-    let ambient: f64 = lights.iter().map(|l| l.ambient.max_element()).sum();
-    let mut bound = background.max_element();
-    for (m, &diffuse) in materials.records().iter().zip(record_colors) {
-        if diffuse == f64::NEG_INFINITY {
-            continue;
-        }
-        let (e, a, s) = (
-            m.emissive.max_element(),
-            diffuse.max(surface_colors),
-            m.specular.max_element(),
-        );
-        let gas = e + integrators::PHASE * a * direct;
-        let surface = if m.unlit {
-            a
-        } else {
-            e + ambient * m.ambient_intensity * a + direct * (a + s)
-        };
-        bound = bound.max(gas).max(surface);
-    }
-    bound
-}
+#[cfg(test)]
+mod tests;

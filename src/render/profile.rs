@@ -16,7 +16,7 @@
 //! few ulps from a chord end and for pieces of 1e-12 of the radius, so `tau = sigma0 r J`
 //! keeps that relative precision at any optical depth. Measured against 160-digit values
 //! (mpmath) on 8000 such cases per profile: worst 3e-16 (constant), 2.7e-15 (linear),
-//! 6e-16 (quadratic), 9e-16 (gaussian, widths 0.05 to 1); tests/it/profile_chords.rs holds
+//! 6e-16 (quadratic), 9e-16 (gaussian, widths 0.05 to 1); src/render/tests/profile_chords.rs holds
 //! it to 2e-14 against independent quadrature. The antiderivatives of docs/model.md section 6
 //! cancel in all of those cases, so each profile is rearranged:
 //!
@@ -38,7 +38,7 @@ use glam::DVec3;
 
 use crate::geom::eft::{two_prod, two_square, two_sum};
 
-pub use crate::scene::profile::{Profile, ProfileError, DEFAULT_WIDTH};
+pub use crate::scene::profile::Profile;
 
 /// The switch between the two forms of the linear profile: the near-surface form is used
 /// where `f = 1 - u <= LINEAR_SURFACE` on the whole piece. Rounding errors are amplified at
@@ -127,7 +127,7 @@ impl Profile {
     /// `[t0, t1]` inside the sphere. Infinite `t0, t1` are allowed.
     ///
     /// The closest approach is found in plain f64: `beta` and `v` are off by about
-    /// `eps |o - c| / r`, the conditioning of the ray itself (tests/it/profile_chords.rs
+    /// `eps |o - c| / r`, the conditioning of the ray itself (src/render/tests/profile_chords.rs
     /// measures ~4e-13 for origins within 10 radii at `beta <= 0.99`); the rest is
     /// [`Profile::line_integral`].
     pub fn ray_integral(&self, o: DVec3, w: DVec3, t0: f64, t1: f64, c: DVec3, r: f64) -> f64 {

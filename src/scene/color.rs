@@ -171,7 +171,7 @@ impl Colors {
 
     /// Frees unused list capacity and the lookup index; adding colours after this rebuilds the
     /// index.
-    pub fn shrink_to_fit(&mut self) {
+    pub(crate) fn shrink_to_fit(&mut self) {
         self.listed.shrink_to_fit();
         self.index = None;
     }

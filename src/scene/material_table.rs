@@ -105,13 +105,13 @@ impl MaterialTable {
 
     /// The word of colour `c`.
     #[inline]
-    pub fn add_color(&mut self, c: DVec3) -> Color {
+    pub(crate) fn add_color(&mut self, c: DVec3) -> Color {
         self.colors.add(c)
     }
 
     /// The index of the record equal to `m`'s (all but the diffuse colour), stored if new.
     #[inline]
-    pub fn add_record(&mut self, m: &Material) -> u32 {
+    pub(crate) fn add_record(&mut self, m: &Material) -> u32 {
         let key = rest_key(m);
         if let Some(l) = self.records.get(self.last as usize) {
             if rest_key(l) == key {
@@ -166,19 +166,19 @@ impl MaterialTable {
 
     /// Whether some record is gas (`Material::is_gas`, which the diffuse colour does not
     /// change): false means no item is.
-    pub fn may_have_gas(&self) -> bool {
+    pub(crate) fn may_have_gas(&self) -> bool {
         self.records.iter().any(Material::is_gas)
     }
 
     /// Whether some gas record has a density profile other than constant.
-    pub fn may_have_profiled_gas(&self) -> bool {
+    pub(crate) fn may_have_profiled_gas(&self) -> bool {
         self.records
             .iter()
             .any(|m| m.is_gas() && m.profile != super::Profile::Constant)
     }
 
     /// Frees spare capacity and the search aid (a later record rebuilds it).
-    pub fn shrink_to_fit(&mut self) {
+    pub(crate) fn shrink_to_fit(&mut self) {
         self.records.shrink_to_fit();
         self.colors.shrink_to_fit();
         self.index = None;

@@ -3,7 +3,7 @@
 mod build;
 mod color;
 mod material_table;
-pub mod profile;
+pub(crate) mod profile;
 mod surface;
 
 use glam::{DAffine3, DQuat, DVec3};
@@ -11,8 +11,9 @@ use glam::{DAffine3, DQuat, DVec3};
 pub use build::{Radii, SphereArrays};
 pub use color::{Color, Colors};
 pub use material_table::{MaterialTable, Paint};
-pub use profile::{Profile, DEFAULT_WIDTH};
-pub use surface::{Mapping, Surface, SurfaceCounts, SurfaceShape, Triangle};
+pub use profile::{Profile, ProfileError, DEFAULT_WIDTH};
+pub(crate) use surface::Mapping;
+pub use surface::{Surface, SurfaceCounts, SurfaceShape, Triangle};
 
 /// Index of an ellipsoid's map in [`Scene::ellipsoids`] (and in the BVH's copy of them),
 /// stored plus one so that `Option<EllipsoidId>`, "a true sphere" when `None`, is 4 bytes.
@@ -510,7 +511,7 @@ impl Scene {
 
     /// [`Scene::bounding_ball`] about the centre of `b`, the scene's [`Scene::bounds`] (for a
     /// caller that has them already: one pass over the spheres instead of two).
-    pub fn bounding_ball_in(&self, b: Bounds) -> (DVec3, f64) {
+    pub(crate) fn bounding_ball_in(&self, b: Bounds) -> (DVec3, f64) {
         let c = DVec3::from(b.min) * 0.5 + DVec3::from(b.max) * 0.5;
         let r = self
             .spheres
@@ -526,7 +527,7 @@ impl Scene {
 
     /// Where `origin` points, as `file:line:col` (1-based line and byte column, as the
     /// loader's messages), for errors found after loading; the file is read again up to
-    /// there (see [`crate::input::line_col_in`]). A source that is not a readable file (text
+    /// there. A source that is not a readable file (text
     /// loaded from memory, a file changed since) gives `name:byte OFFSET` instead.
     pub fn position(&self, origin: Origin) -> String {
         let name = self

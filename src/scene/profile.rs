@@ -73,7 +73,7 @@ impl Profile {
     /// given beside any name (a `GasParticle`'s `width` field, a `width` column that fills
     /// every row): the width counts for the gaussian only. Also returns the width that did
     /// not count (given to another profile), for the caller to warn about or not.
-    pub fn parse_beside(
+    pub(crate) fn parse_beside(
         name: &str,
         width: Option<f64>,
     ) -> Result<(Profile, Option<f64>), ProfileError> {

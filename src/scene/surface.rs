@@ -57,7 +57,7 @@ pub struct Triangle {
 /// An affine map (world from local) as surfaces take it: with its normal matrix (the inverse
 /// transpose) and whether it mirrors, worked out once for all the surfaces it moves.
 #[derive(Clone, Copy, Debug)]
-pub struct Mapping {
+pub(crate) struct Mapping {
     /// The map from local coordinates to the world.
     pub map: DAffine3,
     /// The inverse transpose of `map`'s linear part, which maps normals (not normalised).
@@ -80,7 +80,7 @@ impl Mapping {
 impl Triangle {
     /// Applies `m`: points moved, normals by the inverse transpose, and the corners
     /// reordered under a mirroring map so that the front stays the front.
-    pub fn transform(&mut self, m: &Mapping) {
+    pub(crate) fn transform(&mut self, m: &Mapping) {
         for p in &mut self.p {
             *p = m.map.transform_point3(*p);
         }
@@ -150,7 +150,7 @@ impl Surface {
     }
 
     /// Applies `m` to the surface.
-    pub fn transform(&mut self, m: &Mapping) {
+    pub(crate) fn transform(&mut self, m: &Mapping) {
         match &mut self.shape {
             SurfaceShape::Solid { to_world, .. } => *to_world = m.map * *to_world,
             SurfaceShape::Triangle(t) => t.transform(m),

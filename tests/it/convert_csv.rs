@@ -2,7 +2,7 @@
 //! the round trip table -> VRML -> scene IR (values compared with the table's own numbers).
 
 use glam::DVec3;
-use gtsphere::particles::columns::ColumnSpec;
+use gtsphere::particles::ColumnSpec;
 use gtsphere::particles::{convert, ColorScale, Delimiter, Extras, TableOptions, WriteOptions};
 use gtsphere::scene::Scene;
 use gtsphere::vrml::{load_str, LoadOptions};

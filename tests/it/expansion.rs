@@ -180,7 +180,7 @@ fn gzip_data_that_inflates_far_beyond_its_size_is_refused() {
 
 #[test]
 fn the_documented_limits_are_the_readers() {
-    use gtsphere::vrml::lower::{DEFAULT_EXPANSION_BASE, DEFAULT_MAX_EXPANSION};
+    use gtsphere::vrml::{DEFAULT_EXPANSION_BASE, DEFAULT_MAX_EXPANSION};
     let page =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/vrml.md")).unwrap();
     let base = DEFAULT_EXPANSION_BASE.to_string();

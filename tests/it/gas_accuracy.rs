@@ -444,7 +444,8 @@ fn expected_values_agree_with_the_brute_force_reference() {
                 ..RenderOptions::default()
             };
             let prep = crate::support::prepare(scene);
-            let cam = crate::support::view(&prep, &opts).camera;
+            let cam =
+                crate::support::default_camera(&prep, &opts).image_plane(opts.width, opts.height);
             for p in cmd.probes {
                 let (o, w) = cam.ray(
                     (p.col as f64 + 0.5) / f64::from(cmd.width),
@@ -497,7 +498,7 @@ fn error_estimate_covers_every_pixel_of_the_cases() {
             ..RenderOptions::default()
         };
         let prep = crate::support::prepare(scene);
-        let cam = crate::support::view(&prep, &base).camera;
+        let cam = crate::support::default_camera(&prep, &base).image_plane(base.width, base.height);
         let reference: Vec<(f64, f64)> = (0..n * n)
             .map(|k| {
                 let (o, w) = cam.ray(

@@ -1,9 +1,9 @@
 //! `GasParticle`: the PROTO that gives gas spheres a density profile (docs/model.md section 6) in
 //! standard VRML97. Recognised by its name and `profile` field; every Material of an instance
 //! takes the instance's profile; bad names and widths are positioned errors; the PROTO's
-//! template and its replay agree; and `prepare` gives the gas its profile and centre density.
+//! template and its replay agree. (What `prepare` makes of the profiles is checked in the
+//! library's unit tests, `render/tests/gas_particle.rs`.)
 
-use gtsphere::render::{self, PrepareOptions};
 use gtsphere::scene::{Profile, Scene};
 use gtsphere::vrml::{load_str, LoadOptions};
 
@@ -141,64 +141,4 @@ fn only_the_name_and_signature_are_recognised() {
         let (scene, _) = support::load(&text);
         assert_eq!(profiles(&scene), [Profile::Constant], "{text}");
     }
-}
-
-/// `prepare` gives each gas primitive its material's profile and the extinction at its centre
-/// that keeps `transparency` the transmittance along a diameter (docs/model.md section 6,
-/// `sigma0 = -ln(transparency) / (2 r I_f)`); `--profile` (`PrepareOptions::profile`) gives
-/// every gas sphere its own; an opaque sphere's profile does not matter.
-#[test]
-fn prepare_gives_gas_its_profile_and_centre_density() {
-    let (scene, _) = support::load(&format!(
-        "{PROTO}GasParticle {{ profile \"quadratic\" transparency 0 }}\nGasParticle {{ profile \"linear\" radius 2 position 3 0 0 }}\n"
-    ));
-    let by_sphere = |prep: &render::Prepared, i: u32| {
-        (0..prep.bvh.len() as u32)
-            .map(|k| prep.bvh.prim(k))
-            .find(|p| p.sphere == i)
-            .expect("primitive")
-    };
-    let prep = render::prepare(scene.clone(), &PrepareOptions::default()).expect("prepare");
-    let opaque = by_sphere(&prep, 0);
-    assert!(!opaque.is_gas() && !opaque.is_profiled(), "{opaque:?}");
-    let linear = by_sphere(&prep, 1);
-    assert_eq!(linear.profile, Profile::Linear);
-    // transparency 0.5, r = 2, I_f = 1/2.
-    let want = 2f64.ln() / (2.0 * 2.0 * 0.5);
-    assert!((linear.sigma - want).abs() <= 1e-15 * want, "{linear:?}");
-    // Every gas sphere made constant: the constant extinction, -ln(0.5) / (2 r).
-    let constant = PrepareOptions {
-        profile: Some(Profile::Constant),
-        ..PrepareOptions::default()
-    };
-    let prep = render::prepare(scene, &constant).expect("prepare");
-    let p = by_sphere(&prep, 1);
-    assert_eq!(p.profile, Profile::Constant);
-    assert_eq!(p.sigma, -(0.5f64.ln()) / (2.0 * 2.0));
-    // A gaussian for a plain Material: I_f by Simpson's rule here, not the renderer's erf.
-    let (plain, _) = support::scene(
-        "Shape { appearance Appearance { material Material { transparency 0.5 } } geometry Sphere { } }",
-    );
-    let gaussian = PrepareOptions {
-        profile: Some(Profile::Gaussian { width: 0.5 }),
-        ..PrepareOptions::default()
-    };
-    let prep = render::prepare(plain, &gaussian).expect("prepare");
-    let p = prep.bvh.prim(0);
-    assert_eq!(p.profile, Profile::Gaussian { width: 0.5 });
-    let n = 2000;
-    let f = |u: f64| (-u * u / (2.0 * 0.25)).exp();
-    let h = 1.0 / n as f64;
-    let simpson: f64 = (0..n)
-        .map(|k| {
-            let a = k as f64 * h;
-            h / 6.0 * (f(a) + 4.0 * f(a + 0.5 * h) + f(a + h))
-        })
-        .sum();
-    let want = 2f64.ln() / (2.0 * simpson);
-    assert!(
-        (p.sigma - want).abs() <= 1e-12 * want,
-        "{} vs {want}",
-        p.sigma
-    );
 }

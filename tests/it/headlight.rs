@@ -30,7 +30,7 @@ fn render(body: &str, n: u32, opts: RenderOptions) -> (Film, Vec<(DVec3, DVec3)>
     };
     let (scene, _) = support::scene(body);
     let prep = support::prepare(scene);
-    let cam = support::view(&prep, &opts).camera;
+    let cam = support::default_camera(&prep, &opts).image_plane(opts.width, opts.height);
     let rays = (0..n * n)
         .map(|k| {
             let (col, row) = (k % n, k / n);

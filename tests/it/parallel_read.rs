@@ -6,7 +6,7 @@
 //! kept or the file read again.
 
 use gtsphere::scene::Scene;
-use gtsphere::vrml::lower::{load_bytes, LoadOptions, LoadReport};
+use gtsphere::vrml::{load_bytes, LoadOptions, LoadReport};
 use proptest::prelude::*;
 
 fn load(text: &str, threads: usize, chunk: u64) -> Result<(Scene, LoadReport), String> {
@@ -345,7 +345,7 @@ fn same_on_disk(text: &str, threads: usize, chunk: u64, gzip: bool) -> Option<Lo
             read_chunk_bytes: chunk,
             ..LoadOptions::default()
         };
-        gtsphere::vrml::lower::load_path(&path, &opts).map_err(|e| e.to_string())
+        gtsphere::vrml::load_path(&path, &opts).map_err(|e| e.to_string())
     };
     let (one, many) = (load(1), load(threads));
     std::fs::remove_file(&path).unwrap();
@@ -397,7 +397,7 @@ fn files_on_disk_are_read_in_pieces_from_the_file() {
             read_chunk_bytes: 700,
             ..LoadOptions::default()
         };
-        gtsphere::vrml::lower::load_path(&path, &opts).map_err(|e| e.to_string())
+        gtsphere::vrml::load_path(&path, &opts).map_err(|e| e.to_string())
     };
     match (load(1), load(2)) {
         (Ok((a, ra)), Ok((b, rb))) => {
@@ -445,7 +445,7 @@ fn corpus_files_in_pieces_are_one_readers() {
             read_chunk_bytes: 2048,
             ..LoadOptions::default()
         };
-        gtsphere::vrml::lower::load_path(f, &opts).map_err(|e| e.to_string())
+        gtsphere::vrml::load_path(f, &opts).map_err(|e| e.to_string())
     };
     let (mut kept, mut again) = (0, 0);
     for f in &files {

@@ -1,34 +1,15 @@
-//! Helpers shared by the integration tests.
+//! Helpers shared by the integration tests: the library's test helpers, compiled here from
+//! the same file (`src/testing.rs`), so the two cannot drift apart. Test files add what they
+//! need for their geometry in their own `impl Rng` (unit vectors, points in a box).
 
-use std::io::Write as _;
-use std::path::PathBuf;
-use std::sync::Once;
+#[allow(dead_code)]
+#[path = "../../src/testing.rs"]
+mod testing;
+pub use testing::*;
 
-use gtsphere::render::{self, Camera, Film, PrepareOptions, Prepared, RenderOptions, View};
-use gtsphere::scene::Scene;
-// load_str goes through the streaming reader (1 MiB chunks), as files do.
-use gtsphere::vrml::{load_str, LoadOptions, LoadReport};
+use gtsphere::vrml::{load_str, LoadOptions};
 
-pub fn load(text: &str) -> (Scene, LoadReport) {
-    match load_str("test.wrl", text, &LoadOptions::default()) {
-        Ok(r) => r,
-        Err(e) => panic!("load failed:\n{e}"),
-    }
-}
-
-/// Loads `#VRML V2.0 utf8` + `body`.
-pub fn scene(body: &str) -> (Scene, LoadReport) {
-    load(&format!("#VRML V2.0 utf8\n{body}"))
-}
-
-/// The error message of a scene that must fail, as printed (`file:line:col: message` ...).
-pub fn error_of(text: &str) -> String {
-    match load_str("test.wrl", text, &LoadOptions::default()) {
-        Ok(_) => panic!("expected an error for:\n{text}"),
-        Err(e) => e.to_string(),
-    }
-}
-
+/// The error message of a scene that must fail under `--strict`, as printed.
 pub fn strict_error_of(text: &str) -> String {
     let opts = LoadOptions {
         strict: true,
@@ -40,137 +21,7 @@ pub fn strict_error_of(text: &str) -> String {
     }
 }
 
-/// `scene` prepared with the default [`PrepareOptions`].
-pub fn prepare(scene: Scene) -> Prepared {
-    render::prepare(scene, &PrepareOptions::default()).expect("prepare")
-}
-
-/// The scene's default camera (its first Viewpoint, or one framing it) at `opts`' size.
-pub fn default_camera(prep: &Prepared, opts: &RenderOptions) -> Camera {
-    prep.default_camera(opts.width, opts.height)
-        .expect("default camera")
-}
-
-/// The view `render` traces for `opts` from the scene's default camera (what the integrators
-/// take: the lights with the headlight along that camera, the integrator and its tolerance).
-pub fn view<'a>(prep: &'a Prepared, opts: &RenderOptions) -> View<'a> {
-    prep.view(&default_camera(prep, opts), opts).expect("view")
-}
-
-/// `prep` rendered as `opts` say from the scene's default camera.
-pub fn render_prepared(prep: &Prepared, opts: &RenderOptions) -> Film {
-    render::render(prep, &default_camera(prep, opts), opts, &()).expect("render")
-}
-
-/// `scene` prepared with the default [`PrepareOptions`] and rendered as `opts` say from its
-/// default camera.
-pub fn render_auto(scene: Scene, opts: &RenderOptions) -> Film {
-    render_prepared(&prepare(scene), opts)
-}
-
-/// A prepared scene with the options it is rendered with, for the tests that call the
-/// integrators ray by ray: [`Setup::view`] is the view `render` would trace.
-pub struct Setup {
-    pub prep: Prepared,
-    pub opts: RenderOptions,
-}
-
-impl Setup {
-    pub fn new(scene: Scene, prepare: &PrepareOptions, opts: RenderOptions) -> Setup {
-        Setup {
-            prep: render::prepare(scene, prepare).expect("prepare"),
-            opts,
-        }
-    }
-
-    /// The view from the scene's default camera.
-    pub fn view(&self) -> View<'_> {
-        view(&self.prep, &self.opts)
-    }
-}
-
+/// Whether `a` is within `tol` of `b`, relative to `1 + |b|`.
 pub fn close(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol * (1.0 + b.abs())
-}
-
-/// `../shared/SUB` beside the checkout (`corpus`, the VRML corpus; `cases/...`, the gas
-/// accuracy cases), or `None` when it is not there: the test then returns early, and the
-/// first test to find it missing says so once, on the terminal, with where it is expected.
-/// When the environment variable `CI` is set (to anything but `false` or `0`), a missing
-/// folder fails the test instead, so CI cannot pass without the corpus.
-pub fn shared(sub: &str) -> Option<PathBuf> {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    // The checkout's parent, spelt without `..`, for the message.
-    let beside = root.parent().unwrap_or(root).join("shared");
-    let path = beside.join(sub);
-    if path.exists() {
-        return Some(path);
-    }
-    let ci = std::env::var("CI").is_ok_and(|v| !v.is_empty() && v != "false" && v != "0");
-    if ci {
-        panic!(
-            "{} is missing: the corpus ({}, with corpus/ and cases/) must be beside the \
-             checkout, and under CI=true its absence is a failure",
-            path.display(),
-            beside.display()
-        );
-    }
-    static SAID: Once = Once::new();
-    SAID.call_once(|| {
-        // Straight to stderr: the test harness captures eprintln! of passing tests.
-        let _ = writeln!(
-            std::io::stderr(),
-            "\nnote: the corpus is absent: {} is not there (expected beside this checkout, \
-             holding corpus/ and cases/), so the tests that read it are skipped and pass \
-             without checking. Put the shared folder there to run them; with CI=true they \
-             fail instead.\n",
-            if beside.exists() { &path } else { &beside }.display()
-        );
-    });
-    None
-}
-
-/// A fresh, empty directory `group/name` under the target dir's test scratch space.
-pub fn scratch(group: &str, name: &str) -> std::path::PathBuf {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join(group)
-        .join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-/// SplitMix64, the integration tests' one deterministic generator, `Rng(seed)`: the library's
-/// unit-test generator, compiled from the same file (`src/testing.rs`), so the two cannot
-/// drift apart. Test files add what they need for their geometry in their own `impl Rng`
-/// (unit vectors, points in a box).
-#[allow(dead_code)]
-#[path = "../../src/testing.rs"]
-mod testing;
-pub use testing::Rng;
-
-/// A page of docs/ (or a part of one) that code makes: `have` as checked in, `want` as made.
-/// With `GTSPHERE_WRITE_DOCS` set (and not `0`), a difference is written by `write`;
-/// otherwise it fails, showing the first line that differs and the command `remake` that
-/// writes the page anew.
-pub fn generated_page(page: &str, have: &str, want: &str, write: impl FnOnce(), remake: &str) {
-    if have == want {
-        return;
-    }
-    if std::env::var_os("GTSPHERE_WRITE_DOCS").is_some_and(|v| !v.is_empty() && v != "0") {
-        write();
-        return;
-    }
-    let first = have
-        .lines()
-        .zip(want.lines())
-        .position(|(a, b)| a != b)
-        .unwrap_or_else(|| have.lines().count().min(want.lines().count()));
-    panic!(
-        "{page} is not what the code makes of it (first difference at line {}:\n  page: \
-         {:?}\n  made: {:?}).\nDo not edit it by hand: remake it with\n\n    {remake}\n",
-        first + 1,
-        have.lines().nth(first).unwrap_or("(end of page)"),
-        want.lines().nth(first).unwrap_or("(end of page)"),
-    );
 }

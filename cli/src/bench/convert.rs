@@ -11,10 +11,10 @@ use std::time::Instant;
 
 use super::measure::median;
 use crate::memory::peak_rss_bytes;
+use gtsphere::bench::scenes::{write_table, TableColours};
 use gtsphere::error::Error;
 use gtsphere::output::write_file_atomically;
 use gtsphere::particles::{self, Extras, TableOptions, WriteOptions};
-use gtsphere::scenes::{write_table, TableColours};
 
 pub fn generate(dir: &Path, n: usize) -> Result<PathBuf, Error> {
     let path = dir.join(format!("gtsphere-bench-particles-{n}.csv"));

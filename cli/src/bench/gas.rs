@@ -6,10 +6,10 @@
 //! rendered by `exact` at a tolerance 1000 times tighter than the tightest one measured.
 //! The measuring is `gtsphere bench`'s ([`super::measure`]), on this one scene.
 //!
-//! Scene: [`gtsphere::scenes::lit_gas`].
+//! Scene: [`gtsphere::bench::scenes::lit_gas`].
 //!
 //! **Scaling** (`--scaling`): how the exact integrator's cost per camera
-//! ray grows with N, on the clouds [`gtsphere::scenes::cloud`] at N = 1e3 ... 1e6, and what `march` needs for
+//! ray grows with N, on the clouds [`gtsphere::bench::scenes::cloud`] at N = 1e3 ... 1e6, and what `march` needs for
 //! the same error. See [`run_scaling`] for what is measured.
 //! `--write DIR` writes the clouds as VRML, for timing a whole `gtsphere render` and for
 //! benches/povray/.
@@ -21,12 +21,12 @@ use std::process::ExitCode;
 use clap::{Args, ValueEnum};
 
 use super::measure::{median, relative_rms, run_scene, summary, table, BenchScene, Case};
+use gtsphere::bench::scenes::{cloud, lit_gas, Cloud};
 use gtsphere::error::Error;
 use gtsphere::render::{
     prepare, render, Aovs, Counters, Integrator, PrepareOptions, RenderOptions, SamplerKind,
 };
 use gtsphere::scene::Scene;
-use gtsphere::scenes::{cloud, lit_gas, Cloud};
 
 /// The time-against-error sweep on [`lit_gas`].
 pub fn run_tradeoff(n: usize, size: u32, threads: usize) -> Result<ExitCode, Error> {
@@ -153,7 +153,7 @@ fn write_clouds(dir: &std::path::Path, sizes: &[usize], clouds: &[CloudArg]) -> 
         for &c in clouds {
             let c = Cloud::from(c);
             let path = dir.join(format!("cloud-{}-{n}.wrl", c.name()));
-            gtsphere::vrml::write::write_scene_file(&path, &cloud(n, c))?;
+            gtsphere::vrml::write_scene_file(&path, &cloud(n, c))?;
             eprintln!("wrote {}", path.display());
         }
     }

@@ -1,5 +1,5 @@
 //! `gtsphere bench` and its subcommands: one module per measurement, and the shared
-//! measuring in [`measure`]. The scenes come from the library ([`gtsphere::scenes`]), so that
+//! measuring in [`measure`]. The scenes come from the library ([`gtsphere::bench::scenes`]), so that
 //! `cargo bench` and the tests use the same ones.
 //!
 //! Dependency order: each module uses only the ones below it (and the library), never the

@@ -17,9 +17,9 @@ use std::process::{Command, ExitCode};
 use clap::{Args, ValueEnum};
 
 use super::measure::median;
+use gtsphere::bench::scenes::{self, write_particles};
 use gtsphere::error::Error;
 use gtsphere::output::write_file_atomically;
-use gtsphere::scenes::{self, write_particles};
 
 /// Arguments of `gtsphere bench parse`.
 #[derive(Debug, Args)]

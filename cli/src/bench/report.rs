@@ -24,9 +24,9 @@ use std::process::ExitCode;
 use clap::Args;
 
 use super::measure::{run_scene, summary, table, BenchScene, Case, Row};
+use gtsphere::bench::scenes::{gas_cloud, gas_cloud_with, random_spheres};
 use gtsphere::error::Error;
 use gtsphere::scene::{Profile, DEFAULT_WIDTH};
-use gtsphere::scenes::{gas_cloud, gas_cloud_with, random_spheres};
 
 /// `gtsphere bench` without a subcommand.
 #[derive(Debug, Args)]

@@ -1,7 +1,7 @@
 //! `gtsphere bench trace`: BVH build time, camera and shadow rays per second, and peak memory
-//! on N random opaque spheres (the benchmark scene of `gtsphere::scenes`).
+//! on N random opaque spheres (the benchmark scene of `gtsphere::bench::scenes`).
 //!
-//! Scene: [`gtsphere::scenes::random_spheres`] (the same as `benches/embree/`, so the two can be
+//! Scene: [`gtsphere::bench::scenes::random_spheres`] (the same as `benches/embree/`, so the two can be
 //! run side by side), one ray through each pixel's centre.
 //!
 //! Camera rays and shadow rays are timed in separate passes on one thread (per-core
@@ -9,19 +9,15 @@
 //! A third pass renders the full image (shading included) on `--threads` threads.
 
 use std::process::ExitCode;
-use std::time::Instant;
 
 use super::measure::median;
 use crate::memory::peak_rss_bytes;
 use glam::DVec3;
+use gtsphere::bench::scenes::random_spheres;
+use gtsphere::bench::{ray_passes, RayPasses};
 use gtsphere::error::Error;
-use gtsphere::render::integrators::surface::surface_point;
-use gtsphere::render::lights::towards;
-use gtsphere::render::packets::{BandHits, BAND};
-use gtsphere::render::visibility::{visible_after, Blockers};
 use gtsphere::render::{prepare, render, Counters, PrepareOptions, RenderOptions, SamplerKind};
 use gtsphere::scene::{Material, Scene};
-use gtsphere::scenes::random_spheres;
 
 /// One measured run.
 struct Run {
@@ -67,58 +63,14 @@ fn one_run(n: usize, size: u32, threads: usize, colour_per_sphere: bool) -> Resu
     };
     let prep = prepare(scene(n, colour_per_sphere), &PrepareOptions::default())?;
     let peak_prepare = peak_rss_bytes().unwrap_or(0);
-    let view = prep.view(&prep.default_camera(size, size)?, &opts)?;
-
-    // Passes 1 and 2, one thread, a band of 16 rows at a time (so the hit list stays small):
-    // camera rays, then one shadow ray per hit and light. N.L <= 0 is traced too, as the
-    // Embree reference does, so that the counts compare. As in the renderer, camera rays go
-    // in 16x16 tiles, traced four by four pixels in a packet (Embree's harness traces one
-    // `rtcIntersect1` at a time), and each light's shadow ray first tries the sphere that
-    // blocked the previous one (an exact test; Embree has no such cache): neighbouring rays
-    // share BVH nodes and spheres while they are still in cache.
-    let (mut camera_s, mut shadow_s) = (0.0, 0.0);
-    let mut lit = [0u64; 2];
-    let mut shadow_rays = 0u64;
-    let mut hit_count = 0u64;
-    let mut hits = Vec::new();
-    let mut rows = BandHits::default();
-    // Each light's last blocker, tried first, as the renderer does from pixel to pixel.
-    let mut blockers = Blockers::default();
-    for band in (0..size).step_by(16) {
-        let t0 = Instant::now();
-        hits.clear();
-        for x0 in (0..size).step_by(16) {
-            // As the renderer does (render/packets.rs): four rows at a time, their camera
-            // rays traced four by four pixels in a packet, the hits then taken row by row
-            // (the order the renderer shades them in, and so traces their shadow rays).
-            for y in (band..(band + 16).min(size)).step_by(BAND as usize) {
-                let (x1, y1) = ((x0 + 16).min(size), (y + BAND).min(size));
-                rows.trace(&view, &opts, (x0, x1), (y, y1));
-                for p in 0..((x1 - x0) * (y1 - y)) as usize {
-                    let (rays, found) = rows.of_pixel(p);
-                    if let Some(h) = found[0] {
-                        hits.push(surface_point(&prep, rays[0].0, rays[0].1, h));
-                    }
-                }
-            }
-        }
-        camera_s += t0.elapsed().as_secs_f64();
-        hit_count += hits.len() as u64;
-        let t1 = Instant::now();
-        for sp in &hits {
-            for (k, l) in view.lights.iter().enumerate() {
-                if let Some((dir, dist, _)) = towards(l, sp.x) {
-                    shadow_rays += 1;
-                    let slot = blockers.slot(k);
-                    let v = visible_after(&prep, sp.x, dir, dist, Some(sp.on), slot);
-                    if let Some(lit) = lit.get_mut(k) {
-                        *lit += u64::from(v > 0.0 && sp.n.dot(dir) > 0.0);
-                    }
-                }
-            }
-        }
-        shadow_s += t1.elapsed().as_secs_f64();
-    }
+    // Passes 1 and 2, one thread: camera rays, then one shadow ray per hit and light.
+    let RayPasses {
+        camera_seconds: camera_s,
+        shadow_seconds: shadow_s,
+        hits: hit_count,
+        shadow_rays,
+        lit,
+    } = ray_passes(&prep, &opts)?;
 
     // Pass 3: the full render (shading, N.L culling of shadow rays) on `threads` threads.
     let pool = rayon::ThreadPoolBuilder::new()
@@ -135,11 +87,11 @@ fn one_run(n: usize, size: u32, threads: usize, colour_per_sphere: bool) -> Resu
 
     let camera_rays_1 = u64::from(size) * u64::from(size);
     Ok(Run {
-        build: prep.bvh.build_time.as_secs_f64(),
+        build: prep.bvh_build_time().as_secs_f64(),
         camera_rps: camera_rays_1 as f64 / camera_s,
         shadow_rps: shadow_rays as f64 / shadow_s,
         combined_rps: (camera_rays_1 + shadow_rays) as f64 / (camera_s + shadow_s),
-        total_s: prep.bvh.build_time.as_secs_f64() + camera_s + shadow_s,
+        total_s: prep.bvh_build_time().as_secs_f64() + camera_s + shadow_s,
         render_rps: (camera_rays + shaded) as f64 / done.seconds / threads as f64,
         hits: hit_count,
         peak_prepare,

@@ -69,11 +69,10 @@
 //! Layout: this file holds the types and what both sides use; `build.rs` the Morton chunks
 //! and the obvhs builds, `wide.rs` the collapse of obvhs's binary tree into the CWBVH,
 //! `node8.rs` the decoded nodes, their ray test and the walk, `packet.rs` the walk of a packet
-//! of coherent rays, `query.rs` the queries on top (closest hit, any hit, all hits, a region),
+//! of coherent rays, `query.rs` the queries on top (closest hit, any hit, a region),
 //! `packet_query.rs` the closest hits of a packet.
 
 mod build;
-pub use build::Side;
 mod node8;
 mod packet;
 mod packet_query;
@@ -300,7 +299,7 @@ impl ChunkBoxes {
 }
 
 /// The spheres and ellipsoids of a scene in a BVH of f32 boxes, cut into at most
-/// [`MAX_CHUNKS`] chunks; its queries (closest hit, any hit, all hits) test exactly, in f64,
+/// [`MAX_CHUNKS`] chunks; its queries (closest hit, any hit, a region) test exactly, in f64,
 /// the primitives whose padded boxes a ray meets.
 pub struct SphereBvh {
     chunks: Vec<Chunk>,
@@ -347,6 +346,7 @@ impl SphereBvh {
 
     /// Depth in nodes of the deepest chunk's tree (0 when empty): what a walk's stack holds,
     /// and a measure of the build's work, which grows with it.
+    #[cfg(test)]
     pub fn depth(&self) -> usize {
         self.chunks.iter().map(|c| c.depth).max().unwrap_or(0)
     }
@@ -355,12 +355,6 @@ impl SphereBvh {
     #[inline]
     pub fn len(&self) -> usize {
         self.packed.len()
-    }
-
-    /// Whether it holds no primitives.
-    #[inline]
-    pub fn is_empty(&self) -> bool {
-        self.packed.is_empty()
     }
 
     /// The primitives as stored, in leaf order.

@@ -1,6 +1,6 @@
 //! Queries: the chunks a ray reaches (f64 slab test), each chunk's nodes walked (node8.rs),
-//! and the closest-hit, any-hit, all-hits and region queries on top (every primitive test in
-//! f64 by the caller's closure).
+//! and the closest-hit, any-hit and region queries on top, with an all-hits query for the
+//! tests (every primitive test in f64 by the caller's closure).
 
 use glam::{DVec3, Vec3A};
 use obvhs::ray::Ray as Ray32;
@@ -334,6 +334,7 @@ impl SphereBvh {
 
     /// Calls `visit(prim_index, prim, roots)` for every primitive the line meets whose box the
     /// ray segment `[tmin, tmax]` reaches (order unspecified).
+    #[cfg(test)]
     pub fn all(
         &self,
         o: DVec3,

@@ -112,7 +112,8 @@ fn union(parent: &mut [usize], size: &mut [usize], a: usize, b: usize) {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use crate::geom::{faces as face_ranges, sphere_fit};
+    use crate::geom::mesh::faces as face_ranges;
+    use crate::geom::sphere_fit;
     use crate::testing::Rng;
     use std::f64::consts::{PI, TAU};
 

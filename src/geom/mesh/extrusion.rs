@@ -188,7 +188,7 @@ mod tests {
         let centre = DVec3::new(0.0, 0.5, 0.0);
         for f in faces {
             let poly: Vec<u32> = index[f].iter().map(|&i| i as u32).collect();
-            let n = crate::geom::mesh::newell_normal(&points, &poly);
+            let n = crate::geom::mesh::triangulate::newell_normal(&points, &poly);
             let c = poly.iter().map(|&i| points[i as usize]).sum::<DVec3>() / poly.len() as f64;
             assert!(n.dot(c - centre) > 0.0, "face {poly:?} faces in: {n}");
             // The Newell normal is twice the area: 2 x 1 sides, 2 x 2 caps.

@@ -8,11 +8,11 @@ mod faces;
 mod normals;
 mod triangulate;
 
-pub use components::{components, Component};
+pub use components::components;
 pub use extrusion::{extrusion_mesh, Extrusion};
 pub use faces::{faces, first_bad_index};
 pub use normals::crease_normals;
-pub use triangulate::{newell_normal, triangulate};
+pub use triangulate::triangulate;
 
 #[cfg(test)]
 pub(crate) use components::tests as tests_support;

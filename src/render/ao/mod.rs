@@ -11,9 +11,9 @@
 //! no reach (`f64::INFINITY`), every sphere above the tangent plane is a candidate: a cost
 //! that grows with the scene, for each pixel.
 
-pub mod cap;
-pub mod sky;
-pub mod union;
+pub(crate) mod cap;
+pub(crate) mod sky;
+pub(crate) mod union;
 
 use glam::DVec3;
 
@@ -179,7 +179,7 @@ impl Around {
 /// The AO picture's radiance along a camera ray whose first opaque hit is `hit`: the
 /// unoccluded fraction there, on white or on the surface's diffuse colour; the background
 /// where the ray meets nothing. Exact up to rounding: the error estimate is 0.
-pub fn radiance_of_hit(
+pub(crate) fn radiance_of_hit(
     view: &View,
     ao: &AoSettings,
     (o, d): (DVec3, DVec3),
@@ -215,7 +215,7 @@ pub fn radiance_of_hit(
 
 /// Why `prep` cannot be rendered with exact AO, if it cannot: the occluders exact AO knows
 /// are opaque spheres.
-pub fn unsupported(prep: &Prepared) -> Option<String> {
+pub(crate) fn unsupported(prep: &Prepared) -> Option<String> {
     let ellipsoids = prep
         .bvh
         .packed()

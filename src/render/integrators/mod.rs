@@ -63,8 +63,6 @@ pub struct Scratch {
     pub unshadowed_by_segment: Vec<f64>,
     /// The spheres that last blocked each light's shadow rays (opaque scenes).
     pub blockers: super::visibility::Blockers,
-    /// The AO integrator's buffers.
-    pub ao: super::ao::AoScratch,
 }
 
 /// The camera ray's radiance with the chosen integrator. Scenes without gas always take the
@@ -77,10 +75,6 @@ pub fn radiance(
     scratch: &mut Scratch,
     counters: &mut Counters,
 ) -> Estimate {
-    if let Integrator::Ao(ao) = &view.integrator {
-        let hit = surface::first_hit(view, o, d, 0.0);
-        return super::ao::radiance_of_hit(view, ao, (o, d), hit, &mut scratch.ao, counters);
-    }
     if view.gas_spheres == 0 {
         return surface::radiance(view, o, d, &mut scratch.blockers, counters);
     }
@@ -88,7 +82,7 @@ pub fn radiance(
         Integrator::Exact => exact::radiance(view, o, d, scratch, counters),
         Integrator::March { step } => march::radiance(view, o, d, step, scratch, counters),
         Integrator::Mc => mc::radiance(view, o, d, rng, scratch, counters),
-        Integrator::Ao(_) => unreachable!("taken above"),
+        Integrator::Ao(_) => unreachable!("AO is traced by `render::tiles`"),
     }
 }
 
@@ -229,3 +223,6 @@ pub fn scatter_for(view: &View, seg: &Segment, members: &[u32], i: usize) -> DVe
         _ => seg.scatter,
     }
 }
+
+#[cfg(test)]
+pub(crate) mod tests;

@@ -10,7 +10,7 @@
 //! fields kept so far are recorded as they would have been, and the event goes on as usual
 //! ([`Lowerer::record_direct`]). An instance the template refuses when it closes (see
 //! `template`) is recorded the same way and replayed. So warnings, errors and the scene are
-//! the recording's in every case (`tests/it/proto_template.rs` compares them with replaying
+//! the recording's in every case (`src/vrml/tests/proto_template.rs` compares them with replaying
 //! every instance).
 //!
 //! An instance the parser read whole, because its fields all hold plain numbers

@@ -11,7 +11,7 @@
 //!
 //! What becomes of every standard node and field is data beside the node interfaces
 //! (`schema::support`, published as docs/vrml.md, checked against this module by
-//! `tests/it/vrml_support.rs`); in short: grouping nodes, Shape with Sphere, Box, Cylinder,
+//! `src/vrml/tests/vrml_support.rs`); in short: grouping nodes, Shape with Sphere, Box, Cylinder,
 //! Cone and the meshes, the two lights, Viewpoint, NavigationInfo's headlight and
 //! Background's first sky colour are used, and everything else is counted and skipped.
 //!

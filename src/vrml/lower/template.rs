@@ -9,7 +9,7 @@
 //! [0, 1], a bad radius, a node limit or replay depth reached, a place where the body's
 //! Transform would be out of place, an instance value that is itself an `IS`) sends the
 //! instance down the replay instead, so the result is the replay's in every case
-//! (`tests/it/proto_template.rs` compares the two). With [`super::direct`] it reads
+//! (`src/vrml/tests/proto_template.rs` compares the two). With [`super::direct`] it reads
 //! `convert`'s files 4.0x (8-bit colours) to 4.2x (a colour per particle) as fast as replaying
 //! (`gtsphere bench parse --layout proto --layout continuous`, with and without the hidden
 //! `--replay-every-instance`).

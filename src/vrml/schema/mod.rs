@@ -7,18 +7,18 @@
 //! with what gtsphere does with each node and member. Script lists only its
 //! three fixed fields (`url`, `directOutput`, `mustEvaluate`); the rest of a Script's
 //! interface is declared by the author. The page `docs/vrml.md` is made of `support`'s
-//! tables ([`support_markdown`]).
+//! tables (`support_markdown`, built for the tests that make and check the page).
 
 mod lookup;
+#[cfg(test)]
 mod support;
 mod tables;
 mod value;
 
 pub(crate) use lookup::same_bytes;
 pub use lookup::NodeSpec;
-pub use support::{
-    node_support, support_markdown, FieldRole, FieldSupport, NodeRole, NodeSupport, SUPPORT,
-};
+#[cfg(test)]
+pub use support::{support_markdown, FieldRole, NodeRole, SUPPORT};
 pub use tables::NODES;
 pub use tables::{node_index, node_spec};
 pub(crate) use value::{check_value, type_name};

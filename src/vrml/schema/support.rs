@@ -3,12 +3,13 @@
 //! [`NODES`], in the same order, and each node that gtsphere reads lists every member of its
 //! interface in declaration order with its VRML97 default and what becomes of a value
 //! ([`FieldRole`]). [`support_markdown`] turns the two tables into the page `docs/vrml.md`;
-//! a test of the integration tests fails when that file differs from it, and the unit tests
-//! below fail when a node or member of [`NODES`] is not classified here.
+//! a test (`vrml/tests/vrml_support.rs`) fails when that file differs from it, and the tests
+//! below fail when a node or member of [`NODES`] is not classified here. Built only for the
+//! tests: the reader itself does not consult the tables.
 //!
 //! The tables describe the lowering (`crate::vrml::lower`): which node types it models and
-//! which fields it stores. The integration tests check them against it by loading scenes:
-//! skipped nodes are counted as skipped, unknown names and events warn where the table says,
+//! which fields it stores. `vrml/tests/vrml_support.rs` checks them against it by loading
+//! scenes: skipped nodes are counted as skipped, unknown names and events warn where the table says,
 //! a default given explicitly changes nothing, and an ignored field changes nothing either.
 
 use std::fmt::Write as _;

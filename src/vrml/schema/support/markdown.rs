@@ -6,7 +6,7 @@ use super::*;
 const INTRO: &str = r#"# VRML97 support
 
 <!-- Made by support_markdown() from src/vrml/schema/support.rs: do not edit by hand.
-     Remake it with: GTSPHERE_WRITE_DOCS=1 cargo test --test it vrml_support -->
+     Remake it with: GTSPHERE_WRITE_DOCS=1 cargo test -p gtsphere --lib vrml_support -->
 
 gtsphere reads scenes in VRML97 (ISO/IEC 14772-1:1997) and draws one still image of them.
 This page says, for each of the 54 standard node types and each member of its interface,

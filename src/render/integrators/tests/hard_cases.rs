@@ -1,14 +1,12 @@
 //! Numerical hard cases, each with its expected value stated here.
-//! (The issue names `tests/hard_cases.rs`; the project keeps one integration binary, so it is
-//! the module `tests/it/hard_cases.rs`.)
 
+use crate::output::Image;
+use crate::render::integrators::{self, Scratch};
+use crate::render::sampler::Rng;
+use crate::render::{self, Counters, PrepareOptions, Prepared, RenderOptions, SamplerKind};
 use glam::DVec3;
-use gtsphere::output::Image;
-use gtsphere::render::integrators::{self, Scratch};
-use gtsphere::render::sampler::Rng;
-use gtsphere::render::{self, Counters, PrepareOptions, Prepared, RenderOptions, SamplerKind};
 
-use crate::support;
+use crate::testing as support;
 
 fn prep(body: &str) -> Prepared {
     let (scene, _) = support::scene(&format!("NavigationInfo {{ headlight FALSE }}\n{body}"));
@@ -474,7 +472,7 @@ fn optical_depths_1e_12_and_1e4() {
 /// chord in radii at distance `beta`), and from the centre to the surface `sigma0 r I_f`.
 #[test]
 fn profiled_gas_at_tiny_and_huge_depths_from_inside_and_far_away() {
-    use gtsphere::scene::Profile;
+    use crate::scene::Profile;
     let c = DVec3::new(0.9, 0.6, 0.3);
     let setup = |centre: DVec3, sigma0: f64, profile: Profile| {
         let body = format!(
@@ -551,7 +549,7 @@ fn profiled_gas_at_tiny_and_huge_depths_from_inside_and_far_away() {
 /// its shadow on an opaque sphere lit through it along z, against those numbers.
 #[test]
 fn profiled_ellipsoid_emits_and_shadows_along_its_own_shape() {
-    use gtsphere::scene::Profile;
+    use crate::scene::Profile;
     let body = "DirectionalLight { direction 0 0 -1 }
 Transform { scale 2 1 1 children Shape { appearance Appearance { material Material { emissiveColor 0.9 0.6 0.3 diffuseColor 0 0 0 transparency 0.5 } } geometry Sphere { } } }
 Transform { translation 0 0 -5 children Shape { appearance Appearance { material Material { diffuseColor 1 1 1 } } geometry Sphere { } } }";

@@ -1,12 +1,12 @@
 //! Gas emission and absorption against closed forms (docs/model.md section 3): every expected
 //! value is computed here from chords found with the test's own ray/sphere formula.
 
+use crate::render::integrators::{self, Scratch};
+use crate::render::sampler::Rng;
+use crate::render::{Counters, Integrator, PrepareOptions, RenderOptions};
 use glam::DVec3;
-use gtsphere::render::integrators::{self, Scratch};
-use gtsphere::render::sampler::Rng;
-use gtsphere::render::{Counters, Integrator, PrepareOptions, RenderOptions};
 
-use crate::support;
+use crate::testing as support;
 
 /// Chord of the line o + t w (|w| = 1) through a sphere, for t >= 0: half chord from the
 /// distance of the centre to the line (no b^2 - ac cancellation).
@@ -250,8 +250,8 @@ fn surface_shadowed_by_gas_gets_the_transmittance() {
 /// non-negative pixels and a finite error estimate.
 #[test]
 fn awkward_scenes_give_finite_pixels() {
-    use gtsphere::render::SamplerKind;
-    let mut rng = crate::support::Rng(77);
+    use crate::render::SamplerKind;
+    let mut rng = crate::testing::Rng(77);
     let mut rnd = move || rng.f();
     for case in 0..12 {
         let mut body = String::from("NavigationInfo { headlight FALSE }\n");

@@ -4,22 +4,22 @@ use super::*;
 
 /// The benchmark scene of `gtsphere bench trace` at 20 000 spheres, prepared, and its
 /// spheres (centre and radius) for brute force.
-fn benchmark_scene() -> (Vec<(DVec3, f64)>, gtsphere::render::Prepared) {
-    let scene = gtsphere::scenes::random_spheres(20_000);
+fn benchmark_scene() -> (Vec<(DVec3, f64)>, crate::render::Prepared) {
+    let scene = crate::bench::scenes::random_spheres(20_000);
     let spheres = scene.spheres.iter().map(|s| (s.center, s.radius)).collect();
-    (spheres, crate::support::prepare(scene))
+    (spheres, crate::testing::prepare(scene))
 }
 
 /// The benchmark scene of `gtsphere bench trace` at 20 000 spheres: camera hits and shadow
 /// visibility through the renderer's own functions against a brute-force loop.
 #[test]
 fn benchmark_scene_shadows_match_brute_force() {
-    use gtsphere::render::integrators::surface::{first_hit, surface_point};
-    use gtsphere::render::lights::towards;
-    use gtsphere::render::visibility::visible;
-    use gtsphere::render::RenderOptions;
+    use crate::render::integrators::surface::{first_hit, surface_point};
+    use crate::render::lights::towards;
+    use crate::render::visibility::visible;
+    use crate::render::RenderOptions;
     let (spheres, prep) = benchmark_scene();
-    let view = crate::support::view(&prep, &RenderOptions::default());
+    let view = crate::testing::view(&prep, &RenderOptions::default());
     let cam = view.camera;
     let (mut lit, mut checked) = (0, 0);
     for j in 0..64 {
@@ -51,11 +51,11 @@ fn benchmark_scene_shadows_match_brute_force() {
 /// them (`first_hits`), with jittered samples: the same first hits as the brute-force loop.
 #[test]
 fn benchmark_scene_camera_packets_match_brute_force() {
-    use gtsphere::accel::{PacketStack, PACKET};
-    use gtsphere::render::integrators::surface::{first_hits, Opaque};
-    use gtsphere::render::RenderOptions;
+    use crate::accel::{PacketStack, PACKET};
+    use crate::render::integrators::surface::{first_hits, Opaque};
+    use crate::render::RenderOptions;
     let (spheres, prep) = benchmark_scene();
-    let view = crate::support::view(&prep, &RenderOptions::default());
+    let view = crate::testing::view(&prep, &RenderOptions::default());
     let cam = view.camera;
     let mut rng = Rng(77);
     let mut stack = PacketStack::default();
@@ -98,12 +98,12 @@ fn benchmark_scene_camera_packets_match_brute_force() {
 /// of either sign near 0), a sphere out of the scene, a random one.
 #[test]
 fn shadow_rays_after_the_last_blocker_match_brute_force() {
-    use gtsphere::render::integrators::surface::{first_hit, surface_point, Opaque};
-    use gtsphere::render::lights::towards;
-    use gtsphere::render::visibility::{visible_after, Blockers};
-    use gtsphere::render::RenderOptions;
+    use crate::render::integrators::surface::{first_hit, surface_point, Opaque};
+    use crate::render::lights::towards;
+    use crate::render::visibility::{visible_after, Blockers};
+    use crate::render::RenderOptions;
     let (spheres, prep) = benchmark_scene();
-    let view = crate::support::view(&prep, &RenderOptions::default());
+    let view = crate::testing::view(&prep, &RenderOptions::default());
     let cam = view.camera;
     let n = prep.bvh.len() as u32;
     let blocks = |x: DVec3, dir: DVec3, dist: f64, k: usize| {
@@ -160,16 +160,16 @@ fn shadow_rays_after_the_last_blocker_match_brute_force() {
 /// without slots, bit for bit.
 #[test]
 fn last_blockers_leave_gas_transmittance_unchanged() {
-    use gtsphere::render::visibility::{visible, visible_after};
-    use gtsphere::scene::Material;
-    let mut scene = gtsphere::scenes::random_spheres(3000);
+    use crate::render::visibility::{visible, visible_after};
+    use crate::scene::Material;
+    let mut scene = crate::bench::scenes::random_spheres(3000);
     let gas = Material {
         transparency: 0.3,
         ..Material::default()
     };
     // Constant and linear density (whose optical depth depends on where the chord lies).
     let linear = Material {
-        profile: gtsphere::scene::Profile::Linear,
+        profile: crate::scene::Profile::Linear,
         ..gas
     };
     let gas_index = scene.materials.add(&gas).material;
@@ -181,7 +181,7 @@ fn last_blockers_leave_gas_transmittance_unchanged() {
             _ => {}
         }
     }
-    let prep = crate::support::prepare(scene);
+    let prep = crate::testing::prepare(scene);
     let n = prep.bvh.len() as u32;
     let mut rng = Rng(5);
     let (mut partial, mut blocked) = (0, 0);
@@ -221,25 +221,25 @@ fn concentric_and_coincident_spheres_are_all_found() {
         .map(|k| Prim {
             center: DVec3::ZERO,
             radius: 0.01 * (k + 1) as f64,
-            color: gtsphere::scene::Color::default(),
+            color: crate::scene::Color::default(),
             material: 0,
             sphere: k,
             ellipsoid: None,
             gas: false,
             sigma: 0.0,
-            profile: gtsphere::scene::Profile::Constant,
+            profile: crate::scene::Profile::Constant,
         })
         .collect();
     ps.extend((0..300).map(|k| Prim {
         center: DVec3::new(2.0, 0.0, 0.0),
         radius: 0.5,
-        color: gtsphere::scene::Color::default(),
+        color: crate::scene::Color::default(),
         material: 0,
         sphere: 600 + k,
         ellipsoid: None,
         gas: false,
         sigma: 0.0,
-        profile: gtsphere::scene::Profile::Constant,
+        profile: crate::scene::Profile::Constant,
     }));
     let bvh = SphereBvh::build(ps, &[]);
     let o = DVec3::new(-10.0, 0.0, 0.0);

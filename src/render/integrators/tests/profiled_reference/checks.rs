@@ -162,7 +162,7 @@ fn a_diameter_transmits_the_transparency() {
 /// beyond), lines at distances from the centre down to 1e-12 of the radius, every profile.
 #[test]
 fn light_path_depths_match_an_independent_quadrature() {
-    let mut rng = crate::support::Rng(77);
+    let mut rng = crate::testing::Rng(77);
     let mut worst = 0.0f64;
     for profile in PROFILES {
         let ball = Ball {
@@ -319,7 +319,7 @@ fn the_constant_profile_matches_gas_reference() {
 #[test]
 fn the_reference_refines_on_the_lit_cloud() {
     let start = std::time::Instant::now();
-    let refs = crate::profiled_gas::cloud_references();
+    let refs = crate::render::integrators::tests::profiled_gas::cloud_references();
     let worst = refs
         .iter()
         .map(|r| r.ref_err / r.want.abs().max_element())

@@ -37,7 +37,7 @@ use std::sync::OnceLock;
 
 use glam::DVec3;
 
-use crate::gas_reference::{self, roots, Lamp};
+use crate::render::integrators::tests::gas_reference::{self, roots, Lamp};
 
 mod quadrature;
 use quadrature::*;

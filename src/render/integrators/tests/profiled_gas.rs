@@ -15,14 +15,16 @@
 
 use std::sync::OnceLock;
 
+use crate::render::integrators::{self, Estimate, Scratch};
+use crate::render::sampler::Rng;
+use crate::render::{Counters, Integrator, PrepareOptions, RenderOptions, View};
 use glam::DVec3;
-use gtsphere::render::integrators::{self, Estimate, Scratch};
-use gtsphere::render::sampler::Rng;
-use gtsphere::render::{Counters, Integrator, PrepareOptions, RenderOptions, View};
 
-use crate::gas_reference::{self, roots, Lamp};
-use crate::profiled_reference::{checked, plain, ray_past, vrml, Ball, Profile};
-use crate::support;
+use crate::render::integrators::tests::gas_reference::{self, roots, Lamp};
+use crate::render::integrators::tests::profiled_reference::{
+    checked, plain, ray_past, vrml, Ball, Profile,
+};
+use crate::testing as support;
 
 fn prepared(balls: &[Ball], lamps: &[Lamp], integrator: Integrator, tol: f64) -> support::Setup {
     let (scene, _) = support::scene(&vrml(balls, lamps));
@@ -414,7 +416,12 @@ pub(crate) fn cloud_references() -> &'static [RefRay] {
     REFS.get_or_init(|| {
         let (balls, lamps) = cloud();
         let start = std::time::Instant::now();
-        let refs = references(&balls, &lamps, &crate::gas_scatter::camera_rays(40), 1e-10);
+        let refs = references(
+            &balls,
+            &lamps,
+            &crate::render::integrators::tests::gas_scatter::camera_rays(40),
+            1e-10,
+        );
         eprintln!(
             "lit profiled cloud: reference for {} rays in {:.2} s",
             refs.len(),
@@ -539,7 +546,10 @@ fn constant_gas_particles_render_like_plain_materials() {
             support::Setup::new(scene, &PrepareOptions::default(), opts)
         });
         let views = [setups[0].view(), setups[1].view()];
-        for (k, (o, w)) in crate::gas_scatter::camera_rays(24).into_iter().enumerate() {
+        for (k, (o, w)) in crate::render::integrators::tests::gas_scatter::camera_rays(24)
+            .into_iter()
+            .enumerate()
+        {
             let [a, b] = [0, 1].map(|s| ours(&views[s], o, w, &mut Rng::new(7, k as u64)));
             assert!(
                 a.value == b.value && a.error == b.error && a.covered == b.covered,

@@ -4,11 +4,11 @@
 
 use std::collections::BTreeSet;
 
+use crate::accel::{Prim, SphereBvh};
+use crate::geom::sphere_roots;
 use glam::DVec3;
-use gtsphere::accel::{Prim, SphereBvh};
-use gtsphere::geom::sphere_roots;
 
-use crate::support::Rng;
+use crate::testing::Rng;
 
 mod benchmark_scene;
 
@@ -28,13 +28,13 @@ fn prims(rng: &mut Rng, n: usize, offset: DVec3, extent: f64, r_lo: f64, r_hi: f
         .map(|i| Prim {
             center: offset + (DVec3::new(rng.f(), rng.f(), rng.f()) * 2.0 - 1.0) * extent,
             radius: r_lo * (r_hi / r_lo).powf(rng.f()),
-            color: gtsphere::scene::Color::default(),
+            color: crate::scene::Color::default(),
             material: 0,
             sphere: i as u32,
             ellipsoid: None,
             gas: false,
             sigma: 0.0,
-            profile: gtsphere::scene::Profile::Constant,
+            profile: crate::scene::Profile::Constant,
         })
         .collect()
 }
@@ -171,9 +171,9 @@ fn check_rays(seed: u64, ps: &[Prim], bvh: &SphereBvh, offset: DVec3, extent: f6
 fn packet_closest(
     bvh: &SphereBvh,
     rays: &[(DVec3, DVec3)],
-    stack: &mut gtsphere::accel::PacketStack,
+    stack: &mut crate::accel::PacketStack,
 ) -> Vec<Option<(f64, u32)>> {
-    let mut got = [None; gtsphere::accel::PACKET];
+    let mut got = [None; crate::accel::PACKET];
     bvh.closest_packet(
         rays,
         0.0,
@@ -201,7 +201,7 @@ fn check_packets(
     rng: &mut Rng,
 ) {
     let n = ps.len();
-    let mut stack = gtsphere::accel::PacketStack::default();
+    let mut stack = crate::accel::PacketStack::default();
     let mut hits = 0;
     for k in 0..120 {
         let dist = [0.0, 2.0, 1e4][k % 3] * extent;
@@ -305,13 +305,13 @@ fn grazing_rays_through_the_bvh() {
     let mut ps = vec![Prim {
         center: c,
         radius: r,
-        color: gtsphere::scene::Color::default(),
+        color: crate::scene::Color::default(),
         material: 0,
         sphere: 999,
         ellipsoid: None,
         gas: false,
         sigma: 0.0,
-        profile: gtsphere::scene::Profile::Constant,
+        profile: crate::scene::Profile::Constant,
     }];
     ps.extend(others);
     let bvh = SphereBvh::build(ps.clone(), &[]);
@@ -340,7 +340,7 @@ fn grazing_rays_through_the_bvh() {
 
     // The same grazing rays sixteen at a time: one origin, directions a millionth of the
     // sphere apart, so they walk as one packet.
-    let mut stack = gtsphere::accel::PacketStack::default();
+    let mut stack = crate::accel::PacketStack::default();
     let (mut hit, mut miss) = (0, 0);
     for k in 0..200 {
         let axis = c.normalize();
@@ -371,13 +371,13 @@ fn cluster(n: usize, center: impl Fn(usize) -> DVec3, radius: impl Fn(usize) -> 
         .map(|i| Prim {
             center: center(i),
             radius: radius(i),
-            color: gtsphere::scene::Color::default(),
+            color: crate::scene::Color::default(),
             material: 0,
             sphere: i as u32,
             ellipsoid: None,
             gas: false,
             sigma: 0.0,
-            profile: gtsphere::scene::Profile::Constant,
+            profile: crate::scene::Profile::Constant,
         })
         .collect()
 }

@@ -6,7 +6,7 @@
 //! reader and in pieces.
 
 use super::proto_template::{same, same_limited};
-use gtsphere::vrml::lower::{load_bytes, LoadOptions};
+use crate::vrml::lower::{load_bytes, LoadOptions};
 use proptest::prelude::*;
 
 /// A sphere node with its parts in random order and form; some are not plain (an extra

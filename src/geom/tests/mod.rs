@@ -1,4 +1,4 @@
-//! `gtsphere::geom` against independent answers: an exact big-integer oracle (`geom/exact.rs`)
+//! The f64 geometry against independent answers: an exact big-integer oracle (`exact.rs`)
 //! for spheres, brute-force root finding and finite differences for ellipsoids, sampling for
 //! chords. Deterministic pseudo-random inputs (SplitMix64), swept over scales.
 
@@ -6,13 +6,13 @@ mod exact;
 
 use exact::{bracket_error, bracket_ulps, Exact};
 use glam::{DAffine3, DMat3, DQuat, DVec3};
-use gtsphere::geom::{
-    ellipsoid_normal, ellipsoid_roots, enters_between, segment_chord, sphere_roots,
-};
 
-use crate::support::Rng;
+use crate::geom::sphere::segment_chord;
+use crate::geom::{ellipsoid_normal, ellipsoid_roots, enters_between, sphere_roots};
+use crate::testing::Rng;
 
 mod ellipsoids_and_chords;
+mod sphere_through;
 
 /// Unit roundoff, 2^-53.
 const U: f64 = f64::EPSILON / 2.0;

@@ -5,14 +5,14 @@
 //! (by the independent distance of `shadow_query::band_distance`) is among the candidates. The
 //! candidates must also prune: a grid that returned every sphere would pass the first check.
 
+use crate::accel::Prim;
+use crate::render::light_grid::LightGrid;
+use crate::render::lights::LightKind;
+use crate::scene::LightScope;
 use glam::DVec3;
-use gtsphere::accel::Prim;
-use gtsphere::render::light_grid::LightGrid;
-use gtsphere::render::lights::LightKind;
-use gtsphere::scene::LightScope;
 
-use crate::shadow_query::band_distance;
-use crate::support::Rng;
+use crate::render::tests::shadow_query::band_distance;
+use crate::testing::Rng;
 
 fn unit(rng: &mut Rng) -> DVec3 {
     loop {
@@ -36,13 +36,13 @@ fn cloud(rng: &mut Rng, n: usize, scale: f64, offset: DVec3) -> Vec<Prim> {
             Prim {
                 center: offset + c * scale,
                 radius: r * scale,
-                color: gtsphere::scene::Color::default(),
+                color: crate::scene::Color::default(),
                 material: 0,
                 sphere: i as u32,
                 ellipsoid: None,
                 gas: i % 9 != 4,
                 sigma: 1.0,
-                profile: gtsphere::scene::Profile::Constant,
+                profile: crate::scene::Profile::Constant,
             }
         })
         .collect()

@@ -5,13 +5,13 @@
 //! loop over the spheres (no BVH, no adaptivity, no closed forms). Its own accuracy is
 //! checked by halving the panel width.
 
+use crate::render::integrators::{self, Scratch};
+use crate::render::sampler::Rng;
+use crate::render::{Counters, Integrator, PrepareOptions, RenderOptions, View};
 use glam::DVec3;
-use gtsphere::render::integrators::{self, Scratch};
-use gtsphere::render::sampler::Rng;
-use gtsphere::render::{Counters, Integrator, PrepareOptions, RenderOptions, View};
 
-use crate::gas_reference::{checked, roots, vrml, Ball, Lamp};
-use crate::support;
+use super::gas_reference::{checked, gauss_legendre, reference, roots, vrml, Ball, Lamp};
+use crate::testing as support;
 
 pub(crate) fn prepared(
     balls: &[Ball],
@@ -117,7 +117,7 @@ fn one_sphere_point_light_outside() {
 
 /// About 20 overlapping gas spheres and 2 opaque ones, both kinds of light: 1e-5.
 pub(crate) fn cloud() -> (Vec<Ball>, Vec<Lamp>) {
-    let mut rng = crate::support::Rng(5);
+    let mut rng = crate::testing::Rng(5);
     let mut rnd = || rng.f();
     let mut balls = Vec::new();
     for _ in 0..20 {
@@ -200,4 +200,64 @@ fn one_sphere_point_light_on_the_surface() {
         power: DVec3::new(1.0, 0.8, 0.6),
         att: DVec3::new(0.0, 1.0, 0.0),
     });
+}
+
+// The reference's own checks.
+
+#[test]
+fn gauss_legendre_integrates_degree_15_exactly() {
+    let gl = gauss_legendre();
+    let sum: f64 = gl.iter().map(|p| p.1).sum();
+    assert!((sum - 2.0).abs() < 1e-15, "{sum}");
+    let x14: f64 = gl.iter().map(|p| p.1 * p.0.powi(14)).sum();
+    assert!((x14 - 2.0 / 15.0).abs() < 1e-15, "{x14}");
+}
+
+/// The reference against closed forms: one emitting sphere, C (1 - exp(-tau)); a point
+/// light at the centre of a scattering sphere, on a ray through the centre (the light's
+/// path from x(t) has length |t - t_c| in the gas).
+#[test]
+fn reference_matches_closed_forms() {
+    let (r, tr) = (0.7, 0.2);
+    let sigma = -f64::ln(tr) / (2.0 * r);
+    let col = DVec3::new(0.9, 0.5, 0.1);
+    let o = DVec3::new(0.0, 0.0, 5.0);
+    for k in 0..20 {
+        let target = DVec3::new(0.035 * k as f64, 0.01 * k as f64, 0.0);
+        let w = (target - o).normalize();
+        let balls = [Ball {
+            c: DVec3::ZERO,
+            r,
+            gas: Some((tr, col, DVec3::ZERO)),
+        }];
+        let got = reference(&balls, &[], o, w, 1);
+        let want = match roots(o, w, DVec3::ZERO, r) {
+            Some((t0, t1)) => col * -f64::exp_m1(-sigma * (t1 - t0)),
+            None => DVec3::ZERO,
+        };
+        assert!(
+            (got.gas - want).abs().max_element() <= 1e-14 * want.max_element().max(1e-300),
+            "emission ray {k}: {} vs {want}",
+            got.gas
+        );
+    }
+    let a = DVec3::new(0.8, 0.6, 0.4);
+    let balls = [Ball {
+        c: DVec3::ZERO,
+        r,
+        gas: Some((tr, DVec3::ZERO, a)),
+    }];
+    let lamps = [Lamp::Point {
+        p: DVec3::ZERO,
+        power: DVec3::ONE,
+        att: DVec3::new(1.0, 0.0, 0.0),
+    }];
+    let got = reference(&balls, &lamps, o, DVec3::NEG_Z, 1).gas;
+    let e = (-sigma * r).exp();
+    let want = sigma * a * 0.25 / std::f64::consts::PI
+        * (r * e + e * -f64::exp_m1(-2.0 * sigma * r) / (2.0 * sigma));
+    assert!(
+        (got - want).abs().max_element() <= 1e-13 * want.max_element(),
+        "{got} vs {want}"
+    );
 }

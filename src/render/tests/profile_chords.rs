@@ -17,12 +17,13 @@
 //! The dimensionless comparisons hold the closed form to 2e-14 relative (it measures ~3e-15 at
 //! worst; docs/model.md asks for exact to rounding), the world-ray one to 1e-12 (it measures
 //! ~4e-13, the rounding of the ray's own geometry). The worst relative errors are printed
-//! (`cargo test --test it profile_chords -- --nocapture`).
+//! (`cargo test -p gtsphere --lib profile_chords -- --nocapture`).
 
+use crate::render::profile::{sigma0, Profile};
+use crate::scene::{ProfileError, DEFAULT_WIDTH};
 use glam::DVec3;
-use gtsphere::render::profile::{sigma0, Profile, ProfileError, DEFAULT_WIDTH};
 
-use crate::support::Rng;
+use crate::testing::Rng;
 
 mod special_chords;
 

@@ -9,16 +9,14 @@
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
-use gtsphere::scene::Scene;
-use gtsphere::vrml::schema::{
-    node_spec, support_markdown, FieldRole, FieldType, NodeRole, SUPPORT,
-};
-use gtsphere::vrml::{load_str, LoadOptions, LoadReport};
+use crate::scene::Scene;
+use crate::vrml::schema::{node_spec, support_markdown, FieldRole, FieldType, NodeRole, SUPPORT};
+use crate::vrml::{load_str, LoadOptions, LoadReport};
 
 /// The page, from the crate root.
 const PAGE: &str = "docs/vrml.md";
 /// The command that writes the page anew.
-const REMAKE: &str = "GTSPHERE_WRITE_DOCS=1 cargo test --test it vrml_support";
+const REMAKE: &str = "GTSPHERE_WRITE_DOCS=1 cargo test -p gtsphere --lib vrml_support";
 
 #[test]
 fn docs_vrml_md_is_what_the_tables_make() {
@@ -27,14 +25,14 @@ fn docs_vrml_md_is_what_the_tables_make() {
     let have = std::fs::read_to_string(&path).unwrap_or_default();
     let write =
         || std::fs::write(&path, &want).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    super::support::generated_page(PAGE, &have, &want, write, REMAKE);
+    crate::testing::generated_page(PAGE, &have, &want, write, REMAKE);
 }
 
 /// A folder for the scenes loaded here, with `part.wrl` (one sphere) for Inline's url.
 fn folder() -> &'static PathBuf {
     static DIR: OnceLock<PathBuf> = OnceLock::new();
     DIR.get_or_init(|| {
-        let dir = crate::support::scratch("vrml_support", "scenes");
+        let dir = crate::testing::scratch("vrml_support", "scenes");
         std::fs::write(
             dir.join("part.wrl"),
             "#VRML V2.0 utf8\nShape { geometry Sphere { radius 3 } }\n",

@@ -191,8 +191,8 @@ fn error_estimate_is_within_100x_of_the_true_error_on_small_scenes() {
 /// measurable.
 #[test]
 fn error_estimate_is_honest() {
-    use crate::gas_reference::reference;
-    use crate::gas_scatter::{camera_rays, cloud, ours, prepared};
+    use crate::render::integrators::tests::gas_reference::reference;
+    use crate::render::integrators::tests::gas_scatter::{camera_rays, cloud, ours, prepared};
     let (balls, lamps) = cloud();
     let setup = prepared(&balls, &lamps, Integrator::Exact, 1e-3);
     let view = setup.view();

@@ -3,12 +3,12 @@
 //! BVH may only prune what cannot be hit. Rays include grazing ones along triangle edges, in
 //! the plane of a triangle, and through cylinder and cone rims.
 
+use crate::geom::shapes::Solid;
+use crate::render::integrators::surface::{first_hit, Opaque};
+use crate::scene::{Material, Origin, Scene, Sphere, Surface, SurfaceShape, Triangle};
 use glam::{DAffine3, DQuat, DVec3};
-use gtsphere::geom::shapes::Solid;
-use gtsphere::render::integrators::surface::{first_hit, Opaque};
-use gtsphere::scene::{Material, Origin, Scene, Sphere, Surface, SurfaceShape, Triangle};
 
-use crate::support::Rng;
+use crate::testing::Rng;
 
 fn random_scene(rng: &mut Rng, n: usize) -> Scene {
     let mut s = Scene::default();
@@ -118,7 +118,7 @@ fn closest_and_any_hit_match_every_primitive_tested() {
     let scene = random_scene(&mut rng, 600);
     let spheres: Vec<(DVec3, f64)> = scene.spheres.iter().map(|s| (s.center, s.radius)).collect();
     let ray_list = rays(&mut rng, &scene, 4000);
-    let prep = crate::support::prepare(scene);
+    let prep = crate::testing::prepare(scene);
     let items = &prep.surfaces.items;
     let (mut surface_hits, mut blocked) = (0, 0);
     for (o, d) in ray_list {
@@ -126,7 +126,7 @@ fn closest_and_any_hit_match_every_primitive_tested() {
         // (spheres win ties), the lowest index among equal surfaces.
         let mut best: Option<(f64, Opaque)> = None;
         for (k, &(c, r)) in spheres.iter().enumerate() {
-            if let Some((t0, _)) = gtsphere::geom::sphere_roots(o, d, c, r) {
+            if let Some((t0, _)) = crate::geom::sphere_roots(o, d, c, r) {
                 if t0 > 0.0 && best.is_none_or(|b| t0 < b.0) {
                     best = Some((t0, Opaque::Sphere(k as u32)));
                 }

@@ -7,12 +7,12 @@
 
 use std::path::{Path, PathBuf};
 
-use gtsphere::output::Image;
-use gtsphere::render::{Aovs, Film, Integrator, RenderOptions, SamplerKind};
-use gtsphere::scene::Scene;
-use gtsphere::vrml::{load_path, LoadOptions};
+use crate::output::Image;
+use crate::render::{Aovs, Film, Integrator, RenderOptions, SamplerKind};
+use crate::scene::Scene;
+use crate::vrml::{load_path, LoadOptions};
 
-use crate::support;
+use crate::testing as support;
 
 /// The cases, or `None` (the test is skipped) when ../shared is not beside the checkout.
 fn cases_dir() -> Option<PathBuf> {
@@ -257,11 +257,11 @@ fn mc_standard_error_shrinks_like_one_over_sqrt_n() {
 /// message gives.
 #[test]
 fn monte_carlo_agrees_with_exact() {
-    use crate::gas_scatter::{camera_rays, cloud, ours, prepared};
+    use crate::render::integrators::tests::gas_scatter::{camera_rays, cloud, ours, prepared};
+    use crate::render::integrators::{self, Scratch};
+    use crate::render::sampler::Rng;
+    use crate::render::Counters;
     use glam::DVec3;
-    use gtsphere::render::integrators::{self, Scratch};
-    use gtsphere::render::sampler::Rng;
-    use gtsphere::render::Counters;
     /// Overall probability of a false failure.
     const ALPHA: f64 = 1e-4;
     /// Two-sided normal quantile of ALPHA / 36 = 2.78e-6: P(|N(0, 1)| > 4.69) = 2.73e-6.

@@ -17,14 +17,14 @@ use glam::DVec3;
 
 /// The largest median estimate/true error the tightness tests accept.
 const TIGHT_MEDIAN: f64 = 100.0;
-use gtsphere::render::integrators::{self, Estimate, Scratch};
-use gtsphere::render::sampler::Rng;
-use gtsphere::render::{Counters, Integrator, PrepareOptions, RenderOptions, View};
+use crate::render::integrators::{self, Estimate, Scratch};
+use crate::render::sampler::Rng;
+use crate::render::{Counters, Integrator, PrepareOptions, RenderOptions, View};
 
-use crate::gas_reference::{
+use crate::render::integrators::tests::gas_reference::{
     checked, hits_opaque, in_shadow_somewhere, roots, sigma_of, vrml, Ball, Lamp,
 };
-use crate::support;
+use crate::testing as support;
 
 mod small_scenes;
 

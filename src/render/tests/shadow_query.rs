@@ -10,14 +10,14 @@
 //! is a convex function of one parameter once the other is minimised in closed form, found by
 //! ternary search; a sphere meets the region iff that distance is at most its radius.
 
+use crate::render::light_pieces::{resolve, Buffers, Class};
+use crate::render::lights::LightKind;
+use crate::render::{Prepared, RenderOptions};
 use glam::DVec3;
-use gtsphere::render::light_pieces::{resolve, Buffers, Class};
-use gtsphere::render::lights::LightKind;
-use gtsphere::render::{Prepared, RenderOptions};
 
-use crate::support;
+use crate::testing as support;
 
-use crate::support::Rng;
+use crate::testing::Rng;
 
 impl Rng {
     fn v(&mut self, s: f64) -> DVec3 {

@@ -1,4 +1,4 @@
-//! Exact oracle for line/sphere questions on f64 inputs, independent of `gtsphere::geom`.
+//! Exact oracle for line/sphere questions on f64 inputs, independent of the geometry it checks.
 //!
 //! Every finite f64 is a dyadic rational `m * 2^e`. Sums and products of dyadics are dyadics,
 //! so with arbitrary-size integers (a minimal sign-magnitude bigint below) the discriminant,

@@ -4,9 +4,9 @@
 //! (`LoadOptions::replay_every_instance`), and the tests check that the template was really
 //! used where it may be and not used where replaying does more.
 
-use gtsphere::particles::write::{Extras, ParticleWriter};
-use gtsphere::scene::Scene;
-use gtsphere::vrml::lower::{load_bytes, LoadOptions, LoadReport};
+use crate::particles::write::{Extras, ParticleWriter};
+use crate::scene::Scene;
+use crate::vrml::lower::{load_bytes, LoadOptions, LoadReport};
 use proptest::prelude::*;
 
 /// Loads `text` with an expansion budget of `base` plus one per byte.
