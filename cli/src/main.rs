@@ -19,6 +19,7 @@ mod info;
 mod load_args;
 mod memory;
 mod merge;
+mod occlusion;
 mod render;
 mod signals;
 mod threads;
@@ -55,6 +56,10 @@ enum Command {
     },
     /// Render a scene to an image (.png, .exr, .pfm or .npy).
     Render(render::RenderArgs),
+    /// Each sphere's ambient occlusion, the mean unoccluded fraction over its surface (the
+    /// value per particle that OVITO and QuteMol shade with), integrated to --tol from the
+    /// exact AO of its surface points, written as a table (.csv or .npy).
+    Occlusion(occlusion::OcclusionArgs),
     /// Compare an image with a reference (PNG, EXR, PFM or NPY): RMSE, relative RMSE, PSNR, the
     /// largest error and where it is; optionally a false-colour heat map of the error.
     Compare {
@@ -115,6 +120,7 @@ fn run(cli: Cli) -> Result<ExitCode, Error> {
             geometry,
         } => info::run(&scene, json, strict, no_inline, &geometry),
         Command::Render(args) => render::run(&args),
+        Command::Occlusion(args) => occlusion::run(&args),
         Command::Compare {
             image,
             reference,

@@ -16,7 +16,7 @@ use gtsphere::render::{
 use gtsphere::scene::Profile;
 use gtsphere::vrml::{load_path, LoadOptions};
 
-mod progress;
+pub(crate) mod progress;
 use progress::TileBar;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -56,6 +56,15 @@ pub enum IntegratorArg {
     /// Ambient occlusion as the picture: the unoccluded fraction at each visible point,
     /// exact for opaque spheres (see --ao-reach, --ao-colours).
     Ao,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum WeightingArg {
+    /// By the cosine to the normal: the light a diffuse surface gets from a uniform sky (the
+    /// default).
+    Cosine,
+    /// Uniformly: the fraction of the hemisphere's solid angle.
+    Uniform,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -153,12 +162,15 @@ pub struct RenderArgs {
     pub step: Option<f64>,
     /// `--integrator ao`: the distance within which a sphere occludes (world units; default:
     /// any distance, at a cost per pixel that grows with the scene).
-    #[arg(long)]
+    #[arg(long, value_name = "D", allow_negative_numbers = true)]
     pub ao_reach: Option<f64>,
     /// `--integrator ao`: the unoccluded fraction times each surface's diffuseColor, instead
     /// of on white.
     #[arg(long)]
     pub ao_colours: bool,
+    /// `--integrator ao`: how directions of the hemisphere are weighted.
+    #[arg(long, value_enum)]
+    pub ao_weighting: Option<WeightingArg>,
     /// Target error of `--integrator exact`, relative to the pixel's value (absolute floor
     /// `tol * 1e-3`). What cannot change a ray within it (gas behind a large optical depth,
     /// light paths through it) is bounded instead of computed, and the bound is in the error
@@ -280,13 +292,18 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<Plan, Error> {
         (IntegratorArg::Mc, None) => Integrator::Mc,
         (IntegratorArg::Ao, None) => Integrator::Ao(AoSettings {
             reach: args.ao_reach.unwrap_or(f64::INFINITY),
-            weighting: Weighting::Cosine,
+            weighting: match args.ao_weighting {
+                Some(WeightingArg::Uniform) => Weighting::Uniform,
+                Some(WeightingArg::Cosine) | None => Weighting::Cosine,
+            },
             colours: args.ao_colours,
         }),
     };
-    if args.integrator != IntegratorArg::Ao && (args.ao_reach.is_some() || args.ao_colours) {
+    if args.integrator != IntegratorArg::Ao
+        && (args.ao_reach.is_some() || args.ao_colours || args.ao_weighting.is_some())
+    {
         return Err(bad(
-            "--ao-reach and --ao-colours are only for --integrator ao".into(),
+            "--ao-reach, --ao-weighting and --ao-colours are only for --integrator ao".into(),
         ));
     }
     if let Some(d) = args.ao_reach {
@@ -506,7 +523,11 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
     ));
     if let Integrator::Ao(ao) = opts.integrator {
         say(format!(
-            "ambient occlusion, exact, reach {}{}",
+            "ambient occlusion, exact, {} weighting, reach {}{}",
+            match ao.weighting {
+                Weighting::Cosine => "cosine",
+                Weighting::Uniform => "uniform",
+            },
             if ao.reach.is_finite() {
                 format!("{}", ao.reach)
             } else {

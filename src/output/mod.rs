@@ -130,6 +130,45 @@ pub fn write_npy(path: &Path, width: usize, height: usize, rgb: &[[f64; 3]]) -> 
     write_file_atomically(path, |out| npy::write_f64(out, width, height, rgb))
 }
 
+/// Writes a table of numbers with the named `columns`, by extension: `.csv` (a header line,
+/// then one line per row, each number with the digits that read back to the same f64) or
+/// `.npy` (an `N x columns` float64 array, the columns in the order named), the way images
+/// are written (temporary file, then rename).
+pub fn write_table(path: &Path, columns: &[&str], rows: &[Vec<f64>]) -> Result<(), Error> {
+    if let Some(bad) = rows.iter().position(|r| r.len() != columns.len()) {
+        return Err(image_error(
+            path,
+            format!(
+                "row {bad} has {} values for {} columns",
+                rows[bad].len(),
+                columns.len()
+            ),
+        ));
+    }
+    match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+    {
+        Some("csv") => write_file_atomically(path, |out| {
+            writeln!(out, "{}", columns.join(","))?;
+            for row in rows {
+                let line: Vec<String> = row.iter().map(f64::to_string).collect();
+                writeln!(out, "{}", line.join(","))?;
+            }
+            Ok(())
+        }),
+        Some("npy") => {
+            write_file_atomically(path, |out| npy::write_table(out, columns.len(), rows))
+        }
+        _ => Err(image_error(
+            path,
+            "unsupported table file name; expected .csv or .npy".into(),
+        )),
+    }
+}
+
 /// Writes any file the way images are written: into a hidden temporary sibling, synced, then
 /// renamed over `path`; on failure the temporary file is removed and `path` is untouched.
 pub fn write_file_atomically(

@@ -15,8 +15,12 @@ use super::{Fault, Image};
 
 /// The header of an `H x W x 3` float64 array.
 fn header(height: usize, width: usize) -> Vec<u8> {
-    let dict =
-        format!("{{'descr': '<f8', 'fortran_order': False, 'shape': ({height}, {width}, 3), }}");
+    header_of_shape(&format!("({height}, {width}, 3)"))
+}
+
+/// The header of a float64 array of shape `shape` (a Python tuple).
+fn header_of_shape(shape: &str) -> Vec<u8> {
+    let dict = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': {shape}, }}");
     // magic (6) + version (2) + length (2) + dict + padding + '\n' = a multiple of 64.
     let unpadded = 10 + dict.len() + 1;
     let pad = (64 - unpadded % 64) % 64;
@@ -45,6 +49,21 @@ pub(super) fn write_f64(
             row.extend_from_slice(&c.to_le_bytes());
         }
         out.write_all(&row)?;
+    }
+    Ok(())
+}
+
+/// Writes `rows` (each of `columns` values) as an `N x columns` float64 array.
+pub(super) fn write_table(
+    out: &mut impl Write,
+    columns: usize,
+    rows: &[Vec<f64>],
+) -> std::io::Result<()> {
+    out.write_all(&header_of_shape(&format!("({}, {columns})", rows.len())))?;
+    for row in rows {
+        for v in row {
+            out.write_all(&v.to_le_bytes())?;
+        }
     }
     Ok(())
 }

@@ -16,6 +16,7 @@ pub(crate) mod lighting;
 pub(crate) mod lights;
 pub mod limits;
 pub(crate) mod packets;
+pub mod particle_ao;
 pub(crate) mod profile;
 pub(crate) mod quadrature;
 pub(crate) mod sampler;

@@ -139,14 +139,9 @@ fn render_pixel(
                 let (rays, hits) = band.of_pixel(at);
                 let (o, d) = rays[k];
                 match &view.integrator {
-                    Integrator::Ao(ao) => super::ao::radiance_of_hit(
-                        view,
-                        ao,
-                        (o, d),
-                        hits[k],
-                        ao_scratch,
-                        counters,
-                    ),
+                    Integrator::Ao(ao) => {
+                        super::ao::radiance_of_hit(view, ao, (o, d), hits[k], ao_scratch, counters)
+                    }
                     _ => surface::radiance_of_hit(
                         view,
                         o,

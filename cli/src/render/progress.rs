@@ -7,10 +7,26 @@ use std::sync::atomic::Ordering;
 /// The progress of the tile loop, unless `--quiet`: a bar when stderr is a terminal, and
 /// otherwise (a batch job's log, a pipe) a line when the render starts and one every
 /// [`LINE_SECONDS`] while it runs.
-pub(super) struct TileBar {
+pub(crate) struct TileBar {
     bar: ProgressBar,
     lines: Option<Lines>,
+    words: Words,
 }
+
+/// How the progress is worded: what is counted, and the verb while and after.
+#[derive(Clone, Copy)]
+pub(crate) struct Words {
+    pub unit: &'static str,
+    pub doing: &'static str,
+    pub done: &'static str,
+}
+
+/// The render's tiles.
+const TILES: Words = Words {
+    unit: "tiles",
+    doing: "rendering",
+    done: "rendered",
+};
 
 /// Seconds between progress lines when stderr is not a terminal.
 const LINE_SECONDS: u64 = 5;
@@ -25,11 +41,17 @@ struct Lines {
 
 impl TileBar {
     pub(super) fn new(show: bool) -> Self {
+        Self::counting(show, TILES)
+    }
+
+    /// A progress counting what `words` say.
+    pub(crate) fn counting(show: bool, words: Words) -> Self {
         use std::io::IsTerminal;
         if !show {
             return TileBar {
                 bar: ProgressBar::hidden(),
                 lines: None,
+                words,
             };
         }
         if !std::io::stderr().is_terminal() {
@@ -41,19 +63,22 @@ impl TileBar {
                     done: 0.into(),
                     next_ms: (LINE_SECONDS * 1000).into(),
                 }),
+                words,
             };
         }
         let pb = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
         pb.set_style(
-            ProgressStyle::with_template(
-                "{elapsed_precise} [{bar:40}] {percent:>3}% tiles, ETA {eta}",
-            )
+            ProgressStyle::with_template(&format!(
+                "{{elapsed_precise}} [{{bar:40}}] {{percent:>3}}% {}, ETA {{eta}}",
+                words.unit
+            ))
             .unwrap_or_else(|_| ProgressStyle::default_bar())
             .progress_chars("=> "),
         );
         TileBar {
             bar: pb,
             lines: None,
+            words,
         }
     }
 }
@@ -63,7 +88,7 @@ impl Progress for TileBar {
         self.bar.set_length(tiles);
         if let Some(l) = &self.lines {
             l.total.store(tiles, Ordering::Relaxed);
-            eprintln!("rendering {tiles} tiles");
+            eprintln!("{} {tiles} {}", self.words.doing, self.words.unit);
         }
     }
     fn tile_done(&self) {
@@ -85,7 +110,9 @@ impl Progress for TileBar {
             {
                 let total = l.total.load(Ordering::Relaxed).max(1);
                 eprintln!(
-                    "rendered {done} of {total} tiles ({:.0} %), {:.0} s",
+                    "{} {done} of {total} {} ({:.0} %), {:.0} s",
+                    self.words.done,
+                    self.words.unit,
                     100.0 * done as f64 / total as f64,
                     ms as f64 / 1000.0
                 );

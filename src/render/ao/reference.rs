@@ -1,6 +1,8 @@
-//! A high-precision reference, written apart from [`super::union`], for the fraction of the
-//! hemisphere around a normal `n`
-//! that is covered by a union of spherical caps:
+//! The tests' reference for the covered fraction of a hemisphere, by quadrature over the
+//! azimuth, written apart from [`super::union`].
+//!
+//! It computes the fraction of the hemisphere about a normal `n` that a union of spherical
+//! caps covers:
 //!
 //! ```text
 //!   F = (1/pi)    * integral over w in H ∩ U of (n . w) dw     (cosine weighted)

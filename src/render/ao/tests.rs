@@ -355,3 +355,55 @@ fn touching_nested_coincident_and_shared_boundaries() {
         Blocked::Everything
     );
 }
+
+#[test]
+fn per_particle_means_match_an_average_over_a_fibonacci_lattice() {
+    use super::AoScratch;
+    use crate::render::particle_ao::sphere_ao;
+    use crate::render::{self, PrepareOptions};
+    use crate::scene::{Radii, Scene, SphereArrays};
+    // A sphere touching one neighbour, cut by another, and a third farther off; and a sphere
+    // alone.
+    let spheres = [
+        (DVec3::ZERO, 1.0),
+        (DVec3::new(2.0, 0.0, 0.0), 1.0),
+        (DVec3::new(-0.5, 1.2, 0.3), 0.7),
+        (DVec3::new(0.0, -1.0, 2.8), 1.3),
+        (DVec3::new(30.0, 0.0, 0.0), 1.0),
+    ];
+    let centers: Vec<f64> = spheres.iter().flat_map(|(c, _)| c.to_array()).collect();
+    let radii: Vec<f64> = spheres.iter().map(|s| s.1).collect();
+    let scene = Scene::from_arrays(&SphereArrays::new(&centers, Radii::Each(&radii))).unwrap();
+    let prep = render::prepare(scene, &PrepareOptions::default()).unwrap();
+    let prim_of =
+        |k: usize| (0..prep.bvh.len() as u32).find(|&i| prep.bvh.prim(i).sphere == k as u32);
+    let mut s = AoScratch::default();
+    for (k, &(c, r)) in spheres.iter().enumerate() {
+        for ao in [
+            (f64::INFINITY, Weighting::Cosine),
+            (1.0, Weighting::Uniform),
+        ] {
+            let got = sphere_ao(&prep, (c, r), prim_of(k), ao, 1e-4, &mut s);
+            // The same AO at 40 000 points spread evenly over the sphere.
+            let n = 40_000;
+            let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+            let mut sum = 0.0;
+            for i in 0..n {
+                let u = 1.0 - (2.0 * f64::from(i) + 1.0) / f64::from(n);
+                let phi = golden * f64::from(i);
+                let sin = (1.0 - u * u).sqrt();
+                let d = DVec3::new(sin * phi.cos(), sin * phi.sin(), u);
+                sum += super::unoccluded(&prep, c + r * d, d, prim_of(k), ao, &mut s);
+            }
+            let lattice = sum / f64::from(n);
+            assert!(
+                (got.mean - lattice).abs() < 2e-3 && got.error <= 1e-4,
+                "sphere {k} {ao:?}: {got:?} against the lattice's {lattice}"
+            );
+            if k == 4 && ao.0 < 29.0 {
+                // Nothing within reach (with no limit, the others are seen far off).
+                assert!((got.mean - 1.0).abs() < 1e-15, "alone: {got:?}");
+            }
+        }
+    }
+}

@@ -1,0 +1,135 @@
+//! `render --integrator ao` and `occlusion`: what they write, and the scenes and options they
+//! refuse.
+
+use crate::support::{gtsphere, sample, scratch};
+
+fn stderr(out: &std::process::Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// The float64 values of an `.npy` file (the header skipped).
+fn npy_values(path: &std::path::Path) -> Vec<f64> {
+    let bytes = std::fs::read(path).unwrap();
+    let header = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    bytes[10 + header..]
+        .chunks_exact(8)
+        .map(|b| f64::from_le_bytes(b.try_into().unwrap()))
+        .collect()
+}
+
+#[test]
+fn ao_pictures_hold_fractions_and_ao_refuses_what_it_cannot_do_exactly() {
+    let dir = scratch("cli_ao", "render");
+    let scene = sample("cluster.wrl");
+    let out = gtsphere(
+        &[
+            "render",
+            &scene,
+            "--integrator",
+            "ao",
+            "--ao-reach",
+            "2",
+            "--width",
+            "48",
+            "--height",
+            "36",
+            "--spp",
+            "1",
+            "-o",
+            "ao.npy",
+        ],
+        &dir,
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(stderr(&out).contains("ambient occlusion, exact, cosine weighting, reach 2"));
+    let v = npy_values(&dir.join("ao.npy"));
+    assert_eq!(v.len(), 48 * 36 * 3);
+    // The scene's Background, or grey (the three channels equal) within [0, 1]; occluded
+    // somewhere.
+    for p in v.chunks(3) {
+        let grey = p[0] == p[1] && p[1] == p[2] && (0.0..=1.0).contains(&p[0]);
+        assert!(grey || p == [0.05, 0.05, 0.08], "{p:?}");
+    }
+    assert!(v.iter().any(|&x| x > 0.0 && x < 0.9));
+    // Gas is not an occluder of exact AO yet: refused, nothing written.
+    let out = gtsphere(
+        &[
+            "render",
+            &sample("gas.wrl"),
+            "--integrator",
+            "ao",
+            "-o",
+            "gas.png",
+        ],
+        &dir,
+    );
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("exact for opaque spheres only"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!dir.join("gas.png").exists());
+    for bad in [
+        vec!["--ao-reach", "2"],
+        vec!["--integrator", "ao", "--ao-reach", "-1"],
+        vec!["--integrator", "ao", "--ao-reach", "nan"],
+    ] {
+        let mut args = vec!["render", &scene, "-o", "bad.png"];
+        args.extend(bad.iter().copied());
+        let out = gtsphere(&args, &dir);
+        assert!(!out.status.success(), "{bad:?}");
+        assert!(
+            stderr(&out).contains("--ao-reach"),
+            "{bad:?}: {}",
+            stderr(&out)
+        );
+        assert!(!dir.join("bad.png").exists());
+    }
+}
+
+#[test]
+fn occlusion_writes_one_row_per_sphere_within_its_tolerance() {
+    let dir = scratch("cli_ao", "occlusion");
+    let scene = sample("cluster.wrl");
+    let out = gtsphere(
+        &[
+            "occlusion",
+            &scene,
+            "-o",
+            "ao.csv",
+            "--ao-reach",
+            "2",
+            "--tol",
+            "1e-3",
+        ],
+        &dir,
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = std::fs::read_to_string(dir.join("ao.csv")).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("index,x,y,z,radius,ao,error"));
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert!(rows.len() > 10);
+    for (k, r) in rows.iter().enumerate() {
+        assert_eq!(r.len(), 7);
+        assert_eq!(r[0], k as f64);
+        assert!((0.0..=1.0).contains(&r[5]) && r[6] <= 1e-3, "{r:?}");
+    }
+    // The same as .npy: N x 7.
+    let out = gtsphere(
+        &["occlusion", &scene, "-o", "ao.npy", "--ao-reach", "2", "-q"],
+        &dir,
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v = npy_values(&dir.join("ao.npy"));
+    assert_eq!(v.len(), rows.len() * 7);
+    assert_eq!(v[5], rows[0][5]);
+    // A table it cannot write is refused before the work.
+    let out = gtsphere(&["occlusion", &scene, "-o", "ao.txt"], &dir);
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains(".csv or .npy"), "{}", stderr(&out));
+    assert!(!dir.join("ao.txt").exists());
+}
