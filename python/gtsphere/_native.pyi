@@ -31,7 +31,8 @@ __version__: str
 _Vec3 = Union[Sequence[float], npt.ArrayLike]
 _ArrayLike = npt.ArrayLike
 _Path = Union[str, PathLike[str]]
-_Integrator = Literal["exact", "march", "mc"]
+_Integrator = Literal["exact", "march", "mc", "ao"]
+_Weighting = Literal["cosine", "uniform"]
 _Sampler = Literal["stratified", "center"]
 _Aov = Literal["depth", "normal", "id", "error"]
 _Profile = Literal["constant", "linear", "quadratic", "gaussian"]
@@ -193,6 +194,9 @@ def render(
     step: Optional[float] = None,
     progress: Optional[Callable[[int, int], object]] = None,
     headlight_shadows: bool = False,
+    ao_reach: Optional[float] = None,
+    ao_weighting: _Weighting = "cosine",
+    ao_colours: bool = False,
 ) -> Film: ...
 def save(image: Union[Film, _ArrayLike], path: _Path) -> None: ...
 def compare(

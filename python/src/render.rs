@@ -4,6 +4,7 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
 
+use gtsphere::render::ao::{AoSettings, Weighting};
 use gtsphere::render::{
     self as lib, limits, Aovs, Cancel, Integrator, Progress, RenderOptions, SamplerKind,
 };
@@ -207,21 +208,47 @@ impl Progress for Watch {
     }
 }
 
-fn integrator_of(name: &str, step: Option<f64>) -> PyResult<Integrator> {
+fn integrator_of(name: &str, step: Option<f64>, ao: AoSettings) -> PyResult<Integrator> {
     match (name, step) {
         ("exact", None) => Ok(Integrator::Exact),
         ("mc", None) => Ok(Integrator::Mc),
+        ("ao", None) => Ok(Integrator::Ao(ao)),
         ("march", Some(step)) => Ok(Integrator::March { step }),
         ("march", None) => Err(PyValueError::new_err(
             "integrator \"march\" needs step= (world units)",
         )),
-        ("exact" | "mc", Some(_)) => Err(PyValueError::new_err(
+        ("exact" | "mc" | "ao", Some(_)) => Err(PyValueError::new_err(
             "step= is only for integrator=\"march\"",
         )),
         (other, _) => Err(PyValueError::new_err(format!(
-            "integrator = {other:?}: must be \"exact\", \"march\" or \"mc\""
+            "integrator = {other:?}: must be \"exact\", \"march\", \"mc\" or \"ao\""
         ))),
     }
+}
+
+/// The AO settings of `render`'s keywords (checked whatever the integrator, so that a typo
+/// is not silently ignored).
+fn ao_of(reach: Option<f64>, weighting: &str, colours: bool) -> PyResult<AoSettings> {
+    let reach = reach.unwrap_or(f64::INFINITY);
+    if reach.is_nan() || reach <= 0.0 {
+        return Err(PyValueError::new_err(format!(
+            "ao_reach = {reach:?}: must be a positive distance (or None: any distance)"
+        )));
+    }
+    let weighting = match weighting {
+        "cosine" => Weighting::Cosine,
+        "uniform" => Weighting::Uniform,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "ao_weighting = {other:?}: must be \"cosine\" or \"uniform\""
+            )))
+        }
+    };
+    Ok(AoSettings {
+        reach,
+        weighting,
+        colours,
+    })
 }
 
 fn aovs_of(names: Vec<String>) -> PyResult<Aovs> {
@@ -250,7 +277,10 @@ fn aovs_of(names: Vec<String>) -> PyResult<Aovs> {
 ///
 /// spp: samples per pixel. integrator: "exact" (closed form and adaptive quadrature to
 /// `tol`, relative to the pixel's value), "march" (fixed steps of `step` world units, an
-/// approximation) or "mc" (unbiased Monte Carlo, `spp` paths). seed: the sample pattern's
+/// approximation), "mc" (unbiased Monte Carlo, `spp` paths) or "ao" (ambient occlusion as
+/// the picture, exact for opaque spheres: the unoccluded fraction within `ao_reach` world
+/// units, None for any distance, weighted "cosine" or "uniform" by `ao_weighting`, on white
+/// or, with `ao_colours`, times the diffuse colours). seed: the sample pattern's
 /// seed. threads: worker threads (None: every core; more than four per core are lowered to
 /// that, with a RuntimeWarning). aovs: any of "depth", "normal", "id"
 /// ("error" is always returned). sampler: "stratified" or "center" (one sample at each
@@ -266,8 +296,8 @@ fn aovs_of(names: Vec<String>) -> PyResult<Aovs> {
 /// The pixels are the same for any thread count.
 #[pyfunction]
 #[pyo3(
-    signature = (scene, camera, width, height, *, spp=16, integrator="exact", tol=1e-4, seed=0, threads=None, aovs=Vec::new(), sampler="stratified", step=None, progress=None, headlight_shadows=false),
-    text_signature = "(scene, camera, width, height, *, spp=16, integrator='exact', tol=1e-4, seed=0, threads=None, aovs=(), sampler='stratified', step=None, progress=None, headlight_shadows=False)"
+    signature = (scene, camera, width, height, *, spp=16, integrator="exact", tol=1e-4, seed=0, threads=None, aovs=Vec::new(), sampler="stratified", step=None, progress=None, headlight_shadows=false, ao_reach=None, ao_weighting="cosine", ao_colours=false),
+    text_signature = "(scene, camera, width, height, *, spp=16, integrator='exact', tol=1e-4, seed=0, threads=None, aovs=(), sampler='stratified', step=None, progress=None, headlight_shadows=False, ao_reach=None, ao_weighting='cosine', ao_colours=False)"
 )]
 #[allow(clippy::too_many_arguments)]
 pub fn render(
@@ -286,7 +316,11 @@ pub fn render(
     step: Option<f64>,
     progress: Option<Py<PyAny>>,
     headlight_shadows: bool,
+    ao_reach: Option<f64>,
+    ao_weighting: &str,
+    ao_colours: bool,
 ) -> PyResult<Film> {
+    let ao = ao_of(ao_reach, ao_weighting, ao_colours)?;
     let opts = RenderOptions {
         width,
         height,
@@ -302,7 +336,7 @@ pub fn render(
             }
         },
         aovs: aovs_of(aovs)?,
-        integrator: integrator_of(integrator, step)?,
+        integrator: integrator_of(integrator, step, ao)?,
         tol,
         region: None,
         headlight_shadows,

@@ -294,3 +294,44 @@ def test_headlight_casts_no_shadow_unless_asked():
     # Elsewhere the two agree to the last bit.
     same = ~(lit & dark)
     assert np.array_equal(carried.rgb[same], strict.rgb[same])
+
+
+def sphere_form_factor(cos_theta, sin_alpha):
+    """The cosine-weighted fraction of a hemisphere covered by one cap of angular radius alpha
+    whose axis is at theta from the normal (Snyder 1996; Lagarde and de Rousiers 2014)."""
+    x, s2 = cos_theta, sin_alpha**2
+    if x * x > s2:
+        return max(x * s2, 0.0)
+    cot = math.sqrt(1.0 / s2 - 1.0)
+    sin_theta = math.sqrt(1.0 - x * x)
+    y = -cot * x / sin_theta
+    z = sin_theta * math.sqrt(max(1.0 - y * y, 0.0))
+    return max(((x * math.acos(max(-1.0, min(1.0, y))) - cot * z) * s2 + math.atan(z / cot)) / math.pi, 0.0)
+
+
+def test_ambient_occlusion_of_a_sphere_beside_another_is_the_form_factor():
+    # Two unit spheres touching at x = 1; each pixel on the first sees the second as one cap.
+    scene = gt.Scene.from_arrays([[0.0, 0.0, 0.0], [2.0, 0.0, 0.0]], 1.0, headlight=False)
+    cam_pos, h, w_px, h_px = (0.0, 0.0, 5.0), 2.5, 11, 9
+    cam = gt.Camera.look_at(cam_pos, (0, 0, 0), (0, 1, 0), ortho_height=h)
+    film = gt.render(scene, cam, w_px, h_px, sampler="center", integrator="ao", aovs=["id"])
+    checked = 0
+    for j in range(h_px):
+        for i in range(w_px):
+            o = ortho_pixel_ray(cam_pos, h, w_px, h_px, i, j)
+            b2 = o[0] ** 2 + o[1] ** 2
+            if b2 >= 1.0 or film.id[j, i] != 0:
+                continue
+            x = np.array([o[0], o[1], math.sqrt(1.0 - b2)])
+            to = np.array([2.0, 0.0, 0.0]) - x
+            d = np.linalg.norm(to)
+            want = 1.0 - sphere_form_factor(float(x @ to / d), 1.0 / d)
+            np.testing.assert_allclose(film.rgb[j, i], [want] * 3, rtol=0, atol=1e-7)
+            checked += 1
+    assert checked >= 15
+    # A reach shorter than the gap to the other sphere: nothing occludes.
+    far = gt.render(scene, cam, w_px, h_px, sampler="center", integrator="ao", ao_reach=1e-3, aovs=["id"])
+    assert np.all(far.rgb[far.id == 0] == 1.0)
+    for bad in [dict(ao_reach=0.0), dict(ao_reach=float("nan")), dict(ao_weighting="flat")]:
+        with pytest.raises(ValueError, match="ao_"):
+            gt.render(scene, cam, 4, 4, integrator="ao", **bad)

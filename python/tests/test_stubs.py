@@ -41,9 +41,18 @@ def quoted(message):
 def test_literal_types_are_the_values_the_module_accepts():
     scene = gt.Scene.from_arrays([[0, 0, 0]], 1.0, transparency=[0.5])
 
+    opaque = gt.Scene.from_arrays([[0, 0, 0], [1.5, 0, 0]], 1.0)
     integrators = literal_values("_Integrator")
     for name in integrators:
-        gt.render(scene, None, 4, 4, spp=2, integrator=name, step=0.1 if name == "march" else None)
+        # (Exact AO is for opaque spheres; a scene with gas is refused.)
+        on = opaque if name == "ao" else scene
+        gt.render(on, None, 4, 4, spp=2, integrator=name, step=0.1 if name == "march" else None)
+    weightings = literal_values("_Weighting")
+    for name in weightings:
+        gt.render(opaque, None, 4, 4, spp=1, integrator="ao", ao_weighting=name)
+    with pytest.raises(ValueError) as bad:
+        gt.render(opaque, None, 4, 4, integrator="ao", ao_weighting="other")
+    assert quoted(str(bad.value)) == weightings | {"other"}
     with pytest.raises(ValueError) as bad:
         gt.render(scene, None, 4, 4, integrator="other")
     assert quoted(str(bad.value)) == integrators | {"other"}
