@@ -9,15 +9,13 @@ use clap::{Args, ValueEnum};
 use gtsphere::error::Error;
 use gtsphere::output::{format_for, write_film, write_part, Format, Placement};
 use gtsphere::render::{
-    ao::{AoSettings, Weighting},
-    limits, prepare, pymol_export,
-    tiles::render_view,
-    Aovs, CameraChoice, FovAcross, Integrator, PrepareOptions, Projection, RenderOptions,
-    SamplerKind,
+    limits, prepare, pymol_export, tiles::render_view, Aovs, CameraChoice, FovAcross, Integrator,
+    PrepareOptions, Projection, RenderOptions, SamplerKind,
 };
 use gtsphere::scene::Profile;
 use gtsphere::vrml::{load_path, LoadOptions};
 
+mod ao;
 mod progress;
 use progress::TileBar;
 
@@ -40,8 +38,9 @@ pub enum AovArg {
     /// Index of the sphere in file order; -1 on a miss (exact up to 2^24 spheres).
     Id,
     /// The pixel's estimated absolute error (exact: mean of its samples' error estimates,
-    /// truncation bounds included, an upper estimate; mc: standard error of its mean; 0 where
-    /// the answer is exact).
+    /// truncation bounds included, an upper estimate; mc, and ao by `--ao-method mc`: standard
+    /// error of its mean; 0 where the answer is exact, and for the other AO approximations,
+    /// whose error is not estimated).
     Error,
 }
 
@@ -56,7 +55,8 @@ pub enum IntegratorArg {
     /// per pixel.
     Mc,
     /// Ambient occlusion as the picture: the unoccluded fraction at each visible point,
-    /// exact for opaque spheres (see --ao-reach, --ao-colours).
+    /// exact for opaque spheres or by a named approximation (see --ao-method, --ao-reach,
+    /// --ao-colours).
     Ao,
 }
 
@@ -147,20 +147,15 @@ pub struct RenderArgs {
     /// with a warning); they also read the scene, unless --read-threads says otherwise.
     #[arg(long)]
     pub threads: Option<usize>,
-    /// How gas is integrated (scenes without gas render the same with all three).
+    /// How camera rays are integrated: gas by exact, march or mc (scenes without gas render
+    /// the same with all three), or ambient occlusion as the picture (ao).
     #[arg(long, value_enum, default_value_t = IntegratorArg::Exact)]
     pub integrator: IntegratorArg,
     /// Step length (world units) of `--integrator march`.
     #[arg(long)]
     pub step: Option<f64>,
-    /// `--integrator ao`: the distance within which a sphere occludes (world units; default:
-    /// any distance, at a cost per pixel that grows with the scene).
-    #[arg(long)]
-    pub ao_reach: Option<f64>,
-    /// `--integrator ao`: the unoccluded fraction times each surface's diffuseColor, instead
-    /// of on white.
-    #[arg(long)]
-    pub ao_colours: bool,
+    #[command(flatten)]
+    pub ao: ao::AoArgs,
     /// Target error of `--integrator exact`, relative to the pixel's value (absolute floor
     /// `tol * 1e-3`). What cannot change a ray within it (gas behind a large optical depth,
     /// light paths through it) is bounded instead of computed, and the bound is in the error
@@ -280,23 +275,10 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<Plan, Error> {
         (_, Some(_)) => return Err(bad("--step is only for --integrator march".into())),
         (IntegratorArg::Exact, None) => Integrator::Exact,
         (IntegratorArg::Mc, None) => Integrator::Mc,
-        (IntegratorArg::Ao, None) => Integrator::Ao(AoSettings {
-            reach: args.ao_reach.unwrap_or(f64::INFINITY),
-            weighting: Weighting::Cosine,
-            colours: args.ao_colours,
-        }),
+        (IntegratorArg::Ao, None) => Integrator::Ao(args.ao.settings().map_err(bad)?),
     };
-    if args.integrator != IntegratorArg::Ao && (args.ao_reach.is_some() || args.ao_colours) {
-        return Err(bad(
-            "--ao-reach and --ao-colours are only for --integrator ao".into(),
-        ));
-    }
-    if let Some(d) = args.ao_reach {
-        if d.is_nan() || d <= 0.0 {
-            return Err(bad(format!(
-                "--ao-reach must be a positive distance (got {d})"
-            )));
-        }
+    if args.integrator != IntegratorArg::Ao {
+        args.ao.check_unused().map_err(bad)?;
     }
     if !(args.tol.is_finite() && args.tol > 0.0 && args.tol < 1.0) {
         return Err(bad(format!(
@@ -506,20 +488,8 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
         },
         description
     ));
-    if let Integrator::Ao(ao) = opts.integrator {
-        say(format!(
-            "ambient occlusion, exact, reach {}{}",
-            if ao.reach.is_finite() {
-                format!("{}", ao.reach)
-            } else {
-                "unlimited".into()
-            },
-            if ao.colours {
-                ", on diffuse colours"
-            } else {
-                ""
-            }
-        ));
+    if let Integrator::Ao(settings) = opts.integrator {
+        say(ao::describe(&settings, view.ao_grid.as_ref()));
     } else if prep.gas_spheres > 0 {
         say(format!(
             "{} gas spheres; integrator {}",

@@ -51,7 +51,8 @@ pub struct Aovs {
     /// Keep the `id` channel.
     pub id: bool,
     /// The pixel's estimated absolute error: the mean of its samples' quadrature error
-    /// estimates (exact), or the standard error of its samples' mean (mc); 0 where exact.
+    /// estimates (exact), or the standard error of its samples' mean (mc, AO by `mc`); 0
+    /// where exact, and for the deterministic AO approximations, whose error is not estimated.
     pub error: bool,
 }
 
@@ -134,7 +135,8 @@ pub enum Integrator {
     /// from one sampled collision point per gas segment, `spp` samples per pixel.
     Mc,
     /// Ambient occlusion as the picture: the unoccluded fraction at each camera ray's first
-    /// opaque hit, exact for opaque spheres (docs/model.md section 11).
+    /// opaque hit, exact for opaque spheres (docs/model.md section 11) or by a named
+    /// approximation ([`ao::AoMethod`]).
     Ao(ao::AoSettings),
 }
 
@@ -239,7 +241,9 @@ pub struct View<'a> {
     /// Per light, the scene as it sees it, for the exact integrator's shadow searches in
     /// scenes with gas (`None` otherwise).
     pub grids: Vec<Option<light_grid::LightGrid>>,
-    /// Wall time of building `grids`.
+    /// The voxel AO method's density grid, built for this render (`None` otherwise).
+    pub ao_grid: Option<ao::methods::voxel::Grid>,
+    /// Wall time of building `grids` and `ao_grid`.
     pub grid_time: Duration,
 }
 
@@ -305,12 +309,7 @@ impl RenderOptions {
             }
         }
         if let Integrator::Ao(ao) = self.integrator {
-            if ao.reach.is_nan() || ao.reach <= 0.0 {
-                return Err(invalid(format!(
-                    "reach = {}: the AO reach must be positive (or infinite)",
-                    ao.reach
-                )));
-            }
+            ao::methods::check(&ao).map_err(invalid)?;
         }
         self.check_memory(threads, limits::available_memory())
             .map_err(invalid)
@@ -324,11 +323,6 @@ impl Prepared {
     pub fn view(&self, camera: &Camera, opts: &RenderOptions) -> Result<View<'_>, Error> {
         opts.validate()?;
         camera.lens.validate()?;
-        if let Integrator::Ao(_) = opts.integrator {
-            if let Some(why) = ao::unsupported(self) {
-                return Err(invalid(why));
-            }
-        }
         for (i, l) in self.lights.iter().enumerate() {
             if let Some(m) = l.problem() {
                 return Err(invalid(format!("lights[{i}]: {m}")));
@@ -354,6 +348,7 @@ impl Prepared {
             self.surface_colors,
         );
         let start = Instant::now();
+        let ao_grid = ao::methods::prepare_view(self, &opts.integrator).map_err(invalid)?;
         let grids = lights
             .iter()
             .map(|l| {
@@ -370,6 +365,7 @@ impl Prepared {
             prep: self,
             camera: camera.image_plane(opts.width, opts.height),
             grids,
+            ao_grid,
             grid_time: start.elapsed(),
             lights,
             integrator: opts.integrator,

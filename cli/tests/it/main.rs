@@ -1,6 +1,7 @@
 //! The `gtsphere` binary's tests: one integration-test binary of named modules, each running
 //! the command as a user does (the library's own tests are in the project's tests/it/).
 
+mod cli_ao; // `render --integrator ao --ao-method`: every method renders, compares; option errors
 mod cli_bench; // `bench --quick`, `bench gas --scaling --quick`: reports, ratios, written clouds
 mod cli_compare; // `compare`: hand-checked metrics, the heat map, `--max-rmse` exit codes
 mod cli_convert; // `convert`: scenes and tables to VRML, exit codes, gzip, pipes, the sample

@@ -3,7 +3,8 @@
 //! sphere within the reach.
 //!
 //! - [`cap`]: what one sphere blocks, a cap of directions;
-//! - [`union`]: the cosine-weighted measure of the caps' union, in closed form.
+//! - [`union`]: the cosine-weighted measure of the caps' union, in closed form;
+//! - [`methods`]: the approximations real-time tools use, by name, to compare with it.
 //!
 //! The spheres that can block are those whose nearest point is within the reach and whose
 //! box rises above the point's tangent plane; the BVH finds them ([`SphereBvh::near_region`]),
@@ -12,16 +13,19 @@
 //! that grows with the scene, for each pixel.
 
 pub mod cap;
+pub mod methods;
 pub mod union;
 
 use glam::DVec3;
 
 use super::integrators::surface::{material_of, surface_point, OpaqueHit};
 use super::integrators::Estimate;
+use super::sampler::Rng;
 use super::visibility::Opaque;
 use super::{Counters, Prepared, View};
 use crate::accel::SphereBvh;
 use cap::{blocked_by_ball, Blocked, Cap};
+pub use methods::AoMethod;
 pub use union::Weighting;
 use union::{covered_fraction, UnionScratch};
 
@@ -35,6 +39,8 @@ pub struct AoSettings {
     /// The picture is the unoccluded fraction times each surface's diffuse colour (`true`) or
     /// on white (`false`).
     pub colours: bool,
+    /// How the unoccluded fraction is computed: exactly, or by a named approximation.
+    pub method: AoMethod,
 }
 
 impl Default for AoSettings {
@@ -43,6 +49,7 @@ impl Default for AoSettings {
             reach: f64::INFINITY,
             weighting: Weighting::Cosine,
             colours: false,
+            method: AoMethod::Exact,
         }
     }
 }
@@ -53,6 +60,7 @@ pub struct AoScratch {
     caps: Vec<Cap>,
     stack: Vec<u32>,
     union: UnionScratch,
+    methods: methods::MethodScratch,
 }
 
 /// The unoccluded fraction at `x` on a surface of unit normal `n`: one minus the fraction of
@@ -97,13 +105,15 @@ pub fn unoccluded(
 
 /// The AO picture's radiance along a camera ray whose first opaque hit is `hit`: the
 /// unoccluded fraction there, on white or on the surface's diffuse colour; the background
-/// where the ray meets nothing. Exact up to rounding: the error estimate is 0.
+/// where the ray meets nothing. Exact up to rounding with the exact method (the error
+/// estimate is 0); the approximations' estimates are their own ([`methods::unoccluded`]).
 pub fn radiance_of_hit(
     view: &View,
     ao: &AoSettings,
     (o, d): (DVec3, DVec3),
     hit: Option<OpaqueHit>,
     s: &mut AoScratch,
+    rng: &mut Rng,
     counters: &mut Counters,
 ) -> Estimate {
     counters.camera_rays += 1;
@@ -119,7 +129,13 @@ pub fn radiance_of_hit(
         Opaque::Sphere(prim) => Some(prim),
         Opaque::Surface(_) => None,
     };
-    let v = unoccluded(&view.bvh, sp.x, sp.n, own, (ao.reach, ao.weighting), s);
+    let (v, error) = match ao.method {
+        AoMethod::Exact => {
+            let reach = (ao.reach, ao.weighting);
+            (unoccluded(&view.bvh, sp.x, sp.n, own, reach, s), 0.0)
+        }
+        _ => methods::unoccluded(view, ao, (sp.x, sp.n, own), rng, &mut s.methods, counters),
+    };
     let colour = if ao.colours {
         material_of(view, hit.on).diffuse
     } else {
@@ -127,7 +143,7 @@ pub fn radiance_of_hit(
     };
     Estimate {
         value: colour * v,
-        error: 0.0,
+        error: colour.max_element() * error,
         covered: true,
     }
 }

@@ -79,7 +79,8 @@ pub fn radiance(
 ) -> Estimate {
     if let Integrator::Ao(ao) = &view.integrator {
         let hit = surface::first_hit(view, o, d, 0.0);
-        return super::ao::radiance_of_hit(view, ao, (o, d), hit, &mut scratch.ao, counters);
+        let s = &mut scratch.ao;
+        return super::ao::radiance_of_hit(view, ao, (o, d), hit, s, rng, counters);
     }
     if view.gas_spheres == 0 {
         return surface::radiance(view, o, d, &mut scratch.blockers, counters);
