@@ -8,6 +8,7 @@ use std::time::Instant;
 use glam::DVec3;
 use rayon::prelude::*;
 
+use super::ao::AoScratch;
 use super::integrators::{self, surface, Scratch};
 use super::packets::{BandHits, BAND};
 use super::sampler::{offsets, Rng};
@@ -107,7 +108,7 @@ fn render_pixel(
     opts: &RenderOptions,
     (i, j): (u32, u32),
     samples: &mut Vec<(f64, f64)>,
-    scratch: &mut Scratch,
+    (scratch, ao_scratch): (&mut Scratch, &mut AoScratch),
     counters: &mut Counters,
     band: Option<(&BandHits, usize)>,
 ) -> PixelOut {
@@ -143,7 +144,7 @@ fn render_pixel(
                         ao,
                         (o, d),
                         hits[k],
-                        &mut scratch.ao,
+                        ao_scratch,
                         &mut rng,
                         counters,
                     ),
@@ -159,7 +160,14 @@ fn render_pixel(
             }
             None => {
                 let (o, d) = cam.ray((f64::from(i) + sx) / w, (f64::from(j) + sy) / h);
-                integrators::radiance(view, o, d, &mut rng, scratch, counters)
+                match &view.integrator {
+                    Integrator::Ao(ao) => {
+                        let hit = surface::first_hit(view, o, d, 0.0);
+                        let s = &mut *ao_scratch;
+                        super::ao::radiance_of_hit(view, ao, (o, d), hit, s, &mut rng, counters)
+                    }
+                    _ => integrators::radiance(view, o, d, &mut rng, scratch, counters),
+                }
             }
         };
         sum += e.value;
@@ -269,6 +277,7 @@ pub fn render_view(
             let mut counters = Counters::default();
             let mut samples = Vec::with_capacity(opts.spp as usize);
             let mut scratch = Scratch::default();
+            let mut ao_scratch = AoScratch::default();
             let mut px = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
             let mut hits = Vec::new();
             // Without gas, every camera ray's first hit is all the tracing before shading:
@@ -294,7 +303,7 @@ pub fn render_view(
                             opts,
                             (i, j),
                             &mut samples,
-                            &mut scratch,
+                            (&mut scratch, &mut ao_scratch),
                             &mut counters,
                             packets.then_some((&band, at)),
                         ));

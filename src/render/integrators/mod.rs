@@ -63,12 +63,13 @@ pub struct Scratch {
     pub unshadowed_by_segment: Vec<f64>,
     /// The spheres that last blocked each light's shadow rays (opaque scenes).
     pub blockers: super::visibility::Blockers,
-    /// The AO integrator's buffers.
-    pub ao: super::ao::AoScratch,
 }
 
 /// The camera ray's radiance with the chosen integrator. Scenes without gas always take the
 /// surface integrator: every integrator reduces to it there.
+///
+/// Ambient occlusion is a picture of its own, not a way to integrate gas: the tile loop
+/// shades it (`render::ao::radiance_of_hit`), and this function panics when asked for it.
 pub fn radiance(
     view: &View,
     o: DVec3,
@@ -77,11 +78,10 @@ pub fn radiance(
     scratch: &mut Scratch,
     counters: &mut Counters,
 ) -> Estimate {
-    if let Integrator::Ao(ao) = &view.integrator {
-        let hit = surface::first_hit(view, o, d, 0.0);
-        let s = &mut scratch.ao;
-        return super::ao::radiance_of_hit(view, ao, (o, d), hit, s, rng, counters);
-    }
+    assert!(
+        !matches!(view.integrator, Integrator::Ao(_)),
+        "ambient occlusion is shaded by render::ao, not by an integrator"
+    );
     if view.gas_spheres == 0 {
         return surface::radiance(view, o, d, &mut scratch.blockers, counters);
     }
@@ -89,7 +89,7 @@ pub fn radiance(
         Integrator::Exact => exact::radiance(view, o, d, scratch, counters),
         Integrator::March { step } => march::radiance(view, o, d, step, scratch, counters),
         Integrator::Mc => mc::radiance(view, o, d, rng, scratch, counters),
-        Integrator::Ao(_) => unreachable!("taken above"),
+        Integrator::Ao(_) => unreachable!("refused above"),
     }
 }
 
