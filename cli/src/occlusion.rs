@@ -9,13 +9,12 @@ use glam::DVec3;
 
 use gtsphere::error::Error;
 use gtsphere::output::write_table;
-use gtsphere::render::ao::Weighting;
 use gtsphere::render::particle_ao::particles_ao;
 use gtsphere::render::{prepare, PrepareOptions};
 use gtsphere::vrml::{load_path, LoadOptions};
 
+use crate::render::ao::WeightingArg;
 use crate::render::progress::{TileBar, Words};
-use crate::render::WeightingArg;
 
 #[derive(Debug, Args)]
 pub struct OcclusionArgs {
@@ -67,10 +66,7 @@ pub fn run(args: &OcclusionArgs) -> Result<ExitCode, Error> {
             "--ao-reach must be a positive distance (got {reach})"
         )));
     }
-    let weighting = match args.ao_weighting {
-        WeightingArg::Cosine => Weighting::Cosine,
-        WeightingArg::Uniform => Weighting::Uniform,
-    };
+    let weighting = args.ao_weighting.weighting();
     let threads = match args.threads {
         Some(0) => return Err(bad("--threads must be at least 1".into())),
         Some(asked) => {

@@ -9,13 +9,13 @@ use clap::{Args, ValueEnum};
 use gtsphere::error::Error;
 use gtsphere::output::{format_for, write_film, write_part, Format, Placement};
 use gtsphere::render::{
-    ao::{AoSettings, Weighting},
     limits, prepare, pymol_export, render_view, Aovs, CameraChoice, FovAcross, Integrator,
     PrepareOptions, Projection, RenderOptions, SamplerKind,
 };
 use gtsphere::scene::Profile;
 use gtsphere::vrml::{load_path, LoadOptions};
 
+pub(crate) mod ao;
 pub(crate) mod progress;
 use progress::TileBar;
 
@@ -38,8 +38,9 @@ pub enum AovArg {
     /// Index of the sphere in file order; -1 on a miss (exact up to 2^24 spheres).
     Id,
     /// The pixel's estimated absolute error (exact: mean of its samples' error estimates,
-    /// truncation bounds included, an upper estimate; mc: standard error of its mean; 0 where
-    /// the answer is exact).
+    /// truncation bounds included, an upper estimate; mc, and ao by `--ao-method mc`: standard
+    /// error of its mean; 0 where the answer is exact, and for the other AO approximations,
+    /// whose error is not estimated).
     Error,
 }
 
@@ -54,17 +55,9 @@ pub enum IntegratorArg {
     /// per pixel.
     Mc,
     /// Ambient occlusion as the picture: the unoccluded fraction at each visible point,
-    /// exact for opaque spheres (see --ao-reach, --ao-colours).
+    /// exact for opaque spheres or by a named approximation (see --ao-method, --ao-reach,
+    /// --ao-colours).
     Ao,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum WeightingArg {
-    /// By the cosine to the normal: the light a diffuse surface gets from a uniform sky (the
-    /// default).
-    Cosine,
-    /// Uniformly: the fraction of the hemisphere's solid angle.
-    Uniform,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -154,23 +147,15 @@ pub struct RenderArgs {
     /// with a warning); they also read the scene, unless --read-threads says otherwise.
     #[arg(long)]
     pub threads: Option<usize>,
-    /// How gas is integrated (scenes without gas render the same with all three).
+    /// How camera rays are integrated: gas by exact, march or mc (scenes without gas render
+    /// the same with all three), or ambient occlusion as the picture (ao).
     #[arg(long, value_enum, default_value_t = IntegratorArg::Exact)]
     pub integrator: IntegratorArg,
     /// Step length (world units) of `--integrator march`.
     #[arg(long)]
     pub step: Option<f64>,
-    /// `--integrator ao`: the distance within which a sphere occludes (world units; default:
-    /// any distance, at a cost per pixel that grows with the scene).
-    #[arg(long, value_name = "D", allow_negative_numbers = true)]
-    pub ao_reach: Option<f64>,
-    /// `--integrator ao`: the unoccluded fraction times each surface's diffuseColor, instead
-    /// of on white.
-    #[arg(long)]
-    pub ao_colours: bool,
-    /// `--integrator ao`: how directions of the hemisphere are weighted.
-    #[arg(long, value_enum)]
-    pub ao_weighting: Option<WeightingArg>,
+    #[command(flatten)]
+    pub ao: ao::AoArgs,
     /// Target error of `--integrator exact`, relative to the pixel's value (absolute floor
     /// `tol * 1e-3`). What cannot change a ray within it (gas behind a large optical depth,
     /// light paths through it) is bounded instead of computed, and the bound is in the error
@@ -290,28 +275,10 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<Plan, Error> {
         (_, Some(_)) => return Err(bad("--step is only for --integrator march".into())),
         (IntegratorArg::Exact, None) => Integrator::Exact,
         (IntegratorArg::Mc, None) => Integrator::Mc,
-        (IntegratorArg::Ao, None) => Integrator::Ao(AoSettings {
-            reach: args.ao_reach.unwrap_or(f64::INFINITY),
-            weighting: match args.ao_weighting {
-                Some(WeightingArg::Uniform) => Weighting::Uniform,
-                Some(WeightingArg::Cosine) | None => Weighting::Cosine,
-            },
-            colours: args.ao_colours,
-        }),
+        (IntegratorArg::Ao, None) => Integrator::Ao(args.ao.settings().map_err(bad)?),
     };
-    if args.integrator != IntegratorArg::Ao
-        && (args.ao_reach.is_some() || args.ao_colours || args.ao_weighting.is_some())
-    {
-        return Err(bad(
-            "--ao-reach, --ao-weighting and --ao-colours are only for --integrator ao".into(),
-        ));
-    }
-    if let Some(d) = args.ao_reach {
-        if d.is_nan() || d <= 0.0 {
-            return Err(bad(format!(
-                "--ao-reach must be a positive distance (got {d})"
-            )));
-        }
+    if args.integrator != IntegratorArg::Ao {
+        args.ao.check_unused().map_err(bad)?;
     }
     if !(args.tol.is_finite() && args.tol > 0.0 && args.tol < 1.0) {
         return Err(bad(format!(
@@ -521,24 +488,8 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
         },
         description
     ));
-    if let Integrator::Ao(ao) = opts.integrator {
-        say(format!(
-            "ambient occlusion, exact, {} weighting, reach {}{}",
-            match ao.weighting {
-                Weighting::Cosine => "cosine",
-                Weighting::Uniform => "uniform",
-            },
-            if ao.reach.is_finite() {
-                format!("{}", ao.reach)
-            } else {
-                "unlimited".into()
-            },
-            if ao.colours {
-                ", on diffuse colours"
-            } else {
-                ""
-            }
-        ));
+    if let Integrator::Ao(settings) = opts.integrator {
+        say(ao::describe(&settings, view.ao_grid()));
     } else if prep.gas_spheres > 0 {
         say(format!(
             "{} gas spheres; integrator {}",

@@ -33,6 +33,7 @@ _ArrayLike = npt.ArrayLike
 _Path = Union[str, PathLike[str]]
 _Integrator = Literal["exact", "march", "mc", "ao"]
 _Weighting = Literal["cosine", "uniform"]
+_AoMethod = Literal["exact", "mc", "directions", "sum", "voxel"]
 _Sampler = Literal["stratified", "center"]
 _Aov = Literal["depth", "normal", "id", "error"]
 _Profile = Literal["constant", "linear", "quadratic", "gaussian"]
@@ -197,6 +198,9 @@ def render(
     ao_reach: Optional[float] = None,
     ao_weighting: _Weighting = "cosine",
     ao_colours: bool = False,
+    ao_method: _AoMethod = "exact",
+    ao_samples: int = 16,
+    ao_directions: int = 64,
 ) -> Film: ...
 def save(image: Union[Film, _ArrayLike], path: _Path) -> None: ...
 def compare(

@@ -4,7 +4,8 @@
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
 
-use gtsphere::render::ao::{AoSettings, Weighting};
+use gtsphere::render::ao::methods::{MAX_DIRECTIONS, MAX_SAMPLES};
+use gtsphere::render::ao::{AoMethod, AoSettings, Weighting};
 use gtsphere::render::{
     self as lib, limits, Aovs, Cancel, Integrator, Progress, RenderOptions, SamplerKind,
 };
@@ -228,7 +229,12 @@ fn integrator_of(name: &str, step: Option<f64>, ao: AoSettings) -> PyResult<Inte
 
 /// The AO settings of `render`'s keywords (checked whatever the integrator, so that a typo
 /// is not silently ignored).
-fn ao_of(reach: Option<f64>, weighting: &str, colours: bool) -> PyResult<AoSettings> {
+fn ao_of(
+    reach: Option<f64>,
+    weighting: &str,
+    colours: bool,
+    (method, samples, directions): (&str, u32, u32),
+) -> PyResult<AoSettings> {
     let reach = reach.unwrap_or(f64::INFINITY);
     if reach.is_nan() || reach <= 0.0 {
         return Err(PyValueError::new_err(format!(
@@ -244,10 +250,35 @@ fn ao_of(reach: Option<f64>, weighting: &str, colours: bool) -> PyResult<AoSetti
             )))
         }
     };
+    let method = match method {
+        "exact" => AoMethod::Exact,
+        "mc" if (1..=MAX_SAMPLES).contains(&samples) => AoMethod::Mc { samples },
+        "mc" => {
+            return Err(PyValueError::new_err(format!(
+                "ao_samples = {samples}: must be between 1 and {MAX_SAMPLES}"
+            )))
+        }
+        "directions" if (1..=MAX_DIRECTIONS).contains(&directions) => {
+            AoMethod::Directions { count: directions }
+        }
+        "directions" => {
+            return Err(PyValueError::new_err(format!(
+                "ao_directions = {directions}: must be between 1 and {MAX_DIRECTIONS}"
+            )))
+        }
+        "sum" => AoMethod::Sum,
+        "voxel" => AoMethod::VOXEL,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "ao_method = {other:?}: must be \"exact\", \"mc\", \"directions\", \"sum\" or \"voxel\""
+            )))
+        }
+    };
     Ok(AoSettings {
         reach,
         weighting,
         colours,
+        method,
     })
 }
 
@@ -280,7 +311,9 @@ fn aovs_of(names: Vec<String>) -> PyResult<Aovs> {
 /// approximation), "mc" (unbiased Monte Carlo, `spp` paths) or "ao" (ambient occlusion as
 /// the picture, exact for opaque spheres: the unoccluded fraction within `ao_reach` world
 /// units, None for any distance, weighted "cosine" or "uniform" by `ao_weighting`, on white
-/// or, with `ao_colours`, times the diffuse colours). seed: the sample pattern's
+/// or, with `ao_colours`, times the diffuse colours; `ao_method` names an approximation to
+/// compare with it: "mc" with `ao_samples` rays, "directions" with `ao_directions`, "sum" or
+/// "voxel", see docs/ao-methods.md). seed: the sample pattern's
 /// seed. threads: worker threads (None: every core; more than four per core are lowered to
 /// that, with a RuntimeWarning). aovs: any of "depth", "normal", "id"
 /// ("error" is always returned). sampler: "stratified" or "center" (one sample at each
@@ -296,8 +329,8 @@ fn aovs_of(names: Vec<String>) -> PyResult<Aovs> {
 /// The pixels are the same for any thread count.
 #[pyfunction]
 #[pyo3(
-    signature = (scene, camera, width, height, *, spp=16, integrator="exact", tol=1e-4, seed=0, threads=None, aovs=Vec::new(), sampler="stratified", step=None, progress=None, headlight_shadows=false, ao_reach=None, ao_weighting="cosine", ao_colours=false),
-    text_signature = "(scene, camera, width, height, *, spp=16, integrator='exact', tol=1e-4, seed=0, threads=None, aovs=(), sampler='stratified', step=None, progress=None, headlight_shadows=False, ao_reach=None, ao_weighting='cosine', ao_colours=False)"
+    signature = (scene, camera, width, height, *, spp=16, integrator="exact", tol=1e-4, seed=0, threads=None, aovs=Vec::new(), sampler="stratified", step=None, progress=None, headlight_shadows=false, ao_reach=None, ao_weighting="cosine", ao_colours=false, ao_method="exact", ao_samples=16, ao_directions=64),
+    text_signature = "(scene, camera, width, height, *, spp=16, integrator='exact', tol=1e-4, seed=0, threads=None, aovs=(), sampler='stratified', step=None, progress=None, headlight_shadows=False, ao_reach=None, ao_weighting='cosine', ao_colours=False, ao_method='exact', ao_samples=16, ao_directions=64)"
 )]
 #[allow(clippy::too_many_arguments)]
 pub fn render(
@@ -319,8 +352,16 @@ pub fn render(
     ao_reach: Option<f64>,
     ao_weighting: &str,
     ao_colours: bool,
+    ao_method: &str,
+    ao_samples: u32,
+    ao_directions: u32,
 ) -> PyResult<Film> {
-    let ao = ao_of(ao_reach, ao_weighting, ao_colours)?;
+    let ao = ao_of(
+        ao_reach,
+        ao_weighting,
+        ao_colours,
+        (ao_method, ao_samples, ao_directions),
+    )?;
     let opts = RenderOptions {
         width,
         height,

@@ -47,6 +47,12 @@ def test_literal_types_are_the_values_the_module_accepts():
         # (Exact AO is for opaque spheres; a scene with gas is refused.)
         on = opaque if name == "ao" else scene
         gt.render(on, None, 4, 4, spp=2, integrator=name, step=0.1 if name == "march" else None)
+    methods = literal_values("_AoMethod")
+    for name in methods:
+        gt.render(opaque, None, 4, 4, spp=1, integrator="ao", ao_method=name)
+    with pytest.raises(ValueError) as bad:
+        gt.render(opaque, None, 4, 4, integrator="ao", ao_method="other")
+    assert quoted(str(bad.value)) == methods | {"other"}
     weightings = literal_values("_Weighting")
     for name in weightings:
         gt.render(opaque, None, 4, 4, spp=1, integrator="ao", ao_weighting=name)

@@ -53,7 +53,8 @@ pub struct Aovs {
     /// Keep the `id` channel.
     pub id: bool,
     /// The pixel's estimated absolute error: the mean of its samples' quadrature error
-    /// estimates (exact), or the standard error of its samples' mean (mc); 0 where exact.
+    /// estimates (exact), or the standard error of its samples' mean (mc, AO by `mc`); 0
+    /// where exact, and for the deterministic AO approximations, whose error is not estimated.
     pub error: bool,
 }
 
@@ -136,7 +137,8 @@ pub enum Integrator {
     /// from one sampled collision point per gas segment, `spp` samples per pixel.
     Mc,
     /// Ambient occlusion as the picture: the unoccluded fraction at each camera ray's first
-    /// opaque hit, exact for opaque spheres (docs/model.md section 11).
+    /// opaque hit, exact for opaque spheres (docs/model.md section 11) or by a named
+    /// approximation ([`ao::AoMethod`]).
     Ao(ao::AoSettings),
 }
 
@@ -276,12 +278,7 @@ impl RenderOptions {
             }
         }
         if let Integrator::Ao(ao) = self.integrator {
-            if ao.reach.is_nan() || ao.reach <= 0.0 {
-                return Err(invalid(format!(
-                    "reach = {}: the AO reach must be positive (or infinite)",
-                    ao.reach
-                )));
-            }
+            ao::methods::check(&ao).map_err(invalid)?;
         }
         self.check_memory(threads, limits::available_memory())
             .map_err(invalid)

@@ -127,10 +127,10 @@ fn render_pixel(
     // Welford's running mean and sum of squared deviations (the one-pass `sum x^2 - n mean^2`
     // cancels, reporting ~sqrt(eps) |mean| where the samples agree to the last bit).
     let (mut run_mean, mut m2) = (DVec3::ZERO, DVec3::ZERO);
-    let mut err = 0.0;
+    let (mut err, mut err2) = (0.0, 0.0);
     let mut covered = 0u32;
-    // The Monte Carlo integrator's own random numbers: a stream per pixel, apart from the
-    // sample positions' stream.
+    // The Monte Carlo integrator's and the AO methods' own random numbers: a stream per pixel,
+    // apart from the sample positions' stream.
     let mut rng = Rng::new(opts.seed ^ 0x6D63_5F70_6174_6873, pixel);
     for (k, &(sx, sy)) in samples.iter().enumerate() {
         let e = match band {
@@ -139,9 +139,15 @@ fn render_pixel(
                 let (rays, hits) = band.of_pixel(at);
                 let (o, d) = rays[k];
                 match &view.integrator {
-                    Integrator::Ao(ao) => {
-                        super::ao::radiance_of_hit(view, ao, (o, d), hits[k], ao_scratch, counters)
-                    }
+                    Integrator::Ao(ao) => super::ao::radiance_of_hit(
+                        view,
+                        ao,
+                        (o, d),
+                        hits[k],
+                        ao_scratch,
+                        &mut rng,
+                        counters,
+                    ),
                     _ => surface::radiance_of_hit(
                         view,
                         o,
@@ -157,7 +163,8 @@ fn render_pixel(
                 match &view.integrator {
                     Integrator::Ao(ao) => {
                         let hit = surface::first_hit(view, o, d, 0.0);
-                        super::ao::radiance_of_hit(view, ao, (o, d), hit, ao_scratch, counters)
+                        let s = &mut *ao_scratch;
+                        super::ao::radiance_of_hit(view, ao, (o, d), hit, s, &mut rng, counters)
                     }
                     _ => integrators::radiance(view, o, d, &mut rng, scratch, counters),
                 }
@@ -165,6 +172,7 @@ fn render_pixel(
         };
         sum += e.value;
         err += e.error;
+        err2 += e.error * e.error;
         covered += u32::from(e.covered);
         let delta = e.value - run_mean;
         run_mean += delta / (k + 1) as f64;
@@ -179,6 +187,9 @@ fn render_pixel(
         } else {
             f64::INFINITY
         }
+    } else if matches!(view.integrator, Integrator::Ao(ao) if ao.method.is_random()) {
+        // Standard errors of independent samples: the mean's is their root sum of squares / n.
+        err2.sqrt() / n
     } else {
         err / n
     };

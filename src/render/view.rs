@@ -34,11 +34,18 @@ pub struct View<'a> {
     /// Per light, the scene as it sees it, for the exact integrator's shadow searches in
     /// scenes with gas (`None` otherwise).
     pub(crate) grids: Vec<Option<light_grid::LightGrid>>,
-    /// Wall time of building `grids`.
+    /// The voxel AO method's density grid, built for this render (`None` otherwise).
+    pub(crate) ao_grid: Option<super::ao::methods::voxel::Grid>,
+    /// Wall time of building `grids` and `ao_grid`.
     pub(crate) grid_time: Duration,
 }
 
 impl View<'_> {
+    /// The voxel AO method's density grid, when this render uses it.
+    pub fn ao_grid(&self) -> Option<&super::ao::methods::voxel::Grid> {
+        self.ao_grid.as_ref()
+    }
+
     /// The lights the integrators use: those that are on, the headlight among them.
     pub fn light_count(&self) -> usize {
         self.lights.len()
@@ -97,6 +104,7 @@ impl Prepared {
             self.surface_colors,
         );
         let start = Instant::now();
+        let ao_grid = super::ao::methods::prepare_view(self, &opts.integrator).map_err(invalid)?;
         let grids = lights
             .iter()
             .map(|l| {
@@ -113,6 +121,7 @@ impl Prepared {
             prep: self,
             camera: camera.image_plane(opts.width, opts.height),
             grids,
+            ao_grid,
             grid_time: start.elapsed(),
             lights,
             integrator: opts.integrator,

@@ -2,6 +2,7 @@
 //! the command as a user does (the library's own tests are in the project's tests/it/).
 
 mod cli_ao; // `render --integrator ao`, `occlusion`: fractions, tables, refusals
+mod cli_ao_methods; // `render --integrator ao --ao-method`: every method renders, compares; option errors
 mod cli_bench; // `bench --quick`, `bench gas --scaling --quick`: reports, ratios, written clouds
 mod cli_compare; // `compare`: hand-checked metrics, the heat map, `--max-rmse` exit codes
 mod cli_convert; // `convert`: scenes and tables to VRML, exit codes, gzip, pipes, the sample

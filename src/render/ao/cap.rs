@@ -59,6 +59,35 @@ pub fn blocked_by_ball(p: DVec3, c: DVec3, r: f64, reach: f64) -> Blocked {
     })
 }
 
+/// The cosine-weighted fraction of the hemisphere about a unit normal that one cap covers,
+/// the cap's axis at angle θ from the normal (`x = cos θ`, `st = sin θ >= 0`) and its angular
+/// radius α (`c = cos α`): the sphere form factor (Snyder 1996; Lagarde and de Rousiers 2014).
+/// With `D = sin²α - cos²θ` the formula's inverse cosine and tangent are written as `atan2`s
+/// of `√D`, which keep their digits where the cap's edge grazes the horizon (`D` near 0).
+pub fn form_factor(x: f64, st: f64, c: f64) -> f64 {
+    let sin2 = (1.0 - c) * (1.0 + c);
+    // D as a product of differences, from whichever pair is better conditioned.
+    let d = if x.abs() < 0.7 {
+        (sin2.sqrt() - x.abs()) * (sin2.sqrt() + x.abs())
+    } else {
+        (st - c) * (st + c)
+    };
+    if d <= 0.0 {
+        // Wholly above the horizon, or wholly below it.
+        return (x * sin2).max(0.0);
+    }
+    let rd = d.sqrt();
+    (x * sin2 * rd.atan2(-c * x) - c * rd + rd.atan2(c)) / std::f64::consts::PI
+}
+
+impl Cap {
+    /// The cosine-weighted fraction of the hemisphere about the unit normal `n` that this cap
+    /// covers ([`form_factor`]).
+    pub fn form_factor(&self, n: DVec3) -> f64 {
+        form_factor(self.axis.dot(n), self.axis.cross(n).length(), self.cos)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

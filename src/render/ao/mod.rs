@@ -3,7 +3,8 @@
 //! sphere within the reach.
 //!
 //! - [`cap`]: what one sphere blocks, a cap of directions;
-//! - [`union`]: the cosine-weighted measure of the caps' union, in closed form.
+//! - [`union`]: the cosine-weighted measure of the caps' union, in closed form;
+//! - [`methods`]: the approximations real-time tools use, by name, to compare with it.
 //!
 //! The spheres that can block are those whose nearest point is within the reach and whose
 //! box rises above the point's tangent plane; the BVH finds them ([`SphereBvh::near_region`]),
@@ -12,6 +13,7 @@
 //! that grows with the scene, for each pixel.
 
 pub(crate) mod cap;
+pub mod methods;
 pub(crate) mod sky;
 pub(crate) mod union;
 
@@ -19,10 +21,12 @@ use glam::DVec3;
 
 use super::integrators::surface::{material_of, surface_point, OpaqueHit};
 use super::integrators::Estimate;
+use super::sampler::Rng;
 use super::visibility::Opaque;
 use super::{Counters, Prepared, View};
 use crate::accel::SphereBvh;
 use cap::{blocked_by_ball, Blocked, Cap};
+pub use methods::AoMethod;
 use sky::Sky;
 pub use union::Weighting;
 use union::{covered_fraction, UnionScratch};
@@ -37,6 +41,8 @@ pub struct AoSettings {
     /// The picture is the unoccluded fraction times each surface's diffuse colour (`true`) or
     /// on white (`false`).
     pub colours: bool,
+    /// How the unoccluded fraction is computed: exactly, or by a named approximation.
+    pub method: AoMethod,
 }
 
 impl Default for AoSettings {
@@ -45,6 +51,7 @@ impl Default for AoSettings {
             reach: f64::INFINITY,
             weighting: Weighting::Cosine,
             colours: false,
+            method: AoMethod::Exact,
         }
     }
 }
@@ -56,6 +63,7 @@ pub struct AoScratch {
     stack: Vec<u32>,
     union: UnionScratch,
     sky: Option<Sky>,
+    methods: methods::MethodScratch,
 }
 
 /// Occluders whose nearest point is within this many typical radii (the median radius) of
@@ -178,13 +186,15 @@ impl Around {
 
 /// The AO picture's radiance along a camera ray whose first opaque hit is `hit`: the
 /// unoccluded fraction there, on white or on the surface's diffuse colour; the background
-/// where the ray meets nothing. Exact up to rounding: the error estimate is 0.
+/// where the ray meets nothing. Exact up to rounding with the exact method (the error
+/// estimate is 0); the approximations' estimates are their own ([`methods::unoccluded`]).
 pub(crate) fn radiance_of_hit(
     view: &View,
     ao: &AoSettings,
     (o, d): (DVec3, DVec3),
     hit: Option<OpaqueHit>,
     s: &mut AoScratch,
+    rng: &mut Rng,
     counters: &mut Counters,
 ) -> Estimate {
     counters.camera_rays += 1;
@@ -200,7 +210,13 @@ pub(crate) fn radiance_of_hit(
         Opaque::Sphere(prim) => Some(prim),
         Opaque::Surface(_) => None,
     };
-    let v = unoccluded(view, sp.x, sp.n, own, (ao.reach, ao.weighting), s);
+    let (v, error) = match ao.method {
+        AoMethod::Exact => {
+            let reach = (ao.reach, ao.weighting);
+            (unoccluded(view, sp.x, sp.n, own, reach, s), 0.0)
+        }
+        _ => methods::unoccluded(view, ao, (sp.x, sp.n, own), rng, &mut s.methods, counters),
+    };
     let colour = if ao.colours {
         material_of(view, hit.on).diffuse
     } else {
@@ -208,7 +224,7 @@ pub(crate) fn radiance_of_hit(
     };
     Estimate {
         value: colour * v,
-        error: 0.0,
+        error: colour.max_element() * error,
         covered: true,
     }
 }

@@ -3,29 +3,8 @@
 
 use glam::DVec3;
 
-use super::cap::{blocked_by_ball, Blocked, Cap};
+use super::cap::{blocked_by_ball, form_factor as one_cap, Blocked, Cap};
 use super::union::{covered_fraction, UnionScratch, Weighting};
-
-/// The cosine-weighted fraction of the hemisphere about `z` that one cap covers, its axis at
-/// angle θ from `z` (`x = cos θ`, `st = sin θ`) and its angular radius α (`c = cos α`): the
-/// sphere form factor (Snyder 1996; Lagarde and de Rousiers 2014). With `D = sin²α - cos²θ`
-/// the formula's inverse cosine and tangent are written as `atan2`s of `√D`, which keep their
-/// digits where the cap's edge grazes the horizon (`D` near 0).
-fn one_cap(x: f64, st: f64, c: f64) -> f64 {
-    let sin2 = (1.0 - c) * (1.0 + c);
-    // D as a product of differences, from whichever pair is better conditioned.
-    let d = if x.abs() < 0.7 {
-        (sin2.sqrt() - x.abs()) * (sin2.sqrt() + x.abs())
-    } else {
-        (st - c) * (st + c)
-    };
-    if d <= 0.0 {
-        // Wholly above the horizon, or wholly below it.
-        return (x * sin2).max(0.0);
-    }
-    let rd = d.sqrt();
-    (x * sin2 * rd.atan2(-c * x) - c * rd + rd.atan2(c)) / std::f64::consts::PI
-}
 
 /// A small generator of its own (splitmix64).
 struct Mix(u64);
@@ -213,7 +192,7 @@ fn render_matches_reference(
         integrator: Integrator::Ao(super::AoSettings {
             reach,
             weighting,
-            colours: false,
+            ..super::AoSettings::default()
         }),
         ..RenderOptions::default()
     };
