@@ -8,8 +8,9 @@
 //! band, with a margin that makes it an upper bound), so that "a cap holds the cell" and "a
 //! cone may touch the cell" are both tests on the angle between two directions.
 //!
-//! Measured (`render --integrator ao` of random packings of unit spheres at volume fraction
-//! 0.4, 128 x 128, two threads): see `super` for the figures.
+//! Measured 2026-12-05 (`render --integrator ao` without a reach, a random packing of 1000
+//! unit spheres at volume fraction 0.4, 128 x 128, two threads): 18.0 s without the sky,
+//! 1.9 s with it (the cells, and the caps the sky drops before their union).
 
 use std::f64::consts::{FRAC_PI_2, TAU};
 use std::sync::OnceLock;

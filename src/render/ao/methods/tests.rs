@@ -89,14 +89,7 @@ fn mc_converges_to_exact_within_five_standard_errors() {
             (f64::INFINITY, Weighting::Cosine),
             (1.5, Weighting::Uniform),
         ] {
-            let want = exact(
-                &prep,
-                p.0,
-                p.1,
-                p.2,
-                (reach, w),
-                &mut AoScratch::default(),
-            );
+            let want = exact(&prep, p.0, p.1, p.2, (reach, w), &mut AoScratch::default());
             let (got, se) = mc::unoccluded(&prep.bvh, p, (reach, w), 4000, &mut rng);
             worst = worst.max((got - want).abs() / se);
             assert!(
