@@ -42,6 +42,10 @@ pub enum AovArg {
     /// error of its mean; 0 where the answer is exact, and for the other AO approximations,
     /// whose error is not estimated).
     Error,
+    /// Exact ambient occlusion at the first opaque hit through the pixel centre, with
+    /// --ao-reach and --ao-weighting, whatever the integrator draws; NaN on a miss (opaque
+    /// spheres only, as --integrator ao).
+    Ao,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -261,6 +265,7 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<Plan, Error> {
         normal: args.aov.contains(&AovArg::Normal),
         id: args.aov.contains(&AovArg::Id),
         error: args.aov.contains(&AovArg::Error),
+        ao: args.aov.contains(&AovArg::Ao),
     };
     let integrator = match (args.integrator, args.step) {
         (IntegratorArg::March, Some(h)) if h.is_finite() && h > 0.0 => {
@@ -278,8 +283,14 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<Plan, Error> {
         (IntegratorArg::Ao, None) => Integrator::Ao(args.ao.settings().map_err(bad)?),
     };
     if args.integrator != IntegratorArg::Ao {
-        args.ao.check_unused().map_err(bad)?;
+        args.ao.check_unused(aovs.ao).map_err(bad)?;
     }
+    // The ao channel's reach and weighting (its method is the exact one).
+    let ao = if aovs.ao {
+        args.ao.settings().map_err(bad)?
+    } else {
+        Default::default()
+    };
     if !(args.tol.is_finite() && args.tol > 0.0 && args.tol < 1.0) {
         return Err(bad(format!(
             "--tol must be between 0 and 1 (got {})",
@@ -356,6 +367,7 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<Plan, Error> {
         integrator,
         tol: args.tol,
         headlight_shadows: args.headlight_shadows,
+        ao,
     };
     // Sizes, samples and the memory they need, before the scene is read: the pool the
     // render runs on has `threads` workers, or one per core.

@@ -35,7 +35,7 @@ _Integrator = Literal["exact", "march", "mc", "ao"]
 _Weighting = Literal["cosine", "uniform"]
 _AoMethod = Literal["exact", "mc", "directions", "sum", "voxel"]
 _Sampler = Literal["stratified", "center"]
-_Aov = Literal["depth", "normal", "id", "error"]
+_Aov = Literal["depth", "normal", "id", "ao", "error"]
 _Profile = Literal["constant", "linear", "quadratic", "gaussian"]
 _Bounds = tuple[tuple[float, float, float], tuple[float, float, float]]
 
@@ -161,6 +161,8 @@ class Film:
     def alpha(self) -> npt.NDArray[np.float64]: ...
     @property
     def error(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def ao(self) -> Optional[npt.NDArray[np.float64]]: ...
     @property
     def depth(self) -> Optional[npt.NDArray[np.float64]]: ...
     @property

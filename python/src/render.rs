@@ -39,6 +39,10 @@ pub struct Film {
     /// in aovs.
     #[pyo3(get)]
     normal: Py<PyAny>,
+    /// (H, W) float64 exact ambient occlusion at the centre ray's first hit, with ao_reach
+    /// and ao_weighting (NaN on a miss), or None unless "ao" was in aovs.
+    #[pyo3(get)]
+    ao: Py<PyAny>,
     /// (H, W) int64 index of what the centre ray hit (spheres in order, then the other
     /// surfaces; -1 on a miss), or None unless "id" was in aovs.
     #[pyo3(get)]
@@ -119,6 +123,7 @@ impl Film {
             depth,
             normal,
             id,
+            ao,
             counters,
             max_error,
             seconds,
@@ -138,6 +143,10 @@ impl Film {
             },
             id: match id {
                 Some(i) => array(py, i, &[h, w])?,
+                None => none(),
+            },
+            ao: match ao {
+                Some(a) => array(py, a, &[h, w])?,
                 None => none(),
             },
             max_error,
@@ -181,6 +190,7 @@ impl Film {
             depth: f64s("depth", &self.depth, 1)?,
             normal: f64s("normal", &self.normal, 3)?.map(triples),
             id: f64s("id", &self.id, 1)?.map(|v| v.into_iter().map(|x| x as i64).collect()),
+            ao: f64s("ao", &self.ao, 1)?,
             counters: self.stats,
             max_error: self.max_error,
             seconds: self.seconds,
@@ -293,9 +303,10 @@ fn aovs_of(names: Vec<String>) -> PyResult<Aovs> {
             "normal" => a.normal = true,
             "id" => a.id = true,
             "error" => a.error = true,
+            "ao" => a.ao = true,
             other => {
                 return Err(PyValueError::new_err(format!(
-                    "aovs: unknown channel {other:?}; choose from \"depth\", \"normal\", \"id\", \"error\""
+                    "aovs: unknown channel {other:?}; choose from \"depth\", \"normal\", \"id\", \"ao\", \"error\""
                 )))
             }
         }
@@ -381,6 +392,7 @@ pub fn render(
         tol,
         region: None,
         headlight_shadows,
+        ao,
     };
     if threads == Some(0) {
         return Err(PyValueError::new_err("threads must be at least 1"));

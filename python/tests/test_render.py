@@ -335,3 +335,15 @@ def test_ambient_occlusion_of_a_sphere_beside_another_is_the_form_factor():
     for bad in [dict(ao_reach=0.0), dict(ao_reach=float("nan")), dict(ao_weighting="flat")]:
         with pytest.raises(ValueError, match="ao_"):
             gt.render(scene, cam, 4, 4, integrator="ao", **bad)
+
+
+def test_the_ao_channel_is_the_ao_picture_beside_a_lit_one():
+    centers, radii, colors, _, _ = cloud(n=40, seed=5)
+    scene = scene_of(centers, radii, colors, None, None)
+    cam = gt.Camera.frame(scene)
+    lit = gt.render(scene, cam, 24, 18, sampler="center", aovs=["ao"], ao_reach=0.5)
+    ao = gt.render(scene, cam, 24, 18, sampler="center", integrator="ao", ao_reach=0.5)
+    hit = ao.alpha > 0
+    assert hit.sum() > 50
+    np.testing.assert_array_equal(lit.ao[hit], ao.rgb[..., 0][hit])
+    assert np.all(np.isnan(lit.ao[~hit]))

@@ -29,6 +29,9 @@ pub struct Film {
     /// What the centre ray hit: spheres numbered in file order, then the other surfaces;
     /// -1 on a miss.
     pub id: Option<Vec<i64>>,
+    /// Exact ambient occlusion at the centre ray's first opaque hit (NaN on a miss), if
+    /// asked for ([`Aovs::ao`](super::Aovs::ao)).
+    pub ao: Option<Vec<f64>>,
     /// The work the render did, summed over its tiles.
     pub counters: Counters,
     /// The largest per-pixel error estimate.
@@ -47,6 +50,7 @@ pub(crate) fn bytes_per_pixel(aovs: Aovs) -> u64 {
         + size(aovs.depth, size_of::<f64>())
         + size(aovs.normal, size_of::<[f64; 3]>())
         + size(aovs.id, size_of::<i64>())
+        + size(aovs.ao, size_of::<f64>())
 }
 
 /// `n` zeros, or an error when the memory for them cannot be had.
@@ -78,6 +82,7 @@ impl Film {
             depth: aovs.depth.then(|| zeros(n)).transpose()?,
             normal: aovs.normal.then(|| zeros(n)).transpose()?,
             id: aovs.id.then(|| zeros(n)).transpose()?,
+            ao: aovs.ao.then(|| zeros(n)).transpose()?,
             counters: Counters::default(),
             max_error: 0.0,
             seconds: 0.0,
@@ -86,7 +91,7 @@ impl Film {
     }
 
     /// The picture in f32, with the extra channels as the EXR layers `depth`, `normal.X`,
-    /// `normal.Y`, `normal.Z`, `id` and `error` (in that order).
+    /// `normal.Y`, `normal.Z`, `id`, `ao` and `error` (in that order).
     pub fn image(&self) -> Image {
         let f32s = |v: &[f64]| v.iter().map(|&x| x as f32).collect::<Vec<f32>>();
         let mut layers = Vec::new();
@@ -108,6 +113,12 @@ impl Film {
             layers.push(Layer {
                 name: "id".into(),
                 data: id.iter().map(|&i| i as f32).collect(),
+            });
+        }
+        if let Some(a) = &self.ao {
+            layers.push(Layer {
+                name: "ao".into(),
+                data: f32s(a),
             });
         }
         if let Some(e) = &self.error {

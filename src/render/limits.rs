@@ -74,6 +74,7 @@ fn aov_words(a: Aovs) -> String {
         (a.depth, "depth"),
         (a.normal, "normal"),
         (a.id, "id"),
+        (a.ao, "ao"),
         (a.error, "error"),
     ]
     .iter()
@@ -247,8 +248,9 @@ mod tests {
             normal: true,
             id: true,
             error: false,
+            ao: true,
         };
-        assert_eq!(aov_words(all), " with the depth, normal and id AOVs");
+        assert_eq!(aov_words(all), " with the depth, normal, id and ao AOVs");
         assert_eq!(aov_words(Aovs::default()), "");
     }
 }

@@ -56,12 +56,16 @@ pub struct Aovs {
     /// estimates (exact), or the standard error of its samples' mean (mc, AO by `mc`); 0
     /// where exact, and for the deterministic AO approximations, whose error is not estimated.
     pub error: bool,
+    /// Exact ambient occlusion at the centre ray's first opaque hit (the model's section 11,
+    /// with [`RenderOptions::ao`]'s reach and weighting; NaN on a miss), beside whatever the
+    /// integrator draws.
+    pub ao: bool,
 }
 
 impl Aovs {
     /// Whether the centre-ray channels are wanted.
     pub fn any(&self) -> bool {
-        self.depth || self.normal || self.id
+        self.depth || self.normal || self.id || self.ao
     }
 }
 
@@ -93,6 +97,9 @@ pub struct RenderOptions {
     /// (`--headlight-shadows`); by default it is carried by the viewer and casts none
     /// (docs/model.md section 1).
     pub headlight_shadows: bool,
+    /// The reach and weighting of the `ao` channel ([`Aovs::ao`]; its method is always the
+    /// exact one).
+    pub ao: ao::AoSettings,
 }
 
 impl Default for RenderOptions {
@@ -108,6 +115,7 @@ impl Default for RenderOptions {
             tol: 1e-4,
             region: None,
             headlight_shadows: false,
+            ao: ao::AoSettings::default(),
         }
     }
 }
@@ -279,6 +287,12 @@ impl RenderOptions {
         }
         if let Integrator::Ao(ao) = self.integrator {
             ao::methods::check(&ao).map_err(invalid)?;
+        }
+        if self.aovs.ao && (self.ao.reach.is_nan() || self.ao.reach <= 0.0) {
+            return Err(invalid(format!(
+                "reach = {}: the AO reach must be positive (or infinite)",
+                self.ao.reach
+            )));
         }
         self.check_memory(threads, limits::available_memory())
             .map_err(invalid)

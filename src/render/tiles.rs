@@ -59,6 +59,7 @@ struct CentreHit {
     depth: f64,
     normal: [f64; 3],
     id: i64,
+    ao: f64,
 }
 
 /// Told how the tile loop goes (the command line draws a progress bar, Python calls back),
@@ -201,7 +202,12 @@ fn render_pixel(
 }
 
 /// The first opaque hit of the ray through pixel `(i, j)`'s centre.
-fn centre_hit(view: &View, opts: &RenderOptions, i: u32, j: u32) -> CentreHit {
+fn centre_hit(
+    view: &View,
+    opts: &RenderOptions,
+    (i, j): (u32, u32),
+    ao_scratch: &mut AoScratch,
+) -> CentreHit {
     let (w, h) = (f64::from(opts.width), f64::from(opts.height));
     let (o, d) = view
         .camera
@@ -214,16 +220,28 @@ fn centre_hit(view: &View, opts: &RenderOptions, i: u32, j: u32) -> CentreHit {
                 surface::Opaque::Sphere(_) => i64::from(sp.scene_index(view)),
                 surface::Opaque::Surface(i) => (view.spheres + i as usize) as i64,
             };
+            let ao = if opts.aovs.ao {
+                let own = match hit.on {
+                    surface::Opaque::Sphere(prim) => Some(prim),
+                    surface::Opaque::Surface(_) => None,
+                };
+                let reach = (opts.ao.reach, opts.ao.weighting);
+                super::ao::unoccluded(view, sp.x, sp.n, own, reach, ao_scratch)
+            } else {
+                0.0
+            };
             CentreHit {
                 depth: hit.t,
                 normal: sp.n.to_array(),
                 id,
+                ao,
             }
         }
         None => CentreHit {
             depth: f64::INFINITY,
             normal: [0.0; 3],
             id: -1,
+            ao: f64::NAN,
         },
     }
 }
@@ -308,7 +326,7 @@ pub fn render_view(
                             packets.then_some((&band, at)),
                         ));
                         if opts.aovs.any() {
-                            hits.push(centre_hit(view, opts, i, j));
+                            hits.push(centre_hit(view, opts, (i, j), &mut ao_scratch));
                         }
                     }
                 }
@@ -345,6 +363,9 @@ pub fn render_view(
                 }
                 if let Some(id) = &mut film.id {
                     id[at] = a.id;
+                }
+                if let Some(ao) = &mut film.ao {
+                    ao[at] = a.ao;
                 }
             }
         }

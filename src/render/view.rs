@@ -74,7 +74,7 @@ impl Prepared {
     pub fn view(&self, camera: &Camera, opts: &RenderOptions) -> Result<View<'_>, Error> {
         opts.validate()?;
         camera.lens.validate()?;
-        if let Integrator::Ao(_) = opts.integrator {
+        if matches!(opts.integrator, Integrator::Ao(_)) || opts.aovs.ao {
             if let Some(why) = super::ao::unsupported(self) {
                 return Err(invalid(why));
             }

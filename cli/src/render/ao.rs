@@ -86,9 +86,15 @@ impl AoArgs {
         .collect()
     }
 
-    /// Refuses AO options on a render that is not `--integrator ao`.
-    pub fn check_unused(&self) -> Result<(), String> {
-        match self.given().as_slice() {
+    /// Refuses AO options on a render that is not `--integrator ao`; with the `ao` channel
+    /// (`aov`), its reach and weighting are used.
+    pub fn check_unused(&self, aov: bool) -> Result<(), String> {
+        let given: Vec<&str> = self
+            .given()
+            .into_iter()
+            .filter(|&o| !(aov && (o == "--ao-reach" || o == "--ao-weighting")))
+            .collect();
+        match given.as_slice() {
             [] => Ok(()),
             [one] => Err(format!("{one} is only for --integrator ao")),
             many => Err(format!("{} are only for --integrator ao", many.join(", "))),

@@ -89,6 +89,43 @@ fn ao_pictures_hold_fractions_and_ao_refuses_what_it_cannot_do_exactly() {
 }
 
 #[test]
+fn the_ao_channel_goes_beside_a_lit_picture_and_takes_only_reach_and_weighting() {
+    let dir = scratch("cli_ao", "channel");
+    let scene = sample("cluster.wrl");
+    let lit = [
+        "render",
+        &scene,
+        "--aov",
+        "ao",
+        "--ao-reach",
+        "2",
+        "--ao-weighting",
+        "uniform",
+        "--width",
+        "24",
+        "--height",
+        "18",
+        "--spp",
+        "1",
+    ];
+    let out = gtsphere(&[&lit[..], &["-o", "lit.exr"]].concat(), &dir);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(dir.join("lit.exr").exists());
+    // An approximation's options belong to --integrator ao alone.
+    let out = gtsphere(
+        &[&lit[..], &["--ao-method", "mc", "-o", "mc.exr"]].concat(),
+        &dir,
+    );
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("--ao-method is only for --integrator ao"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!dir.join("mc.exr").exists());
+}
+
+#[test]
 fn occlusion_writes_one_row_per_sphere_within_its_tolerance() {
     let dir = scratch("cli_ao", "occlusion");
     let scene = sample("cluster.wrl");

@@ -418,3 +418,55 @@ fn per_particle_means_match_an_average_over_a_fibonacci_lattice() {
         }
     }
 }
+
+#[test]
+fn the_ao_channel_is_exact_ao_beside_any_integrator() {
+    use crate::render::{self, Aovs, Camera, Integrator, Lens, PrepareOptions, RenderOptions};
+    use crate::scene::{Radii, Scene, SphereArrays};
+    let spheres = packing(&mut Mix(8), 30);
+    let centers: Vec<f64> = spheres.iter().flat_map(|(c, _)| c.to_array()).collect();
+    let radii: Vec<f64> = spheres.iter().map(|s| s.1).collect();
+    let scene = Scene::from_arrays(&SphereArrays::new(&centers, Radii::Each(&radii))).unwrap();
+    let prep = render::prepare(scene, &PrepareOptions::default()).unwrap();
+    let middle = spheres.iter().map(|s| s.0).sum::<DVec3>() / spheres.len() as f64;
+    let eye = middle + DVec3::new(1.0, 2.0, 15.0);
+    let cam = Camera::look_at(eye, middle, DVec3::Y, Lens::default()).unwrap();
+    let ao = super::AoSettings {
+        reach: 2.5,
+        weighting: Weighting::Uniform,
+        ..super::AoSettings::default()
+    };
+    let base = RenderOptions {
+        width: 32,
+        height: 24,
+        spp: 1,
+        sampler: render::SamplerKind::Center,
+        ao,
+        ..RenderOptions::default()
+    };
+    let with_channel = RenderOptions {
+        aovs: Aovs {
+            ao: true,
+            ..Aovs::default()
+        },
+        ..base.clone()
+    };
+    let lit = render::render(&prep, &cam, &with_channel, &()).unwrap();
+    let picture = RenderOptions {
+        integrator: Integrator::Ao(ao),
+        ..base
+    };
+    let drawn = render::render(&prep, &cam, &picture, &()).unwrap();
+    let channel = lit.ao.unwrap();
+    let mut covered = 0;
+    for p in 0..channel.len() {
+        if drawn.alpha[p] == 0.0 {
+            assert!(channel[p].is_nan(), "pixel {p}: a miss is NaN");
+        } else {
+            assert_eq!(channel[p], drawn.rgb[p][0], "pixel {p}");
+            covered += 1;
+        }
+    }
+    assert!(covered > 100);
+    assert_ne!(lit.rgb, drawn.rgb, "the lit picture is not the AO picture");
+}
