@@ -459,11 +459,11 @@ fn the_ao_channel_is_exact_ao_beside_any_integrator() {
     let drawn = render::render(&prep, &cam, &picture, &()).unwrap();
     let channel = lit.ao.unwrap();
     let mut covered = 0;
-    for p in 0..channel.len() {
+    for (p, &a) in channel.iter().enumerate() {
         if drawn.alpha[p] == 0.0 {
-            assert!(channel[p].is_nan(), "pixel {p}: a miss is NaN");
+            assert!(a.is_nan(), "pixel {p}: a miss is NaN");
         } else {
-            assert_eq!(channel[p], drawn.rgb[p][0], "pixel {p}");
+            assert_eq!(a, drawn.rgb[p][0], "pixel {p}");
             covered += 1;
         }
     }
