@@ -34,6 +34,25 @@ pub struct GeometryArgs {
 }
 
 impl GeometryArgs {
+    /// Reads `scene` with `opts` and these options applied, saying (through `say`) the
+    /// warning about lowered threads and the reader's warnings and notes.
+    pub fn load(
+        &self,
+        scene: &std::path::Path,
+        opts: LoadOptions,
+        say: impl Fn(String),
+    ) -> Result<(gtsphere::scene::Scene, gtsphere::vrml::LoadReport), Error> {
+        let (load, warning) = self.apply(opts)?;
+        if let Some(w) = warning {
+            say(w);
+        }
+        let (scene, report) = gtsphere::vrml::load_path(scene, &load)?;
+        for w in report.warnings.iter().chain(&report.notes) {
+            say(format!("{w}"));
+        }
+        Ok((scene, report))
+    }
+
     /// `opts` with these options applied, and a warning when `--read-threads` was lowered
     /// to [`limits::max_threads`].
     pub fn apply(&self, opts: LoadOptions) -> Result<(LoadOptions, Option<String>), Error> {

@@ -11,7 +11,7 @@ use gtsphere::error::Error;
 use gtsphere::output::write_table;
 use gtsphere::render::particle_ao::particles_ao;
 use gtsphere::render::{prepare, PrepareOptions};
-use gtsphere::vrml::{load_path, LoadOptions};
+use gtsphere::vrml::LoadOptions;
 
 use crate::render::ao::WeightingArg;
 use crate::render::progress::{TileBar, Words};
@@ -88,17 +88,11 @@ pub fn run(args: &OcclusionArgs) -> Result<ExitCode, Error> {
             )))
         }
     }
-    let (load, warning) = args.geometry.apply(LoadOptions {
+    let load = LoadOptions {
         read_threads: threads,
         ..LoadOptions::default()
-    })?;
-    if let Some(w) = warning {
-        say(w);
-    }
-    let (scene, report) = load_path(&args.scene, &load)?;
-    for w in report.warnings.iter().chain(&report.notes) {
-        say(format!("{w}"));
-    }
+    };
+    let (scene, _) = args.geometry.load(&args.scene, load, say)?;
     let spheres: Vec<(DVec3, f64)> = scene.spheres.iter().map(|s| (s.center, s.radius)).collect();
     let in_scene = |e: Error| Error::Other(format!("{}: {e}", args.scene.display()));
     let pool = rayon::ThreadPoolBuilder::new()

@@ -13,7 +13,7 @@ use gtsphere::render::{
     PrepareOptions, Projection, RenderOptions, SamplerKind,
 };
 use gtsphere::scene::Profile;
-use gtsphere::vrml::{load_path, LoadOptions};
+use gtsphere::vrml::LoadOptions;
 
 pub(crate) mod ao;
 pub(crate) mod progress;
@@ -439,19 +439,13 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
         say(w.clone());
     }
     // Reading comes before the pool, but --threads bounds it too (unless --read-threads).
-    let (load, warning) = args.geometry.apply(LoadOptions {
+    let load = LoadOptions {
         strict: args.strict,
         inline: !args.no_inline,
         read_threads: plan.threads.unwrap_or(0),
         ..LoadOptions::default()
-    })?;
-    if let Some(w) = warning {
-        say(w);
-    }
-    let (scene, report) = load_path(&args.scene, &load)?;
-    for w in report.warnings.iter().chain(&report.notes) {
-        say(format!("{w}"));
-    }
+    };
+    let (scene, report) = args.geometry.load(&args.scene, load, say)?;
     if plan.camera == CameraChoice::Auto && scene.viewpoints.is_empty() {
         unframable(&scene)?;
     }

@@ -7,9 +7,9 @@ use super::cap::{blocked_by_ball, form_factor as one_cap, Blocked, Cap};
 use super::union::{covered_fraction, UnionScratch, Weighting};
 
 /// A small generator of its own (splitmix64).
-struct Mix(u64);
+pub(super) struct Mix(pub(super) u64);
 impl Mix {
-    fn next(&mut self) -> f64 {
+    pub(super) fn next(&mut self) -> f64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
@@ -96,7 +96,7 @@ fn reference(n: DVec3, caps: &[Cap], w: Weighting) -> f64 {
 }
 
 /// Random spheres (radii 0.5 to 1) in a cube filled to about 0.3 of its volume.
-fn packing(rng: &mut Mix, count: usize) -> Vec<(DVec3, f64)> {
+pub(super) fn packing(rng: &mut Mix, count: usize) -> Vec<(DVec3, f64)> {
     let side = (count as f64 * 4.0 / 3.0 * std::f64::consts::PI * 0.42 / 0.3).cbrt();
     (0..count)
         .map(|_| {

@@ -35,15 +35,10 @@ fn unit(rng: &mut Rng) -> DVec3 {
     DVec3::new(r * a.cos(), r * a.sin(), z)
 }
 
-/// Random spheres (radii 0.5 to 1) in a cube filled to about 0.3 of its volume.
+/// The exact AO tests' packing, seeded from `rng`.
 fn packing(rng: &mut Rng, count: usize) -> Vec<(DVec3, f64)> {
-    let side = (count as f64 * 4.0 / 3.0 * std::f64::consts::PI * 0.42 / 0.3).cbrt();
-    (0..count)
-        .map(|_| {
-            let c = DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) * side;
-            (c, 0.5 + 0.5 * rng.next_f64())
-        })
-        .collect()
+    let seed = (rng.next_f64() * (1u64 << 53) as f64) as u64;
+    super::super::tests::packing(&mut super::super::tests::Mix(seed), count)
 }
 
 /// `count` points on the packing's spheres: (point, normal, the sphere's BVH primitive).
