@@ -1,16 +1,18 @@
 //! Ambient occlusion, exact for opaque spheres (docs/model.md section 11): at a surface point,
-//! the cosine-weighted fraction of the hemisphere about its normal whose rays meet no other
-//! sphere within the reach.
+//! the fraction of the hemisphere about its normal (cosine-weighted or uniform) whose rays
+//! meet no other sphere within the reach.
 //!
-//! - [`cap`]: what one sphere blocks, a cap of directions;
-//! - [`union`]: the cosine-weighted measure of the caps' union, in closed form;
+//! - `cap`: what one sphere blocks, a cap of directions;
+//! - `union`: the measure of the caps' union, in closed form;
+//! - `sky`: which directions the caps found so far block whole, to leave out occluders
+//!   hidden behind them;
 //! - [`methods`]: the approximations real-time tools use, by name, to compare with it.
 //!
 //! The spheres that can block are those whose nearest point is within the reach and whose
-//! box rises above the point's tangent plane; the BVH finds them ([`SphereBvh::near_region`]),
+//! box rises above the point's tangent plane; the BVH finds them (`SphereBvh::near_region`),
 //! so the cost of a point grows with the spheres within its reach, not with the scene. With
-//! no reach (`f64::INFINITY`), every sphere above the tangent plane is a candidate: a cost
-//! that grows with the scene, for each pixel.
+//! no reach (`f64::INFINITY`), every sphere above the tangent plane not hidden by nearer ones
+//! is a candidate: a cost that grows with the scene, for each pixel.
 
 pub(crate) mod cap;
 pub mod methods;

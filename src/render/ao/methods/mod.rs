@@ -131,7 +131,7 @@ pub fn check(ao: &AoSettings) -> Result<(), String> {
 }
 
 /// What a view of `prep` needs for `integrator`: with AO, a scene that AO supports
-/// ([`super::unsupported`]), and with the voxel method its density grid, built here once
+/// (`ao::unsupported`), and with the voxel method its density grid, built here once
 /// for the render ([`voxel::Grid::build`]).
 pub fn prepare_view(
     prep: &Prepared,

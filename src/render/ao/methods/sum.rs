@@ -15,9 +15,9 @@
 //! overestimates occlusion; with one occluder it is exact.
 //!
 //! Parameters: none but the reach. Each `F_j` is the form factor of the cap sphere `j`
-//! blocks within the reach ([`blocked_by_ball`], the exact method's caps), over the spheres
+//! blocks within the reach (`blocked_by_ball`, the exact method's caps), over the spheres
 //! the exact method considers (the BVH's region query), the sphere the point is on left out;
-//! [`Cap::form_factor`](super::super::cap::Cap::form_factor) is the closed form. Shaders
+//! `Cap::form_factor` is the closed form. Shaders
 //! that fade occluders with distance instead of cutting them at a reach are not modelled.
 
 use glam::DVec3;
