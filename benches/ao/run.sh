@@ -1,6 +1,6 @@
 #!/bin/sh
 # docs/evaluation.md's tables: each AO method and Tachyon's AO against gtsphere's exact AO.
-#   usage: benches/ao/run.sh [SCENE...]     (pymol, random; default both)
+#   usage: benches/ao/run.sh [SCENE...]     (pymol, random, fcc; default all three)
 #   environment: DIR (default /tmp/gtsphere-ao-eval), GTSPHERE (default target/release/gtsphere),
 #                TACHYON (default tachyon), SIZE (default 384), REACH (default 4)
 # Prints one line per method: scene, method, seconds (wall, one run), RMSE and largest error
@@ -31,7 +31,7 @@ render() {  # scene name options...
     python3 -c "print('%.2f' % ($t1 - $t0))"
 }
 
-for s in ${*:-pymol random}; do
+for s in ${*:-pymol random fcc}; do
     python3 "$ROOT/benches/ao/scenes.py" "$s" "$DIR/$s.wrl" "$DIR/$s.dat" --size "$SIZE"
     t=$(render "$s" exact)
     echo "$s | exact | $t |"
@@ -58,7 +58,7 @@ for s in ${*:-pymol random}; do
 done
 
 # the page's pictures: exact AO, then the heat maps of sum, voxel, directions 64, Tachyon 256
-for s in ${*:-pymol random}; do
+for s in ${*:-pymol random fcc}; do
     python3 "$ROOT/benches/ao/montage.py" "$DIR/$s-montage.png" "$DIR/$s-exact.npy" \
         "$DIR/$s-sum-error.png" "$DIR/$s-voxel-error.png" "$DIR/$s-dir64-error.png" \
         "$DIR/$s-tachyon256-error.png"
