@@ -12,7 +12,7 @@ Only the Python 3 standard library.
   atoms as Transform/Sphere nodes, a rod along x about 21 across). gtsphere reads the file
   itself, through an Inline in a small VRML file that adds the camera (a Viewpoint named
   "eval", chosen with --viewpoint); Tachyon gets the translations and radii read from it.
-- random: random sequential addition of unit spheres in a cube 50.2 across with no two
+- random: random sequential addition of unit spheres in a cube 65.4 across with no two
   overlapping (a volume fraction of 0.30; such packings jam at 0.38); Python's
   random.Random(1).
 - fcc: 20 x 20 x 20 cubic cells of side 2 sqrt 2 (nearest neighbours 2 apart), radius 0.98,
