@@ -8,7 +8,7 @@ Tachyon scene file (.dat) with the same spheres and camera.
 
 Only the Python 3 standard library.
 
-- pymol: /work/shared/corpus/tools/pymol/pymol_peptide800_spheres.wrl (PyMOL 3, 12 960
+- pymol: the corpus's tools/pymol/pymol_peptide800_spheres.wrl (PyMOL 3, 12 960
   atoms as Transform/Sphere nodes, a rod along x about 21 across). gtsphere reads the file
   itself, through an Inline in a small VRML file that adds the camera (a Viewpoint named
   "eval", chosen with --viewpoint); Tachyon gets the translations and radii read from it.
@@ -33,7 +33,12 @@ import os
 import random
 import re
 
-PYMOL = "/work/shared/corpus/tools/pymol/pymol_peptide800_spheres.wrl"
+# The VRML corpus beside the checkout (as the tests find it), or $GTSPHERE_CORPUS.
+CORPUS = os.environ.get(
+    "GTSPHERE_CORPUS",
+    os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "shared", "corpus"),
+)
+PYMOL = os.path.join(CORPUS, "tools", "pymol", "pymol_peptide800_spheres.wrl")
 
 
 def num(v):
