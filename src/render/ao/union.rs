@@ -229,9 +229,10 @@ pub fn covered_fraction(n: DVec3, caps: &[Cap], w: Weighting, s: &mut UnionScrat
                         s.cutters.push(j as u32);
                     }
                 }
-                // Above the horizon, a cap circle is whole.
+                // Inside another cap, a circle is hidden; inside the horizon's (wholly above
+                // it), a cap circle is whole.
                 Meets::Inside => hidden |= j > 0,
-                // Below it, a cap circle is gone.
+                // Outside the horizon's cap (wholly below it), a cap circle is gone.
                 Meets::Outside => hidden |= j == 0,
                 Meets::Same if i == 0 => owned = true,
                 // The first of two equal circles is the boundary.
