@@ -60,24 +60,13 @@ pub fn run(args: &OcclusionArgs) -> Result<ExitCode, Error> {
             args.tol
         )));
     }
-    let reach = args.ao_reach.unwrap_or(f64::INFINITY);
-    if reach.is_nan() || reach <= 0.0 {
-        return Err(bad(format!(
-            "--ao-reach must be a positive distance (got {reach})"
-        )));
-    }
+    let reach = crate::render::ao::reach_of(args.ao_reach).map_err(bad)?;
     let weighting = args.ao_weighting.weighting();
-    let threads = match args.threads {
-        Some(0) => return Err(bad("--threads must be at least 1".into())),
-        Some(asked) => {
-            let (n, warning) = crate::threads::cap("--threads", asked);
-            if let Some(w) = warning {
-                say(w);
-            }
-            n
-        }
-        None => 0,
-    };
+    let (threads, warning) = crate::threads::option(args.threads)?;
+    if let Some(w) = warning {
+        say(w);
+    }
+    let threads = threads.unwrap_or(0);
     // The table's format is checked before the work.
     match args.output.extension().and_then(|e| e.to_str()) {
         Some(e) if e.eq_ignore_ascii_case("csv") || e.eq_ignore_ascii_case("npy") => {}

@@ -250,16 +250,7 @@ pub fn options(args: &RenderArgs, out: &Path) -> Result<Plan, Error> {
             )));
         }
     }
-    if args.threads == Some(0) {
-        return Err(bad("--threads must be at least 1".into()));
-    }
-    let (threads, threads_warning) = match args.threads {
-        Some(asked) => {
-            let (n, warning) = crate::threads::cap("--threads", asked);
-            (Some(n), warning)
-        }
-        None => (None, None),
-    };
+    let (threads, threads_warning) = crate::threads::option(args.threads)?;
     let aovs = Aovs {
         depth: args.aov.contains(&AovArg::Depth),
         normal: args.aov.contains(&AovArg::Normal),

@@ -288,11 +288,8 @@ impl RenderOptions {
         if let Integrator::Ao(ao) = self.integrator {
             ao::methods::check(&ao).map_err(invalid)?;
         }
-        if self.aovs.ao && (self.ao.reach.is_nan() || self.ao.reach <= 0.0) {
-            return Err(invalid(format!(
-                "reach = {}: the AO reach must be positive (or infinite)",
-                self.ao.reach
-            )));
+        if self.aovs.ao {
+            ao::check_reach(self.ao.reach).map_err(invalid)?;
         }
         self.check_memory(threads, limits::available_memory())
             .map_err(invalid)

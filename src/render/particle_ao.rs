@@ -220,11 +220,7 @@ pub fn particles_ao(
             "tol = {tol}: the tolerance must be positive and finite"
         )));
     }
-    if reach.is_nan() || reach <= 0.0 {
-        return Err(Error::Invalid(format!(
-            "reach = {reach}: the AO reach must be positive (or infinite)"
-        )));
-    }
+    super::ao::check_reach(reach).map_err(Error::Invalid)?;
     let prims: HashMap<[u64; 4], u32> = (0..prep.bvh.len() as u32)
         .map(|i| {
             let p = prep.bvh.prim(i);

@@ -221,12 +221,8 @@ fn centre_hit(
                 surface::Opaque::Surface(i) => (view.spheres + i as usize) as i64,
             };
             let ao = if opts.aovs.ao {
-                let own = match hit.on {
-                    surface::Opaque::Sphere(prim) => Some(prim),
-                    surface::Opaque::Surface(_) => None,
-                };
                 let reach = (opts.ao.reach, opts.ao.weighting);
-                super::ao::unoccluded(view, sp.x, sp.n, own, reach, ao_scratch)
+                super::ao::unoccluded(view, sp.x, sp.n, hit.on.sphere(), reach, ao_scratch)
             } else {
                 0.0
             };

@@ -17,6 +17,16 @@ pub enum Opaque {
     Surface(u32),
 }
 
+impl Opaque {
+    /// The sphere primitive the hit is on, if it is on one.
+    pub fn sphere(self) -> Option<u32> {
+        match self {
+            Opaque::Sphere(prim) => Some(prim),
+            Opaque::Surface(_) => None,
+        }
+    }
+}
+
 /// Visibility from `x` towards a light at unit direction `l`, distance `dist` (infinite for a
 /// directional light). `own` is what `x` lies on, if anything: its own shadow is exact
 /// from the sign of `N.L` (a sphere, a solid or a triangle is convex), so the caller decides

@@ -42,6 +42,17 @@ impl WeightingArg {
     }
 }
 
+/// The distance `--ao-reach` gives (infinite when not given), refused unless positive.
+pub fn reach_of(ao_reach: Option<f64>) -> Result<f64, String> {
+    match ao_reach {
+        Some(d) if d.is_nan() || d <= 0.0 => {
+            Err(format!("--ao-reach must be a positive distance (got {d})"))
+        }
+        Some(d) => Ok(d),
+        None => Ok(f64::INFINITY),
+    }
+}
+
 /// The options of `--integrator ao`.
 #[derive(Debug, Args)]
 pub struct AoArgs {
@@ -103,11 +114,7 @@ impl AoArgs {
 
     /// The settings of `--integrator ao`.
     pub fn settings(&self) -> Result<AoSettings, String> {
-        if let Some(d) = self.ao_reach {
-            if d.is_nan() || d <= 0.0 {
-                return Err(format!("--ao-reach must be a positive distance (got {d})"));
-            }
-        }
+        let reach = reach_of(self.ao_reach)?;
         let method = self.ao_method.unwrap_or(AoMethodArg::Exact);
         if self.ao_samples.is_some() && method != AoMethodArg::Mc {
             return Err("--ao-samples is only for --ao-method mc".into());
@@ -139,7 +146,7 @@ impl AoArgs {
             AoMethodArg::Voxel => AoMethod::VOXEL,
         };
         Ok(AoSettings {
-            reach: self.ao_reach.unwrap_or(f64::INFINITY),
+            reach,
             weighting: self
                 .ao_weighting
                 .map_or(Weighting::Cosine, WeightingArg::weighting),

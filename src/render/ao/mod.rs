@@ -24,7 +24,6 @@ use glam::DVec3;
 use super::integrators::surface::{material_of, surface_point, OpaqueHit};
 use super::integrators::Estimate;
 use super::sampler::Rng;
-use super::visibility::Opaque;
 use super::{Counters, Prepared, View};
 use crate::accel::SphereBvh;
 use cap::{blocked_by_ball, Blocked, Cap};
@@ -75,6 +74,16 @@ const NEAR_RADII: f64 = 4.0;
 
 /// More caps than this are pruned by the sky before their union is measured.
 const PRUNE: usize = 16;
+
+/// Refuses a reach that is not a positive distance (infinite is any distance).
+pub(crate) fn check_reach(reach: f64) -> Result<(), String> {
+    if reach.is_nan() || reach <= 0.0 {
+        return Err(format!(
+            "reach = {reach}: the AO reach must be positive (or infinite)"
+        ));
+    }
+    Ok(())
+}
 
 /// The unoccluded fraction at `x` on a surface of unit normal `n`: one minus the fraction of
 /// the hemisphere about `n`, weighted by `w`, covered by the opaque spheres of `prep` within
@@ -208,10 +217,7 @@ pub(crate) fn radiance_of_hit(
         };
     };
     let sp = surface_point(view, o, d, hit);
-    let own = match hit.on {
-        Opaque::Sphere(prim) => Some(prim),
-        Opaque::Surface(_) => None,
-    };
+    let own = hit.on.sphere();
     let (v, error) = match ao.method {
         AoMethod::Exact => {
             let reach = (ao.reach, ao.weighting);

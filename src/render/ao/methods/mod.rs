@@ -93,12 +93,7 @@ pub struct MethodScratch {
 /// and `voxel` are cosine-weighted by construction (a form factor; cones about the normal),
 /// so they refuse the uniform weighting.
 pub fn check(ao: &AoSettings) -> Result<(), String> {
-    if ao.reach.is_nan() || ao.reach <= 0.0 {
-        return Err(format!(
-            "reach = {}: the AO reach must be positive (or infinite)",
-            ao.reach
-        ));
-    }
+    super::check_reach(ao.reach)?;
     match ao.method {
         AoMethod::Exact => {}
         AoMethod::Mc { samples } => {
