@@ -8,8 +8,9 @@ use std::io::Write as _;
 use std::path::PathBuf;
 use std::sync::Once;
 
+use glam::DVec3;
 use gtsphere::render::{self, Camera, Film, PrepareOptions, Prepared, RenderOptions, View};
-use gtsphere::scene::Scene;
+use gtsphere::scene::{Material, Scene, Surface, SurfaceShape, Triangle};
 // load_str goes through the streaming reader (1 MiB chunks), as files do.
 use gtsphere::vrml::{load_str, LoadOptions, LoadReport};
 
@@ -195,4 +196,33 @@ pub fn generated_page(page: &str, have: &str, want: &str, write: impl FnOnce(), 
         have.lines().nth(first).unwrap_or("(end of page)"),
         want.lines().nth(first).unwrap_or("(end of page)"),
     );
+}
+
+/// `copies` copies of one triangle in front of a sphere (ids after the sphere's).
+pub fn triangles(copies: usize) -> Scene {
+    let mut scene = Scene::default();
+    scene.add_sphere(DVec3::new(0.0, 0.0, -2.0), 1.0, &Material::default());
+    let paint = scene.materials.add(&Material {
+        diffuse: DVec3::new(0.1, 0.7, 0.2),
+        ..Material::default()
+    });
+    let t = Triangle {
+        p: [
+            DVec3::new(-1.0, -1.0, 0.0),
+            DVec3::new(1.0, -1.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.5),
+        ],
+        n: None,
+        color: None,
+        solid: false,
+    };
+    for _ in 0..copies {
+        scene.surfaces.push(Surface {
+            shape: SurfaceShape::Triangle(Box::new(t)),
+            color: paint.color,
+            material: paint.material,
+            origin: Default::default(),
+        });
+    }
+    scene
 }

@@ -362,39 +362,11 @@ impl Traced {
 
 #[cfg(test)]
 mod tests {
-    use glam::DVec3;
-
-    use super::*;
-    use crate::scene::{Material, Scene, SurfaceShape, Triangle};
-
     /// 50 000 copies of one triangle (same shape, colour and material) in front of a sphere:
     /// one primitive in the surfaces' BVH, every copy keeping its index.
     #[test]
     fn copies_of_a_triangle_are_traced_once() {
-        let mut scene = Scene::default();
-        scene.add_sphere(DVec3::new(0.0, 0.0, -2.0), 1.0, &Material::default());
-        let paint = scene.materials.add(&Material {
-            diffuse: DVec3::new(0.1, 0.7, 0.2),
-            ..Material::default()
-        });
-        let t = Triangle {
-            p: [
-                DVec3::new(-1.0, -1.0, 0.0),
-                DVec3::new(1.0, -1.0, 0.0),
-                DVec3::new(0.0, 1.0, 0.5),
-            ],
-            n: None,
-            color: None,
-            solid: false,
-        };
-        for _ in 0..50_000 {
-            scene.surfaces.push(Surface {
-                shape: SurfaceShape::Triangle(Box::new(t)),
-                color: paint.color,
-                material: paint.material,
-                origin: Default::default(),
-            });
-        }
+        let scene = crate::testing::triangles(50_000);
         let prep = crate::testing::prepare(scene);
         assert_eq!(prep.surfaces.bvh.len(), 1);
     }

@@ -3,7 +3,9 @@
 
 use glam::DVec3;
 use gtsphere::render::{self, Aovs, RenderOptions};
-use gtsphere::scene::{Material, Scene, Surface, SurfaceShape, Triangle};
+use gtsphere::scene::{Material, Scene};
+
+use crate::support::triangles;
 
 fn scene(copies: usize, transparency: f64) -> Scene {
     let mut scene = Scene::default();
@@ -73,35 +75,6 @@ fn coincident_gas_adds_up() {
         light(&two),
         light(&one)
     );
-}
-
-/// `copies` copies of one triangle in front of a sphere (ids after the sphere's).
-fn triangles(copies: usize) -> Scene {
-    let mut scene = Scene::default();
-    scene.add_sphere(DVec3::new(0.0, 0.0, -2.0), 1.0, &Material::default());
-    let paint = scene.materials.add(&Material {
-        diffuse: DVec3::new(0.1, 0.7, 0.2),
-        ..Material::default()
-    });
-    let t = Triangle {
-        p: [
-            DVec3::new(-1.0, -1.0, 0.0),
-            DVec3::new(1.0, -1.0, 0.0),
-            DVec3::new(0.0, 1.0, 0.5),
-        ],
-        n: None,
-        color: None,
-        solid: false,
-    };
-    for _ in 0..copies {
-        scene.surfaces.push(Surface {
-            shape: SurfaceShape::Triangle(Box::new(t)),
-            color: paint.color,
-            material: paint.material,
-            origin: Default::default(),
-        });
-    }
-    scene
 }
 
 /// (That the copies are one primitive in the surfaces' BVH: `render::surfaces`' unit tests.)
