@@ -1,7 +1,8 @@
 //! Helpers shared by the library's unit tests and the integration tests (`tests/it/`, whose
 //! `support` module is this same file): scenes loaded from text, prepared and rendered, the
 //! shared corpus, scratch folders, generated pages of docs/, and `Rng`, the one deterministic
-//! generator. Built only under `cargo test`. The library is named `gtsphere` here, as the
+//! generator, and a few shapes and scenes both kinds of test build. Built only under
+//! `cargo test`. The library is named `gtsphere` here, as the
 //! integration tests name it, so the file compiles in both.
 
 use std::io::Write as _;
@@ -225,4 +226,38 @@ pub fn triangles(copies: usize) -> Scene {
         });
     }
     scene
+}
+
+/// The 12 vertices of an icosahedron (cyclic permutations of (0, +-1, +-phi)), unit radius.
+pub fn icosahedron() -> Vec<DVec3> {
+    let phi = (1.0 + 5f64.sqrt()) / 2.0;
+    let mut v = Vec::new();
+    for a in [-1.0, 1.0] {
+        for b in [-phi, phi] {
+            v.push(DVec3::new(0.0, a, b));
+            v.push(DVec3::new(a, b, 0.0));
+            v.push(DVec3::new(b, 0.0, a));
+        }
+    }
+    v.into_iter().map(|p| p.normalize()).collect()
+}
+
+/// A unit UV sphere: both poles and `rings` latitudes of `seg` points up to `max_theta`.
+pub fn uv_sphere(rings: usize, seg: usize, max_theta: f64) -> Vec<DVec3> {
+    let mut v = vec![DVec3::Z];
+    for i in 1..=rings {
+        let th = max_theta * i as f64 / (rings + 1) as f64;
+        for j in 0..seg {
+            let ph = std::f64::consts::TAU * j as f64 / seg as f64;
+            v.push(DVec3::new(
+                th.sin() * ph.cos(),
+                th.sin() * ph.sin(),
+                th.cos(),
+            ));
+        }
+    }
+    if max_theta >= std::f64::consts::PI {
+        v.push(-DVec3::Z);
+    }
+    v
 }

@@ -6,41 +6,7 @@ use glam::DVec3;
 use gtsphere::render::{RenderOptions, SamplerKind};
 use gtsphere::vrml::{load_path, LoadOptions, LoadReport};
 
-use crate::support::{close, scene};
-
-/// The 12 vertices of an icosahedron (cyclic permutations of (0, +-1, +-phi)), unit radius.
-fn icosahedron() -> Vec<DVec3> {
-    let phi = (1.0 + 5f64.sqrt()) / 2.0;
-    let mut v = Vec::new();
-    for a in [-1.0, 1.0] {
-        for b in [-phi, phi] {
-            v.push(DVec3::new(0.0, a, b));
-            v.push(DVec3::new(a, b, 0.0));
-            v.push(DVec3::new(b, 0.0, a));
-        }
-    }
-    v.into_iter().map(|p| p.normalize()).collect()
-}
-
-/// A unit UV sphere: both poles and `rings` latitudes of `seg` points up to `max_theta`.
-fn uv_sphere(rings: usize, seg: usize, max_theta: f64) -> Vec<DVec3> {
-    let mut v = vec![DVec3::Z];
-    for i in 1..=rings {
-        let th = max_theta * i as f64 / (rings + 1) as f64;
-        for j in 0..seg {
-            let ph = std::f64::consts::TAU * j as f64 / seg as f64;
-            v.push(DVec3::new(
-                th.sin() * ph.cos(),
-                th.sin() * ph.sin(),
-                th.cos(),
-            ));
-        }
-    }
-    if max_theta >= std::f64::consts::PI {
-        v.push(-DVec3::Z);
-    }
-    v
-}
+use crate::support::{close, icosahedron, scene, uv_sphere};
 
 /// `point [...]` of `pts` moved to `c` and scaled by `r`, with full precision.
 fn points(pts: &[DVec3], c: DVec3, r: f64) -> String {
