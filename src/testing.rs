@@ -2,8 +2,8 @@
 //! `support` module is this same file): scenes loaded from text, prepared and rendered, the
 //! shared corpus, scratch folders, generated pages of docs/, and `Rng`, the one deterministic
 //! generator, and a few shapes and scenes both kinds of test build. Built only under
-//! `cargo test`. The library is named `gtsphere` here, as the
-//! integration tests name it, so the file compiles in both.
+//! `cargo test`. The library is named `gtsphere` here, as the integration tests name it, so
+//! the file compiles in both.
 
 use std::io::Write as _;
 use std::path::PathBuf;
