@@ -261,3 +261,25 @@ pub fn uv_sphere(rings: usize, seg: usize, max_theta: f64) -> Vec<DVec3> {
     }
     v
 }
+
+/// GasParticle as `convert` and the VRML writer declare it.
+pub const GAS_PARTICLE_PROTO: &str = "PROTO GasParticle [
+  field SFVec3f position 0 0 0
+  field SFFloat radius 1
+  field SFColor color 0.8 0.8 0.8
+  field SFColor emission 0 0 0
+  field SFFloat transparency 0.5
+  field SFString profile \"constant\"
+  field SFFloat width 0.3333333333333333
+] {
+  Transform {
+    translation IS position
+    children Shape {
+      appearance Appearance {
+        material Material { diffuseColor IS color emissiveColor IS emission transparency IS transparency }
+      }
+      geometry Sphere { radius IS radius }
+    }
+  }
+}
+";

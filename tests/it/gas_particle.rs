@@ -9,29 +9,10 @@ use gtsphere::vrml::{load_str, LoadOptions};
 
 use crate::support;
 
-/// The PROTO as `convert` and the VRML writer declare it (the writer adds the other Material
-/// fields).
-const PROTO: &str = "#VRML V2.0 utf8
-PROTO GasParticle [
-  field SFVec3f position 0 0 0
-  field SFFloat radius 1
-  field SFColor color 0.8 0.8 0.8
-  field SFColor emission 0 0 0
-  field SFFloat transparency 0.5
-  field SFString profile \"constant\"
-  field SFFloat width 0.3333333333333333
-] {
-  Transform {
-    translation IS position
-    children Shape {
-      appearance Appearance {
-        material Material { diffuseColor IS color emissiveColor IS emission transparency IS transparency }
-      }
-      geometry Sphere { radius IS radius }
-    }
-  }
+/// The PROTO as `convert` and the VRML writer declare it, in a file of its own.
+fn proto() -> String {
+    format!("#VRML V2.0 utf8\n{}", support::GAS_PARTICLE_PROTO)
 }
-";
 
 fn profiles(scene: &Scene) -> Vec<Profile> {
     scene
@@ -43,8 +24,9 @@ fn profiles(scene: &Scene) -> Vec<Profile> {
 
 #[test]
 fn each_instance_gives_its_spheres_its_profile() {
+    let proto = proto();
     let text = format!(
-        "{PROTO}GasParticle {{ }}
+        "{proto}GasParticle {{ }}
 GasParticle {{ profile \"linear\" transparency 0.25 }}
 GasParticle {{ profile \"quadratic\" position 1 0 0 }}
 GasParticle {{ profile \"gaussian\" }}
@@ -87,6 +69,7 @@ Shape {{ appearance Appearance {{ material Material {{ transparency 0.5 }} }} ge
 
 #[test]
 fn bad_names_and_widths_are_errors_at_the_field() {
+    let proto = proto();
     let cases = [
         (
             "GasParticle { profile \"fuzzy\" }",
@@ -102,11 +85,11 @@ fn bad_names_and_widths_are_errors_at_the_field() {
         ),
     ];
     for (instance, want) in cases {
-        let e = support::error_of(&format!("{PROTO}{instance}\n"));
+        let e = support::error_of(&format!("{proto}{instance}\n"));
         assert!(e.starts_with(want), "{instance}:\n{e}\nwanted {want}");
     }
     // A default the PROTO declares is checked where it is declared, when an instance uses it.
-    let bad_default = PROTO.replace("profile \"constant\"", "profile \"cloudy\"");
+    let bad_default = proto.replace("profile \"constant\"", "profile \"cloudy\"");
     let e = support::error_of(&format!("{bad_default}GasParticle {{ }}\n"));
     assert!(
         e.starts_with("test.wrl:8:3: GasParticle: unknown density profile `cloudy`"),
@@ -116,8 +99,9 @@ fn bad_names_and_widths_are_errors_at_the_field() {
 
 #[test]
 fn a_width_for_another_profile_is_a_warning() {
+    let proto = proto();
     let (scene, report) = support::load(&format!(
-        "{PROTO}GasParticle {{ profile \"linear\" width 0.5 }}\n"
+        "{proto}GasParticle {{ profile \"linear\" width 0.5 }}\n"
     ));
     assert_eq!(profiles(&scene), [Profile::Linear]);
     assert_eq!(report.warnings.len(), 1);
@@ -132,10 +116,11 @@ fn a_width_for_another_profile_is_a_warning() {
 
 #[test]
 fn only_the_name_and_signature_are_recognised() {
+    let proto = proto();
     // Another name, or a GasParticle whose profile is not an SFString field: constant gas.
     for text in [
-        PROTO.replace("GasParticle", "Blob") + "Blob { profile \"linear\" }\n",
-        PROTO.replace("SFString profile \"constant\"", "SFFloat profile 1")
+        proto.replace("GasParticle", "Blob") + "Blob { profile \"linear\" }\n",
+        proto.replace("SFString profile \"constant\"", "SFFloat profile 1")
             + "GasParticle { profile 2 }\n",
     ] {
         let (scene, _) = support::load(&text);

@@ -1,10 +1,10 @@
 //! `prepare` gives the gas of `GasParticle` instances and of plain Materials their profile
 //! and centre density, in the BVH's primitives.
 
-use crate::render::integrators::tests::profiled_reference::GAS_PARTICLE_PROTO;
 use crate::render::{self, PrepareOptions};
 use crate::scene::Profile;
 use crate::testing as support;
+use crate::testing::GAS_PARTICLE_PROTO;
 
 /// `prepare` gives each gas primitive its material's profile and the extinction at its centre
 /// that keeps `transparency` the transmittance along a diameter (docs/model.md section 6,

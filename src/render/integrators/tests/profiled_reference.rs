@@ -134,28 +134,6 @@ pub fn plain(b: &Ball) -> gas_reference::Ball {
     }
 }
 
-/// GasParticle as `convert` and the VRML writer declare it.
-pub const GAS_PARTICLE_PROTO: &str = "PROTO GasParticle [
-  field SFVec3f position 0 0 0
-  field SFFloat radius 1
-  field SFColor color 0.8 0.8 0.8
-  field SFColor emission 0 0 0
-  field SFFloat transparency 0.5
-  field SFString profile \"constant\"
-  field SFFloat width 0.3333333333333333
-] {
-  Transform {
-    translation IS position
-    children Shape {
-      appearance Appearance {
-        material Material { diffuseColor IS color emissiveColor IS emission transparency IS transparency }
-      }
-      geometry Sphere { radius IS radius }
-    }
-  }
-}
-";
-
 /// The scene as VRML (headlight off, no Viewpoint: the tests trace their own rays): gas
 /// spheres as GasParticle instances (every profile, constant included), opaque spheres and
 /// lights as `gas_reference::vrml` writes them. Numbers are written in full (`{:e}` is the
@@ -163,7 +141,7 @@ pub const GAS_PARTICLE_PROTO: &str = "PROTO GasParticle [
 pub fn vrml(balls: &[Ball], lamps: &[Lamp]) -> String {
     // NavigationInfo and the lights, exactly as gas_reference writes them.
     let mut s = gas_reference::vrml(&[], lamps);
-    s.push_str(GAS_PARTICLE_PROTO);
+    s.push_str(crate::testing::GAS_PARTICLE_PROTO);
     let v = |p: DVec3| format!("{:e} {:e} {:e}", p.x, p.y, p.z);
     for b in balls {
         match b.gas {
