@@ -9,12 +9,13 @@ use std::time::Instant;
 use glam::{DAffine3, DVec3, Vec3A};
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
+use obvhs::cwbvh::node::CwBvhNode;
 use obvhs::BvhBuildParams;
 use rayon::prelude::*;
 
 use super::{
-    Chunk, Packed, PaddedBox, Prim, SphereBvh, FRAME_FLOOR, MAX_CHUNKS, MIN_CHUNK, OUTLIER_CHUNKS,
-    PAD_ULPS,
+    Chunk, Packed, PaddedBox, Prim, SphereBvh, FRAME_FLOOR, MAX_CHUNKS, MAX_PIECES, MIN_CHUNK,
+    OUTLIER_CHUNKS, PAD_ULPS, PIECE,
 };
 use crate::scene::{EllipsoidId, Profile};
 
@@ -50,12 +51,18 @@ fn permute_in_place<T: Copy>(v: &mut [T], order: &[u32]) {
 }
 
 /// Orders `prims` by the Morton code (21 bits per axis) of their centres in the box `lo..hi`
-/// as far as the chunks need, and returns the chunks to cut that order into (see
-/// [`chunk_ranges`]). Within a run of at most `per_chunk` the order is left as it is: a run
-/// is one Morton cell, which [`chunk_ranges`] never splits, and each chunk's PLOC build sorts
-/// its primitives by its own Morton codes anyway. (Sorting on down to single cells was 7 % of
-/// a whole `render` of 1e6 spheres, 2026-12-03; one 8-bit pass is enough for even scenes.)
-fn morton_sort(prims: &mut [Packed], lo: DVec3, hi: DVec3, per_chunk: usize) -> Vec<Range<usize>> {
+/// as far as the chunks and their pieces need, and returns the chunks to cut that order into
+/// (see [`chunk_ranges`]), each with its pieces (see [`piece_ranges`]). Within a run of at
+/// most `piece` the order is left as it is: a run is one Morton cell, which the cuts never
+/// split, and each piece's PLOC build sorts its primitives by its own Morton codes anyway.
+/// (Sorting on down to single cells was 7 % of a whole `render` of 1e6 spheres,
+/// 2026-12-03; one 8-bit pass is enough for even scenes.)
+fn morton_sort(
+    prims: &mut [Packed],
+    lo: DVec3,
+    hi: DVec3,
+    (per_chunk, piece): (usize, usize),
+) -> Vec<(Range<usize>, Vec<Range<usize>>)> {
     fn spread(mut x: u64) -> u64 {
         x &= 0x1f_ffff;
         x = (x | x << 32) & 0x1f_0000_0000_ffff;
@@ -72,7 +79,42 @@ fn morton_sort(prims: &mut [Packed], lo: DVec3, hi: DVec3, per_chunk: usize) -> 
             spread(q.x as u64) | spread(q.y as u64) << 1 | spread(q.z as u64) << 2
         })
         .collect();
-    sort_and_cut(prims, &mut codes, per_chunk)
+    let chunks = sort_and_cut(prims, &mut codes, per_chunk);
+    // Each chunk sorted on as far as its pieces need, side by side.
+    let mut parts = Vec::with_capacity(chunks.len());
+    let (mut p, mut c) = (&mut prims[..], &mut codes[..]);
+    for range in &chunks {
+        let (ph, pt) = p.split_at_mut(range.len());
+        let (ch, ct) = c.split_at_mut(range.len());
+        parts.push((range.clone(), ph, ch));
+        (p, c) = (pt, ct);
+    }
+    parts
+        .into_par_iter()
+        .map(|(range, p, c)| {
+            let piece = piece.max(range.len().div_ceil(MAX_PIECES));
+            if range.len() > piece {
+                radix_sort(p, c, 56, piece);
+            }
+            (range, piece_ranges(c, piece))
+        })
+        .collect()
+}
+
+/// Cuts a chunk's sorted Morton codes into at most [`MAX_PIECES`] runs of at most `piece`, at
+/// Morton cell boundaries where possible (as [`chunk_ranges`] cuts chunks), else at fixed
+/// counts.
+fn piece_ranges(codes: &[u64], piece: usize) -> Vec<Range<usize>> {
+    let cells = cells(codes, piece);
+    if cells.len() <= MAX_PIECES {
+        return cells;
+    }
+    let n = codes.len();
+    let per = n.div_ceil(MAX_PIECES);
+    (0..n)
+        .step_by(per)
+        .map(|at| at..(at + per).min(n))
+        .collect()
 }
 
 /// [`radix_sort`] as far as [`chunk_ranges`] needs, then the chunks: the same as a full sort
@@ -179,33 +221,41 @@ fn chunk_ranges(codes: &[u64], per_chunk: usize) -> Vec<Range<usize>> {
 
 /// [`chunk_ranges`] at cell boundaries, or `None` when that gives more than [`MAX_CHUNKS`].
 fn cell_ranges(codes: &[u64], per_chunk: usize) -> Option<Vec<Range<usize>>> {
-    fn split(codes: &[u64], base: usize, bit: i32, per_chunk: usize, out: &mut Vec<Range<usize>>) {
-        if codes.len() <= per_chunk {
+    let merged = cells(codes, per_chunk);
+    (merged.len() <= MAX_CHUNKS).then_some(merged)
+}
+
+/// Sorted Morton codes cut at cell boundaries into runs of at most `per`: the order is split
+/// at its octree cells (halving one axis per code bit) until each piece fits, and
+/// neighbouring pieces are then merged while they fit.
+fn cells(codes: &[u64], per: usize) -> Vec<Range<usize>> {
+    fn split(codes: &[u64], base: usize, bit: i32, per: usize, out: &mut Vec<Range<usize>>) {
+        if codes.len() <= per {
             if !codes.is_empty() {
                 out.push(base..base + codes.len());
             }
         } else if bit < 0 {
             // Equal codes (coincident centres): fixed counts.
-            for at in (0..codes.len()).step_by(per_chunk) {
-                out.push(base + at..base + (at + per_chunk).min(codes.len()));
+            for at in (0..codes.len()).step_by(per) {
+                out.push(base + at..base + (at + per).min(codes.len()));
             }
         } else {
             // Within a cell the higher bits are equal, so `bit` is sorted: zeros first.
             let m = codes.partition_point(|c| c >> bit & 1 == 0);
-            split(&codes[..m], base, bit - 1, per_chunk, out);
-            split(&codes[m..], base + m, bit - 1, per_chunk, out);
+            split(&codes[..m], base, bit - 1, per, out);
+            split(&codes[m..], base + m, bit - 1, per, out);
         }
     }
     let mut pieces = Vec::new();
-    split(codes, 0, 62, per_chunk, &mut pieces);
+    split(codes, 0, 62, per, &mut pieces);
     let mut merged: Vec<Range<usize>> = Vec::new();
     for p in pieces {
         match merged.last_mut() {
-            Some(last) if p.end - last.start <= per_chunk => last.end = p.end,
+            Some(last) if p.end - last.start <= per => last.end = p.end,
             _ => merged.push(p),
         }
     }
-    (merged.len() <= MAX_CHUNKS).then_some(merged)
+    merged
 }
 
 /// World-space f64 box of a primitive.
@@ -283,12 +333,17 @@ fn split_outliers(
 impl SphereBvh {
     /// Builds the BVH. `ellipsoids` are the unit-sphere-to-world maps of `Scene::ellipsoids`.
     pub fn build(prims: Vec<Prim>, ellipsoids: &[DAffine3]) -> SphereBvh {
-        Self::build_chunked(prims, ellipsoids, MIN_CHUNK)
+        Self::build_chunked(prims, ellipsoids, (MIN_CHUNK, PIECE))
     }
 
-    /// [`SphereBvh::build`] with a chosen chunk size (at least `len / MAX_CHUNKS`); tests use
-    /// it to exercise many chunks on small scenes.
-    pub fn build_chunked(prims: Vec<Prim>, ellipsoids: &[DAffine3], per_chunk: usize) -> SphereBvh {
+    /// [`SphereBvh::build`] with a chosen chunk size (at least `len / MAX_CHUNKS`) and piece
+    /// size (at least a chunk's size over [`MAX_PIECES`]); tests use it to exercise many
+    /// chunks and pieces on small scenes.
+    pub fn build_chunked(
+        prims: Vec<Prim>,
+        ellipsoids: &[DAffine3],
+        sizes: (usize, usize),
+    ) -> SphereBvh {
         let packed = prims
             .iter()
             .enumerate()
@@ -308,7 +363,7 @@ impl SphereBvh {
             let p = &prims[q.sphere as usize];
             (p.ellipsoid, p.sigma, p.profile)
         };
-        let mut bvh = Self::build_packed_chunked(packed, ellipsoids, per_chunk, &side, profiled);
+        let mut bvh = Self::build_packed_chunked(packed, ellipsoids, sizes, &side, profiled);
         for q in &mut bvh.packed {
             q.sphere = prims[q.sphere as usize].sphere;
         }
@@ -326,17 +381,18 @@ impl SphereBvh {
         side: &Side<'_>,
         profiled: bool,
     ) -> SphereBvh {
-        Self::build_packed_chunked(packed, ellipsoids, MIN_CHUNK, side, profiled)
+        Self::build_packed_chunked(packed, ellipsoids, (MIN_CHUNK, PIECE), side, profiled)
     }
 
     fn build_packed_chunked(
         prims: Vec<Packed>,
         ellipsoids: &[DAffine3],
-        per_chunk: usize,
+        (per_chunk, piece): (usize, usize),
         side: &Side<'_>,
         profiled: bool,
     ) -> SphereBvh {
         let per_chunk = per_chunk.max(prims.len().div_ceil(MAX_CHUNKS)).max(1);
+        let piece = piece.max(1);
         let to_world = |p: &Packed| {
             if p.is_ellipsoid() {
                 side(p).0.map(|e| &ellipsoids[e.index()])
@@ -377,28 +433,39 @@ impl SphereBvh {
             blo = blo.min(p.center);
             bhi = bhi.max(p.center);
         }
-        let mut ranges = morton_sort(&mut prims[..bulk], blo, bhi, per_chunk);
-        ranges.extend(tails);
-        // The chunks are disjoint runs of `prims`, built side by side (each alone, so the
-        // result does not depend on the number of threads; each build's temporary peak is
-        // paid once per thread at work).
-        let mut parts = Vec::with_capacity(ranges.len());
-        let mut rest = &mut prims[..];
-        for range in &ranges {
-            let (part, tail) = rest.split_at_mut(range.len());
-            parts.push((range.start, part));
-            rest = tail;
-        }
-        let chunks: Vec<Chunk> = parts
-            .into_par_iter()
-            .map(|(base, part)| {
+        let mut chunks = morton_sort(&mut prims[..bulk], blo, bhi, (per_chunk, piece));
+        chunks.extend(tails.into_iter().map(|r| (r.clone(), vec![0..r.len()])));
+        // Each chunk's f32 frame, from its f64 box.
+        let frames: Vec<((DVec3, f64, f64), DVec3, DVec3)> = chunks
+            .par_iter()
+            .map(|(range, _)| {
                 let (mut clo, mut chi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-                for p in part.iter() {
+                for p in &prims[range.clone()] {
                     let (a, b) = boxes_of(p);
                     clo = clo.min(a);
                     chi = chi.max(b);
                 }
                 let (origin, scale, pad) = frame(clo, chi, floor);
+                ((origin, scale, pad), clo - pad * 2.0, chi + pad * 2.0)
+            })
+            .collect();
+        // The pieces are disjoint runs of `prims`, built side by side (each alone, so the
+        // result does not depend on the number of threads; each build's temporary peak is
+        // paid once per thread at work), each in its chunk's frame.
+        let mut parts = Vec::new();
+        let mut rest = &mut prims[..];
+        for (c, (range, pieces)) in chunks.iter().enumerate() {
+            for piece in pieces {
+                let (part, tail) = rest.split_at_mut(piece.len());
+                parts.push((c, piece.start as u32, part));
+                rest = tail;
+            }
+            debug_assert_eq!(pieces.last().map(|p| p.end), Some(range.len()));
+        }
+        let built: Vec<(usize, u32, Vec<CwBvhNode>, usize)> = parts
+            .into_par_iter()
+            .map(|(c, first, part)| {
+                let (origin, scale, pad) = frames[c].0;
                 let pad32 = (pad * scale) as f32;
                 let boxes: Vec<PaddedBox> = part
                     .iter()
@@ -428,37 +495,41 @@ impl SphereBvh {
                 let (mut bvh, depth) = super::wide::collapse(&bvh2, params.max_prims_per_leaf);
                 drop(bvh2);
                 // Leaf order: the traversal reports positions in `primitive_indices`, so the
-                // chunk's spheres are permuted into that order in place and the list is freed.
+                // piece's spheres are permuted into that order in place and the list is freed.
                 permute_in_place(part, &bvh.primitive_indices);
                 bvh.primitive_indices = Vec::new();
-                // (A chunk holds at most 2^17 or a sixteenth of the primitives, fewer than 2^32.)
-                debug_assert!(part.len() <= super::node8::MAX_CHUNK_PRIMS);
                 bvh.nodes.shrink_to_fit();
-                let frame = (origin, scale, pad);
-                (
-                    bvh.nodes,
-                    depth,
-                    base as u32,
-                    frame,
-                    clo - pad * 2.0,
-                    chi + pad * 2.0,
-                )
+                (c, first, bvh.nodes, depth)
             })
-            .collect::<Vec<_>>()
-            // Decoded once every chunk is built (the decoded nodes are 2.8 times the
-            // compressed ones), each chunk's compressed nodes freed as it is done: the peak
-            // stays the build's, not the build's plus the decoded trees.
+            .collect();
+        // Decoded once every piece is built (the decoded nodes are 2.8 times the compressed
+        // ones), each chunk's compressed nodes freed as it is done: the peak stays the
+        // build's, not the build's plus the decoded trees.
+        let mut by_chunk: Vec<(Vec<(u32, Vec<CwBvhNode>)>, usize)> =
+            (0..chunks.len()).map(|_| (Vec::new(), 0)).collect();
+        for (c, first, nodes, depth) in built {
+            by_chunk[c].0.push((first, nodes));
+            by_chunk[c].1 = by_chunk[c].1.max(depth);
+        }
+        let chunks: Vec<Chunk> = by_chunk
             .into_par_iter()
+            .zip(chunks.into_par_iter().zip(frames))
             .map(
-                |(compressed, depth, base, (origin, scale, pad), lo, hi)| Chunk {
-                    nodes: super::node8::decode(&compressed),
-                    depth,
-                    base,
-                    origin,
-                    scale,
-                    pad,
-                    lo,
-                    hi,
+                |((pieces, depth), ((range, _), ((origin, scale, pad), lo, hi)))| {
+                    // (A chunk holds at most 2^17 or a sixteenth of the primitives, fewer than 2^32.)
+                    debug_assert!(range.len() <= super::node8::MAX_CHUNK_PRIMS);
+                    let (nodes, joined) = super::node8::join(&pieces);
+                    drop(pieces);
+                    Chunk {
+                        nodes,
+                        depth: depth + joined,
+                        base: range.start as u32,
+                        origin,
+                        scale,
+                        pad,
+                        lo,
+                        hi,
+                    }
                 },
             )
             .collect();

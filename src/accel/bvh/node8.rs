@@ -64,40 +64,79 @@ pub(super) fn leaf_range(r: u32) -> Option<std::ops::Range<u32>> {
 }
 
 /// The decoded nodes of a CWBVH, node for node (same indices, root first).
+#[cfg(test)]
 pub(super) fn decode(nodes: &[CwBvhNode]) -> Vec<Node8> {
-    nodes
-        .iter()
-        .map(|n| {
-            let mut out = Node8 {
-                lo: [[f32::INFINITY; 8]; 3],
-                hi: [[f32::NEG_INFINITY; 8]; 3],
-                child: [0; 8],
-            };
-            for i in 0..8 {
-                let meta = n.child_meta[i];
-                if meta == 0 {
-                    continue;
-                }
-                let b = n.child_aabb(i);
-                for a in 0..3 {
-                    out.lo[a][i] = -next_up(-b.min[a]);
-                    out.hi[a][i] = next_up(b.max[a]);
-                }
-                out.child[i] = if (n.imask >> i) & 1 != 0 {
-                    // Inner children are stored in slot order from `child_base_idx`.
-                    n.child_base_idx + (u32::from(n.imask) & ((1 << i) - 1)).count_ones()
-                } else {
-                    // A leaf's meta: its primitive count in unary in the top three bits, its
-                    // offset from `primitive_base_idx` in the low five.
-                    let count = u32::from(meta >> 5).count_ones();
-                    let first = n.primitive_base_idx + u32::from(meta & 0x1f);
-                    debug_assert!((1..=3).contains(&count) && first <= FIRST);
-                    LEAF | (count - 1) << 29 | first
-                };
+    let mut out = Vec::with_capacity(nodes.len());
+    decode_into(nodes, 0, &mut out);
+    out
+}
+
+/// Appends the decoded nodes of a CWBVH to `out`, node for node, its node indices moved by
+/// where it starts in `out` and its primitive indices by `first` (where its primitives start
+/// in the chunk).
+fn decode_into(nodes: &[CwBvhNode], first: u32, out: &mut Vec<Node8>) {
+    let base = out.len() as u32;
+    out.extend(nodes.iter().map(|n| {
+        let mut out = Node8 {
+            lo: [[f32::INFINITY; 8]; 3],
+            hi: [[f32::NEG_INFINITY; 8]; 3],
+            child: [0; 8],
+        };
+        for i in 0..8 {
+            let meta = n.child_meta[i];
+            if meta == 0 {
+                continue;
             }
-            out
-        })
-        .collect()
+            let b = n.child_aabb(i);
+            for a in 0..3 {
+                out.lo[a][i] = -next_up(-b.min[a]);
+                out.hi[a][i] = next_up(b.max[a]);
+            }
+            out.child[i] = if (n.imask >> i) & 1 != 0 {
+                // Inner children are stored in slot order from `child_base_idx`.
+                base + n.child_base_idx + (u32::from(n.imask) & ((1 << i) - 1)).count_ones()
+            } else {
+                // A leaf's meta: its primitive count in unary in the top three bits, its
+                // offset from `primitive_base_idx` in the low five.
+                let count = u32::from(meta >> 5).count_ones();
+                let at = first + n.primitive_base_idx + u32::from(meta & 0x1f);
+                debug_assert!((1..=3).contains(&count) && at <= FIRST);
+                LEAF | (count - 1) << 29 | at
+            };
+        }
+        out
+    }));
+}
+
+/// The nodes of a chunk whose primitives were built into trees in pieces: each piece's
+/// CWBVH, with the index in the chunk of its first primitive. One piece is decoded as it is;
+/// several are decoded one after another under a new root whose children are their roots
+/// (at most eight pieces). Returns the nodes and the depth added (0 or 1).
+pub(super) fn join(pieces: &[(u32, Vec<CwBvhNode>)]) -> (Vec<Node8>, usize) {
+    debug_assert!(pieces.len() <= 8);
+    let total: usize = pieces.iter().map(|(_, p)| p.len()).sum();
+    let mut out = Vec::with_capacity(total + usize::from(pieces.len() > 1));
+    if let [(first, nodes)] = pieces {
+        decode_into(nodes, *first, &mut out);
+        return (out, 0);
+    }
+    out.push(Node8 {
+        lo: [[f32::INFINITY; 8]; 3],
+        hi: [[f32::NEG_INFINITY; 8]; 3],
+        child: [0; 8],
+    });
+    for (lane, (first, nodes)) in pieces.iter().enumerate() {
+        let at = out.len();
+        decode_into(nodes, *first, &mut out);
+        // The piece's root box: the union of its children's (each already rounded outward).
+        let root = out[at];
+        for a in 0..3 {
+            out[0].lo[a][lane] = root.lo[a].iter().copied().fold(f32::INFINITY, f32::min);
+            out[0].hi[a][lane] = root.hi[a].iter().copied().fold(f32::NEG_INFINITY, f32::max);
+        }
+        out[0].child[lane] = at as u32;
+    }
+    (out, 1)
 }
 
 /// The least f32 above `x` (`f32::next_up`, which needs Rust 1.86).
@@ -393,9 +432,31 @@ mod tests {
     fn walks_reach_every_box_the_ray_meets() {
         let mut rng = Rng::new(42);
         let (mut met, mut rays) = (0, 0);
-        for boxes in trees(&mut rng) {
-            let (cw, depth) = collapse(&bvh2(&boxes), 3);
-            let nodes = decode(&cw.nodes);
+        for (boxes, pieces) in trees(&mut rng)
+            .into_iter()
+            .flat_map(|b| [(b.clone(), 1), (b, 5)])
+        {
+            // The tree of all the boxes, or of five runs of them joined under one root; the
+            // primitive each leaf index stands for.
+            let n = boxes.len();
+            let (nodes, depth, prim_of) = if pieces == 1 || n < pieces {
+                let (cw, depth) = collapse(&bvh2(&boxes), 3);
+                let prim_of: Vec<usize> =
+                    cw.primitive_indices.iter().map(|&i| i as usize).collect();
+                (decode(&cw.nodes), depth, prim_of)
+            } else {
+                let (mut parts, mut prim_of, mut depth) = (Vec::new(), Vec::new(), 0);
+                for k in 0..pieces {
+                    let r = k * n / pieces..(k + 1) * n / pieces;
+                    let (cw, d) = collapse(&bvh2(&boxes[r.clone()]), 3);
+                    prim_of.extend(cw.primitive_indices.iter().map(|&i| r.start + i as usize));
+                    parts.push((r.start as u32, cw.nodes));
+                    depth = depth.max(d);
+                }
+                let (nodes, joined) = join(&parts);
+                assert_eq!(joined, 1);
+                (nodes, depth + joined, prim_of)
+            };
             let (lo, hi) = boxes.iter().fold(
                 (Vec3A::splat(f32::INFINITY), Vec3A::splat(f32::NEG_INFINITY)),
                 |(lo, hi), b| (lo.min(b.min), hi.max(b.max)),
@@ -440,7 +501,7 @@ mod tests {
                     (bl.cmple(bh).all() && t0 <= t1).then_some(t0)
                 };
                 let want: Vec<Option<f64>> = (0..boxes.len())
-                    .map(|p| entry(&boxes[cw.primitive_indices[p] as usize]))
+                    .map(|p| entry(&boxes[prim_of[p]]))
                     .collect();
                 met += want.iter().flatten().count();
                 for ordered in [false, true] {

@@ -54,9 +54,11 @@ fn check_scene(seed: u64, n: usize, offset: DVec3, extent: f64, r_lo: f64, r_hi:
     let ps = prims(&mut rng, n, offset, extent, r_lo, r_hi);
     // One chunk; a few; as many as allowed (a chunk per n / 16 spheres).
     let one = SphereBvh::build(ps.clone(), &[]);
-    let few = SphereBvh::build_chunked(ps.clone(), &[], n / 5);
-    let many = SphereBvh::build_chunked(ps.clone(), &[], 1);
-    for bvh in [&one, &few, &many] {
+    let few = SphereBvh::build_chunked(ps.clone(), &[], (n / 5, n / 5));
+    let many = SphereBvh::build_chunked(ps.clone(), &[], (1, 1));
+    // A few chunks, each built in pieces (as many as allowed) joined under one root.
+    let pieces = SphereBvh::build_chunked(ps.clone(), &[], (n / 3, 1));
+    for bvh in [&one, &few, &many, &pieces] {
         check_rays(seed, &ps, bvh, offset, extent, &mut rng);
         check_packets(seed, &ps, bvh, offset, extent, &mut rng);
         check_regions(&ps, bvh, offset, extent, &mut rng);

@@ -1,4 +1,6 @@
-use super::{chunk_ranges, permute_in_place, radix_sort, sort_and_cut, MAX_CHUNKS};
+use super::{
+    chunk_ranges, permute_in_place, piece_ranges, radix_sort, sort_and_cut, MAX_CHUNKS, MAX_PIECES,
+};
 use crate::accel::bvh::Packed;
 use crate::testing::Rng;
 use glam::DVec3;
@@ -158,6 +160,45 @@ fn chunks_follow_morton_cells_and_cover_everything() {
     // Equal codes: fixed counts.
     let keys = vec![(5u64, 0u32); 100];
     assert_eq!(chunk_ranges(&codes_of(&keys), 30).len(), 4);
+}
+
+/// A chunk's pieces: a contiguous cover of the chunk in at most [`MAX_PIECES`] runs, each
+/// within the size asked where the cells allow it, on Morton cells when they fit.
+#[test]
+fn pieces_cover_a_chunk_in_at_most_eight_runs() {
+    let mut rng = Rng::new(8);
+    for (n, piece) in [
+        (1, 1),
+        (9, 1),
+        (1000, 125),
+        (1000, 40),
+        (5000, 700),
+        (64, 1000),
+    ] {
+        let mut codes = random_codes(&mut rng, n, 0);
+        codes.sort_unstable();
+        let ranges = piece_ranges(&codes, piece);
+        assert!(
+            !ranges.is_empty() && ranges.len() <= MAX_PIECES,
+            "{n} {piece}"
+        );
+        let mut at = 0;
+        for r in &ranges {
+            assert_eq!(r.start, at);
+            assert!(r.end > r.start);
+            at = r.end;
+        }
+        assert_eq!(at, n);
+        if n.div_ceil(piece) <= MAX_PIECES / 2 {
+            assert!(
+                ranges.iter().all(|r| r.len() <= piece),
+                "{n} {piece} {ranges:?}"
+            );
+        }
+    }
+    // Equal codes: fixed counts.
+    assert_eq!(piece_ranges(&[3; 100], 30).len(), 4);
+    assert_eq!(piece_ranges(&[3; 100], 5).len(), MAX_PIECES);
 }
 
 #[test]
