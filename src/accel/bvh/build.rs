@@ -330,6 +330,44 @@ fn split_outliers(
     k
 }
 
+/// Builds the tree of one piece (a run of a chunk's primitives) in the chunk's f32 frame
+/// `(origin, scale, pad)`, permutes the run into the tree's leaf order, and returns the
+/// compressed tree and its depth.
+fn build_piece(
+    run: &mut [Packed],
+    (origin, scale, pad): (DVec3, f64, f64),
+    boxes_of: &(impl Fn(&Packed) -> (DVec3, DVec3) + Sync),
+) -> (Vec<CwBvhNode>, usize) {
+    let pad32 = (pad * scale) as f32;
+    let boxes: Vec<PaddedBox> = run
+        .iter()
+        .map(|p| {
+            let (a, b) = boxes_of(p);
+            let a = ((a - origin) * scale).as_vec3a() - Vec3A::splat(pad32);
+            let b = ((b - origin) * scale).as_vec3a() + Vec3A::splat(pad32);
+            PaddedBox(Aabb::new(a, b))
+        })
+        .collect();
+    // obvhs's build_cwbvh, step by step: its debug-build validation asserts a depth below 32,
+    // which degenerate sets (concentric spheres) exceed; our walks size their stacks by
+    // `Chunk::depth` instead.
+    // obvhs's very fast preset (PLOC's smallest search radius, little reinsertion): measured
+    // 2026-12-02 against `fast_build`, builds 13 % faster at 1e7 spheres and traces `bench
+    // trace`'s rays 7 % faster (camera rays 2.71 against 2.35 M/s/core), the same pictures.
+    let params = BvhBuildParams::very_fast_build();
+    let mut bvh2 = clusters::build(&boxes, &params);
+    ReinsertionOptimizer::default().run(&mut bvh2, params.reinsertion_batch_ratio, None);
+    // The boxes are in the BVH2 now: free them before the conversion's peak.
+    drop(boxes);
+    let (mut bvh, depth) = super::wide::collapse(&bvh2, params.max_prims_per_leaf);
+    drop(bvh2);
+    // Leaf order: the traversal reports positions in `primitive_indices`, so the piece's
+    // spheres are permuted into that order in place and the list is freed.
+    permute_in_place(run, &bvh.primitive_indices);
+    bvh.nodes.shrink_to_fit();
+    (bvh.nodes, depth)
+}
+
 impl SphereBvh {
     /// Builds the BVH. `ellipsoids` are the unit-sphere-to-world maps of `Scene::ellipsoids`.
     pub fn build(prims: Vec<Prim>, ellipsoids: &[DAffine3]) -> SphereBvh {
@@ -434,7 +472,10 @@ impl SphereBvh {
             bhi = bhi.max(p.center);
         }
         let mut chunks = morton_sort(&mut prims[..bulk], blo, bhi, (per_chunk, piece));
-        chunks.extend(tails.into_iter().map(|r| (r.clone(), vec![0..r.len()])));
+        chunks.extend(tails.into_iter().map(|r| {
+            let whole = std::iter::once(0..r.len()).collect();
+            (r, whole)
+        }));
         // Each chunk's f32 frame, from its f64 box.
         let frames: Vec<((DVec3, f64, f64), DVec3, DVec3)> = chunks
             .par_iter()
@@ -449,89 +490,57 @@ impl SphereBvh {
                 ((origin, scale, pad), clo - pad * 2.0, chi + pad * 2.0)
             })
             .collect();
-        // The pieces are disjoint runs of `prims`, built side by side (each alone, so the
-        // result does not depend on the number of threads; each build's temporary peak is
-        // paid once per thread at work), each in its chunk's frame.
-        let mut parts = Vec::new();
+        // The chunks, and the pieces in each, are disjoint runs of `prims`, built side by side
+        // (each alone, so the result does not depend on the number of threads; each build's
+        // temporary peak is paid once per thread at work), each piece in its chunk's frame.
+        let mut parts = Vec::with_capacity(chunks.len());
         let mut rest = &mut prims[..];
-        for (c, (range, pieces)) in chunks.iter().enumerate() {
-            for piece in pieces {
-                let (part, tail) = rest.split_at_mut(piece.len());
-                parts.push((c, piece.start as u32, part));
-                rest = tail;
-            }
-            debug_assert_eq!(pieces.last().map(|p| p.end), Some(range.len()));
+        for ((range, pieces), frame) in chunks.into_iter().zip(frames) {
+            let (part, tail) = rest.split_at_mut(range.len());
+            parts.push((range, pieces, frame, part));
+            rest = tail;
         }
-        let built: Vec<(usize, u32, Vec<CwBvhNode>, usize)> = parts
+        let chunks: Vec<Chunk> = parts
             .into_par_iter()
-            .map(|(c, first, part)| {
-                let (origin, scale, pad) = frames[c].0;
-                let pad32 = (pad * scale) as f32;
-                let boxes: Vec<PaddedBox> = part
-                    .iter()
-                    .map(|p| {
-                        let (a, b) = boxes_of(p);
-                        let a = ((a - origin) * scale).as_vec3a() - Vec3A::splat(pad32);
-                        let b = ((b - origin) * scale).as_vec3a() + Vec3A::splat(pad32);
-                        PaddedBox(Aabb::new(a, b))
+            .map(|(range, pieces, ((origin, scale, pad), lo, hi), part)| {
+                let mut runs = Vec::with_capacity(pieces.len());
+                let mut rest = part;
+                for piece in &pieces {
+                    let (run, tail) = rest.split_at_mut(piece.len());
+                    runs.push((piece.start as u32, run));
+                    rest = tail;
+                }
+                let built: Vec<(u32, Vec<CwBvhNode>, usize)> = runs
+                    .into_par_iter()
+                    .map(|(first, run)| {
+                        let (nodes, depth) = build_piece(run, (origin, scale, pad), &boxes_of);
+                        (first, nodes, depth)
                     })
                     .collect();
-                // obvhs's build_cwbvh, step by step: its debug-build validation asserts a
-                // depth below 32, which degenerate sets (concentric spheres) exceed; our
-                // walks size their stacks by `Chunk::depth` instead.
-                // obvhs's very fast preset (PLOC's smallest search radius, little
-                // reinsertion): measured 2026-12-02 against `fast_build`, builds 13 % faster at
-                // 1e7 spheres and traces `bench trace`'s rays 7 % faster (camera rays 2.71
-                // against 2.35 M/s/core), the same pictures.
-                let params = BvhBuildParams::very_fast_build();
-                let mut bvh2 = clusters::build(&boxes, &params);
-                ReinsertionOptimizer::default().run(
-                    &mut bvh2,
-                    params.reinsertion_batch_ratio,
-                    None,
-                );
-                // The boxes are in the BVH2 now: free them before the conversion's peak.
-                drop(boxes);
-                let (mut bvh, depth) = super::wide::collapse(&bvh2, params.max_prims_per_leaf);
-                drop(bvh2);
-                // Leaf order: the traversal reports positions in `primitive_indices`, so the
-                // piece's spheres are permuted into that order in place and the list is freed.
-                permute_in_place(part, &bvh.primitive_indices);
-                bvh.primitive_indices = Vec::new();
-                bvh.nodes.shrink_to_fit();
-                (c, first, bvh.nodes, depth)
+                // Decoded as soon as the chunk's pieces are built (the decoded nodes are 2.8
+                // times the compressed ones), and the compressed nodes freed: the peak is
+                // the finished trees plus the pieces under way, not plus every compressed
+                // tree.
+                let depth = built.iter().map(|b| b.2).max().unwrap_or(0);
+                let pieces: Vec<(u32, Vec<CwBvhNode>)> = built
+                    .into_iter()
+                    .map(|(first, nodes, _)| (first, nodes))
+                    .collect();
+                // (A chunk holds at most 2^17 or a sixteenth of the primitives, fewer than 2^32.)
+                debug_assert!(range.len() <= super::node8::MAX_CHUNK_PRIMS);
+                let (nodes, joined) = super::node8::join(&pieces);
+                drop(pieces);
+                Chunk {
+                    nodes,
+                    depth: depth + joined,
+                    base: range.start as u32,
+                    origin,
+                    scale,
+                    pad,
+                    lo,
+                    hi,
+                }
             })
-            .collect();
-        // Decoded once every piece is built (the decoded nodes are 2.8 times the compressed
-        // ones), each chunk's compressed nodes freed as it is done: the peak stays the
-        // build's, not the build's plus the decoded trees.
-        let mut by_chunk: Vec<(Vec<(u32, Vec<CwBvhNode>)>, usize)> =
-            (0..chunks.len()).map(|_| (Vec::new(), 0)).collect();
-        for (c, first, nodes, depth) in built {
-            by_chunk[c].0.push((first, nodes));
-            by_chunk[c].1 = by_chunk[c].1.max(depth);
-        }
-        let chunks: Vec<Chunk> = by_chunk
-            .into_par_iter()
-            .zip(chunks.into_par_iter().zip(frames))
-            .map(
-                |((pieces, depth), ((range, _), ((origin, scale, pad), lo, hi)))| {
-                    // (A chunk holds at most 2^17 or a sixteenth of the primitives, fewer than 2^32.)
-                    debug_assert!(range.len() <= super::node8::MAX_CHUNK_PRIMS);
-                    let (nodes, joined) = super::node8::join(&pieces);
-                    drop(pieces);
-                    Chunk {
-                        nodes,
-                        depth: depth + joined,
-                        base: range.start as u32,
-                        origin,
-                        scale,
-                        pad,
-                        lo,
-                        hi,
-                    }
-                },
-            )
             .collect();
         // The scene's box: the union of the chunks' padded boxes.
         let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);

@@ -44,8 +44,7 @@
 //! spheres are therefore sorted in Morton order and cut, at Morton cell boundaries where
 //! possible, into at most [`MAX_CHUNKS`] spatially compact chunks (besides the outliers'),
 //! each with its own tree and frame, so
-//! that the build's peak is paid for one chunk at a time (and the trees are decoded only
-//! once every chunk is built).
+//! that the build's peak is paid for one chunk at a time.
 //! A ray visits the chunks its f64 box test reaches, nearest first, and stops at the first
 //! chunk that starts beyond its closest hit. Sixteen chunks at most: measured 2026-12-05 at
 //! 1e7 spheres (`bench trace --spheres 10000000 --size 512 --threads 1`), 32 chunks lower
@@ -54,15 +53,17 @@
 //!
 //! Why pieces. A chunk of more than [`PIECE`] spheres (a scene of more than two million) is
 //! cut, at Morton cells, into at most [`MAX_PIECES`] pieces, each built on its own in the
-//! chunk's frame, and the pieces' trees are joined under one new root: the build's temporary
-//! memory is then a piece's, while a ray still visits at most sixteen chunks and pays one
-//! more node per chunk. Measured 2026-12-05 at 1e7 spheres with a colour each (`render
-//! FILE --spp 1 --width 512 --height 512 --threads 2` on `bench parse --layout continuous`'s
-//! file, runs alternating with the build without pieces): peak 761-816 MB against 875-966
-//! MB, the BVH build 4.8 s against 5.5 s on a quiet machine, the same picture; `bench trace
-//! --spheres 10000000 --size 512 --runs 1 --threads 2`, two runs each: build 4.4-4.6 s
-//! against 5.0-5.2 s, camera rays 2.47-2.49 against 2.40-2.44 Mrays/s/core, shadow rays
-//! 2.85-2.89 against 2.58-2.81.
+//! chunk's frame, and the pieces' trees are joined under one new root as soon as the last
+//! is built (then decoded, and their compressed form freed): the build's temporary memory
+//! is then a piece's, while a ray still visits at most sixteen chunks and pays one more node
+//! per chunk. Measured 2026-12-05 on particles with a colour each (`render FILE --spp 1
+//! --width 512 --height 512 --threads 2` on `bench parse --layout continuous`'s file at
+//! 1e7 and `bench scale`'s at 1e8, runs alternating with the build of whole chunks decoded
+//! at the end, the same pictures): at 1e7 a peak of 761-798 MB against 875-966 MB and the
+//! BVH build 4.8 s against 5.5 s on a quiet machine; at 1e8 7.67 GB against 8.34 GB.
+//! `bench trace --spheres 10000000 --size 512 --runs 1 --threads 2`, two runs each: build
+//! 4.4-4.6 s against 5.0-5.2 s, camera rays 2.47-2.49 against 2.40-2.44 Mrays/s/core,
+//! shadow rays 2.85-2.89 against 2.58-2.81.
 //!
 //! Why the ray entry points are compiled twice. The build must run on any x86-64, whose
 //! baseline (SSE2) has no 8-wide vectors, no fused multiply-add and no `popcnt` or `tzcnt`.
