@@ -5,11 +5,9 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use clap::Args;
-use glam::DVec3;
-
 use gtsphere::error::Error;
 use gtsphere::output::write_table;
-use gtsphere::render::particle_ao::particles_ao;
+use gtsphere::render::particle_ao::{check_tol, particles_ao};
 use gtsphere::render::{prepare, PrepareOptions};
 use gtsphere::vrml::LoadOptions;
 
@@ -54,12 +52,9 @@ pub fn run(args: &OcclusionArgs) -> Result<ExitCode, Error> {
         }
     };
     let bad = |m: String| Error::Other(m);
-    if !(args.tol > 0.0 && args.tol < 1.0) {
-        return Err(bad(format!(
-            "--tol must be between 0 and 1 (got {})",
-            args.tol
-        )));
-    }
+    // The library's rule, in the command line's words.
+    check_tol(args.tol)
+        .map_err(|_| bad(format!("--tol must be between 0 and 1 (got {})", args.tol)))?;
     let reach = crate::render::ao::reach_of(args.ao_reach).map_err(bad)?;
     let weighting = args.ao_weighting.weighting();
     let (threads, warning) = crate::threads::option(args.threads)?;
@@ -82,7 +77,6 @@ pub fn run(args: &OcclusionArgs) -> Result<ExitCode, Error> {
         ..LoadOptions::default()
     };
     let (scene, _) = args.geometry.load(&args.scene, load, say)?;
-    let spheres: Vec<(DVec3, f64)> = scene.spheres.iter().map(|s| (s.center, s.radius)).collect();
     let in_scene = |e: Error| Error::Other(format!("{}: {e}", args.scene.display()));
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -93,7 +87,7 @@ pub fn run(args: &OcclusionArgs) -> Result<ExitCode, Error> {
         .map_err(in_scene)?;
     say(format!(
         "{} spheres; mean AO over each surface to {:e}, reach {}",
-        spheres.len(),
+        prep.spheres,
         args.tol,
         if reach.is_finite() {
             format!("{reach}")
@@ -110,8 +104,10 @@ pub fn run(args: &OcclusionArgs) -> Result<ExitCode, Error> {
         },
     );
     let ao = pool
-        .install(|| particles_ao(&prep, &spheres, (reach, weighting), args.tol, &bar))
+        .install(|| particles_ao(&prep, (reach, weighting), args.tol, &bar))
         .map_err(in_scene)?;
+    // The spheres in the scene's order, as the means are.
+    let spheres = prep.scene_spheres();
     let rows: Vec<Vec<f64>> = spheres
         .iter()
         .zip(&ao)

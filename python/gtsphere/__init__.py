@@ -14,7 +14,7 @@ form or to a stated tolerance, with an honest per-pixel error estimate.
 
 Names: Scene (from_arrays, add_point_light, add_directional_light), load, Camera
 (look_at, frame, from_scene), render -> Film (rgb, alpha, error, depth, normal, id),
-save, compare, and the exceptions Error, ParseError (file:line:col) and the warning
+occlusion (each sphere's ambient occlusion), save, compare, and the exceptions Error, ParseError (file:line:col) and the warning
 category SceneWarning. Bad values raise ValueError naming the array, index and value.
 """
 
@@ -28,6 +28,7 @@ from ._native import (
     __version__,
     compare,
     load,
+    occlusion,
     render,
     save,
 )
@@ -42,6 +43,7 @@ __all__ = [
     "__version__",
     "compare",
     "load",
+    "occlusion",
     "render",
     "save",
 ]

@@ -20,6 +20,7 @@ __all__ = [
     "Film",
     "load",
     "render",
+    "occlusion",
     "save",
     "compare",
     "__version__",
@@ -95,6 +96,9 @@ class Scene:
     def bounds(self) -> Optional[_Bounds]: ...
     @property
     def spheres(self) -> int: ...
+    def sphere_arrays(
+        self,
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
     @property
     def gas_spheres(self) -> int: ...
     @property
@@ -204,6 +208,15 @@ def render(
     ao_samples: int = 16,
     ao_directions: int = 64,
 ) -> Film: ...
+def occlusion(
+    scene: Scene,
+    *,
+    ao_reach: Optional[float] = None,
+    ao_weighting: _Weighting = "cosine",
+    tol: float = 1e-3,
+    threads: Optional[int] = None,
+    progress: Optional[Callable[[int, int], object]] = None,
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
 def save(image: Union[Film, _ArrayLike], path: _Path) -> None: ...
 def compare(
     image: Union[Film, _ArrayLike, _Path], reference: Union[Film, _ArrayLike, _Path]

@@ -1,7 +1,8 @@
 //! Arguments as arrays: any array-like becomes a C-contiguous float64 numpy array (numpy's
 //! `asarray` copies only when the dtype or layout differs), whose shape is then checked.
+//! Results as arrays: a numpy array takes the library's vector.
 
-use numpy::{PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -77,4 +78,14 @@ pub fn vec3(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<glam::DVec3> {
             v.len()
         ))),
     }
+}
+
+/// A numpy array of `data` with `shape`, taking the vector (no copy).
+pub fn array<'py, T: numpy::Element>(
+    py: Python<'py>,
+    data: Vec<T>,
+    shape: &[usize],
+) -> PyResult<Py<PyAny>> {
+    let a = PyArray1::from_vec(py, data);
+    Ok(a.reshape(shape)?.into_any().unbind())
 }

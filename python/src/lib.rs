@@ -6,8 +6,10 @@
 mod arrays;
 mod camera;
 mod files;
+mod occlusion;
 mod render;
 mod scene;
+mod work;
 
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyFileNotFoundError, PyOSError, PyValueError};
@@ -75,6 +77,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<render::Film>()?;
     m.add_function(wrap_pyfunction!(scene::load, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
+    m.add_function(wrap_pyfunction!(occlusion::occlusion, m)?)?;
     m.add_function(wrap_pyfunction!(files::save, m)?)?;
     m.add_function(wrap_pyfunction!(files::compare, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

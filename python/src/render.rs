@@ -1,19 +1,14 @@
 //! `gtsphere.render` and `gtsphere.Film`: a render on worker threads with the GIL released,
-//! while the calling thread watches for Ctrl-C and reports progress.
-
-use std::sync::atomic::{AtomicU64, Ordering};
-use std::time::Duration;
+//! while the calling thread watches for Ctrl-C and reports progress ([`crate::work`]).
 
 use gtsphere::render::ao::methods::{MAX_DIRECTIONS, MAX_SAMPLES};
 use gtsphere::render::ao::{AoMethod, AoSettings, Weighting};
-use gtsphere::render::{
-    self as lib, limits, Aovs, Cancel, Integrator, Progress, RenderOptions, SamplerKind,
-};
-use numpy::{PyArray1, PyArrayMethods};
+use gtsphere::render::{self as lib, Aovs, Integrator, RenderOptions, SamplerKind};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::arrays::array;
 use crate::camera::Camera;
 use crate::scene::Scene;
 use crate::to_py;
@@ -91,16 +86,6 @@ impl Film {
             .map_err(to_py)?;
         Ok(pyo3::types::PyBytes::new(py, &bytes))
     }
-}
-
-/// A numpy array of `data` with `shape`, taking the vector (no copy).
-fn array<'py, T: numpy::Element>(
-    py: Python<'py>,
-    data: Vec<T>,
-    shape: &[usize],
-) -> PyResult<Py<PyAny>> {
-    let a = PyArray1::from_vec(py, data);
-    Ok(a.reshape(shape)?.into_any().unbind())
 }
 
 impl Film {
@@ -199,26 +184,6 @@ impl Film {
     }
 }
 
-/// Tiles done, for the progress callback, and the cancel flag.
-#[derive(Default)]
-struct Watch {
-    done: AtomicU64,
-    total: AtomicU64,
-    cancel: Cancel,
-}
-
-impl Progress for Watch {
-    fn start(&self, tiles: u64) {
-        self.total.store(tiles, Ordering::Relaxed);
-    }
-    fn tile_done(&self) {
-        self.done.fetch_add(1, Ordering::Relaxed);
-    }
-    fn cancelled(&self) -> bool {
-        self.cancel.is_cancelled()
-    }
-}
-
 fn integrator_of(name: &str, step: Option<f64>, ao: AoSettings) -> PyResult<Integrator> {
     match (name, step) {
         ("exact", None) => Ok(Integrator::Exact),
@@ -237,6 +202,28 @@ fn integrator_of(name: &str, step: Option<f64>, ao: AoSettings) -> PyResult<Inte
     }
 }
 
+/// The `ao_reach` keyword: a distance in world units, None for any distance.
+pub fn reach_of(reach: Option<f64>) -> PyResult<f64> {
+    let reach = reach.unwrap_or(f64::INFINITY);
+    if reach.is_nan() || reach <= 0.0 {
+        return Err(PyValueError::new_err(format!(
+            "ao_reach = {reach:?}: must be a positive distance (or None: any distance)"
+        )));
+    }
+    Ok(reach)
+}
+
+/// The `ao_weighting` keyword.
+pub fn weighting_of(weighting: &str) -> PyResult<Weighting> {
+    match weighting {
+        "cosine" => Ok(Weighting::Cosine),
+        "uniform" => Ok(Weighting::Uniform),
+        other => Err(PyValueError::new_err(format!(
+            "ao_weighting = {other:?}: must be \"cosine\" or \"uniform\""
+        ))),
+    }
+}
+
 /// The AO settings of `render`'s keywords (checked whatever the integrator, so that a typo
 /// is not silently ignored).
 fn ao_of(
@@ -245,21 +232,8 @@ fn ao_of(
     colours: bool,
     (method, samples, directions): (&str, u32, u32),
 ) -> PyResult<AoSettings> {
-    let reach = reach.unwrap_or(f64::INFINITY);
-    if reach.is_nan() || reach <= 0.0 {
-        return Err(PyValueError::new_err(format!(
-            "ao_reach = {reach:?}: must be a positive distance (or None: any distance)"
-        )));
-    }
-    let weighting = match weighting {
-        "cosine" => Weighting::Cosine,
-        "uniform" => Weighting::Uniform,
-        other => {
-            return Err(PyValueError::new_err(format!(
-                "ao_weighting = {other:?}: must be \"cosine\" or \"uniform\""
-            )))
-        }
-    };
+    let reach = reach_of(reach)?;
+    let weighting = weighting_of(weighting)?;
     let method = match method {
         "exact" => AoMethod::Exact,
         "mc" if (1..=MAX_SAMPLES).contains(&samples) => AoMethod::Mc { samples },
@@ -394,23 +368,7 @@ pub fn render(
         headlight_shadows,
         ao,
     };
-    if threads == Some(0) {
-        return Err(PyValueError::new_err("threads must be at least 1"));
-    }
-    // More threads than a few per core only share the cores: at most limits::max_threads,
-    // with a RuntimeWarning when that lowers `threads`.
-    let threads = match threads {
-        Some(asked) => {
-            let (n, why) = limits::capped_threads(asked);
-            if let Some(w) = why {
-                let warn = py.import("warnings")?;
-                let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
-                warn.call_method1("warn", (format!("threads={asked} {w}"), &category, 1))?;
-            }
-            Some(n)
-        }
-        None => None,
-    };
+    let pool = crate::work::pool(py, threads)?;
     // The render shares the prepared scene, not the Python object: a change to the scene
     // meanwhile (from another thread) meets Scene::prepared_mut's error, which says why,
     // rather than pyo3's "Already borrowed".
@@ -420,67 +378,14 @@ pub fn render(
         Some(c) => c.inner,
         None => prepared.default_camera(width, height).map_err(to_py)?,
     };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads.unwrap_or(0))
-        .build()
-        .map_err(|e| crate::Error::new_err(format!("cannot start worker threads: {e}")))?;
     // Validates the options and the camera before the render starts; the lights' grids are
     // built here, on the pool and without the GIL.
     let view = py
         .detach(|| pool.install(|| prepared.view(&camera, &opts)))
         .map_err(to_py)?;
-    let watch = Watch::default();
-    let mut reported = u64::MAX;
-    // The render runs on the pool; this thread wakes every 50 ms, takes the GIL to let
-    // Python run its signal handlers (Ctrl-C) and the progress callback, and cancels the
-    // render if either raised.
-    let (result, interrupted) = py.detach(|| {
-        let waiting = std::thread::current();
-        std::thread::scope(|s| {
-            let job = s.spawn(|| {
-                let r = pool.install(|| lib::render_view(&view, &opts, &watch));
-                waiting.unpark(); // return at once, not at the next 50 ms tick
-                r
-            });
-            let mut interrupted: Option<PyErr> = None;
-            loop {
-                let finished = job.is_finished();
-                if interrupted.is_none() {
-                    let step = Python::attach(|py| -> PyResult<()> {
-                        py.check_signals()?;
-                        if let Some(cb) = &progress {
-                            let done = watch.done.load(Ordering::Relaxed);
-                            let total = watch.total.load(Ordering::Relaxed);
-                            if done != reported && total > 0 {
-                                reported = done;
-                                cb.call1(py, (done, total))?;
-                            }
-                        }
-                        Ok(())
-                    });
-                    if let Err(e) = step {
-                        watch.cancel.cancel();
-                        interrupted = Some(e);
-                    }
-                }
-                if finished {
-                    break;
-                }
-                std::thread::park_timeout(Duration::from_millis(50));
-            }
-            (job.join(), interrupted)
-        })
-    });
-    if let Some(e) = interrupted {
-        return Err(e);
-    }
-    let film = match result {
-        Ok(r) => r.map_err(to_py)?,
-        Err(_) => {
-            return Err(crate::Error::new_err(
-                "the render panicked (a bug; please report it)",
-            ))
-        }
-    };
+    let film = crate::work::watched(py, &pool, progress.as_ref(), "the render", |watch| {
+        lib::render_view(&view, &opts, watch)
+    })?
+    .map_err(to_py)?;
     Film::new(py, film)
 }

@@ -12,7 +12,7 @@ use numpy::PyUntypedArrayMethods;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
-use crate::arrays::{flat, float64, rows3, vec3};
+use crate::arrays::{array, flat, float64, rows3, vec3};
 use crate::to_py;
 
 /// A scene ready to render: spheres (and, from a file, the other surfaces), materials,
@@ -263,6 +263,19 @@ impl Scene {
     #[getter]
     fn spheres(&self) -> usize {
         self.prepared.spheres
+    }
+
+    /// The spheres as arrays, `(centers, radii)`: (N, 3) and (N,) float64, in the scene's
+    /// order (row i of from_arrays' arrays, or the file's i-th sphere; the rows of
+    /// occlusion's results), coincident copies included. An ellipsoid gives its centre and
+    /// the radius of a sphere holding it.
+    fn sphere_arrays(&self, py: Python<'_>) -> PyResult<(Py<PyAny>, Py<PyAny>)> {
+        let prepared = self.prepared.clone();
+        let spheres = py.detach(|| prepared.scene_spheres());
+        let n = spheres.len();
+        let centers = spheres.iter().flat_map(|(c, _)| c.to_array()).collect();
+        let radii = spheres.iter().map(|&(_, r)| r).collect();
+        Ok((array(py, centers, &[n, 3])?, array(py, radii, &[n])?))
     }
 
     /// Number of gas spheres.

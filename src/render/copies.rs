@@ -5,7 +5,10 @@
 //! atom or mesh USEd a million times in one place, a point cloud of one point repeated). The
 //! first copy stays, the one a closest hit reports among equals. Gas spheres are never
 //! dropped: coincident gas adds up. Copies apart by more than the table's reach may stay;
-//! they are drawn the same either way.
+//! they are drawn the same either way. Each dropped sphere is remembered with the sphere
+//! kept in its place (8 bytes a copy, nothing for a kept sphere), so that what is computed
+//! per primitive can still be given per sphere of the scene
+//! ([`Prepared::in_scene_order`](super::Prepared::in_scene_order)).
 //!
 //! Measured 2026-12-05 on `bench scale`'s 1e7 spheres (no copies; `render FILE --width 64
 //! --height 64 --spp 1 --stats`, 3 runs each, taking turns): `prepare` 3.02-3.08 s with 2^10
@@ -40,32 +43,43 @@ impl<V: Clone> LastSeen<V> {
     /// Whether `v` (of hash `h`) is a copy of the item last seen in its slot, as `same`
     /// compares them; if it is not, it becomes the slot's.
     pub(super) fn copy(&mut self, h: u64, v: V, same: impl Fn(&V, &V) -> bool) -> bool {
+        self.original(h, v, same).is_some()
+    }
+
+    /// [`LastSeen::copy`], giving the item `v` is a copy of.
+    pub(super) fn original(&mut self, h: u64, v: V, same: impl Fn(&V, &V) -> bool) -> Option<V> {
         let slot = &mut self.slots[(h >> (64 - Self::BITS)) as usize];
-        let copy = slot.as_ref().is_some_and(|p| same(p, &v));
-        if !copy {
-            *slot = Some(v);
+        match slot {
+            Some(p) if same(p, &v) => Some(p.clone()),
+            _ => {
+                *slot = Some(v);
+                None
+            }
         }
-        copy
     }
 }
 
 /// Opaque copies of a sphere met in the order `prepare` packs them.
 pub(super) struct Copies {
-    seen: LastSeen<[u64; 6]>,
-    pub(super) dropped: usize,
+    /// Per slot, the key of the last sphere kept and its index in the scene.
+    seen: LastSeen<([u64; 6], u32)>,
+    /// (index in the scene of a dropped copy, index of the sphere kept in its place), in the
+    /// scene's order.
+    pub(super) dropped: Vec<(u32, u32)>,
 }
 
 impl Default for Copies {
     fn default() -> Self {
         Copies {
             seen: LastSeen::new(),
-            dropped: 0,
+            dropped: Vec::new(),
         }
     }
 }
 
 impl Copies {
-    /// Whether `q` is to be kept: not an opaque copy of the sphere last seen in its slot.
+    /// Whether `q` (whose `sphere` is its index in the scene) is to be kept: not an opaque
+    /// copy of the sphere last kept in its slot.
     pub(super) fn first(&mut self, q: &Packed) -> bool {
         if q.is_gas() || q.is_ellipsoid() {
             return true;
@@ -75,8 +89,15 @@ impl Copies {
         let (x, y, z) = (c.x.to_bits(), c.y.to_bits(), c.z.to_bits());
         let (r, m) = (q.radius.to_bits(), u64::from(q.material()));
         let key = [x, y, z, r, q.color.to_bits(), m];
-        let copy = self.seen.copy(hash(key), key, |a, b| a == b);
-        self.dropped += usize::from(copy);
-        !copy
+        match self
+            .seen
+            .original(hash(key), (key, q.sphere), |a, b| a.0 == b.0)
+        {
+            Some((_, kept)) => {
+                self.dropped.push((q.sphere, kept));
+                false
+            }
+            None => true,
+        }
     }
 }

@@ -201,8 +201,10 @@ pub struct Prepared {
     pub(crate) surfaces: surfaces::Surfaces,
     /// Spheres in the scene (the `id` channel numbers surfaces after them).
     pub spheres: usize,
-    /// Opaque spheres dropped as copies of one before them (see `render::copies`).
-    pub copies_dropped: usize,
+    /// Opaque spheres dropped as copies of one before them (see `render::copies`): (the
+    /// copy's index in the scene, the index of the sphere kept in its place), in the scene's
+    /// order.
+    pub(crate) copies: Vec<(u32, u32)>,
     /// The scene's material records, indexed by each item's `material`
     /// ([`Sphere::material`](crate::scene::Sphere::material)).
     pub materials: MaterialTable,
@@ -310,6 +312,44 @@ impl Prepared {
     /// The opaque surfaces other than spheres and ellipsoids.
     pub fn surface_count(&self) -> usize {
         self.surfaces.items.len()
+    }
+
+    /// Opaque spheres left out of the BVH as coincident copies of one before them (the
+    /// same centre, radius, colour and material; it draws them).
+    pub fn copies_dropped(&self) -> usize {
+        self.copies.len()
+    }
+
+    /// One value per sphere of the scene, in the scene's order, from one per primitive of
+    /// the BVH (leaf order): a sphere dropped as a copy takes the value of the one kept in
+    /// its place. The work beyond the output is one pass over the copies.
+    pub(crate) fn in_scene_order<T: Clone>(&self, per_prim: &[T]) -> Vec<T> {
+        assert_eq!(per_prim.len(), self.bvh.len(), "one value per primitive");
+        let Some(first) = per_prim.first() else {
+            return Vec::new();
+        };
+        // Every sphere is a primitive or a copy of one, so each place is written below.
+        let mut out = vec![first.clone(); self.spheres];
+        for (q, v) in self.bvh.packed().iter().zip(per_prim) {
+            out[q.sphere as usize] = v.clone();
+        }
+        // A kept sphere's place was written above; copies follow the scene's order.
+        for &(copy, kept) in &self.copies {
+            out[copy as usize] = out[kept as usize].clone();
+        }
+        out
+    }
+
+    /// The centre and radius (world units) of each sphere of the scene, in the scene's
+    /// order, copies left out of the BVH included (for an ellipsoid, its bounding sphere).
+    pub fn scene_spheres(&self) -> Vec<(DVec3, f64)> {
+        let balls: Vec<(DVec3, f64)> = self
+            .bvh
+            .packed()
+            .iter()
+            .map(|q| (q.center, q.radius))
+            .collect();
+        self.in_scene_order(&balls)
     }
 
     /// The camera `render` uses by default: the first Viewpoint, or else one looking down -z
@@ -462,7 +502,7 @@ pub fn prepare(scene: Scene, opts: &PrepareOptions) -> Result<Prepared, Error> {
         bvh,
         surfaces,
         spheres: sphere_count,
-        copies_dropped: copies.dropped,
+        copies: copies.dropped,
         materials,
         lights,
         headlight,

@@ -15,7 +15,6 @@ use std::collections::BinaryHeap;
 
 use glam::DVec3;
 
-use hashbrown::HashMap;
 use rayon::prelude::*;
 
 use super::ao::{unoccluded, unsupported, AoScratch, Weighting};
@@ -143,12 +142,26 @@ fn quarters(lo: (f64, f64), hi: (f64, f64)) -> [((f64, f64), (f64, f64)); 4] {
 /// `tol` (or [`MAX_POINTS`] points), with occluders within `reach` weighted by `w`.
 pub fn sphere_ao(
     prep: &Prepared,
+    sphere: (DVec3, f64),
+    own: Option<u32>,
+    ao: (f64, Weighting),
+    tol: f64,
+    s: &mut AoScratch,
+) -> ParticleAo {
+    integrate(prep, sphere, own, ao, tol, s, &|| false).expect("never stopped")
+}
+
+/// [`sphere_ao`], or None once `stop` says so: it is asked before each cell (a few dozen
+/// points), so that a sphere whose integral takes long does not hold up a cancel.
+fn integrate(
+    prep: &Prepared,
     (centre, radius): (DVec3, f64),
     own: Option<u32>,
     (reach, w): (f64, Weighting),
     tol: f64,
     s: &mut AoScratch,
-) -> ParticleAo {
+    stop: &dyn Fn() -> bool,
+) -> Option<ParticleAo> {
     let mut f = Surface {
         prep,
         centre,
@@ -171,12 +184,18 @@ pub fn sphere_ao(
                 -1.0 + 2.0 * f64::from(i + 1) / f64::from(nu),
                 std::f64::consts::TAU * f64::from(j + 1) / f64::from(np),
             );
+            if stop() {
+                return None;
+            }
             let whole = f.rule(lo, hi);
             heap.push(f.cell(lo, hi, whole));
         }
     }
     let mut error: f64 = heap.iter().map(|c: &Cell| c.error).sum();
     while error > tol && f.points < MAX_POINTS {
+        if stop() {
+            return None;
+        }
         let Some(worst) = heap.pop() else { break };
         error -= worst.error;
         for (k, (lo, hi)) in quarters(worst.lo, worst.hi).into_iter().enumerate() {
@@ -188,54 +207,50 @@ pub fn sphere_ao(
     // (Summed afresh: the running sum drifts by rounding as cells come and go.)
     let error: f64 = heap.iter().map(|c| c.error).sum();
     let mean: f64 = heap.iter().map(|c| c.quarters.iter().sum::<f64>()).sum();
-    ParticleAo {
+    Some(ParticleAo {
         mean: mean.clamp(0.0, 1.0),
         error,
         points: f.points,
+    })
+}
+
+/// Checks a tolerance for [`particles_ao`]: the means lie in `[0, 1]`, so a tolerance
+/// means something only between 0 and 1.
+pub fn check_tol(tol: f64) -> Result<(), String> {
+    if tol > 0.0 && tol < 1.0 {
+        Ok(())
+    } else {
+        Err(format!(
+            "tol = {tol}: the tolerance must be between 0 and 1"
+        ))
     }
 }
 
-/// The key of a sphere's exact centre and radius.
-fn key(c: DVec3, r: f64) -> [u64; 4] {
-    [c.x.to_bits(), c.y.to_bits(), c.z.to_bits(), r.to_bits()]
-}
-
-/// [`sphere_ao`] of each of `spheres` (centre and radius, in world units, as the scene
-/// [`prep`](Prepared) was made from lists them, in its order), on the threads of the current
-/// rayon pool; `progress` counts spheres as [`crate::render::render`] counts tiles, and may
-/// cancel. A sphere dropped by `prepare` as a copy of another takes that one's surface (it
-/// is drawn as that one).
+/// [`sphere_ao`] of each sphere of the scene `prep` was made from, in the scene's order
+/// ([`Prepared::scene_spheres`] gives their centres and radii), on the threads of the
+/// current rayon pool. The spheres are integrated in the BVH's order, neighbours after
+/// neighbours; a sphere dropped by `prepare` as a copy of another takes that one's value,
+/// since it is drawn as that one. `progress` counts the spheres integrated as
+/// [`crate::render::render`] counts tiles, and may cancel (it is asked every few dozen
+/// points of each sphere's integral).
 pub fn particles_ao(
     prep: &Prepared,
-    spheres: &[(DVec3, f64)],
-    (reach, w): (f64, Weighting),
+    ao: (f64, Weighting),
     tol: f64,
     progress: &dyn Progress,
 ) -> Result<Vec<ParticleAo>, Error> {
     if let Some(why) = unsupported(prep) {
         return Err(Error::Invalid(why));
     }
-    if !(tol > 0.0 && tol.is_finite()) {
-        return Err(Error::Invalid(format!(
-            "tol = {tol}: the tolerance must be positive and finite"
-        )));
-    }
-    super::ao::check_reach(reach).map_err(Error::Invalid)?;
-    let prims: HashMap<[u64; 4], u32> = (0..prep.bvh.len() as u32)
-        .map(|i| {
-            let p = prep.bvh.prim(i);
-            (key(p.center, p.radius), i)
-        })
-        .collect();
-    progress.start(spheres.len() as u64);
-    let out: Vec<Option<ParticleAo>> = spheres
-        .par_iter()
-        .map_init(AoScratch::default, |s, &(c, r)| {
-            if progress.cancelled() {
-                return None;
-            }
-            let own = prims.get(&key(c, r)).copied();
-            let a = sphere_ao(prep, (c, r), own, (reach, w), tol, s);
+    check_tol(tol).map_err(Error::Invalid)?;
+    super::ao::check_reach(ao.0).map_err(Error::Invalid)?;
+    let prims = prep.bvh.packed();
+    progress.start(prims.len() as u64);
+    let out: Vec<Option<ParticleAo>> = (0..prims.len() as u32)
+        .into_par_iter()
+        .map_init(AoScratch::default, |s, i| {
+            let (q, stop) = (&prims[i as usize], || progress.cancelled());
+            let a = integrate(prep, (q.center, q.radius), Some(i), ao, tol, s, &stop)?;
             progress.tile_done();
             Some(a)
         })
@@ -243,5 +258,5 @@ pub fn particles_ao(
     let out: Option<Vec<ParticleAo>> = out.into_iter().collect();
     let out = out.ok_or(Error::Cancelled)?;
     progress.finish();
-    Ok(out)
+    Ok(prep.in_scene_order(&out))
 }

@@ -37,7 +37,7 @@ fn picture(scene: Scene) -> (render::Film, usize) {
     };
     let cam = prep.default_camera(48, 32).unwrap();
     let film = render::render(&prep, &cam, &opts, &()).unwrap();
-    (film, prep.copies_dropped)
+    (film, prep.copies_dropped())
 }
 
 #[test]
@@ -84,4 +84,55 @@ fn copies_of_a_triangle_keep_their_picture_and_ids() {
     let (many, _) = picture(triangles(50_000));
     assert_eq!(one.rgb, many.rgb);
     assert_eq!(one.id, many.id);
+}
+
+/// Two touching spheres of different radii and a third alone, each repeated, the copies
+/// interleaved: the scene as `Scene::add_sphere` received it, in its order.
+fn interleaved() -> Vec<(DVec3, f64)> {
+    let a = (DVec3::ZERO, 1.0);
+    let b = (DVec3::new(1.5, 0.0, 0.0), 0.5);
+    let c = (DVec3::new(20.0, 0.0, 0.0), 1.0);
+    vec![a, b, a, c, b, a, c, b, b]
+}
+
+fn scene_of(spheres: &[(DVec3, f64)]) -> Scene {
+    let mut scene = Scene::default();
+    for &(c, r) in spheres {
+        scene.add_sphere(c, r, &Material::default());
+    }
+    scene
+}
+
+#[test]
+fn the_spheres_in_scene_order_include_the_dropped_copies() {
+    let spheres = interleaved();
+    let prep = crate::support::prepare(scene_of(&spheres));
+    assert_eq!(prep.copies_dropped(), 6);
+    assert_eq!(prep.scene_spheres(), spheres);
+    assert!(crate::support::prepare(Scene::default())
+        .scene_spheres()
+        .is_empty());
+}
+
+#[test]
+fn each_copy_of_a_sphere_takes_its_mean_ao_and_no_copy_occludes() {
+    use gtsphere::render::ao::Weighting;
+    use gtsphere::render::particle_ao::particles_ao;
+    let spheres = interleaved();
+    let ao = (2.0, Weighting::Cosine);
+    let prep = crate::support::prepare(scene_of(&spheres));
+    let got = particles_ao(&prep, ao, 1e-4, &()).unwrap();
+    assert_eq!(got.len(), spheres.len());
+    // The three spheres once each, in another order: what each copy must take.
+    let once = [spheres[3], spheres[1], spheres[0]];
+    let alone = particles_ao(&crate::support::prepare(scene_of(&once)), ao, 1e-4, &()).unwrap();
+    for (k, s) in spheres.iter().enumerate() {
+        let j = once.iter().position(|o| o == s).unwrap();
+        assert_eq!(got[k].mean, alone[j].mean, "sphere {k}");
+        assert_eq!(got[k].error, alone[j].error, "sphere {k}");
+    }
+    // The third is alone within the reach (AO 1); the touching pair shade each other, the
+    // small sphere more.
+    assert_eq!(got[3].mean, 1.0);
+    assert!(got[1].mean < got[0].mean && got[0].mean < 0.99, "{got:?}");
 }
