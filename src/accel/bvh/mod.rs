@@ -59,8 +59,8 @@
 //! per chunk. Measured 2026-12-05 on particles with a colour each (`render FILE --spp 1
 //! --width 512 --height 512 --threads 2` on `bench parse --layout continuous`'s file at
 //! 1e7 and `bench scale`'s at 1e8, runs alternating with the build of whole chunks decoded
-//! at the end, the same pictures): at 1e7 a peak of 761-798 MB against 875-966 MB and the
-//! BVH build 4.8 s against 5.5 s on a quiet machine; at 1e8 7.67 GB against 8.34 GB.
+//! at the end, the same pictures): at 1e7 a peak of 764-772 MB against 875-966 MB and the
+//! BVH build 2.6 s against 2.9 s; at 1e8 7.67 GB against 8.34 GB.
 //! `bench trace --spheres 10000000 --size 512 --runs 1 --threads 2`, two runs each: build
 //! 4.4-4.6 s against 5.0-5.2 s, camera rays 2.47-2.49 against 2.40-2.44 Mrays/s/core,
 //! shadow rays 2.85-2.89 against 2.58-2.81.
