@@ -85,8 +85,13 @@ pub fn run(args: &OcclusionArgs) -> Result<ExitCode, Error> {
     let prep = pool
         .install(|| prepare(scene, &PrepareOptions::default()))
         .map_err(in_scene)?;
+    // Copies in one place are integrated once (the bar counts those integrated).
+    let copies = match prep.copies_dropped() {
+        0 => String::new(),
+        n => format!(" ({n} coincident copies take the value of the sphere they repeat)"),
+    };
     say(format!(
-        "{} spheres; mean AO over each surface to {:e}, reach {}",
+        "{} spheres{copies}; mean AO over each surface to {:e}, reach {}",
         prep.spheres,
         args.tol,
         if reach.is_finite() {
