@@ -24,7 +24,7 @@ pub struct OcclusionArgs {
     /// error).
     #[arg(short, long)]
     pub output: PathBuf,
-    /// The distance within which a sphere occludes (world units; default: any distance).
+    /// The distance within which an occluder occludes (world units; default: any distance).
     #[arg(long, value_name = "D", allow_negative_numbers = true)]
     pub ao_reach: Option<f64>,
     /// How directions of the hemisphere are weighted.

@@ -44,7 +44,7 @@ pub enum AovArg {
     Error,
     /// Exact ambient occlusion at the first opaque hit through the pixel centre, with
     /// --ao-reach and --ao-weighting, whatever the integrator draws; NaN on a miss (opaque
-    /// spheres only, as --integrator ao).
+    /// spheres, triangles and boxes, as --integrator ao).
     Ao,
 }
 
@@ -59,8 +59,8 @@ pub enum IntegratorArg {
     /// per pixel.
     Mc,
     /// Ambient occlusion as the picture: the unoccluded fraction at each visible point,
-    /// exact for opaque spheres or by a named approximation (see --ao-method, --ao-reach,
-    /// --ao-colours).
+    /// exact for opaque spheres, triangles and boxes or by a named approximation (see
+    /// --ao-method, --ao-reach, --ao-colours).
     Ao,
 }
 

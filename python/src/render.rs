@@ -294,11 +294,13 @@ fn aovs_of(names: Vec<String>) -> PyResult<Aovs> {
 /// spp: samples per pixel. integrator: "exact" (closed form and adaptive quadrature to
 /// `tol`, relative to the pixel's value), "march" (fixed steps of `step` world units, an
 /// approximation), "mc" (unbiased Monte Carlo, `spp` paths) or "ao" (ambient occlusion as
-/// the picture, exact for opaque spheres: the unoccluded fraction within `ao_reach` world
-/// units, None for any distance, weighted "cosine" or "uniform" by `ao_weighting`, on white
-/// or, with `ao_colours`, times the diffuse colours; `ao_method` names an approximation to
-/// compare with it: "mc" with `ao_samples` rays, "directions" with `ao_directions`, "sum" or
-/// "voxel", see docs/ao-methods.md). seed: the sample pattern's
+/// the picture, exact for opaque spheres, triangles and boxes: the unoccluded fraction at
+/// each visible point, about a triangle's or box's face normal on the viewer's side, within
+/// `ao_reach` world units, None for any distance, weighted "cosine" or "uniform" by
+/// `ao_weighting`, on white or, with `ao_colours`, times the diffuse colours; `ao_method`
+/// names an approximation of spheres to compare with it: "mc" with `ao_samples` rays,
+/// "directions" with `ao_directions`, "sum" or "voxel", see docs/ao-methods.md). seed: the
+/// sample pattern's
 /// seed. threads: worker threads (None: every core; more than four per core are lowered to
 /// that, with a RuntimeWarning). aovs: any of "depth", "normal", "id"
 /// ("error" is always returned). sampler: "stratified" or "center" (one sample at each

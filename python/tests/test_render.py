@@ -347,3 +347,38 @@ def test_the_ao_channel_is_the_ao_picture_beside_a_lit_one():
     assert hit.sum() > 50
     np.testing.assert_array_equal(lit.ao[hit], ao.rgb[..., 0][hit])
     assert np.all(np.isnan(lit.ao[~hit]))
+
+
+def test_ambient_occlusion_on_a_box_under_a_sphere_is_the_spheres_form_factor(tmp_path):
+    # A floor Box (top face at z = 0) under a unit sphere at height 1.5: each pixel on the
+    # floor sees the sphere as one cap, about the face's normal +z.
+    wrl = tmp_path / "floor.wrl"
+    wrl.write_text(
+        "#VRML V2.0 utf8\n"
+        "Transform { translation 0 0 -0.1 children Shape { geometry Box { size 8 8 0.2 } } }\n"
+        "Transform { translation 0 0 1.5 children Shape { geometry Sphere { radius 1 } } }\n"
+    )
+    scene = gt.load(wrl)
+    cam_pos, h, w_px, h_px = (0.0, 0.0, 5.0), 6.0, 13, 11
+    cam = gt.Camera.look_at(cam_pos, (0, 0, 0), (0, 1, 0), ortho_height=h)
+    film = gt.render(scene, cam, w_px, h_px, sampler="center", integrator="ao", aovs=["id"])
+    centre = np.array([0.0, 0.0, 1.5])
+    checked = 0
+    for j in range(h_px):
+        for i in range(w_px):
+            if film.id[j, i] != 1:
+                continue
+            o = ortho_pixel_ray(cam_pos, h, w_px, h_px, i, j)
+            x = np.array([o[0], o[1], 0.0])
+            to = centre - x
+            d = np.linalg.norm(to)
+            want = 1.0 - sphere_form_factor(float(to[2] / d), 1.0 / d)
+            np.testing.assert_allclose(film.rgb[j, i], [want] * 3, rtol=0, atol=1e-9)
+            checked += 1
+    assert checked >= 80
+    # The approximations know spheres only; cylinders are not occluders of exact AO yet.
+    with pytest.raises(ValueError, match="knows spheres only"):
+        gt.render(scene, cam, 4, 4, integrator="ao", ao_method="mc")
+    wrl.write_text(wrl.read_text() + "Shape { geometry Cylinder { } }\n")
+    with pytest.raises(ValueError, match="1 cylinders"):
+        gt.render(gt.load(wrl), cam, 4, 4, integrator="ao")

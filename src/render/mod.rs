@@ -532,11 +532,16 @@ fn surface_color_bound(surfaces: &[crate::scene::Surface]) -> f64 {
 
 /// The median radius of (up to about a thousand evenly spread) primitives; 0 for none.
 fn median_radius(prims: &[Packed]) -> f64 {
-    if prims.is_empty() {
+    sampled_median(prims.iter().map(|p| p.radius))
+}
+
+/// The median of about 1001 of `values`, evenly spaced (0 without any).
+pub(crate) fn sampled_median(values: impl ExactSizeIterator<Item = f64>) -> f64 {
+    if values.len() == 0 {
         return 0.0;
     }
-    let step = prims.len().div_ceil(1001);
-    let mut r: Vec<f64> = prims.iter().step_by(step).map(|p| p.radius).collect();
+    let step = values.len().div_ceil(1001);
+    let mut r: Vec<f64> = values.step_by(step).collect();
     let mid = r.len() / 2;
     *r.select_nth_unstable_by(mid, f64::total_cmp).1
 }

@@ -18,6 +18,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use super::ao::{unoccluded, unsupported, AoScratch, Weighting};
+use super::visibility::Opaque;
 use super::{Prepared, Progress};
 use crate::Error;
 
@@ -88,7 +89,7 @@ impl Surface<'_> {
             self.prep,
             self.centre + self.radius * n,
             n,
-            self.own,
+            self.own.map(Opaque::Sphere),
             self.reach,
             self.s,
         )

@@ -76,6 +76,9 @@ pub struct Surfaces {
     pub items: Vec<Traced>,
     /// What each item refers to in `Scene::materials`.
     pub paints: Vec<Paint>,
+    /// The median radius of the balls bounding the items in the BVH (0 without any): the
+    /// near distance of ambient occlusion in a scene without spheres.
+    pub typical_radius: f64,
 }
 
 impl Surfaces {
@@ -109,10 +112,12 @@ impl Surfaces {
             paints.push(s.paint());
             items.push(Traced::of(s.shape));
         }
+        let typical_radius = super::sampled_median(prims.iter().map(|p| p.radius));
         Surfaces {
             bvh: SphereBvh::build(prims, &[]),
             items,
             paints,
+            typical_radius,
         }
     }
 

@@ -222,7 +222,7 @@ fn centre_hit(
             };
             let ao = if opts.aovs.ao {
                 let reach = (opts.ao.reach, opts.ao.weighting);
-                super::ao::unoccluded(view, sp.x, sp.n, hit.on.sphere(), reach, ao_scratch)
+                super::ao::at_hit(view, &sp, reach, ao_scratch)
             } else {
                 0.0
             };

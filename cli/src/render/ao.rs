@@ -56,8 +56,8 @@ pub fn reach_of(ao_reach: Option<f64>) -> Result<f64, String> {
 /// The options of `--integrator ao`.
 #[derive(Debug, Args)]
 pub struct AoArgs {
-    /// `--integrator ao`: the distance within which a sphere occludes (world units; default:
-    /// any distance, at a cost per pixel that grows with the scene).
+    /// `--integrator ao`: the distance within which an occluder occludes (world units;
+    /// default: any distance, at a cost per pixel that grows with the scene).
     #[arg(long, value_name = "D", allow_negative_numbers = true)]
     pub ao_reach: Option<f64>,
     /// `--integrator ao`: how directions of the hemisphere are weighted (default: cosine).

@@ -65,7 +65,7 @@ fn ao_pictures_hold_fractions_and_ao_refuses_what_it_cannot_do_exactly() {
     );
     assert!(!out.status.success());
     assert!(
-        stderr(&out).contains("exact for opaque spheres only"),
+        stderr(&out).contains("exact for opaque spheres, triangles and boxes only"),
         "{}",
         stderr(&out)
     );
@@ -86,6 +86,79 @@ fn ao_pictures_hold_fractions_and_ao_refuses_what_it_cannot_do_exactly() {
         );
         assert!(!dir.join("bad.png").exists());
     }
+}
+
+/// A floor Box, a sphere above it and a leaning triangle; with `extra` added to the scene.
+fn floor_scene(extra: &str) -> String {
+    format!(
+        "#VRML V2.0 utf8\n\
+         Viewpoint {{ position 0 6 6 orientation 1 0 0 -0.785 }}\n\
+         Transform {{ translation 0 -0.1 0 children Shape {{ geometry Box {{ size 8 0.2 8 }} }} }}\n\
+         Transform {{ translation 0 1.2 0 children Shape {{ geometry Sphere {{ radius 1 }} }} }}\n\
+         Shape {{ geometry IndexedFaceSet {{ solid FALSE \
+           coord Coordinate {{ point [ 1.5 0 -1, 3 0 -1, 2 2 -2 ] }} coordIndex [ 0 1 2 -1 ] }} }}\n\
+         {extra}\n"
+    )
+}
+
+#[test]
+fn ao_takes_triangles_and_boxes_and_counts_the_cylinders_and_cones_it_refuses() {
+    let dir = scratch("cli_ao", "surfaces");
+    std::fs::write(dir.join("floor.wrl"), floor_scene("")).unwrap();
+    let args = |file: &'static str, extra: &[&'static str]| -> Vec<&'static str> {
+        let mut a = vec![
+            "render",
+            file,
+            "--integrator",
+            "ao",
+            "--width",
+            "40",
+            "--height",
+            "30",
+            "--spp",
+            "1",
+            "--sampler",
+            "center",
+        ];
+        a.extend_from_slice(extra);
+        a
+    };
+    let out = gtsphere(&args("floor.wrl", &["-o", "ao.npy"]), &dir);
+    assert!(out.status.success(), "{}", stderr(&out));
+    // The floor's grey darkens under the sphere and by the triangle; the open floor is white.
+    let v = npy_values(&dir.join("ao.npy"));
+    assert!(v.iter().all(|&x| (0.0..=1.0).contains(&x) || x == 0.0));
+    assert!(v.iter().any(|&x| x > 0.0 && x < 0.8), "some occluded pixel");
+    assert!(v.contains(&1.0), "some open floor");
+    // The approximations know spheres only.
+    let out = gtsphere(
+        &args("floor.wrl", &["--ao-method", "mc", "-o", "mc.npy"]),
+        &dir,
+    );
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("knows spheres only") && stderr(&out).contains("2 surfaces"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!dir.join("mc.npy").exists());
+    // Cylinders and cones are refused, counted.
+    std::fs::write(
+        dir.join("more.wrl"),
+        floor_scene(
+            "Shape { geometry Cylinder { } } Shape { geometry Cylinder { } } \
+             Shape { geometry Cone { } }",
+        ),
+    )
+    .unwrap();
+    let out = gtsphere(&args("more.wrl", &["-o", "more.npy"]), &dir);
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("2 cylinders, 1 cones"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!dir.join("more.npy").exists());
 }
 
 #[test]

@@ -1,21 +1,24 @@
-//! Ambient occlusion, exact for opaque spheres (docs/model.md section 11): at a surface point,
-//! the fraction of the hemisphere about its normal (cosine-weighted or uniform) whose rays
-//! meet no other sphere within the reach.
+//! Ambient occlusion, exact for opaque spheres, triangles and boxes (docs/model.md section
+//! 11): at a surface point, the fraction of the hemisphere about its normal (cosine-weighted
+//! or uniform) whose rays meet no other occluder within the reach.
 //!
 //! - `cap`: what one sphere blocks, a cap of directions;
-//! - `union`: the measure of the caps' union, in closed form;
-//! - `sky`: which directions the caps found so far block whole, to leave out occluders
+//! - `polygon`: what a triangle or a face of a Box blocks, an intersection of caps;
+//! - `union`: the measure of the union of those regions, in closed form;
+//! - `sky`: which directions the regions found so far block whole, to leave out occluders
 //!   hidden behind them;
 //! - [`methods`]: the approximations real-time tools use, by name, to compare with it.
 //!
-//! The spheres that can block are those whose nearest point is within the reach and whose
-//! box rises above the point's tangent plane; the BVH finds them (`SphereBvh::near_region`),
-//! so the cost of a point grows with the spheres within its reach, not with the scene. With
-//! no reach (`f64::INFINITY`), every sphere above the tangent plane not hidden by nearer ones
-//! is a candidate: a cost that grows with the scene, for each pixel.
+//! The occluders that can block are those whose nearest point is within the reach and whose
+//! box rises above the point's tangent plane; the BVHs find them (`SphereBvh::near_region`,
+//! over the spheres and over the other surfaces), so the cost of a point grows with the
+//! occluders within its reach, not with the scene. With no reach (`f64::INFINITY`), every
+//! occluder above the tangent plane not hidden by nearer ones is a candidate: a cost that
+//! grows with the scene, for each pixel.
 
 pub(crate) mod cap;
 pub mod methods;
+pub(crate) mod polygon;
 pub(crate) mod sky;
 pub(crate) mod union;
 
@@ -23,14 +26,19 @@ use glam::DVec3;
 
 use super::integrators::surface::{material_of, surface_point, OpaqueHit};
 use super::integrators::Estimate;
+use super::lighting::SurfacePoint;
 use super::sampler::Rng;
+use super::surfaces::{Surfaces, Traced};
+use super::visibility::Opaque;
 use super::{Counters, Prepared, View};
 use crate::accel::SphereBvh;
+use crate::geom::shapes::Solid;
 use cap::{blocked_by_ball, Blocked, Cap};
 pub use methods::AoMethod;
+use polygon::{blocked_by_box, blocked_by_triangle, coplanar, is_sliver, BoxBlocks};
 use sky::Sky;
 pub use union::Weighting;
-use union::{covered_fraction, UnionScratch};
+use union::{covered_fraction, covered_fraction_of_regions, RegionScratch, Regions, UnionScratch};
 
 /// How ambient occlusion is computed and shown.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -61,8 +69,10 @@ impl Default for AoSettings {
 #[derive(Default)]
 pub struct AoScratch {
     caps: Vec<Cap>,
+    regions: Regions,
     stack: Vec<u32>,
     union: UnionScratch,
+    general: RegionScratch,
     sky: Option<Sky>,
     methods: methods::MethodScratch,
 }
@@ -86,30 +96,64 @@ pub(crate) fn check_reach(reach: f64) -> Result<(), String> {
 }
 
 /// The unoccluded fraction at `x` on a surface of unit normal `n`: one minus the fraction of
-/// the hemisphere about `n`, weighted by `w`, covered by the opaque spheres of `prep` within
-/// `reach`, the sphere `own` (the one `x` is on) left out. 0 if `x` is inside a sphere; a
-/// point on a sphere's surface to rounding (within 1e-10 of its radius) is on it.
+/// the hemisphere about `n`, weighted by `w`, covered by the opaque spheres, triangles and
+/// Boxes of `prep` within `reach`, what `x` is on (`own`) left out. 0 if `x` is inside a
+/// sphere or a Box; a point on a sphere's surface to rounding (within 1e-10 of its radius)
+/// is on it. Cylinders and Cones are left out: [`unsupported`] refuses scenes with them.
 ///
-/// The spheres near `x` are gathered first. When the reach goes beyond them, their caps,
-/// largest first, mark the cells of the sky they hold whole (a cap inside cells already
-/// marked is dropped), and the rest of the scene is searched only where the sky is open:
-/// a BVH box or a sphere whose directions all fall in marked cells is left out. What is left
-/// out lies within the union of the caps kept, so the union is the same.
-pub fn unoccluded(
+/// The occluders near `x` are gathered first. When the reach goes beyond them, the caps of
+/// the spheres, largest first, and then the triangles' and faces' regions mark the cells of
+/// the sky they hold whole (one inside cells already marked is dropped), and the rest of the
+/// scene is searched only where the sky is open: a BVH box or an occluder whose directions
+/// all fall in marked cells is left out. What is left out lies within the union of the
+/// regions kept, so the union is the same. Without triangles or Boxes near `x` the union is
+/// that of caps alone (`union::covered_fraction`), as for a scene of spheres.
+pub(crate) fn unoccluded(
     prep: &Prepared,
     x: DVec3,
     n: DVec3,
-    own: Option<u32>,
+    own: Option<Opaque>,
     (reach, w): (f64, Weighting),
     s: &mut AoScratch,
 ) -> f64 {
-    let near = (NEAR_RADII * prep.typical_radius).min(reach);
+    let surfaces = !prep.surfaces.is_empty();
+    let typical = if prep.typical_radius > 0.0 || !surfaces {
+        prep.typical_radius
+    } else {
+        prep.surfaces.typical_radius
+    };
+    let near = (NEAR_RADII * typical).min(reach);
     s.caps.clear();
-    let around = Around { x, n, own, reach };
+    s.regions.clear();
+    let own_triangle = match own {
+        Some(Opaque::Surface(i)) => match &prep.surfaces.items[i as usize] {
+            Traced::Triangle(t) => Some(t.p),
+            Traced::Solid { .. } => None,
+        },
+        _ => None,
+    };
+    let around = Around {
+        x,
+        n,
+        own,
+        own_triangle,
+        reach,
+    };
     if around.gather(&prep.bvh, (0.0, near), None, &mut s.caps, &mut s.stack) {
         return 0.0;
     }
-    if near < reach || s.caps.len() > PRUNE {
+    if surfaces
+        && around.gather_surfaces(
+            &prep.surfaces,
+            (0.0, near),
+            None,
+            &mut s.regions,
+            &mut s.stack,
+        )
+    {
+        return 0.0;
+    }
+    if near < reach || s.caps.len() + s.regions.len() > PRUNE {
         s.caps.sort_unstable_by(|a, b| a.cos.total_cmp(&b.cos));
         let sky = s.sky.insert(Sky::new(n));
         s.caps.retain(|c| {
@@ -120,6 +164,13 @@ pub fn unoccluded(
             sky.cover(c.axis, alpha);
             true
         });
+        s.regions.retain(|caps, cone| {
+            if sky.hides(cone.axis, cone.angle) {
+                return false;
+            }
+            sky.cover_all(caps);
+            true
+        });
         if near < reach {
             around.gather(
                 &prep.bvh,
@@ -128,20 +179,81 @@ pub fn unoccluded(
                 &mut s.caps,
                 &mut s.stack,
             );
+            if surfaces
+                && around.gather_surfaces(
+                    &prep.surfaces,
+                    (near, reach),
+                    Some(sky),
+                    &mut s.regions,
+                    &mut s.stack,
+                )
+            {
+                return 0.0;
+            }
         }
     }
-    1.0 - covered_fraction(n, &s.caps, w, &mut s.union)
+    if s.regions.is_empty() {
+        1.0 - covered_fraction(n, &s.caps, w, &mut s.union)
+    } else {
+        1.0 - covered_fraction_of_regions(n, &s.caps, &s.regions, w, &mut s.general)
+    }
+}
+
+/// [`unoccluded`] at a camera ray's hit: about the sphere's normal, or a triangle's or
+/// Box's geometric normal on the side the ray came from (not a mesh's interpolated shading
+/// normal: the hemisphere a flat face sees), what the hit is on left out.
+pub(crate) fn at_hit(
+    prep: &Prepared,
+    sp: &SurfacePoint,
+    reach: (f64, Weighting),
+    s: &mut AoScratch,
+) -> f64 {
+    let n = geometric_normal(prep, sp);
+    unoccluded(prep, sp.x, n, Some(sp.on), reach, s)
+}
+
+/// The normal AO is taken about at a surface point: see [`at_hit`].
+fn geometric_normal(prep: &Prepared, sp: &SurfacePoint) -> DVec3 {
+    match sp.on {
+        Opaque::Sphere(_) => sp.n,
+        Opaque::Surface(i) => prep.surfaces.look(i, sp.x, sp.v, sp.n).0,
+    }
 }
 
 /// A shading point and what may occlude it.
 struct Around {
     x: DVec3,
     n: DVec3,
-    own: Option<u32>,
+    own: Option<Opaque>,
+    /// The triangle `x` is on, if it is on one: triangles in its plane are edge-on.
+    own_triangle: Option<[DVec3; 3]>,
     reach: f64,
 }
 
 impl Around {
+    /// Whether a BVH box `lo..hi` may hold an occluder whose nearest point is at a distance
+    /// in `from..to` and that rises above the horizon, outside what the `sky` hides.
+    fn may_hold(
+        &self,
+        (lo, hi): (DVec3, DVec3),
+        (from, to): (f64, f64),
+        sky: Option<&Sky>,
+    ) -> bool {
+        let (x, n) = (self.x, self.n);
+        let below = (lo - x).max(DVec3::ZERO) + (x - hi).max(DVec3::ZERO);
+        let beyond = (lo - x).abs().max((hi - x).abs());
+        // The box's corner farthest along the normal.
+        let top = DVec3::select(n.cmpge(DVec3::ZERO), hi, lo);
+        below.length_squared() < to * to
+            && beyond.length_squared() >= from * from
+            && (top - x).dot(n) > 0.0
+            && !sky.is_some_and(|sky| {
+                let (centre, radius) = (0.5 * (lo + hi), 0.5 * (hi - lo).length());
+                let d = (centre - x).length();
+                d > radius && sky.hides((centre - x) / d, (radius / d).asin())
+            })
+    }
+
     /// Adds to `caps` the caps of the opaque spheres whose nearest point is at a distance in
     /// `from..to` and rises above the horizon, leaving out those the `sky` hides; whether `x`
     /// is inside one of them.
@@ -153,23 +265,11 @@ impl Around {
         caps: &mut Vec<Cap>,
         stack: &mut Vec<u32>,
     ) -> bool {
-        let Around { x, n, own, reach } = *self;
+        let Around { x, reach, .. } = *self;
+        let own = self.own.and_then(Opaque::sphere);
         let mut everything = false;
         bvh.near_region(
-            |lo, hi| {
-                let below = (lo - x).max(DVec3::ZERO) + (x - hi).max(DVec3::ZERO);
-                let beyond = (lo - x).abs().max((hi - x).abs());
-                // The box's corner farthest along the normal.
-                let top = DVec3::select(n.cmpge(DVec3::ZERO), hi, lo);
-                below.length_squared() < to * to
-                    && beyond.length_squared() >= from * from
-                    && (top - x).dot(n) > 0.0
-                    && !sky.is_some_and(|sky| {
-                        let (centre, radius) = (0.5 * (lo + hi), 0.5 * (hi - lo).length());
-                        let d = (centre - x).length();
-                        d > radius && sky.hides((centre - x) / d, (radius / d).asin())
-                    })
-            },
+            |lo, hi| self.may_hold((lo, hi), (from, to), sky),
             |i, p| {
                 if Some(i) == own || p.is_gas() || everything {
                     return;
@@ -187,6 +287,81 @@ impl Around {
                         }
                     }
                     Blocked::Everything => everything = true,
+                }
+            },
+            stack,
+        );
+        everything
+    }
+
+    /// Adds to `regions` those of the triangles and Boxes whose bounding balls' nearest
+    /// points are at a distance in `from..to`, leaving out those the `sky` hides; whether `x`
+    /// is inside a Box.
+    fn gather_surfaces(
+        &self,
+        surfaces: &Surfaces,
+        (from, to): (f64, f64),
+        sky: Option<&Sky>,
+        regions: &mut Regions,
+        stack: &mut Vec<u32>,
+    ) -> bool {
+        let Around { x, n, reach, .. } = *self;
+        let own = match self.own {
+            Some(Opaque::Surface(i)) => Some(i),
+            _ => None,
+        };
+        let mut everything = false;
+        surfaces.bvh.near_region(
+            |lo, hi| self.may_hold((lo, hi), (from, to), sky),
+            |_, p| {
+                let i = p.sphere;
+                if Some(i) == own || everything {
+                    return;
+                }
+                let d = (p.center - x).length();
+                let gap = d - p.radius;
+                if gap >= to || (from > 0.0 && gap < from) {
+                    return;
+                }
+                if sky.is_some_and(|sky| {
+                    d > p.radius && sky.hides((p.center - x) / d, (p.radius / d).asin())
+                }) {
+                    return;
+                }
+                let before = regions.len();
+                match &surfaces.items[i as usize] {
+                    Traced::Triangle(t) => {
+                        if is_sliver(&t.p) || self.own_triangle.is_some_and(|o| coplanar(&o, &t.p))
+                        {
+                            return;
+                        }
+                        blocked_by_triangle(x, n, &t.p, reach, self.own_triangle.as_ref(), regions);
+                    }
+                    Traced::Solid {
+                        solid: Solid::Cuboid { half },
+                        to_object,
+                        ..
+                    } => {
+                        if blocked_by_box(x, n, *half, to_object, reach, regions)
+                            == BoxBlocks::Everything
+                        {
+                            everything = true;
+                            return;
+                        }
+                    }
+                    // Refused by `unsupported`.
+                    Traced::Solid { .. } => {}
+                }
+                if let Some(sky) = sky {
+                    // Those the sky hides, of the ones just added.
+                    let mut k = regions.len();
+                    while k > before {
+                        k -= 1;
+                        let cone = regions.bound(k);
+                        if sky.hides(cone.axis, cone.angle) {
+                            regions.remove(k);
+                        }
+                    }
                 }
             },
             stack,
@@ -217,13 +392,13 @@ pub(crate) fn radiance_of_hit(
         };
     };
     let sp = surface_point(view, o, d, hit);
-    let own = hit.on.sphere();
     let (v, error) = match ao.method {
-        AoMethod::Exact => {
-            let reach = (ao.reach, ao.weighting);
-            (unoccluded(view, sp.x, sp.n, own, reach, s), 0.0)
+        AoMethod::Exact => (at_hit(view, &sp, (ao.reach, ao.weighting), s), 0.0),
+        // (Spheres only: the approximations refuse other surfaces.)
+        _ => {
+            let at = (sp.x, sp.n, hit.on.sphere());
+            methods::unoccluded(view, ao, at, rng, &mut s.methods, counters)
         }
-        _ => methods::unoccluded(view, ao, (sp.x, sp.n, own), rng, &mut s.methods, counters),
     };
     let colour = if ao.colours {
         material_of(view, hit.on).diffuse
@@ -238,7 +413,7 @@ pub(crate) fn radiance_of_hit(
 }
 
 /// Why `prep` cannot be rendered with exact AO, if it cannot: the occluders exact AO knows
-/// are opaque spheres.
+/// are opaque spheres, triangles and Boxes.
 pub(crate) fn unsupported(prep: &Prepared) -> Option<String> {
     let ellipsoids = prep
         .bvh
@@ -246,10 +421,20 @@ pub(crate) fn unsupported(prep: &Prepared) -> Option<String> {
         .iter()
         .filter(|q| q.is_ellipsoid())
         .count();
+    let solids = |which: fn(&Solid) -> bool| {
+        prep.surfaces
+            .items
+            .iter()
+            .filter(|t| matches!(t, Traced::Solid { solid, .. } if which(solid)))
+            .count()
+    };
+    let cylinders = solids(|s| matches!(s, Solid::Cylinder { .. }));
+    let cones = solids(|s| matches!(s, Solid::Cone { .. }));
     let what = [
         (prep.gas_spheres, "gas spheres"),
         (ellipsoids, "ellipsoids (spheres under a non-uniform scale)"),
-        (prep.surfaces.items.len(), "surfaces other than spheres"),
+        (cylinders, "cylinders"),
+        (cones, "cones"),
     ];
     let found: Vec<String> = what
         .iter()
@@ -258,7 +443,8 @@ pub(crate) fn unsupported(prep: &Prepared) -> Option<String> {
         .collect();
     (!found.is_empty()).then(|| {
         format!(
-            "ambient occlusion is exact for opaque spheres only, and this scene has {}",
+            "ambient occlusion is exact for opaque spheres, triangles and boxes only, and this \
+             scene has {}",
             found.join(", ")
         )
     })
@@ -266,5 +452,7 @@ pub(crate) fn unsupported(prep: &Prepared) -> Option<String> {
 
 #[cfg(test)]
 mod reference;
+#[cfg(test)]
+mod surface_tests;
 #[cfg(test)]
 mod tests;

@@ -59,6 +59,22 @@
 //! one), so the breakpoint generation errs on the side of including candidates (e.g. tangencies
 //! below the horizon). Missing one would only slow the convergence, which the refinement would
 //! detect ([`Stats::unconverged`]).
+//!
+//! # Triangles
+//!
+//! Triangles ([`covered_with_triangles`]) are not turned into caps: on each meridian the
+//! directions whose rays meet a triangle within the reach `D` are found from the triangle
+//! itself. The meridian's plane (through the point, spanned by `n` and `u(p)`) cuts the
+//! triangle in a segment, found from the signed distances of its corners to the plane; the
+//! segment is clipped to the meridian's side of the `n` axis (`u(p) . y >= 0`) and to the
+//! ball `|y| <= D`, and the directions towards its points are the polar angles between
+//! those of its ends (the angle is monotonic along a segment that misses the point), cut to
+//! `[0, pi/2]`. A segment through the point (the point in the triangle's plane) is seen
+//! edge-on and blocks nothing. The breakpoints add the azimuths of the corners, and treat
+//! the planes through the point and each edge (great circles), the circle of directions
+//! that meet the triangle's plane at distance `D`, as more circles for (a) to (c); of the
+//! crossings of two circles only those on both occluders' boundaries are kept (the others
+//! change nothing), which keeps the count of sub-intervals near linear.
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use std::sync::OnceLock;
@@ -133,6 +149,222 @@ pub fn covered_uniform(n: V3, caps: &[(V3, f64)]) -> f64 {
     covered_with_stats(n, caps, Weight::Uniform).0
 }
 
+/// [`covered_with_stats`] of the union of `caps` and of the directions whose rays meet one of
+/// `triangles` (corners relative to the shading point) at a distance of at most `reach`.
+/// With each triangle, which of its corners lie in the point's tangent plane (corners of the
+/// triangle the point is on): their heights are taken as 0, not as rounding leaves them.
+pub fn covered_with_triangles(
+    n: V3,
+    caps: &[(V3, f64)],
+    triangles: &[([V3; 3], [bool; 3])],
+    reach: f64,
+    weight: Weight,
+) -> (f64, Stats) {
+    let n = normalize(n);
+    let (e1, e2) = basis(n);
+    let mut stats = Stats::default();
+    let frame = |axis: V3, c: f64| {
+        let axis = normalize(axis);
+        Cap {
+            axis,
+            a1: dot(axis, e1),
+            a2: dot(axis, e2),
+            a3: dot(axis, n),
+            c,
+            s: ((1.0 - c) * (1.0 + c)).sqrt(),
+        }
+    };
+    let cs: Vec<Cap> = caps
+        .iter()
+        .map(|&(axis, c)| {
+            assert!((0.0..1.0).contains(&c), "cap cosine {c} outside [0, 1)");
+            frame(axis, c)
+        })
+        .filter(|cap| cap.a3 > -cap.s)
+        .collect();
+    // Triangles with a corner above the horizon.
+    let (tris, flats): (Vec<[V3; 3]>, Vec<[bool; 3]>) = triangles
+        .iter()
+        .copied()
+        .filter(|(t, flat)| (0..3).any(|i| !flat[i] && dot(t[i], n) > 0.0))
+        .unzip();
+    if cs.is_empty() && tris.is_empty() {
+        return (0.0, stats);
+    }
+    // More circles for the breakpoints: each triangle's edge planes and its reach circle,
+    // with the cones within which each occluder's boundary lies.
+    let mut circles: Vec<(Cap, Option<usize>, bool)> =
+        cs.iter().map(|&c| (c, None, false)).collect();
+    let mut extra: Vec<f64> = Vec::new();
+    for (t, tri) in tris.iter().enumerate() {
+        for i in 0..3 {
+            let e = cross(tri[i], tri[(i + 1) % 3]);
+            if dot(e, e) > 0.0 {
+                circles.push((frame(e, 0.0), Some(t), true));
+            }
+            extra.push(dot(tri[i], e2).atan2(dot(tri[i], e1)));
+        }
+        let normal = cross(
+            add(tri[1], scale(tri[0], -1.0)),
+            add(tri[2], scale(tri[0], -1.0)),
+        );
+        if dot(normal, normal) > 0.0 && reach.is_finite() {
+            let normal = normalize(normal);
+            let h = dot(normal, tri[0]);
+            if h != 0.0 && h.abs() < reach {
+                let m = scale(normal, h.signum());
+                circles.push((frame(m, h.abs() / reach), Some(t), false));
+            }
+        }
+    }
+    for (cap, _, _) in &circles {
+        // The azimuths where a circle passes nearest to, or farthest from, the normal.
+        let phi = cap.a2.atan2(cap.a1);
+        extra.push(phi);
+        extra.push(phi + PI);
+    }
+    let on_boundary = |x: V3, of: Option<usize>| match of {
+        None => true,
+        Some(t) => {
+            let tri = &tris[t];
+            (0..3).all(|i| {
+                let e = cross(tri[i], tri[(i + 1) % 3]);
+                let side = dot(e, tri[(i + 2) % 3]).signum();
+                side * dot(e, x) >= -1e-6 * dot(e, e).sqrt()
+            })
+        }
+    };
+    let bps = breakpoints_of(n, e1, e2, &circles, &extra, on_boundary);
+    let mut eval = Integrand {
+        caps: &cs,
+        tris: &tris,
+        flats: &flats,
+        reach,
+        n,
+        e1,
+        e2,
+        weight,
+        buf: Vec::with_capacity(cs.len() + tris.len()),
+    };
+    let (mut sum, mut comp) = (0.0f64, 0.0f64);
+    for i in 0..bps.len() {
+        let a = bps[i];
+        let b = if i + 1 < bps.len() {
+            bps[i + 1]
+        } else {
+            bps[0] + TAU
+        };
+        let v = tanh_sinh(|p| eval.f(p), a, b, &mut stats);
+        let t = sum + v;
+        comp += if sum.abs() >= v.abs() {
+            (sum - t) + v
+        } else {
+            (v - t) + sum
+        };
+        sum = t;
+    }
+    let total = sum + comp;
+    let result = match weight {
+        Weight::Cosine => total / PI,
+        Weight::Uniform => total / TAU,
+    };
+    (result, stats)
+}
+
+/// The polar angles `[t0, t1]` (within `[0, pi/2]`) of the directions of the meridian of
+/// azimuth `p` (`u = u(p)`) whose rays meet the triangle `tri` (corners relative to the
+/// point) within `reach`.
+fn triangle_on_meridian(
+    tri: &[V3; 3],
+    flat: [bool; 3],
+    n: V3,
+    u: V3,
+    reach: f64,
+) -> Option<(f64, f64)> {
+    // The plane of the meridian has the normal v; the triangle meets it where the corners'
+    // signed distances change sign. Each corner in the meridian's frame: (distance from
+    // the plane, height along n, distance along u), all linear along an edge; a corner in
+    // the point's tangent plane has height 0.
+    let v = cross(n, u);
+    let c: [(f64, f64, f64); 3] = std::array::from_fn(|i| {
+        let height = if flat[i] { 0.0 } else { dot(n, tri[i]) };
+        (dot(v, tri[i]), height, dot(u, tri[i]))
+    });
+    let mut pts: Vec<(f64, f64)> = Vec::with_capacity(3);
+    for i in 0..3 {
+        let j = (i + 1) % 3;
+        if c[i].0 == 0.0 {
+            pts.push((c[i].1, c[i].2));
+        } else if c[i].0 * c[j].0 < 0.0 {
+            let f = c[i].0 / (c[i].0 - c[j].0);
+            pts.push((
+                c[i].1 + f * (c[j].1 - c[i].1),
+                c[i].2 + f * (c[j].2 - c[i].2),
+            ));
+        }
+    }
+    // The segment: the two points farthest apart.
+    let (mut a2, mut b2, mut far) = ((0.0, 0.0), (0.0, 0.0), -1.0);
+    for i in 0..pts.len() {
+        for j in i + 1..pts.len() {
+            let d = (pts[i].0 - pts[j].0).hypot(pts[i].1 - pts[j].1);
+            if d > far {
+                (a2, b2, far) = (pts[i], pts[j], d);
+            }
+        }
+    }
+    if far <= 0.0 {
+        return None;
+    }
+    // Seen edge-on: the segment's line through the point.
+    let turn = a2.0 * b2.1 - a2.1 * b2.0;
+    if turn.abs() <= 1e-12 * a2.0.hypot(a2.1) * b2.0.hypot(b2.1) {
+        return None;
+    }
+    let d = (b2.0 - a2.0, b2.1 - a2.1);
+    // Clip s in [0, 1] to the meridian's side (distance along u >= 0) and to the ball.
+    let (mut s0, mut s1) = (0.0f64, 1.0f64);
+    if d.1 == 0.0 {
+        if a2.1 < 0.0 {
+            return None;
+        }
+    } else {
+        let s = -a2.1 / d.1;
+        if d.1 > 0.0 {
+            s0 = s0.max(s);
+        } else {
+            s1 = s1.min(s);
+        }
+    }
+    if reach.is_finite() {
+        let qa = d.0 * d.0 + d.1 * d.1;
+        let qb = a2.0 * d.0 + a2.1 * d.1;
+        let qc = (a2.0 * a2.0 + a2.1 * a2.1) - reach * reach;
+        let disc = qb * qb - qa * qc;
+        if disc < 0.0 {
+            return None;
+        }
+        // The roots of qa s^2 + 2 qb s + qc, without cancellation.
+        let q = -(qb + qb.signum() * disc.sqrt());
+        let (r0, r1) = if q == 0.0 {
+            (0.0, 0.0)
+        } else {
+            (q / qa, qc / q)
+        };
+        s0 = s0.max(r0.min(r1));
+        s1 = s1.min(r0.max(r1));
+    }
+    if s0 >= s1 {
+        return None;
+    }
+    // (Distance along u at least 0, also where rounding puts the clipped end below it: an
+    // end on the axis below the point is at pi, not -pi.)
+    let angle = |s: f64| (a2.1 + s * d.1).max(0.0).atan2(a2.0 + s * d.0);
+    let (t0, t1) = (angle(s0), angle(s1));
+    let (lo, hi) = (t0.min(t1).max(0.0), t0.max(t1).min(FRAC_PI_2));
+    (lo < hi).then_some((lo, hi))
+}
+
 /// One cap expressed in the frame `(e1, e2, n)`.
 #[derive(Clone, Copy, Debug)]
 struct Cap {
@@ -180,6 +412,12 @@ pub fn covered_with_stats(n: V3, caps: &[(V3, f64)], weight: Weight) -> (f64, St
     let bps = breakpoints(n, e1, e2, &cs);
     let mut eval = Integrand {
         caps: &cs,
+        tris: &[],
+        flats: &[],
+        reach: f64::INFINITY,
+        n,
+        e1,
+        e2,
         weight,
         buf: Vec::with_capacity(cs.len()),
     };
@@ -213,6 +451,14 @@ pub fn covered_with_stats(n: V3, caps: &[(V3, f64)], weight: Weight) -> (f64, St
 /// The azimuthal integrand `f(p)`: exact integral over the covered polar angles.
 struct Integrand<'a> {
     caps: &'a [Cap],
+    /// Triangles, corners relative to the point, met within `reach`.
+    tris: &'a [[V3; 3]],
+    /// Per triangle, its corners in the tangent plane.
+    flats: &'a [[bool; 3]],
+    reach: f64,
+    n: V3,
+    e1: V3,
+    e2: V3,
     weight: Weight,
     buf: Vec<(f64, f64)>,
 }
@@ -236,6 +482,14 @@ impl Integrand<'_> {
             let hi = (beta + g).min(FRAC_PI_2);
             if lo < hi {
                 self.buf.push((lo, hi));
+            }
+        }
+        if !self.tris.is_empty() {
+            let u = add(scale(self.e1, cp), scale(self.e2, sp));
+            for (tri, &flat) in self.tris.iter().zip(self.flats) {
+                if let Some(iv) = triangle_on_meridian(tri, flat, self.n, u, self.reach) {
+                    self.buf.push(iv);
+                }
             }
         }
         if self.buf.is_empty() {
@@ -337,6 +591,68 @@ fn breakpoints(n: V3, e1: V3, e2: V3, caps: &[Cap]) -> Vec<f64> {
     p.sort_unstable_by(|a, b| a.total_cmp(b));
     // Drop (near-)duplicates: sub-intervals shorter than 1e-14 carry nothing, and moving a
     // breakpoint by < 1e-14 changes the quadrature error by O((1e-14)^1.5).
+    let mut out: Vec<f64> = Vec::with_capacity(p.len());
+    for v in p {
+        if out.last().is_none_or(|&l| v - l > 1e-14) {
+            out.push(v);
+        }
+    }
+    while out.len() > 1 && out[0] + TAU - out[out.len() - 1] <= 1e-14 {
+        out.pop();
+    }
+    out
+}
+
+/// [`breakpoints`] of `circles` (each with the occluder whose boundary it bounds, `None` for a
+/// whole cap, and whether it is a triangle's edge), with the azimuths `extra` added; of the
+/// crossings of two circles only those that `on_boundary` keeps for both occluders.
+fn breakpoints_of(
+    n: V3,
+    e1: V3,
+    e2: V3,
+    circles: &[(Cap, Option<usize>, bool)],
+    extra: &[f64],
+    on_boundary: impl Fn(V3, Option<usize>) -> bool,
+) -> Vec<f64> {
+    let caps: Vec<Cap> = circles.iter().map(|c| c.0).collect();
+    // (a) and (b) of every circle, without the crossings (none of one circle alone).
+    let mut p: Vec<f64> = Vec::new();
+    for cap in &caps {
+        p.extend(breakpoints(n, e1, e2, std::slice::from_ref(cap)));
+    }
+    p.extend_from_slice(extra);
+    for i in 0..caps.len() {
+        for j in (i + 1)..caps.len() {
+            if circles[i].2 && circles[j].2 && circles[i].1 == circles[j].1 {
+                // Two edges of one triangle cross at its corners, already in.
+                continue;
+            }
+            for x in circle_intersections(caps[i].axis, caps[i].c, caps[j].axis, caps[j].c)
+                .into_iter()
+                .flatten()
+            {
+                if dot(x, n) >= -1e-9
+                    && on_boundary(x, circles[i].1)
+                    && on_boundary(x, circles[j].1)
+                {
+                    p.push(dot(x, e2).atan2(dot(x, e1)));
+                }
+            }
+        }
+    }
+    let mut p: Vec<f64> = p
+        .into_iter()
+        .filter(|v| v.is_finite())
+        .map(|v| {
+            let w = v.rem_euclid(TAU);
+            if w >= TAU {
+                0.0
+            } else {
+                w
+            }
+        })
+        .collect();
+    p.sort_unstable_by(|a, b| a.total_cmp(b));
     let mut out: Vec<f64> = Vec::with_capacity(p.len());
     for v in p {
         if out.last().is_none_or(|&l| v - l > 1e-14) {

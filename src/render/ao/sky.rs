@@ -163,6 +163,36 @@ impl Sky {
         }
     }
 
+    /// Marks the cells that the intersection of `caps` (at most 8) holds whole: those every
+    /// one of the caps holds.
+    pub fn cover_all(&mut self, caps: &[super::cap::Cap]) {
+        if caps.len() > 8 {
+            // (Marking nothing is always safe.)
+            return;
+        }
+        let mut polar = [(
+            Polar {
+                theta: 0.0,
+                phi: 0.0,
+            },
+            0.0,
+        ); 8];
+        for (p, c) in polar.iter_mut().zip(caps) {
+            *p = (self.polar(c.axis), c.cos.acos());
+        }
+        let polar = &polar[..caps.len()];
+        for (mask, b) in self.bands.iter_mut().zip(bands()) {
+            let mut all = u64::MAX;
+            for &(p, alpha) in polar {
+                all &= Self::near(b, p, alpha - b.radius - SLACK);
+                if all == 0 {
+                    break;
+                }
+            }
+            *mask |= all;
+        }
+    }
+
     /// Whether every cell that the cone about `axis` of angular radius `beta` may touch is
     /// marked: then the cone's directions above the horizon are all blocked already.
     pub fn hides(&self, axis: DVec3, beta: f64) -> bool {
@@ -251,6 +281,45 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn cells_marked_by_an_intersection_of_caps_lie_inside_every_one() {
+        let unit =
+            |st: &mut u64| DVec3::new(next(st) - 0.5, next(st) - 0.5, next(st) - 0.5).normalize();
+        let mut st = 17;
+        let mut marked = 0;
+        for _ in 0..60 {
+            let n = unit(&mut st);
+            let mut sky = Sky::new(n);
+            // A region about a direction: 2 to 4 caps of radius 60 to 90 degrees whose axes
+            // lean a little from it (a triangle's great circles have radius 90).
+            let centre = unit(&mut st);
+            let caps: Vec<super::super::cap::Cap> = (0..2 + (next(&mut st) * 3.0) as usize)
+                .map(|_| super::super::cap::Cap {
+                    axis: (centre + 0.6 * unit(&mut st)).normalize(),
+                    cos: 0.5 * next(&mut st),
+                })
+                .collect();
+            sky.cover_all(&caps);
+            for _ in 0..4000 {
+                let w = unit(&mut st);
+                if w.dot(n) < 0.0 {
+                    continue;
+                }
+                let p = sky.polar(w);
+                let band = ((p.theta / FRAC_PI_2 * BANDS as f64) as usize).min(BANDS - 1);
+                let sector = (p.phi.rem_euclid(TAU) / TAU * SECTORS as f64) as usize % SECTORS;
+                if sky.bands[band] >> sector & 1 == 1 {
+                    marked += 1;
+                    assert!(
+                        caps.iter().all(|c| c.axis.dot(w) >= c.cos),
+                        "a marked cell's direction outside a cap of the region"
+                    );
+                }
+            }
+        }
+        assert!(marked > 1000, "{marked} directions in marked cells");
     }
 
     #[test]

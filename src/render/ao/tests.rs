@@ -16,7 +16,11 @@ impl Mix {
         z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
         ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
     }
-    fn unit(&mut self) -> DVec3 {
+    /// An index below `n`.
+    pub(super) fn next_index(&mut self, n: usize) -> usize {
+        ((self.next() * n as f64) as usize).min(n - 1)
+    }
+    pub(super) fn unit(&mut self) -> DVec3 {
         let z = 2.0 * self.next() - 1.0;
         let a = std::f64::consts::TAU * self.next();
         let r = (1.0 - z * z).sqrt();
@@ -371,6 +375,7 @@ fn touching_nested_coincident_and_shared_boundaries() {
 fn per_particle_means_match_an_average_over_a_fibonacci_lattice() {
     use super::AoScratch;
     use crate::render::particle_ao::sphere_ao;
+    use crate::render::visibility::Opaque;
     use crate::render::{self, PrepareOptions};
     use crate::scene::{Radii, Scene, SphereArrays};
     // A sphere touching one neighbour, cut by another, and a third farther off; and a sphere
@@ -404,7 +409,8 @@ fn per_particle_means_match_an_average_over_a_fibonacci_lattice() {
                 let phi = golden * f64::from(i);
                 let sin = (1.0 - u * u).sqrt();
                 let d = DVec3::new(sin * phi.cos(), sin * phi.sin(), u);
-                sum += super::unoccluded(&prep, c + r * d, d, prim_of(k), ao, &mut s);
+                let own = prim_of(k).map(Opaque::Sphere);
+                sum += super::unoccluded(&prep, c + r * d, d, own, ao, &mut s);
             }
             let lattice = sum / f64::from(n);
             assert!(

@@ -126,8 +126,8 @@ pub fn check(ao: &AoSettings) -> Result<(), String> {
 }
 
 /// What a view of `prep` needs for `integrator`: with AO, a scene that AO supports
-/// (`ao::unsupported`), and with the voxel method its density grid, built here once
-/// for the render ([`voxel::Grid::build`]).
+/// (`ao::unsupported`; the approximations, spheres only), and with the voxel method its
+/// density grid, built here once for the render ([`voxel::Grid::build`]).
 pub fn prepare_view(
     prep: &Prepared,
     integrator: &Integrator,
@@ -137,6 +137,15 @@ pub fn prepare_view(
     };
     if let Some(why) = super::unsupported(prep) {
         return Err(why);
+    }
+    if ao.method != AoMethod::Exact && !prep.surfaces.is_empty() {
+        return Err(format!(
+            "the {} AO method models a sphere renderer's approximation and knows spheres only, \
+             and this scene has {} surfaces other than spheres (triangles and boxes); \
+             --ao-method exact takes them",
+            ao.method.name(),
+            prep.surfaces.items.len()
+        ));
     }
     Ok(match ao.method {
         AoMethod::Voxel(v) => Some(voxel::Grid::build(

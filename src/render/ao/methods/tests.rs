@@ -8,6 +8,7 @@ use super::super::cap::{blocked_by_ball, Blocked};
 use super::super::{unoccluded as exact, AoScratch, AoSettings, Weighting};
 use super::{directions, mc, sum, voxel, AoMethod};
 use crate::render::sampler::Rng;
+use crate::render::visibility::Opaque;
 use crate::render::{self, Prepared};
 use crate::scene::{Radii, Scene, SphereArrays};
 
@@ -63,7 +64,7 @@ fn exact_at(prep: &Prepared, (x, n, own): (DVec3, DVec3, Option<u32>), reach: f6
         prep,
         x,
         n,
-        own,
+        own.map(Opaque::Sphere),
         (reach, Weighting::Cosine),
         &mut AoScratch::default(),
     )
@@ -84,7 +85,8 @@ fn mc_converges_to_exact_within_five_standard_errors() {
             (f64::INFINITY, Weighting::Cosine),
             (1.5, Weighting::Uniform),
         ] {
-            let want = exact(&prep, p.0, p.1, p.2, (reach, w), &mut AoScratch::default());
+            let own = p.2.map(Opaque::Sphere);
+            let want = exact(&prep, p.0, p.1, own, (reach, w), &mut AoScratch::default());
             let (got, se) = mc::unoccluded(&prep.bvh, p, (reach, w), 4000, &mut rng);
             worst = worst.max((got - want).abs() / se);
             assert!(
