@@ -499,6 +499,13 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
             }
         ));
     }
+    let exact_ao = match opts.integrator {
+        Integrator::Ao(a) => Some(a).filter(|a| a.method == gtsphere::render::ao::AoMethod::Exact),
+        _ => opts.aovs.ao.then_some(opts.ao),
+    };
+    if let Some(note) = exact_ao.and_then(|a| ao::cost_note(&a, surfaces)) {
+        say(note);
+    }
     let bar = TileBar::new(!args.quiet);
     let done = pool.install(|| render_view(&view, opts, &bar))?;
     match opts.region {

@@ -156,6 +156,23 @@ impl AoArgs {
     }
 }
 
+/// From how many triangles and boxes exact AO with no reach is worth a note on its cost.
+const MANY_SURFACES: usize = 1000;
+
+/// A note on the cost of exact AO with no reach among `surfaces` triangles and boxes, when
+/// there are many: every one visible from a point enters its union, whose work grows faster
+/// than their number (docs/benchmarks.md has the measurements).
+pub fn cost_note(ao: &AoSettings, surfaces: usize) -> Option<String> {
+    (ao.reach.is_infinite() && surfaces >= MANY_SURFACES).then(|| {
+        format!(
+            "note: with no --ao-reach, exact AO takes every triangle and box a point sees \
+             ({surfaces} in the scene) into its union, at a cost per pixel that grows faster \
+             than their number: seconds per pixel among tens of thousands. --ao-reach D \
+             bounds it to those within D"
+        )
+    })
+}
+
 /// What a render with `ao` computes, in a sentence; `grid` is the voxel method's.
 pub fn describe(ao: &AoSettings, grid: Option<&voxel::Grid>) -> String {
     let method = match ao.method {
@@ -195,4 +212,20 @@ pub fn describe(ao: &AoSettings, grid: Option<&voxel::Grid>) -> String {
             ""
         }
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_cost_note_comes_with_no_reach_among_many_surfaces_only() {
+        let mut ao = AoSettings::default();
+        assert!(ao.reach.is_infinite());
+        let note = cost_note(&ao, MANY_SURFACES).expect("a note");
+        assert!(note.contains("--ao-reach") && note.contains(&MANY_SURFACES.to_string()));
+        assert_eq!(cost_note(&ao, MANY_SURFACES - 1), None);
+        ao.reach = 2.0;
+        assert_eq!(cost_note(&ao, 10 * MANY_SURFACES), None);
+    }
 }
