@@ -10,6 +10,7 @@ use std::sync::Arc;
 
 use glam::{DAffine3, DVec3};
 
+use super::context::Headroom;
 use super::transform::Marks;
 use super::Lowerer;
 use crate::error::Error;
@@ -24,15 +25,13 @@ pub(super) struct Watch {
     pub(super) arena_mark: usize,
     /// File-scope names the chunk USEd or ROUTEd from the prefix's DEFs.
     pub(super) imports: Vec<String>,
-    /// Nodes counted and budget spent when the chunk began, and the most that the budget
-    /// spent since ran ahead of the bytes before the cursor (see [`Lowerer::spend`]).
+    /// Nodes counted when the chunk began (the budget spent is watched in
+    /// [`Ctx::headroom`]).
     pub(super) nodes_at_start: u64,
-    pub(super) spent_at_start: u64,
     /// PROTO instances lowered by a template when the chunk began.
     pub(super) templated_at_start: u64,
     /// Sphere nodes read whole when the chunk began.
     pub(super) whole_at_start: u64,
-    pub(super) excess: i64,
     /// The chunk declared a PROTO or EXTERNPROTO in the file's scope, which the chunks after
     /// it and the main reader would not know.
     pub(super) declared: bool,
@@ -177,8 +176,8 @@ fn said(d: &[crate::diag::Diagnostic]) -> u64 {
 fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source) -> Outcome {
     let base = Marks::of(&low.scene);
     let ellipsoid_base = low.scene.ellipsoids.len();
-    let said_before = (said(&low.diags.warnings), said(&low.diags.notes));
-    let skipped_before = low.diags.skipped.clone();
+    let said_before = (said(&low.cx.diags.warnings), said(&low.cx.diags.notes));
+    let skipped_before = low.cx.diags.skipped.clone();
     let meshes_before = (low.meshes.spheres, low.meshes.point_spheres);
     let bound_before = (low.bound.navigation_info, low.bound.background);
     let files_before = low.scene.files.len();
@@ -187,12 +186,14 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source)
     low.watch = Some(Watch {
         arena_mark,
         imports: Vec::new(),
-        nodes_at_start: low.nodes,
-        spent_at_start: low.spent,
+        nodes_at_start: low.cx.nodes,
         templated_at_start: low.templated,
         whole_at_start: low.whole_nodes,
-        excess: i64::MIN,
         declared: false,
+    });
+    low.cx.headroom = Some(Headroom {
+        spent_at_start: low.cx.spent,
+        excess: i64::MIN,
     });
     let bad_utf8 = parser.src.bad_utf8;
     match text {
@@ -212,7 +213,7 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source)
     if parser.src.bad_utf8 != bad_utf8 {
         return Err("it has invalid UTF-8".into());
     }
-    if (said(&low.diags.warnings), said(&low.diags.notes)) != said_before {
+    if (said(&low.cx.diags.warnings), said(&low.cx.diags.notes)) != said_before {
         return Err("it has warnings or notes".into());
     }
     if low.scene.files.len() != files_before {
@@ -222,6 +223,7 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source)
         return Err(why);
     }
     let watch = low.watch.take().expect("watching the chunk");
+    let headroom = low.cx.headroom.take().expect("watching the chunk's budget");
     if watch.declared {
         return Err("it declares a PROTO".into());
     }
@@ -235,7 +237,7 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source)
                 .map(|&i| i - base.lights)
                 .collect()
         });
-    let mut skipped = low.diags.skipped.clone();
+    let mut skipped = low.cx.diags.skipped.clone();
     for (ty, n) in &skipped_before {
         if let Some(m) = skipped.get_mut(ty) {
             *m -= n;
@@ -254,11 +256,11 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source)
         ellipsoid_base,
         dirlights,
         skipped,
-        nodes: low.nodes - watch.nodes_at_start,
-        spent: low.spent - watch.spent_at_start,
+        nodes: low.cx.nodes - watch.nodes_at_start,
+        spent: low.cx.spent - headroom.spent_at_start,
         templated: low.templated - watch.templated_at_start,
         whole_nodes: low.whole_nodes - watch.whole_at_start,
-        excess: watch.excess,
+        excess: headroom.excess,
         mesh_spheres: low.meshes.spheres - meshes_before.0,
         point_spheres: low.meshes.point_spheres - meshes_before.1,
         headlight: (!bound_before.0 && low.bound.navigation_info).then_some(scene.headlight),
@@ -301,17 +303,6 @@ impl Lowerer {
             }
         }
         d
-    }
-
-    /// Notes how far the budget spent in a chunk ran ahead of what the bytes before the
-    /// cursor allow.
-    #[inline]
-    pub(super) fn watch_nodes(&mut self, cursor: u64) {
-        if let Some(w) = &mut self.watch {
-            let allowed = self.opts.max_expansion.saturating_mul(cursor);
-            let e = (self.spent - w.spent_at_start) as i64 - allowed.min(i64::MAX as u64) as i64;
-            w.excess = w.excess.max(e);
-        }
     }
 
     /// Puts a chunk's result in place, as if its text had been lowered here; gives back its
@@ -384,10 +375,10 @@ impl Lowerer {
             self.bound.background = true;
         }
         for (ty, n) in d.skipped {
-            *self.diags.skipped.entry(ty).or_default() += n;
+            *self.cx.diags.skipped.entry(ty).or_default() += n;
         }
-        self.nodes += d.nodes;
-        self.spent += d.spent;
+        self.cx.nodes += d.nodes;
+        self.cx.spent += d.spent;
         self.templated += d.templated;
         self.whole_nodes += d.whole_nodes;
         self.meshes.spheres += d.mesh_spheres;

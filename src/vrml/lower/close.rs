@@ -170,7 +170,7 @@ impl Lowerer {
                     self.close_group_like(src, frame.kind, at)?;
                 } else {
                     if which >= 0 && which as usize >= n {
-                        self.diags.warn(src, at, format!("Switch whichChoice {which} is out of range (0..{n}): nothing shown"));
+                        self.cx.diags.warn(src, at, format!("Switch whichChoice {which} is out of range (0..{n}): nothing shown"));
                     }
                     self.close_group_like(src, frame.kind, at)?;
                 }
@@ -264,7 +264,7 @@ impl Lowerer {
             color: paint.color,
             material: paint.material,
             ellipsoid: None,
-            origin: self.origin(sat),
+            origin: self.cx.origin(sat),
         });
     }
 
@@ -279,8 +279,8 @@ impl Lowerer {
             // Read and drawn: the common case keeps the list short.
             self.meshes.solids.pop();
         }
-        if self.opts.spheres_only {
-            self.diags.skip(match solid {
+        if self.cx.opts.spheres_only {
+            self.cx.diags.skip(match solid {
                 Solid::Cuboid { .. } => "Box",
                 Solid::Cylinder { .. } => "Cylinder",
                 Solid::Cone { .. } => "Cone",
@@ -294,7 +294,7 @@ impl Lowerer {
             },
             color: paint.color,
             material: paint.material,
-            origin: self.origin(at),
+            origin: self.cx.origin(at),
         });
     }
 
@@ -306,7 +306,7 @@ impl Lowerer {
         let Some(parts) = self.mesh_parts_for_shape(i) else {
             return;
         };
-        let origin = self.origin(at);
+        let origin = self.cx.origin(at);
         for &(center, radius, colour) in &parts.spheres {
             let color = match colour {
                 Some(c) => self.scene.materials.add_color(c),

@@ -52,18 +52,23 @@ impl Lowerer {
                     at,
                 }) => {
                     let access_k = Access::from_keyword(access).ok_or_else(|| {
-                        self.diags
+                        self.cx
+                            .diags
                             .error(src, *at, format!("unknown access type '{access}'"))
                     })?;
                     let fty = FieldType::from_name(ty).ok_or_else(|| {
-                        self.diags
+                        self.cx
+                            .diags
                             .error(src, *at, format!("unknown field type '{ty}'"))
                     })?;
                     let fname = fname.clone();
                     let dat = *at;
                     if fields.iter().any(|f| f.name == fname) {
-                        self.diags
-                            .warn(src, dat, format!("PROTO {name} declares '{fname}' twice"));
+                        self.cx.diags.warn(
+                            src,
+                            dat,
+                            format!("PROTO {name} declares '{fname}' twice"),
+                        );
                     }
                     let mut default = None;
                     if !external && matches!(access_k, Access::Field | Access::ExposedField) {
@@ -74,7 +79,7 @@ impl Lowerer {
                             self.rec.arena.get(vstart)
                         {
                             if let Err(e) = schema::check_value(fty, &value.as_value()) {
-                                return Err(self.diags.error(
+                                return Err(self.cx.diags.error(
                                     src,
                                     *vat,
                                     format!("default of '{fname}' {e}"),
@@ -113,7 +118,7 @@ impl Lowerer {
                         .iter()
                         .any(|g| &*g.name == b && g.access == Access::ExposedField)
                     {
-                        self.diags.warn(
+                        self.cx.diags.warn(
                             src,
                             at,
                             format!(
@@ -237,7 +242,7 @@ impl Lowerer {
                         None => {
                             let msg =
                                 format!("USE of undefined name '{name}' in a PROTO field default");
-                            return Err(self.diags.error(src, at, msg));
+                            return Err(self.cx.diags.error(src, at, msg));
                         }
                     }
                 }
@@ -275,7 +280,7 @@ impl Lowerer {
                     value: OwnedValue::Is(target),
                 } => {
                     let Some(iface) = decl.field(target) else {
-                        return Err(self.diags.error(
+                        return Err(self.cx.diags.error(
                             src,
                             *at,
                             format!(
@@ -294,7 +299,7 @@ impl Lowerer {
                         continue;
                     };
                     if f.ty != iface.ty {
-                        return Err(self.diags.error(
+                        return Err(self.cx.diags.error(
                             src,
                             *at,
                             format!(
@@ -313,7 +318,7 @@ impl Lowerer {
                         }
                     };
                     if !ok {
-                        self.diags.warn(
+                        self.cx.diags.warn(
                             src,
                             *at,
                             format!(
@@ -332,7 +337,7 @@ impl Lowerer {
                         continue;
                     };
                     if let Some((_, access)) = spec.event(name) {
-                        warn_if_event(&mut self.diags, src, name, node_ty, access, *at);
+                        warn_if_event(&mut self.cx.diags, src, name, node_ty, access, *at);
                     }
                 }
                 _ => {}

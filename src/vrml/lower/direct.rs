@@ -156,7 +156,7 @@ impl Lowerer {
         proto.sphere.is_some()
             && proto.gas.is_none()
             && proto.home.is_none()
-            && !self.opts.replay_every_instance
+            && !self.cx.opts.replay_every_instance
             && self.rec.idle()
     }
 
@@ -220,16 +220,16 @@ impl Lowerer {
         }
         let given = &self.direct.given;
         // The instance's own node is counted before the template's.
-        if !self.fits(1 + tpl.spent, src) {
+        if !self.cx.fits(1 + tpl.spent, src) {
             return Ok(false);
         }
         let lookup = |fi: usize| last_given(given, fi);
         let Some(inputs) = self.template_inputs(src, proto, tpl, lookup) else {
             return Ok(false);
         };
-        self.nodes += 1;
-        self.spent += 1;
-        self.watch_nodes(src.offset());
+        self.cx.nodes += 1;
+        self.cx.spent += 1;
+        self.cx.watch_nodes(src.offset());
         self.lower_template(src, tpl, inputs)?;
         Ok(true)
     }

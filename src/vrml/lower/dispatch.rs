@@ -170,14 +170,14 @@ impl Lowerer {
             Event::Decl { access, ty, at, .. } => {
                 if self.rec.proto_decls == 0 {
                     if Access::from_keyword(access).is_none() {
-                        return Err(self.diags.error(
+                        return Err(self.cx.diags.error(
                             src,
                             at,
                             format!("unknown access type '{access}'"),
                         ));
                     }
                     if FieldType::from_name(ty).is_none() {
-                        return Err(self.diags.error(
+                        return Err(self.cx.diags.error(
                             src,
                             at,
                             format!("unknown field type '{ty}'"),
@@ -185,7 +185,8 @@ impl Lowerer {
                     }
                     if let Some(f) = self.open.frames.last() {
                         if &*f.ty == "Script" && access == "exposedField" {
-                            self.diags
+                            self.cx
+                                .diags
                                 .warn(src, at, "a Script may not declare an exposedField");
                         }
                     }
@@ -249,7 +250,7 @@ impl Lowerer {
             } else {
                 format!("USE of undefined name '{name}'")
             };
-            return Err(self.diags.error(src, at, msg));
+            return Err(self.cx.diags.error(src, at, msg));
         };
         self.check_child(src, &d.ty, at);
         self.use_range(src, d.range, at)

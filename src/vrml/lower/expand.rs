@@ -49,7 +49,7 @@ impl Lowerer {
         at: Pos,
     ) -> Result<(), Error> {
         let Some(sub) = self.expansions.substs.last() else {
-            return Err(self.diags.error(
+            return Err(self.cx.diags.error(
                 src,
                 at,
                 format!("'{name} IS {target}' outside a PROTO body"),
@@ -60,7 +60,7 @@ impl Lowerer {
                 "'IS {target}': PROTO {} has no interface field '{target}'",
                 sub.proto.name
             );
-            return Err(self.diags.error(src, at, msg));
+            return Err(self.cx.diags.error(src, at, msg));
         };
         self.substitute_field(src, name, fi, at)
     }
@@ -90,7 +90,7 @@ impl Lowerer {
         if let Rec::Ev(OwnedEvent::Field { value, at: vat, .. }) = &self.rec.arena[range.start] {
             if !matches!(value, OwnedValue::Is(_)) && self.rec.idle() {
                 let (v, vat) = (value.clone(), *vat);
-                self.spend(1 + v.len() as u64, src, at, "IS value")?;
+                self.cx.spend(1 + v.len() as u64, src, at, "IS value")?;
                 return self.field(src, name, vat, v.as_value());
             }
         }
@@ -104,7 +104,7 @@ impl Lowerer {
         let r = match &self.rec.arena[range.start] {
             Rec::Ev(OwnedEvent::Field { value, at: vat, .. }) => {
                 let (v, vat) = (value.clone(), *vat);
-                self.spend(1 + v.len() as u64, src, at, "IS value")?;
+                self.cx.spend(1 + v.len() as u64, src, at, "IS value")?;
                 self.dispatch(
                     src,
                     Event::Field {
@@ -152,7 +152,7 @@ impl Lowerer {
                 }
             };
             match proto.public_index(&fname) {
-                None => self.diags.warn(
+                None => self.cx.diags.warn(
                     src,
                     fat,
                     format!("unknown field '{fname}' of PROTO {}: ignored", proto.name),
@@ -162,7 +162,7 @@ impl Lowerer {
                     if let Rec::Ev(OwnedEvent::Field { value, .. }) = &self.rec.arena[i] {
                         if f.ty.is_node() {
                             if *value != OwnedValue::Empty {
-                                return Err(self.diags.error(
+                                return Err(self.cx.diags.error(
                                     src,
                                     fat,
                                     format!(
@@ -173,14 +173,14 @@ impl Lowerer {
                                 ));
                             }
                         } else if let Err(e) = schema::check_value(f.ty, &value.as_value()) {
-                            return Err(self.diags.error(
+                            return Err(self.cx.diags.error(
                                 src,
                                 fat,
                                 format!("field '{fname}' of PROTO {} {e}", proto.name),
                             ));
                         }
                     } else if !f.ty.is_node() {
-                        return Err(self.diags.error(
+                        return Err(self.cx.diags.error(
                             src,
                             fat,
                             format!(
@@ -191,7 +191,7 @@ impl Lowerer {
                         ));
                     }
                     if is_event(f.access) {
-                        self.diags.warn(
+                        self.cx.diags.warn(
                             src,
                             fat,
                             format!(
@@ -212,7 +212,7 @@ impl Lowerer {
         if let Some(gas) = proto.gas {
             self.gas_profile = Some(self.instance_profile(src, &proto, gas, &values, at)?);
         }
-        let by_template = match (&proto.sphere, self.opts.replay_every_instance) {
+        let by_template = match (&proto.sphere, self.cx.opts.replay_every_instance) {
             (Some(tpl), false) => self.expand_by_template(src, &proto, tpl, &values),
             _ => None,
         };
@@ -276,7 +276,8 @@ impl Lowerer {
         for (rec, &is) in events.iter().zip(is) {
             match rec {
                 Rec::Ev(ev) => {
-                    self.spend(super::event_cost(ev), src, at, "PROTO instance")?;
+                    self.cx
+                        .spend(super::event_cost(ev), src, at, "PROTO instance")?;
                     self.enter_replay(src, at, "PROTO expansions")?;
                     let r = match ev {
                         // `field IS target` of this body: the instance's value, found by index.

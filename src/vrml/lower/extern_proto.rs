@@ -164,7 +164,7 @@ impl Lowerer {
         urls: &[String],
         at: Pos,
     ) -> Result<Option<ProtoDecl>, Error> {
-        if !self.opts.inline {
+        if !self.cx.opts.inline {
             return Ok(None);
         }
         let base = self.base_dir(at);
@@ -197,7 +197,7 @@ impl Lowerer {
                         "EXTERNPROTO {name}: '{url}' names an EXTERNPROTO that needs a file \
                          whose PROTOs are being read: it needs itself (a cycle)"
                     );
-                    return Err(self.diags.error(src, at, msg));
+                    return Err(self.cx.diags.error(src, at, msg));
                 }
                 Some(ext) => tried.push(format!(
                     "'{url}' (its {} is an EXTERNPROTO that was not loaded)",
@@ -222,7 +222,8 @@ impl Lowerer {
         } else {
             tried.join(", ")
         };
-        self.diags
+        self.cx
+            .diags
             .warn(src, at, format!("EXTERNPROTO {name} not loaded: {what}"));
         Ok(None)
     }
@@ -262,12 +263,12 @@ impl Lowerer {
             Admit::Yes => {}
             Admit::Cycle => {
                 let msg = format!("EXTERNPROTO {name}: '{url}' names a file being read (a cycle)");
-                return Err(self.diags.error(src, at, msg));
+                return Err(self.cx.diags.error(src, at, msg));
             }
             Admit::TooDeep => {
-                let max = self.opts.max_inline_depth;
+                let max = self.cx.opts.max_inline_depth;
                 let msg = format!("EXTERNPROTO {name}: '{url}' nests deeper than {max} files");
-                return Err(self.diags.error(src, at, msg));
+                return Err(self.cx.diags.error(src, at, msg));
             }
             Admit::NotVrml97 => {
                 return Ok(Err(Unread::Why(format!("'{url}' (not a VRML97 file)"))))
@@ -286,17 +287,17 @@ impl Lowerer {
     /// lowered nor counted) and apart from whatever is under way around it (recordings,
     /// expansions, open node-valued fields).
     fn read_library(&mut self, path: &Path) -> Result<Library, Error> {
-        let src = crate::input::open(path, self.opts.inflate_ratio())?;
+        let src = crate::input::open(path, self.cx.opts.inflate_ratio())?;
         let file = u32::try_from(self.scene.files.len()).unwrap_or(u32::MAX);
         self.scene.files.push(src.name.to_string());
         self.externs.paths.insert(file, path.to_path_buf());
         self.files.stack.push(path.to_path_buf());
-        let current = std::mem::replace(&mut self.files.current, file);
+        let current = std::mem::replace(&mut self.cx.file, file);
         let aside = self.rec.set_aside();
         let fields = std::mem::take(&mut self.open.fields);
         let substs = std::mem::take(&mut self.expansions.substs);
         let reusing = std::mem::replace(&mut self.replay.reusing, 0);
-        let (nodes, spent) = (self.nodes, self.spent);
+        let (nodes, spent) = (self.cx.nodes, self.cx.spent);
         let from = self.rec.arena.len();
         self.scopes.push_file();
         self.open.push_quiet(Name::Static("<file>"), Pos::at(0));
@@ -311,21 +312,22 @@ impl Lowerer {
         let protos = self.scopes.pop_protos();
         // Its positions point into it from now on.
         tag_all(&mut self.rec.arena[from..], file);
-        (self.nodes, self.spent) = (nodes, spent);
+        (self.cx.nodes, self.cx.spent) = (nodes, spent);
         self.replay.reusing = reusing;
         self.expansions.substs = substs;
         self.open.fields = fields;
         self.rec.resume(aside);
-        self.files.current = current;
+        self.cx.file = current;
         self.files.stack.pop();
         r?;
         let src = parser.src;
         if let Some(at) = src.bad_utf8 {
-            self.diags
+            self.cx
+                .diags
                 .warn(&src, Pos::at(at), "invalid UTF-8 (bytes replaced by '?')");
         }
         self.files.bytes += src.bytes_read;
-        self.diags.sources.insert(file, Rc::new(kept(src)));
+        self.cx.diags.sources.insert(file, Rc::new(kept(src)));
         // Its own PROTOs get tagged positions; its EXTERNPROTOs already point elsewhere.
         let protos = protos
             .into_iter()
@@ -360,7 +362,7 @@ impl Lowerer {
                     "EXTERNPROTO {name} declares '{}', which PROTO {} in '{url}' does not have: it cannot be set",
                     f.name, ext.name
                 );
-                self.diags.warn(src, f.at, msg);
+                self.cx.diags.warn(src, f.at, msg);
                 continue;
             };
             let e = &ext.fields[i];
@@ -378,7 +380,7 @@ impl Lowerer {
                 e.ty.name(),
                 e.name
             );
-            self.diags.warn(src, f.at, msg);
+            self.cx.diags.warn(src, f.at, msg);
         }
         ProtoDecl {
             name: name.clone(),

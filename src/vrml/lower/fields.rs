@@ -9,11 +9,12 @@ use std::rc::Rc;
 
 use glam::DVec3;
 
+use super::diags::Diags;
 use super::mesh::mesh_field;
 use super::open::{FieldCtx, Frame, Kind, Leaf};
 use super::record::Name;
 use super::transform::quat;
-use super::{Diags, Lowerer};
+use super::Lowerer;
 use crate::error::Error;
 use crate::geom::shapes::Solid;
 use crate::source::{Pos, SourceWindow};
@@ -129,7 +130,7 @@ impl Lowerer {
         };
         if is_event(access) {
             let ty = self.open.open_type();
-            warn_if_event(&mut self.diags, src, name, &ty, access, at);
+            warn_if_event(&mut self.cx.diags, src, name, &ty, access, at);
             return Ok(());
         }
         if f.ty.is_node() {
@@ -137,7 +138,7 @@ impl Lowerer {
                 return Ok(());
             }
             let ty = self.open.open_type();
-            return Err(self.diags.error(
+            return Err(self.cx.diags.error(
                 src,
                 at,
                 format!(
@@ -150,6 +151,7 @@ impl Lowerer {
         if let Err(e) = schema::check_value(f.ty, &value) {
             let ty = self.open.open_type();
             return Err(self
+                .cx
                 .diags
                 .error(src, at, format!("field '{name}' of {ty} {e}")));
         }
@@ -170,7 +172,8 @@ impl Lowerer {
         let found = frame.spec?.event(name);
         if found.is_none() {
             let ty = self.open.open_type();
-            self.diags
+            self.cx
+                .diags
                 .warn(src, at, format!("unknown field '{name}' of {ty}: ignored"));
         }
         found
@@ -190,7 +193,7 @@ impl Lowerer {
                 known = Some(f.name);
                 if !f.ty.is_node() {
                     let ty = self.open.open_type();
-                    return Err(self.diags.error(
+                    return Err(self.cx.diags.error(
                         src,
                         at,
                         format!(
@@ -201,7 +204,7 @@ impl Lowerer {
                 }
                 if is_event(access) {
                     let ty = self.open.open_type();
-                    warn_if_event(&mut self.diags, src, name, &ty, access, at);
+                    warn_if_event(&mut self.cx.diags, src, name, &ty, access, at);
                 }
             }
         }
@@ -266,7 +269,7 @@ impl Lowerer {
             Kind::Leaf(Leaf::Sphere { radius }) if name == "radius" => {
                 let r = num1(v);
                 if r <= 0.0 || !r.is_finite() {
-                    return Err(self.diags.error(
+                    return Err(self.cx.diags.error(
                         src,
                         at,
                         format!("Sphere radius must be positive, found {r}"),
@@ -276,7 +279,7 @@ impl Lowerer {
             }
             Kind::Leaf(Leaf::Solid(i)) => {
                 if let Err(e) = solid_field(&mut self.meshes.solids[*i as usize], name, v) {
-                    return Err(self.diags.error(src, at, e));
+                    return Err(self.cx.diags.error(src, at, e));
                 }
             }
             Kind::PointLight(l) => match name {
@@ -333,7 +336,7 @@ impl Lowerer {
             _ => {}
         }
         if let Some(p) = problem {
-            self.diags.warn(src, at, p);
+            self.cx.diags.warn(src, at, p);
         }
         Ok(())
     }

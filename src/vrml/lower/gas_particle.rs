@@ -95,11 +95,11 @@ impl Lowerer {
                     (ProfileError::Width(_), Some((_, wat, _))) => wat,
                     _ => name_at,
                 };
-                self.diags.error(src, at, format!("{NAME}: {e}"))
+                self.cx.diags.error(src, at, format!("{NAME}: {e}"))
             })?;
         // (A width the PROTO's default gives is no one's mistake.)
         if let (Some(_), Some((_, wat, true))) = (ignored, width) {
-            self.diags.warn(
+            self.cx.diags.warn(
                 src,
                 wat,
                 format!("{NAME} width applies to the gaussian profile only: ignored"),

@@ -20,8 +20,6 @@ use crate::vrml::parse::Parser;
 /// The file being read and the chain of files that include it.
 #[derive(Default)]
 pub(super) struct Files {
-    /// The index in `Scene::files` of the file being read.
-    pub(super) current: u32,
     /// The path of the scene file, then of each Inline'd file (or file read for its
     /// PROTOs) being read, innermost last.
     pub(super) stack: Vec<PathBuf>,
@@ -77,7 +75,7 @@ pub(super) enum Admit {
 
 impl Lowerer {
     pub(super) fn load_file(&mut self, path: &Path) -> Result<(), Error> {
-        let src = crate::input::open(path, self.opts.inflate_ratio())?;
+        let src = crate::input::open(path, self.cx.opts.inflate_ratio())?;
         self.load_source(src, path)
     }
 
@@ -94,8 +92,8 @@ impl Lowerer {
     /// Enters a file: its namespace, its root frame, and no recording or substitution of the
     /// includer's. Then its events; then [`Self::resume_outside`] and [`Self::close_file`].
     pub(super) fn open_file(&mut self, src: &SourceWindow, path: &Path) -> Opened {
-        let saved_file = self.files.current;
-        self.files.current = self.scene.files.len() as u32;
+        let saved_file = self.cx.file;
+        self.cx.file = self.scene.files.len() as u32;
         self.scene.files.push(src.name.to_string());
         self.files.stack.push(path.to_path_buf());
         self.scopes.push_file();
@@ -139,7 +137,8 @@ impl Lowerer {
     /// Leaves a file whose events were all read: its warnings, its root frame, its namespace.
     pub(super) fn close_file(&mut self, opened: Opened, src: &SourceWindow) -> Result<(), Error> {
         if let Some(at) = src.bad_utf8 {
-            self.diags
+            self.cx
+                .diags
                 .warn(src, Pos::at(at), "invalid UTF-8 (bytes replaced by '?')");
         }
         debug_assert_eq!(self.open.frames.len(), opened.depth);
@@ -148,7 +147,7 @@ impl Lowerer {
         self.scopes.pop();
         self.files.stack.pop();
         self.files.bytes += src.bytes_read;
-        self.files.current = opened.saved_file;
+        self.cx.file = opened.saved_file;
         Ok(())
     }
 
@@ -198,11 +197,11 @@ impl Lowerer {
     pub(super) fn admit_file(&self, path: &Path) -> Admit {
         // The stack holds the scene file and the files being read inside it: this one
         // would be number `stack.len()` down from the scene file.
-        if self.files.stack.len() > self.opts.max_inline_depth {
+        if self.files.stack.len() > self.cx.opts.max_inline_depth {
             return Admit::TooDeep;
         }
         let mut head = [0u8; 16];
-        let n = crate::input::open(path, self.opts.inflate_ratio())
+        let n = crate::input::open(path, self.cx.opts.inflate_ratio())
             .ok()
             .map(|mut w| {
                 let _ = w.fill(16);
@@ -220,7 +219,7 @@ impl Lowerer {
 
     /// Loads the first of `urls` that is a local VRML97 file; a warning if none is.
     fn load_inline(&mut self, src: &SourceWindow, at: Pos, urls: &[String]) -> Result<(), Error> {
-        if !self.opts.inline {
+        if !self.cx.opts.inline {
             return Ok(());
         }
         let base = self.base_dir(at);
@@ -237,12 +236,12 @@ impl Lowerer {
                 Admit::Yes => return self.load_file(&path),
                 Admit::Cycle => {
                     let msg = format!("Inline '{url}' includes itself (a cycle)");
-                    return Err(self.diags.error(src, at, msg));
+                    return Err(self.cx.diags.error(src, at, msg));
                 }
                 Admit::TooDeep => {
-                    let max = self.opts.max_inline_depth;
+                    let max = self.cx.opts.max_inline_depth;
                     let msg = format!("Inline '{url}' nests deeper than {max} files");
-                    return Err(self.diags.error(src, at, msg));
+                    return Err(self.cx.diags.error(src, at, msg));
                 }
                 Admit::NotVrml97 => tried.push(format!("'{url}' (not a VRML97 file)")),
             }
@@ -252,7 +251,8 @@ impl Lowerer {
         } else {
             tried.join(", ")
         };
-        self.diags
+        self.cx
+            .diags
             .warn(src, at, format!("Inline not loaded: {what}"));
         Ok(())
     }

@@ -30,7 +30,8 @@ impl Lowerer {
     ) {
         let d = l.direction;
         if d.length_squared() == 0.0 || !d.is_finite() {
-            self.diags
+            self.cx
+                .diags
                 .warn(src, at, "DirectionalLight direction is zero: using 0 0 -1");
             l.direction = DVec3::new(0.0, 0.0, -1.0);
         } else {

@@ -133,7 +133,7 @@ impl Lowerer {
             normal_per_vertex: true,
             crease_angle: 0.0,
             malformed: false,
-            nodes_before: self.nodes - 1,
+            nodes_before: self.cx.nodes - 1,
         }));
         self.open.push(ty, None, kind, at);
     }
@@ -191,13 +191,13 @@ impl Lowerer {
             self.meshes.parts.push(Some(parts));
             Geom::Mesh(i, at)
         } else {
-            self.diags.skip(m.kind.name());
+            self.cx.diags.skip(m.kind.name());
             Geom::Other
         };
         self.meshes.arrays.clear();
         self.meshes.last = Some(MeshCache {
             geom,
-            nodes: self.nodes - m.nodes_before,
+            nodes: self.cx.nodes - m.nodes_before,
         });
         Ok(Result_::Geometry(geom))
     }
@@ -230,13 +230,13 @@ impl Lowerer {
         at: Pos,
     ) -> Result<bool, Error> {
         if let Some(c) = self.meshes.cache.get(&start).copied() {
-            self.add_nodes(c.nodes, src, at)?;
+            self.cx.add_nodes(c.nodes, src, at)?;
             if let Geom::Mesh(i, _) = c.geom {
                 if let Some(Some(p)) = self.meshes.parts.get(i as usize) {
                     let (spheres, points) = (p.mesh_spheres(), p.point_spheres());
                     // The copies of its spheres and triangles the Shape will add.
                     let items = (p.spheres.len() + p.triangles.len()) as u64;
-                    self.spend(items, src, at, "USE of a mesh")?;
+                    self.cx.spend(items, src, at, "USE of a mesh")?;
                     self.meshes.spheres += spheres;
                     self.meshes.point_spheres += points;
                 }

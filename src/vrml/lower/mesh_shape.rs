@@ -14,8 +14,9 @@
 
 use glam::DVec3;
 
+use super::diags::Diags;
 use super::meshes::{Grid, MeshKind, MeshParts, MeshState, Meshes};
-use super::{Diags, LoadOptions, Lowerer};
+use super::{LoadOptions, Lowerer};
 use crate::error::Error;
 use crate::geom::mesh::{components, crease_normals, faces, first_bad_index, triangulate};
 use crate::geom::sphere_fit;
@@ -56,12 +57,13 @@ impl Lowerer {
         // before they are made. (An ElevationGrid's come from heights in the text.)
         if let MeshKind::Extrusion(e) = &m.kind {
             let points = (e.spine.len() as u64).saturating_mul(e.cross_section.len() as u64);
-            self.spend(points.saturating_mul(2), src, at, "Extrusion")?;
+            self.cx
+                .spend(points.saturating_mul(2), src, at, "Extrusion")?;
         }
-        let mut cx = Ctx {
+        let mut cx = MeshCtx {
             meshes: &self.meshes,
-            opts: &self.opts,
-            diags: &mut self.diags,
+            opts: &self.cx.opts,
+            diags: &mut self.cx.diags,
             src,
             at,
         };
@@ -140,7 +142,7 @@ fn grid_mesh(g: &Grid) -> Option<(Vec<DVec3>, Vec<i64>)> {
 
 /// What the functions below read, and where they report: the arrays of the open mesh, the
 /// load options, and the diagnostics at the mesh's node.
-struct Ctx<'a> {
+struct MeshCtx<'a> {
     meshes: &'a Meshes,
     opts: &'a LoadOptions,
     diags: &'a mut Diags,
@@ -148,7 +150,7 @@ struct Ctx<'a> {
     at: Pos,
 }
 
-impl Ctx<'_> {
+impl MeshCtx<'_> {
     fn warn(&mut self, msg: impl Into<String>) {
         self.diags.warn(self.src, self.at, msg);
     }
@@ -158,7 +160,7 @@ impl Ctx<'_> {
 }
 
 /// Points as particles.
-fn point_cloud(cx: &mut Ctx, m: &MeshState, points: &[DVec3], ty: &str) -> MeshParts {
+fn point_cloud(cx: &mut MeshCtx, m: &MeshState, points: &[DVec3], ty: &str) -> MeshParts {
     let colors = cx.meshes.array(m.color);
     let finite: Vec<DVec3> = points.iter().copied().filter(|p| p.is_finite()).collect();
     if finite.len() < points.len() {
@@ -202,7 +204,7 @@ fn point_cloud(cx: &mut Ctx, m: &MeshState, points: &[DVec3], ty: &str) -> MeshP
 }
 
 /// Faces as spheres and triangles.
-fn faces_to_parts(cx: &mut Ctx, m: &MeshState, points: &[DVec3]) -> MeshParts {
+fn faces_to_parts(cx: &mut MeshCtx, m: &MeshState, points: &[DVec3]) -> MeshParts {
     let ci = &m.coord_index;
     let mut face_list = faces(ci);
     if let Some(k) = first_bad_index(ci, points.len()) {

@@ -46,7 +46,9 @@
 
 mod chunk;
 mod close;
+mod context;
 mod declare;
+mod diags;
 mod direct;
 mod dispatch;
 mod expand;
@@ -73,21 +75,18 @@ mod transform;
 
 use std::collections::BTreeMap;
 
-// hashbrown's default hasher (foldhash), not SipHash: every lookup here is on names and
-// offsets from the scene text, hashed once per node or field of each PROTO instance.
-use hashbrown::HashMap;
 use std::path::Path;
-use std::rc::Rc;
 use std::sync::Arc;
 use std::time::Instant;
 
 use crate::diag::{Diagnostic, Severity};
 use crate::error::Error;
-use crate::scene::{Material, Origin, Scene};
-use crate::source::{Pos, SourceWindow};
+use crate::scene::{Material, Scene};
+use crate::source::SourceWindow;
 use crate::vrml::syntax::OwnedEvent;
 
 use close::Bound;
+use context::Ctx;
 use expand::Expansions;
 use extern_proto::Externs;
 use inline::Files;
@@ -326,12 +325,9 @@ pub fn load_str(name: &str, text: &str, opts: &LoadOptions) -> Result<(Scene, Lo
 /// The lowering of one scene (its Inlines included): the scene built so far, and one part
 /// per concern, each owned by the file named.
 struct Lowerer {
-    opts: LoadOptions,
+    /// The options, node count, budget and diagnostics (`context`).
+    cx: Ctx,
     scene: Scene,
-    /// Nodes lowered, USE and PROTO expansions included.
-    nodes: u64,
-    /// The expansion budget spent: nodes and what copies create (see [`Self::spend`]).
-    spent: u64,
     /// PROTO instances lowered by a sphere template (`template.rs`).
     templated: u64,
     /// Plain sphere nodes read whole from the text (`template.rs`).
@@ -362,8 +358,6 @@ struct Lowerer {
     externs: Externs,
     /// The first NavigationInfo and Background are bound (`close`).
     bound: Bound,
-    /// Warnings and skipped node types.
-    diags: Diags,
     /// A chunk being read on its own (`parallel`).
     watch: Option<chunk::Watch>,
     /// Names chunks read on their own DEF'd: the main reader may not use them.
@@ -375,79 +369,11 @@ struct Lowerer {
     sphere_text: Option<Box<crate::vrml::sphere_node::SphereNode>>,
 }
 
-/// Warnings (repeats folded) and the node types counted as skipped.
-#[derive(Default)]
-struct Diags {
-    warnings: Vec<Diagnostic>,
-    /// Where each (file, message) is in `warnings`.
-    index: HashMap<(Arc<str>, String), usize>,
-    skipped: BTreeMap<String, u64>,
-    notes: Vec<Diagnostic>,
-    /// The files read for their PROTOs (EXTERNPROTO), by index in `Scene::files`: positions
-    /// tagged with one of them point into it, not into the file being read (see
-    /// [`Pos::tagged`]).
-    sources: HashMap<u32, Rc<SourceWindow>>,
-}
-
-impl Diags {
-    /// The source that position `at` is in, and its offset there: `src` (the file being read)
-    /// unless `at` is tagged with a file read for its PROTOs.
-    fn locate<'a>(&'a self, src: &'a SourceWindow, at: Pos) -> (&'a SourceWindow, u64) {
-        match at.file() {
-            Some(file) => (self.sources.get(&file).map_or(src, |s| &**s), at.offset()),
-            None => (src, at.offset()),
-        }
-    }
-
-    /// A note: not a problem (`--strict` does not refuse it), a choice the user should see.
-    fn note(&mut self, src: &SourceWindow, at: Pos, msg: impl Into<String>) {
-        let (src, at) = self.locate(src, at);
-        let d = src.diagnostic(Severity::Note, at, msg.into());
-        // Repeats (a PROTO of points instanced many times) are folded, as warnings are.
-        if let Some(first) = self
-            .notes
-            .iter_mut()
-            .find(|n| n.message == d.message && n.file == d.file)
-        {
-            first.repeats += 1;
-            return;
-        }
-        self.notes.push(d);
-    }
-
-    /// A warning; repeats of the same message in the same file are folded into the first.
-    fn warn(&mut self, src: &SourceWindow, at: Pos, msg: impl Into<String>) {
-        let (src, at) = self.locate(src, at);
-        let msg = msg.into();
-        let key = (src.name.clone(), msg);
-        if let Some(&i) = self.index.get(&key) {
-            self.warnings[i].repeats += 1;
-            return;
-        }
-        let d = src.diagnostic(Severity::Warning, at, key.1.clone());
-        self.index.insert(key, self.warnings.len());
-        self.warnings.push(d);
-    }
-
-    /// An error at `at` (in `src`, or in the file `at` is tagged with).
-    fn error(&self, src: &SourceWindow, at: Pos, msg: impl Into<String>) -> Error {
-        let (src, at) = self.locate(src, at);
-        Error::Diag(Box::new(src.diagnostic(Severity::Error, at, msg.into())))
-    }
-
-    /// Counts one more instance of a node type that is not lowered.
-    fn skip(&mut self, ty: &str) {
-        *self.skipped.entry(ty.to_string()).or_default() += 1;
-    }
-}
-
 impl Lowerer {
     fn new(opts: LoadOptions) -> Self {
         let mut low = Lowerer {
-            opts,
+            cx: Ctx::new(opts),
             scene: Scene::default(),
-            nodes: 0,
-            spent: 0,
             templated: 0,
             whole_nodes: 0,
             direct: direct::Direct::default(),
@@ -463,7 +389,6 @@ impl Lowerer {
             files: Files::default(),
             externs: Externs::default(),
             bound: Bound::default(),
-            diags: Diags::default(),
             watch: None,
             poison: None,
             fallback: None,
@@ -474,8 +399,9 @@ impl Lowerer {
     }
 
     fn finish(mut self, t0: Instant) -> Result<(Scene, LoadReport), Error> {
-        if self.opts.strict && !self.diags.warnings.is_empty() {
+        if self.cx.opts.strict && !self.cx.diags.warnings.is_empty() {
             let errs = self
+                .cx
                 .diags
                 .warnings
                 .into_iter()
@@ -490,17 +416,17 @@ impl Lowerer {
         self.scene.surfaces.shrink_to_fit();
         self.scene.materials.shrink_to_fit();
         let report = LoadReport {
-            warnings: self.diags.warnings,
-            skipped: self.diags.skipped,
+            warnings: self.cx.diags.warnings,
+            skipped: self.cx.diags.skipped,
             bytes: self.files.bytes,
             seconds: t0.elapsed().as_secs_f64(),
-            nodes: self.nodes,
-            expansion: self.spent,
+            nodes: self.cx.nodes,
+            expansion: self.cx.spent,
             files: self.scene.files.clone(),
             recorded_bytes: self.rec.arena.capacity() * std::mem::size_of::<Rec>(),
             mesh_spheres: self.meshes.spheres,
             point_spheres: self.meshes.point_spheres,
-            notes: self.diags.notes,
+            notes: self.cx.diags.notes,
             read_pieces: 0,
             read_again: None,
             read_on: None,
@@ -508,61 +434,6 @@ impl Lowerer {
             whole_sphere_nodes: self.whole_nodes,
         };
         Ok((self.scene, report))
-    }
-
-    /// Where an IR item made at `at` comes from: the file being read, or the file a PROTO
-    /// body was read from (a tagged position, see [`Pos::tagged`]): the one conversion of
-    /// positions to origins.
-    #[inline]
-    fn origin(&self, at: Pos) -> Origin {
-        Origin::new(at.file().unwrap_or(self.files.current), at.offset())
-    }
-
-    /// Counts `n` more lowered nodes, which spend as much of the expansion budget.
-    #[inline]
-    fn add_nodes(&mut self, n: u64, src: &SourceWindow, at: Pos) -> Result<(), Error> {
-        self.nodes += n;
-        self.spend(n, src, at, "node")
-    }
-
-    /// The expansion budget once `bytes` of text are read: `expansion_base` plus
-    /// `max_expansion` per byte. A blow-up through USE or PROTO grows far faster than the
-    /// text, while a file of a hundred million particles (5e8 nodes from 13 GB of PROTO
-    /// instances) is text all the way.
-    #[inline(always)]
-    fn budget(&self, bytes: u64) -> u64 {
-        self.opts
-            .expansion_base
-            .saturating_add(self.opts.max_expansion.saturating_mul(bytes))
-    }
-
-    /// Whether `n` more units fit the budget at the text read so far.
-    #[inline(always)]
-    fn fits(&self, n: u64, src: &SourceWindow) -> bool {
-        self.spent.saturating_add(n) <= self.budget(src.bytes_read)
-    }
-
-    /// Spends `n` units of the expansion budget on `what` at `at`, before what they stand for
-    /// is made; an error there once the budget is exceeded.
-    #[inline]
-    fn spend(&mut self, n: u64, src: &SourceWindow, at: Pos, what: &str) -> Result<(), Error> {
-        self.spent = self.spent.saturating_add(n);
-        self.watch_nodes(src.offset());
-        let limit = self.budget(src.bytes_read);
-        if self.spent > limit {
-            return Err(self.diags.error(
-                src,
-                at,
-                format!(
-                    "this {what} takes the scene past its expansion limit: {limit} nodes and \
-                     values ({} plus {} per byte of text read), as USE, PROTO or IS copies \
-                     multiply; `--max-expansion` (Python: `max_expansion`) raises the {} \
-                     per byte",
-                    self.opts.expansion_base, self.opts.max_expansion, self.opts.max_expansion
-                ),
-            ));
-        }
-        Ok(())
     }
 }
 

@@ -165,7 +165,7 @@ pub(super) fn load(
     // made them more often, and the main thread no longer wakes to take a worker's core).
     let chunk_rx = Arc::new(Mutex::new(chunk_rx));
     let worker_rx: Vec<_> = (1..threads.max(2)).map(|_| chunk_rx.clone()).collect();
-    let opts = low.opts.clone();
+    let opts = low.cx.opts.clone();
     std::thread::scope(|scope| {
         let splitter_done = done_tx.clone();
         let (spare_tx, spare_rx) = channel();
@@ -462,7 +462,7 @@ fn put_chunks_in_place(
                 "chunk {placed} USEs '{n}', which an earlier chunk DEF'd again"
             ));
         }
-        if low.spent as i64 + d.excess > low.opts.expansion_base.min(i64::MAX as u64) as i64 {
+        if low.cx.spent as i64 + d.excess > low.cx.opts.expansion_base.min(i64::MAX as u64) as i64 {
             return Err("the budget spent may pass the expansion limit".into());
         }
         defined.extend(d.exports.iter().cloned());

@@ -37,7 +37,7 @@ impl Lowerer {
         what: &str,
     ) -> Result<(), Error> {
         if self.replay.depth >= MAX_REPLAY_DEPTH {
-            return Err(self.diags.error(
+            return Err(self.cx.diags.error(
                 src,
                 at,
                 format!("{what} nest deeper than {MAX_REPLAY_DEPTH}"),
@@ -62,7 +62,7 @@ impl Lowerer {
             let rec = self.rec.arena[i].clone();
             match rec {
                 Rec::Ev(ev) => {
-                    self.spend(super::event_cost(&ev), src, at, what)?;
+                    self.cx.spend(super::event_cost(&ev), src, at, what)?;
                     self.handle(src, ev.as_event())?
                 }
                 Rec::Used { range, at } => self.use_range(src, range, at)?,

@@ -23,7 +23,8 @@ impl Lowerer {
     ) {
         let end = |this: &mut Self, node: &str, field: &str, want_out: bool| -> Option<FieldType> {
             let Some(d) = this.lookup_def(node) else {
-                this.diags
+                this.cx
+                    .diags
                     .warn(src, at, format!("ROUTE refers to undefined node '{node}'"));
                 return None;
             };
@@ -39,7 +40,7 @@ impl Lowerer {
                 return None;
             };
             let Some((fty, access)) = found else {
-                this.diags.warn(
+                this.cx.diags.warn(
                     src,
                     at,
                     format!("ROUTE: {ty} '{node}' has no event '{field}'"),
@@ -57,7 +58,8 @@ impl Lowerer {
                 } else {
                     "an eventIn"
                 };
-                this.diags
+                this.cx
+                    .diags
                     .warn(src, at, format!("ROUTE: '{node}.{field}' is not {want}"));
                 return None;
             }
@@ -67,7 +69,7 @@ impl Lowerer {
         let b = end(self, to, tf, false);
         if let (Some(a), Some(b)) = (a, b) {
             if a != b {
-                self.diags.warn(
+                self.cx.diags.warn(
                     src,
                     at,
                     format!("ROUTE from {} to {}: the types differ", a.name(), b.name()),

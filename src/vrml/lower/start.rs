@@ -128,7 +128,7 @@ impl Lowerer {
             self.rec.start_def(d, ty, at);
             self.scopes.open_def(d);
         }
-        self.add_nodes(1, src, at)?;
+        self.cx.add_nodes(1, src, at)?;
         let index = schema::node_index(ty);
         let spec = index.map(|i| &schema::NODES[i]);
         // A standard type was found by this very name.
@@ -181,8 +181,8 @@ impl Lowerer {
                     self.rec.start_here(&ty_rc, def, at, RecKind::Instance);
                 }
             } else {
-                self.diags.skip(ty);
-                self.diags.warn(
+                self.cx.diags.skip(ty);
+                self.cx.diags.warn(
                     src,
                     at,
                     format!(
@@ -270,19 +270,19 @@ impl Lowerer {
                 return Ok(());
             }
             Lowered::PointLight => Kind::PointLight(Box::new(PointLight {
-                origin: self.origin(at),
+                origin: self.cx.origin(at),
                 ..PointLight::default()
             })),
             // The scope is set when the light's grouping node closes.
             Lowered::DirectionalLight => Kind::DirectionalLight(Box::new(DirectionalLight {
                 scope: LightScope::Range { start: 0, end: 0 },
                 surface_scope: LightScope::Range { start: 0, end: 0 },
-                origin: self.origin(at),
+                origin: self.cx.origin(at),
                 ..DirectionalLight::default()
             })),
             Lowered::Viewpoint => Kind::Viewpoint(Box::new(Viewpoint {
                 name: def.map(str::to_string),
-                origin: self.origin(at),
+                origin: self.cx.origin(at),
                 ..Viewpoint::default()
             })),
             Lowered::NavigationInfo => Kind::NavigationInfo { headlight: None },
@@ -292,10 +292,11 @@ impl Lowerer {
                 // Standard nodes we do not model are counted in the report, not warned about:
                 // they are valid VRML, and `--strict` is about validity.
                 if spec.is_none() {
-                    self.diags
+                    self.cx
+                        .diags
                         .warn(src, at, format!("unknown node type '{ty}': skipped"));
                 }
-                self.diags.skip(ty);
+                self.cx.diags.skip(ty);
                 self.open.push_suppressing(Frame {
                     ty: ty_rc,
                     spec,
@@ -336,7 +337,7 @@ impl Lowerer {
                 "{ty} is not allowed in field '{}' of {}: ignored",
                 ctx.name, parent.ty
             );
-            self.diags.warn(src, at, msg);
+            self.cx.diags.warn(src, at, msg);
         }
     }
 }

@@ -456,7 +456,7 @@ impl Lowerer {
                 return false;
             }
         }
-        self.fits(nodes, src)
+        self.cx.fits(nodes, src)
     }
 
     /// A plain sphere node read whole from the text (see [`crate::vrml::sphere_node`]) at
@@ -468,7 +468,7 @@ impl Lowerer {
         at: Pos,
         node: &SphereNode,
     ) -> Result<bool, Error> {
-        if self.opts.replay_every_instance
+        if self.cx.opts.replay_every_instance
             || !self.rec.idle()
             || !self.sphere_fits_here(src, node.nodes)
         {
@@ -532,9 +532,9 @@ impl Lowerer {
         // What replaying does, in its order: the nodes are counted as they start, the
         // Material is stored when it closes, the sphere when the Shape closes, and the
         // Transform moves it when it closes.
-        self.nodes += tpl.nodes;
-        self.spent += tpl.spent;
-        self.watch_nodes(src.offset());
+        self.cx.nodes += tpl.nodes;
+        self.cx.spent += tpl.spent;
+        self.cx.watch_nodes(src.offset());
         let marks = Marks::of(&self.scene);
         let paint = match inputs.material {
             Some(m) => {
@@ -549,7 +549,7 @@ impl Lowerer {
             color: paint.color,
             material: paint.material,
             ellipsoid: None,
-            origin: self.origin(tpl.sphere_at),
+            origin: self.cx.origin(tpl.sphere_at),
         });
         let t = TransformFields {
             translation: inputs.translation.unwrap_or(DVec3::ZERO),

@@ -188,7 +188,7 @@ impl Lowerer {
                 for s in &mut self.scene.spheres[marks.spheres..] {
                     s.center += d;
                     if let Err(what) = check_sphere(s.center, s.radius) {
-                        return Err(self.diags.error(
+                        return Err(self.cx.diags.error(
                             src,
                             at,
                             format!("this Transform makes {what}"),
@@ -209,7 +209,7 @@ impl Lowerer {
         let flat = shift.is_none() && m.matrix3.determinant() == 0.0;
         if !m.is_finite() || flat {
             // A zero scale (or a degenerate scaleOrientation) flattens the contents: not shown.
-            self.diags.warn(
+            self.cx.diags.warn(
                 src,
                 at,
                 "a Transform with a zero or non-finite scale hides its contents",
@@ -222,7 +222,8 @@ impl Lowerer {
         }
         // Each matrix is finite, but their product may not be: check what the contents became.
         apply(&mut self.scene, &m, shift.is_some(), marks).map_err(|what| {
-            self.diags
+            self.cx
+                .diags
                 .error(src, at, format!("this Transform makes {what}"))
         })
     }
