@@ -10,8 +10,8 @@ use std::sync::Arc;
 
 use glam::{DAffine3, DVec3};
 
+use super::build::transform::Marks;
 use super::context::Headroom;
-use super::transform::Marks;
 use super::Lowerer;
 use crate::error::Error;
 use crate::input::FileRange;
@@ -104,7 +104,7 @@ pub(super) fn lower_chunk(
     let mut low = Lowerer::new(opts.clone());
     // An earlier chunk's list, emptied: its pages are already mapped.
     debug_assert!(spheres.is_empty());
-    low.scene.spheres = spheres;
+    low.build.scene.spheres = spheres;
     let mut src = SourceWindow::new(name.clone(), Box::new(Cursor::new(prefix.clone())));
     // The window an earlier chunk's reader read through: its pages are already mapped (a
     // new one for each chunk was faulted in again: about 40 ms of CPU per million particles).
@@ -174,13 +174,13 @@ fn said(d: &[crate::diag::Diagnostic]) -> u64 {
 }
 
 fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source) -> Outcome {
-    let base = Marks::of(&low.scene);
-    let ellipsoid_base = low.scene.ellipsoids.len();
+    let base = Marks::of(&low.build.scene);
+    let ellipsoid_base = low.build.scene.ellipsoids.len();
     let said_before = (said(&low.cx.diags.warnings), said(&low.cx.diags.notes));
     let skipped_before = low.cx.diags.skipped.clone();
-    let meshes_before = (low.meshes.spheres, low.meshes.point_spheres);
-    let bound_before = (low.bound.navigation_info, low.bound.background);
-    let files_before = low.scene.files.len();
+    let meshes_before = (low.build.meshes.spheres, low.build.meshes.point_spheres);
+    let bound_before = (low.build.bound.navigation_info, low.build.bound.background);
+    let files_before = low.build.scene.files.len();
     let arena_mark = low.rec.arena.len();
     low.rec.pinned = low.rec.pinned.max(arena_mark);
     low.watch = Some(Watch {
@@ -188,7 +188,7 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source)
         imports: Vec::new(),
         nodes_at_start: low.cx.nodes,
         templated_at_start: low.templated,
-        whole_at_start: low.whole_nodes,
+        whole_at_start: low.build.whole_nodes,
         declared: false,
     });
     low.cx.headroom = Some(Headroom {
@@ -216,7 +216,7 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source)
     if (said(&low.cx.diags.warnings), said(&low.cx.diags.notes)) != said_before {
         return Err("it has warnings or notes".into());
     }
-    if low.scene.files.len() != files_before {
+    if low.build.scene.files.len() != files_before {
         return Err("it reads another file".into());
     }
     if let Some(why) = low.fallback.take() {
@@ -228,6 +228,7 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source)
         return Err("it declares a PROTO".into());
     }
     let dirlights = low
+        .build
         .open
         .innermost_dirlights()
         .and_then(|d| d.as_deref())
@@ -244,7 +245,7 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source)
         }
     }
     skipped.retain(|_, n| *n > 0);
-    let scene = &mut low.scene;
+    let scene = &mut low.build.scene;
     Ok(Box::new(Delta {
         spheres: tail(&mut scene.spheres, base.spheres),
         ellipsoids: tail(&mut scene.ellipsoids, ellipsoid_base),
@@ -259,12 +260,12 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source)
         nodes: low.cx.nodes - watch.nodes_at_start,
         spent: low.cx.spent - headroom.spent_at_start,
         templated: low.templated - watch.templated_at_start,
-        whole_nodes: low.whole_nodes - watch.whole_at_start,
+        whole_nodes: low.build.whole_nodes - watch.whole_at_start,
         excess: headroom.excess,
-        mesh_spheres: low.meshes.spheres - meshes_before.0,
-        point_spheres: low.meshes.point_spheres - meshes_before.1,
-        headlight: (!bound_before.0 && low.bound.navigation_info).then_some(scene.headlight),
-        background: (!bound_before.1 && low.bound.background).then_some(scene.background),
+        mesh_spheres: low.build.meshes.spheres - meshes_before.0,
+        point_spheres: low.build.meshes.point_spheres - meshes_before.1,
+        headlight: (!bound_before.0 && low.build.bound.navigation_info).then_some(scene.headlight),
+        background: (!bound_before.1 && low.build.bound.background).then_some(scene.background),
         exports: low.scopes.file_defs_since(arena_mark),
         imports: watch.imports,
         line_starts: (parser.src.lines.starts_after(start))
@@ -312,8 +313,8 @@ impl Lowerer {
         mut d: Delta,
         src: &mut SourceWindow,
     ) -> Result<Vec<Sphere>, String> {
-        let moved = self.scene.materials.append(&d.materials);
-        let scene = &mut self.scene;
+        let moved = self.build.scene.materials.append(&d.materials);
+        let scene = &mut self.build.scene;
         let (s0, f0, l0) = (
             scene.spheres.len(),
             scene.surfaces.len(),
@@ -361,18 +362,18 @@ impl Lowerer {
         }
         scene.viewpoints.extend(d.views);
         if !d.dirlights.is_empty() {
-            if let Some(dirlights) = self.open.innermost_dirlights() {
+            if let Some(dirlights) = self.build.open.innermost_dirlights() {
                 let list = dirlights.get_or_insert_with(Box::default);
                 list.extend(d.dirlights.iter().map(|i| i + l0));
             }
         }
-        if let (Some(h), false) = (d.headlight, self.bound.navigation_info) {
-            self.scene.headlight = h;
-            self.bound.navigation_info = true;
+        if let (Some(h), false) = (d.headlight, self.build.bound.navigation_info) {
+            self.build.scene.headlight = h;
+            self.build.bound.navigation_info = true;
         }
-        if let (Some(b), false) = (d.background, self.bound.background) {
-            self.scene.background = b;
-            self.bound.background = true;
+        if let (Some(b), false) = (d.background, self.build.bound.background) {
+            self.build.scene.background = b;
+            self.build.bound.background = true;
         }
         for (ty, n) in d.skipped {
             *self.cx.diags.skipped.entry(ty).or_default() += n;
@@ -380,9 +381,9 @@ impl Lowerer {
         self.cx.nodes += d.nodes;
         self.cx.spent += d.spent;
         self.templated += d.templated;
-        self.whole_nodes += d.whole_nodes;
-        self.meshes.spheres += d.mesh_spheres;
-        self.meshes.point_spheres += d.point_spheres;
+        self.build.whole_nodes += d.whole_nodes;
+        self.build.meshes.spheres += d.mesh_spheres;
+        self.build.meshes.point_spheres += d.point_spheres;
         src.lines_skipped(d.line_starts);
         Ok(d.spheres)
     }

@@ -1,37 +1,23 @@
-//! Closing nodes: what happens at a node's `}`. Recordings that end there are registered (a
-//! DEF's name now means its events), a Switch choice is kept for its Switch and a PROTO
-//! instance is expanded; otherwise the node's frame becomes what it lowers to. Leaves
-//! (Shape, Appearance, Material, Sphere: most nodes of a particle file) are closed in place
-//! without moving their frame out; grouping nodes apply their matrix and light scope to what
-//! was lowered inside them; and a closed node hands its result ([`Result_`]) to the field it
-//! stands in.
+//! What happens at a node's `}`. Recordings that end there are registered (a DEF's name now
+//! means its events), a Switch choice is kept for its Switch and a PROTO instance is
+//! expanded; an Inline reads its file and a Switch replays its choice; otherwise the scene
+//! builder closes the node's frame (`build::close`).
 
-use glam::{DAffine3, DVec3};
-
-use super::meshes::Geom;
-use super::open::{Frame, Kind, Leaf, Result_};
+use super::build::meshes::Geom;
+use super::build::open::{Frame, Kind, Result_};
 use super::record::{Done, Rec, RecKind};
 use super::scope::DefEntry;
 use super::Lowerer;
 use crate::error::Error;
-use crate::geom::shapes::Solid;
-use crate::scene::{Paint, Sphere, Surface, SurfaceShape};
-use crate::source::{Pos, SourceWindow};
+use crate::source::SourceWindow;
 use crate::vrml::syntax::OwnedEvent;
-
-/// The first NavigationInfo and Background are bound; later ones are ignored.
-#[derive(Default)]
-pub(super) struct Bound {
-    pub(super) navigation_info: bool,
-    pub(super) background: bool,
-}
 
 impl Lowerer {
     /// A node's `}`; `done` are the recordings that ended with it.
     pub(super) fn node_end(&mut self, src: &SourceWindow, done: Done) -> Result<(), Error> {
-        if done.is_empty() && self.open.quiet == 0 {
-            if let Some(result) = self.close_top_leaf() {
-                self.deliver(result);
+        if done.is_empty() && self.build.open.quiet == 0 {
+            if let Some(result) = self.build.close_top_leaf(&mut self.cx) {
+                self.build.deliver(result);
                 return Ok(());
             }
         }
@@ -56,278 +42,56 @@ impl Lowerer {
             }
         }
         self.rec.hand_back(done);
-        let frame = self.open.pop_closing();
+        let depth = self.build.open.frames.len();
+        let frame = self.build.open.pop_closing();
         if let Some(range) = choice {
             if let Some(Frame {
                 kind: Kind::Switch { choices, .. },
                 ..
-            }) = self.open.frames.last_mut()
+            }) = self.build.open.frames.last_mut()
             {
                 choices.push(range);
             }
             return Ok(());
         }
         if let Some(range) = instance {
-            if let Some(proto) = frame.proto.clone() {
+            if let Some(proto) = self.instance_proto(depth) {
                 self.expand(src, proto, range.clone(), frame.at)?;
                 // The instance's recording is no longer needed unless a DEF refers into it.
                 self.rec.release(range.start);
             }
             return Ok(());
         }
-        if self.open.quiet > 0 || matches!(frame.kind, Kind::Quiet | Kind::Skip) {
-            let result = if matches!(frame.kind, Kind::Skip) && self.open.quiet == 0 {
+        if self.build.open.quiet > 0 || matches!(frame.kind, Kind::Quiet | Kind::Skip) {
+            let result = if matches!(frame.kind, Kind::Skip) && self.build.open.quiet == 0 {
                 Result_::Geometry(Geom::Other)
             } else {
                 Result_::Nothing
             };
-            self.deliver(result);
+            self.build.deliver(result);
             return Ok(());
         }
-        let result = self.close(src, frame)?;
-        self.deliver(result);
-        Ok(())
-    }
-
-    /// Hands a closed node's result to the field it stands in.
-    pub(super) fn deliver(&mut self, result: Result_) {
-        let Some(ctx) = self.open.fields.last() else {
-            return;
-        };
-        let frame = &mut self.open.frames[ctx.frame];
-        match (&mut frame.kind, &*ctx.name, result) {
-            (Kind::Leaf(Leaf::Shape { appearance, .. }), "appearance", Result_::Appearance(m)) => {
-                *appearance = Some(m)
-            }
-            (Kind::Leaf(Leaf::Shape { geometry, .. }), "geometry", Result_::Geometry(g)) => {
-                *geometry = Some(g)
-            }
-            (Kind::Leaf(Leaf::Appearance { material }), "material", Result_::Material(m)) => {
-                *material = Some(m)
-            }
-            // (Coordinate frames open only in an IndexedFaceSet's `coord`.)
-            (Kind::Mesh(m), _, Result_::MeshArray(which, slot)) => {
-                Lowerer::take_array(m, which, slot)
-            }
-            _ => {}
-        }
-    }
-
-    /// Closes the innermost node in place if it is a leaf: what `close` does for it, without
-    /// moving the frame out (these are most nodes).
-    #[inline(always)]
-    pub(super) fn close_top_leaf(&mut self) -> Option<Result_> {
-        let frame = self.open.frames.last()?;
-        let Kind::Leaf(leaf) = frame.kind else {
-            return None;
-        };
         let at = frame.at;
-        self.open.frames.truncate(self.open.frames.len() - 1);
-        Some(self.close_leaf(leaf, at))
-    }
-
-    /// What a leaf node lowers to when it closes (a Shape: a sphere, if its geometry is one).
-    #[inline(always)]
-    fn close_leaf(&mut self, leaf: Leaf, at: Pos) -> Result_ {
-        match leaf {
-            Leaf::Shape {
-                appearance,
-                geometry,
-            } => {
-                self.shape_geometry(appearance, geometry);
-                Result_::Nothing
-            }
-            Leaf::Appearance { material } => Result_::Appearance(material),
-            Leaf::Material => Result_::Material(self.close_material()),
-            Leaf::Sphere { radius } => Result_::Geometry(Geom::Sphere(radius, at)),
-            Leaf::Solid(s) => Result_::Geometry(Geom::Solid(s, at)),
-        }
-    }
-
-    /// What a node lowers to when it closes.
-    fn close(&mut self, src: &SourceWindow, frame: Frame) -> Result<Result_, Error> {
-        let at = frame.at;
-        Ok(match frame.kind {
+        match frame.kind {
             Kind::Group {
                 inline_urls: Some(_),
                 ..
-            } => {
-                self.close_inline(src, frame)?;
-                Result_::Nothing
-            }
+            } => self.close_inline(src, frame)?,
             Kind::Switch {
                 which, ref choices, ..
-            } => {
-                let chosen = usize::try_from(which)
-                    .ok()
-                    .and_then(|w| choices.get(w))
-                    .cloned();
-                let n = choices.len();
-                if let Some(range) = chosen {
-                    self.open.frames.push(frame);
-                    self.replay_reused(src, range, at, "Switch choice")?;
-                    let frame = self.open.frames.pop().expect("switch frame");
-                    self.close_group_like(src, frame.kind, at)?;
-                } else {
-                    if which >= 0 && which as usize >= n {
-                        self.cx.diags.warn(src, at, format!("Switch whichChoice {which} is out of range (0..{n}): nothing shown"));
-                    }
-                    self.close_group_like(src, frame.kind, at)?;
-                }
-                Result_::Nothing
+            } if usize::try_from(which).is_ok_and(|w| w < choices.len()) => {
+                let range = choices[which as usize].clone();
+                self.build.open.frames.push(frame);
+                self.replay_reused(src, range, at, "Switch choice")?;
+                let frame = self.build.open.frames.pop().expect("switch frame");
+                self.build
+                    .close_group_like(&mut self.cx, src, frame.kind, at)?;
             }
-            k @ (Kind::Group { .. } | Kind::Lod { .. }) => {
-                self.close_group_like(src, k, at)?;
-                Result_::Nothing
+            _ => {
+                let result = self.build.close(&mut self.cx, src, frame)?;
+                self.build.deliver(result);
             }
-            Kind::Leaf(leaf) => self.close_leaf(leaf, at),
-            Kind::Mesh(m) => self.close_mesh(src, &m, at)?,
-            Kind::MeshArray(which, slot) => Result_::MeshArray(which, slot),
-            Kind::PointLight(l) => {
-                self.close_point_light(*l);
-                Result_::Nothing
-            }
-            Kind::DirectionalLight(l) => {
-                self.close_directional_light(src, *l, at);
-                Result_::Nothing
-            }
-            Kind::Viewpoint(v) => {
-                self.scene.viewpoints.push(*v);
-                Result_::Nothing
-            }
-            Kind::NavigationInfo { headlight } => {
-                if !self.bound.navigation_info {
-                    self.scene.headlight = headlight.unwrap_or(true);
-                    self.bound.navigation_info = true;
-                }
-                Result_::Nothing
-            }
-            Kind::Background { sky } => {
-                if !self.bound.background {
-                    self.scene.background = sky.unwrap_or(DVec3::ZERO);
-                    self.bound.background = true;
-                }
-                Result_::Nothing
-            }
-            Kind::Skip | Kind::Quiet => Result_::Nothing,
-        })
-    }
-
-    /// Closes a grouping node: its matrix applies to everything lowered since it opened, and
-    /// its DirectionalLights light exactly that range.
-    pub(super) fn close_group_like(
-        &mut self,
-        src: &SourceWindow,
-        kind: Kind,
-        at: Pos,
-    ) -> Result<(), Error> {
-        let (transform, marks, dirlights) = match kind {
-            Kind::Group {
-                transform,
-                marks,
-                dirlights,
-                ..
-            } => (transform, marks, dirlights),
-            Kind::Switch {
-                marks, dirlights, ..
-            }
-            | Kind::Lod {
-                marks, dirlights, ..
-            } => (None, marks, dirlights),
-            _ => return Ok(()),
-        };
-        self.scope_lights(marks, dirlights);
-        let Some(t) = transform else {
-            return Ok(());
-        };
-        let result = self.close_transform(src, &t, marks, at);
-        self.transforms.give_back(t);
-        result
-    }
-
-    /// A closed Shape: a sphere if its geometry is one, in the object space of its Transforms.
-    #[inline(always)]
-    fn shape_geometry(&mut self, appearance: Option<Option<Paint>>, geometry: Option<Geom>) {
-        let paint = match appearance {
-            Some(Some(m)) => m,
-            _ => self.materials.unlit,
-        };
-        let (center, radius, sat) = match geometry {
-            Some(Geom::Sphere(radius, sat)) => (DVec3::ZERO, radius, sat),
-            Some(Geom::Solid(solid, sat)) => return self.shape_solid(solid, paint, sat),
-            Some(Geom::Mesh(i, sat)) => return self.shape_mesh(i, paint, sat),
-            _ => return,
-        };
-        self.scene.spheres.push(Sphere {
-            center,
-            radius,
-            color: paint.color,
-            material: paint.material,
-            ellipsoid: None,
-            origin: self.cx.origin(sat),
-        });
-    }
-
-    /// A Shape whose geometry is a Box, Cylinder or Cone.
-    #[cold]
-    #[inline(never)]
-    fn shape_solid(&mut self, i: u32, paint: Paint, at: Pos) {
-        let Some(&solid) = self.meshes.solids.get(i as usize) else {
-            return;
-        };
-        if i as usize + 1 == self.meshes.solids.len() {
-            // Read and drawn: the common case keeps the list short.
-            self.meshes.solids.pop();
         }
-        if self.cx.opts.spheres_only {
-            self.cx.diags.skip(match solid {
-                Solid::Cuboid { .. } => "Box",
-                Solid::Cylinder { .. } => "Cylinder",
-                Solid::Cone { .. } => "Cone",
-            });
-            return;
-        }
-        self.scene.surfaces.push(Surface {
-            shape: SurfaceShape::Solid {
-                solid,
-                to_world: DAffine3::IDENTITY,
-            },
-            color: paint.color,
-            material: paint.material,
-            origin: self.cx.origin(at),
-        });
-    }
-
-    /// A Shape whose geometry is a mesh: its spheres (coloured by the mesh where it gives
-    /// colours) and its triangles.
-    #[cold]
-    #[inline(never)]
-    fn shape_mesh(&mut self, i: u32, paint: Paint, at: Pos) {
-        let Some(parts) = self.mesh_parts_for_shape(i) else {
-            return;
-        };
-        let origin = self.cx.origin(at);
-        for &(center, radius, colour) in &parts.spheres {
-            let color = match colour {
-                Some(c) => self.scene.materials.add_color(c),
-                None => paint.color,
-            };
-            self.scene.spheres.push(Sphere {
-                center,
-                radius,
-                color,
-                material: paint.material,
-                ellipsoid: None,
-                origin,
-            });
-        }
-        self.scene
-            .surfaces
-            .extend(parts.triangles.into_iter().map(|t| Surface {
-                shape: SurfaceShape::Triangle(Box::new(t)),
-                color: paint.color,
-                material: paint.material,
-                origin,
-            }));
+        Ok(())
     }
 }

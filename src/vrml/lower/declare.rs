@@ -13,7 +13,7 @@ use std::rc::Rc;
 
 use hashbrown::HashMap;
 
-use super::fields::warn_if_event;
+use super::build::fields::warn_if_event;
 use super::gas_particle;
 use super::proto::{InterfaceField, ProtoDecl};
 use super::record::{value_end, Rec};

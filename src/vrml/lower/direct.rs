@@ -19,16 +19,18 @@
 
 use std::rc::Rc;
 
-use super::fields::is_event;
+use super::build::fields::is_event;
+use super::build::open::Name;
 use super::proto::{ProtoDecl, SphereTemplate};
-use super::record::{Name, Rec, RecKind};
+use super::record::{Rec, RecKind};
 use super::Lowerer;
 use crate::error::Error;
 use crate::source::{Pos, SourceWindow};
 use crate::vrml::schema;
 use crate::vrml::syntax::{Event, Nums, OwnedEvent, OwnedValue, Value};
 
-use super::template::{padded3, Given};
+use super::build::sphere::padded3;
+use super::template::Given;
 use crate::vrml::parse::flat::FlatNode;
 
 /// One field value an instance gave, as written (the last of a name counts).
@@ -301,7 +303,7 @@ impl Lowerer {
     /// The instance's `}`: closes its frame, as `node_end` does, and lowers it by its
     /// template, or records and replays it where the template refuses.
     fn finish_direct(&mut self, src: &SourceWindow) -> Result<(), Error> {
-        let frame = self.open.pop_closing();
+        let frame = self.build.open.pop_closing();
         self.rec.direct = false;
         let Some(Reading { proto, .. }) = self.direct.reading.take() else {
             return Ok(());

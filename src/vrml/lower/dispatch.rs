@@ -31,10 +31,10 @@ impl Sink for Lowerer {
         if !text.starts_with('T') {
             return Ok(None);
         }
-        let mut node = self.sphere_text.take().unwrap_or_default();
+        let mut node = self.build.sphere_text.take().unwrap_or_default();
         let taken = read_sphere_node(text, &mut node) && self.whole_sphere_node(src, at, &node)?;
         let len = node.len;
-        self.sphere_text = Some(node);
+        self.build.sphere_text = Some(node);
         Ok(taken.then_some(len))
     }
 
@@ -60,9 +60,11 @@ impl Lowerer {
                 Event::NodeStart { def: None, ty, at } => return self.fast_node_start(src, ty, at),
                 Event::NodeEnd { .. } => return self.fast_node_end(src),
                 Event::Field { name, at, value } if !matches!(value, Value::Is(_)) => {
-                    return self.field(src, name, at, value)
+                    return self.build.field(&mut self.cx, src, name, at, value)
                 }
-                Event::NodesStart { name, at } => return self.nodes_start(src, name, at),
+                Event::NodesStart { name, at } => {
+                    return self.build.nodes_start(&mut self.cx, src, name, at)
+                }
                 Event::NodesEnd { .. } => return self.fast_nodes_end(),
                 _ => {}
             }
@@ -86,9 +88,13 @@ impl Lowerer {
                 }
                 OwnedEvent::NodeEnd { .. } => return self.fast_node_end(src),
                 OwnedEvent::Field { name, at, value } if !matches!(value, OwnedValue::Is(_)) => {
-                    return self.field(src, name, *at, value.as_value())
+                    return self
+                        .build
+                        .field(&mut self.cx, src, name, *at, value.as_value())
                 }
-                OwnedEvent::NodesStart { name, at } => return self.nodes_start(src, name, *at),
+                OwnedEvent::NodesStart { name, at } => {
+                    return self.build.nodes_start(&mut self.cx, src, name, *at)
+                }
                 OwnedEvent::NodesEnd { .. } => return self.fast_nodes_end(),
                 _ => {}
             }
@@ -111,9 +117,9 @@ impl Lowerer {
     /// The fast path's NodeEnd: a leaf closes in place, other nodes through `node_end`.
     #[inline(always)]
     fn fast_node_end(&mut self, src: &SourceWindow) -> Result<(), Error> {
-        if self.open.quiet == 0 {
-            if let Some(result) = self.close_top_leaf() {
-                self.deliver(result);
+        if self.build.open.quiet == 0 {
+            if let Some(result) = self.build.close_top_leaf(&mut self.cx) {
+                self.build.deliver(result);
                 return Ok(());
             }
         }
@@ -123,7 +129,7 @@ impl Lowerer {
     /// The fast path's NodesEnd: the node-valued field is complete.
     #[inline(always)]
     fn fast_nodes_end(&mut self) -> Result<(), Error> {
-        self.open.fields.pop();
+        self.build.open.fields.pop();
         Ok(())
     }
 
@@ -160,10 +166,14 @@ impl Lowerer {
                 self.node_end(src, done)?;
                 return Ok(());
             }
-            Event::Field { name, at, value } => self.field(src, name, at, value)?,
-            Event::NodesStart { name, at } => self.nodes_start(src, name, at)?,
+            Event::Field { name, at, value } => {
+                self.build.field(&mut self.cx, src, name, at, value)?
+            }
+            Event::NodesStart { name, at } => {
+                self.build.nodes_start(&mut self.cx, src, name, at)?
+            }
             Event::NodesEnd { .. } => {
-                self.open.fields.pop();
+                self.build.open.fields.pop();
             }
             Event::Use { .. } => {}
             Event::Null { .. } => {}
@@ -183,7 +193,7 @@ impl Lowerer {
                             format!("unknown field type '{ty}'"),
                         ));
                     }
-                    if let Some(f) = self.open.frames.last() {
+                    if let Some(f) = self.build.open.frames.last() {
                         if &*f.ty == "Script" && access == "exposedField" {
                             self.cx
                                 .diags
@@ -198,12 +208,12 @@ impl Lowerer {
                     self.rec.start_proto_decl(&ev);
                 }
                 self.rec.proto_decls += 1;
-                self.open.quiet += 1;
+                self.build.open.quiet += 1;
             }
             Event::ProtoBody { .. } => {}
             Event::ProtoEnd { .. } => {
                 self.rec.proto_decls -= 1;
-                self.open.quiet -= 1;
+                self.build.open.quiet -= 1;
                 let done = self.rec.end(&ev);
                 for (kind, range) in done {
                     if let RecKind::ProtoDecl = kind {
@@ -235,7 +245,7 @@ impl Lowerer {
     fn on_use(&mut self, src: &SourceWindow, name: &str, at: Pos) -> Result<(), Error> {
         let Some(d) = self.lookup_def(name) else {
             let open = self.scopes.is_open(name);
-            if open && self.open.quiet > 0 {
+            if open && self.build.open.quiet > 0 {
                 // A Script that refers to itself: fine, it is not lowered.
                 if !self.rec.recorders.is_empty() {
                     self.rec.arena.push(Rec::Ev(OwnedEvent::Use {

@@ -11,7 +11,7 @@
 use std::ops::Range;
 use std::rc::Rc;
 
-use super::fields::is_event;
+use super::build::fields::is_event;
 use super::proto::ProtoDecl;
 use super::record::{value_end, Rec};
 use super::Lowerer;
@@ -91,7 +91,7 @@ impl Lowerer {
             if !matches!(value, OwnedValue::Is(_)) && self.rec.idle() {
                 let (v, vat) = (value.clone(), *vat);
                 self.cx.spend(1 + v.len() as u64, src, at, "IS value")?;
-                return self.field(src, name, vat, v.as_value());
+                return self.build.field(&mut self.cx, src, name, vat, v.as_value());
             }
         }
         // The instance's substitutions are set aside while its value is emitted: the value is
@@ -208,9 +208,9 @@ impl Lowerer {
             i = end;
         }
         // A GasParticle's Materials take its profile (checked here, at the instance's values).
-        let outer_profile = self.gas_profile;
+        let outer_profile = self.build.gas_profile;
         if let Some(gas) = proto.gas {
-            self.gas_profile = Some(self.instance_profile(src, &proto, gas, &values, at)?);
+            self.build.gas_profile = Some(self.instance_profile(src, &proto, gas, &values, at)?);
         }
         let by_template = match (&proto.sphere, self.cx.opts.replay_every_instance) {
             (Some(tpl), false) => self.expand_by_template(src, &proto, tpl, &values),
@@ -224,7 +224,7 @@ impl Lowerer {
             }
             None => self.replay_body(src, proto, values, at),
         };
-        self.gas_profile = outer_profile;
+        self.build.gas_profile = outer_profile;
         r
     }
 

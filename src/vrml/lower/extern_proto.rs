@@ -29,9 +29,10 @@ use std::rc::Rc;
 
 use hashbrown::HashMap;
 
+use super::build::open::Name;
 use super::inline::{local_path, Admit};
 use super::proto::{InterfaceField, ProtoDecl, Protos};
-use super::record::{Name, Rec};
+use super::record::Rec;
 use super::Lowerer;
 use crate::error::Error;
 use crate::source::{Pos, SourceWindow};
@@ -288,34 +289,36 @@ impl Lowerer {
     /// expansions, open node-valued fields).
     fn read_library(&mut self, path: &Path) -> Result<Library, Error> {
         let src = crate::input::open(path, self.cx.opts.inflate_ratio())?;
-        let file = u32::try_from(self.scene.files.len()).unwrap_or(u32::MAX);
-        self.scene.files.push(src.name.to_string());
+        let file = u32::try_from(self.build.scene.files.len()).unwrap_or(u32::MAX);
+        self.build.scene.files.push(src.name.to_string());
         self.externs.paths.insert(file, path.to_path_buf());
         self.files.stack.push(path.to_path_buf());
         let current = std::mem::replace(&mut self.cx.file, file);
         let aside = self.rec.set_aside();
-        let fields = std::mem::take(&mut self.open.fields);
+        let fields = std::mem::take(&mut self.build.open.fields);
         let substs = std::mem::take(&mut self.expansions.substs);
         let reusing = std::mem::replace(&mut self.replay.reusing, 0);
         let (nodes, spent) = (self.cx.nodes, self.cx.spent);
         let from = self.rec.arena.len();
         self.scopes.push_file();
-        self.open.push_quiet(Name::Static("<file>"), Pos::at(0));
-        let depth = self.open.frames.len();
+        self.build
+            .open
+            .push_quiet(Name::Static("<file>"), Pos::at(0));
+        let depth = self.build.open.frames.len();
         self.externs.reading.push(None);
         let mut parser = Parser::new(src);
         let r = parser.run(self);
         let first = self.externs.reading.pop().flatten();
-        debug_assert!(r.is_err() || self.open.frames.len() == depth);
-        self.open.frames.truncate(depth - 1);
-        self.open.quiet -= 1;
+        debug_assert!(r.is_err() || self.build.open.frames.len() == depth);
+        self.build.open.frames.truncate(depth - 1);
+        self.build.open.quiet -= 1;
         let protos = self.scopes.pop_protos();
         // Its positions point into it from now on.
         tag_all(&mut self.rec.arena[from..], file);
         (self.cx.nodes, self.cx.spent) = (nodes, spent);
         self.replay.reusing = reusing;
         self.expansions.substs = substs;
-        self.open.fields = fields;
+        self.build.open.fields = fields;
         self.rec.resume(aside);
         self.cx.file = current;
         self.files.stack.pop();

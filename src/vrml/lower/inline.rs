@@ -8,10 +8,11 @@
 
 use std::path::{Path, PathBuf};
 
+use super::build::open::Name;
+use super::build::open::{Frame, Kind};
+use super::build::transform::Marks;
 use super::expand::Subst;
-use super::open::{Frame, Kind};
-use super::record::{Name, SetAside};
-use super::transform::Marks;
+use super::record::SetAside;
 use super::Lowerer;
 use crate::error::Error;
 use crate::source::{Pos, SourceWindow};
@@ -93,20 +94,21 @@ impl Lowerer {
     /// includer's. Then its events; then [`Self::resume_outside`] and [`Self::close_file`].
     pub(super) fn open_file(&mut self, src: &SourceWindow, path: &Path) -> Opened {
         let saved_file = self.cx.file;
-        self.cx.file = self.scene.files.len() as u32;
-        self.scene.files.push(src.name.to_string());
+        self.cx.file = self.build.scene.files.len() as u32;
+        self.build.scene.files.push(src.name.to_string());
         self.files.stack.push(path.to_path_buf());
         self.scopes.push_file();
         // The file's root groups its top-level nodes (scope of top-level DirectionalLights).
         let root = Kind::Group {
             transform: None,
-            marks: Marks::of(&self.scene),
+            marks: Marks::of(&self.build.scene),
             dirlights: None,
             inline_urls: None,
         };
-        self.open
+        self.build
+            .open
             .push(Name::Static("<file>"), None, root, Pos::at(0));
-        let depth = self.open.frames.len();
+        let depth = self.build.open.frames.len();
         // A new file is a new namespace, even when reached again through a USE'd Inline.
         let reusing = std::mem::replace(&mut self.replay.reusing, 0);
         let substs = std::mem::take(&mut self.expansions.substs);
@@ -141,9 +143,10 @@ impl Lowerer {
                 .diags
                 .warn(src, Pos::at(at), "invalid UTF-8 (bytes replaced by '?')");
         }
-        debug_assert_eq!(self.open.frames.len(), opened.depth);
-        let root = self.open.frames.pop().expect("file root frame");
-        self.close_group_like(src, root.kind, Pos::at(0))?;
+        debug_assert_eq!(self.build.open.frames.len(), opened.depth);
+        let root = self.build.open.frames.pop().expect("file root frame");
+        self.build
+            .close_group_like(&mut self.cx, src, root.kind, Pos::at(0))?;
         self.scopes.pop();
         self.files.stack.pop();
         self.files.bytes += src.bytes_read;
@@ -162,10 +165,11 @@ impl Lowerer {
             } => urls.clone(),
             _ => Box::default(),
         };
-        self.open.frames.push(frame);
+        self.build.open.frames.push(frame);
         self.load_inline(src, at, &urls)?;
-        let frame = self.open.frames.pop().expect("inline frame");
-        self.close_group_like(src, frame.kind, at)
+        let frame = self.build.open.frames.pop().expect("inline frame");
+        self.build
+            .close_group_like(&mut self.cx, src, frame.kind, at)
     }
 
     /// The folder the relative urls of a node at `at` are resolved in: that of the file it

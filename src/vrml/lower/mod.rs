@@ -44,6 +44,7 @@
 //! (ROUTE checks), `parallel` (one large file read on several threads) and `chunk` (a piece
 //! of it read on its own, and put in place).
 
+mod build;
 mod chunk;
 mod close;
 mod context;
@@ -53,16 +54,9 @@ mod direct;
 mod dispatch;
 mod expand;
 mod extern_proto;
-mod fields;
 mod gas_particle;
 mod in_order;
 mod inline;
-mod lights;
-mod material;
-mod mesh;
-mod mesh_shape;
-mod meshes;
-mod open;
 mod parallel;
 mod proto;
 mod record;
@@ -71,7 +65,6 @@ mod route;
 mod scope;
 mod start;
 mod template;
-mod transform;
 
 use std::collections::BTreeMap;
 
@@ -81,22 +74,21 @@ use std::time::Instant;
 
 use crate::diag::{Diagnostic, Severity};
 use crate::error::Error;
-use crate::scene::{Material, Scene};
+use std::rc::Rc;
+
+use crate::scene::Scene;
 use crate::source::SourceWindow;
 use crate::vrml::syntax::OwnedEvent;
 
-use close::Bound;
+use build::Builder;
 use context::Ctx;
 use expand::Expansions;
 use extern_proto::Externs;
 use inline::Files;
-use material::Materials;
-use meshes::Meshes;
-use open::Open;
+use proto::ProtoDecl;
 use record::{Rec, Recording};
 use replay::Replay;
 use scope::Scopes;
-use transform::Transforms;
 
 /// The default [`LoadOptions::expansion_base`]: 2^22, room for a small file that builds a
 /// lattice of a million nodes by DEF and USE.
@@ -327,15 +319,15 @@ pub fn load_str(name: &str, text: &str, opts: &LoadOptions) -> Result<(Scene, Lo
 struct Lowerer {
     /// The options, node count, budget and diagnostics (`context`).
     cx: Ctx,
-    scene: Scene,
+    /// The scene being built (`build`).
+    build: Builder,
     /// PROTO instances lowered by a sphere template (`template.rs`).
     templated: u64,
-    /// Plain sphere nodes read whole from the text (`template.rs`).
-    whole_nodes: u64,
     /// The PROTO instance read straight into its template (`direct`).
     direct: direct::Direct,
-    /// The profile of the `GasParticle` instance being expanded (its Materials take it).
-    gas_profile: Option<crate::scene::Profile>,
+    /// The PROTO instances whose frames are open, with their depth in the open frames
+    /// (`start`).
+    instances: Vec<(usize, Rc<ProtoDecl>)>,
     /// Recorded events and the recordings under way (`record`).
     rec: Recording,
     /// How deep replays nest, and whether DEFs are being read again (`replay`).
@@ -344,58 +336,36 @@ struct Lowerer {
     scopes: Scopes,
     /// The PROTO expansions under way (`expand`).
     expansions: Expansions,
-    /// The open nodes and node-valued fields (`open`).
-    open: Open,
-    /// Open Materials and the materials met recently (`material`).
-    materials: Materials,
-    /// Transform field boxes for reuse (`transform`).
-    transforms: Transforms,
-    /// Tessellated spheres (`mesh`).
-    meshes: Meshes,
     /// The file being read and the chain of Inlines to it (`inline`).
     files: Files,
     /// The files read for their PROTOs (`extern_proto`).
     externs: Externs,
-    /// The first NavigationInfo and Background are bound (`close`).
-    bound: Bound,
     /// A chunk being read on its own (`parallel`).
     watch: Option<chunk::Watch>,
     /// Names chunks read on their own DEF'd: the main reader may not use them.
     poison: Option<hashbrown::HashSet<String>>,
     /// Why what was read in pieces must be read again by one reader.
     fallback: Option<String>,
-    /// The buffer plain sphere nodes are read into from their text (kept: a node is a few
-    /// hundred bytes).
-    sphere_text: Option<Box<crate::vrml::sphere_node::SphereNode>>,
 }
 
 impl Lowerer {
     fn new(opts: LoadOptions) -> Self {
-        let mut low = Lowerer {
+        Lowerer {
             cx: Ctx::new(opts),
-            scene: Scene::default(),
+            build: Builder::new(),
             templated: 0,
-            whole_nodes: 0,
             direct: direct::Direct::default(),
-            gas_profile: None,
+            instances: Vec::new(),
             rec: Recording::default(),
             replay: Replay::default(),
             scopes: Scopes::default(),
             expansions: Expansions::default(),
-            open: Open::default(),
-            materials: Materials::default(),
-            transforms: Transforms::default(),
-            meshes: Meshes::default(),
             files: Files::default(),
             externs: Externs::default(),
-            bound: Bound::default(),
             watch: None,
             poison: None,
             fallback: None,
-            sphere_text: None,
-        };
-        low.materials.unlit = low.scene.materials.add(&Material::unlit());
-        low
+        }
     }
 
     fn finish(mut self, t0: Instant) -> Result<(Scene, LoadReport), Error> {
@@ -412,9 +382,9 @@ impl Lowerer {
                 .collect();
             return Err(Error::Diags(errs));
         }
-        self.scene.spheres.shrink_to_fit();
-        self.scene.surfaces.shrink_to_fit();
-        self.scene.materials.shrink_to_fit();
+        self.build.scene.spheres.shrink_to_fit();
+        self.build.scene.surfaces.shrink_to_fit();
+        self.build.scene.materials.shrink_to_fit();
         let report = LoadReport {
             warnings: self.cx.diags.warnings,
             skipped: self.cx.diags.skipped,
@@ -422,18 +392,18 @@ impl Lowerer {
             seconds: t0.elapsed().as_secs_f64(),
             nodes: self.cx.nodes,
             expansion: self.cx.spent,
-            files: self.scene.files.clone(),
+            files: self.build.scene.files.clone(),
             recorded_bytes: self.rec.arena.capacity() * std::mem::size_of::<Rec>(),
-            mesh_spheres: self.meshes.spheres,
-            point_spheres: self.meshes.point_spheres,
+            mesh_spheres: self.build.meshes.spheres,
+            point_spheres: self.build.meshes.point_spheres,
             notes: self.cx.diags.notes,
             read_pieces: 0,
             read_again: None,
             read_on: None,
             template_instances: self.templated,
-            whole_sphere_nodes: self.whole_nodes,
+            whole_sphere_nodes: self.build.whole_nodes,
         };
-        Ok((self.scene, report))
+        Ok((self.build.scene, report))
     }
 }
 

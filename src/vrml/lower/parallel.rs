@@ -393,7 +393,7 @@ fn reserve_ahead(
 ) {
     let ahead = ahead as f64;
     let more = |n: usize, most: f64| (1.02 * n as f64 / len.max(1) as f64 * ahead).min(most);
-    let _ = (low.scene.spheres).try_reserve_exact(more(spheres, ahead / 8.0) as usize);
+    let _ = (low.build.scene.spheres).try_reserve_exact(more(spheres, ahead / 8.0) as usize);
     src.lines.try_reserve(more(lines, ahead / 2.0) as usize);
 }
 
@@ -468,10 +468,10 @@ fn put_chunks_in_place(
         defined.extend(d.exports.iter().cloned());
         let end = d.end;
         let lines = d.lines();
-        let before = low.scene.spheres.len();
+        let before = low.build.scene.spheres.len();
         let emptied = low.put_in_place(*d, src)?;
         if placed == 0 {
-            let added = [low.scene.spheres.len() - before, lines];
+            let added = [low.build.scene.spheres.len() - before, lines];
             reserve_ahead(low, src, added, (size.saturating_sub(start + len), len));
         }
         if let Ok(mut spare) = results.spheres.lock() {

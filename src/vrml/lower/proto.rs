@@ -8,6 +8,7 @@ use std::rc::Rc;
 
 use hashbrown::HashMap;
 
+use super::build::sphere::MaterialField;
 use super::record::Rec;
 use crate::source::Pos;
 use crate::vrml::schema::{Access, FieldType};
@@ -122,18 +123,6 @@ pub(super) enum Slot {
     Given([f64; 3]),
     /// `IS` this interface field: the instance's value, or the field's default.
     Is(u32),
-}
-
-/// A Material field the template sets, in the body's order: one of
-/// [`MATERIAL_FIELDS`], in that table's order (its name and number of values are there).
-#[derive(Clone, Copy, Debug)]
-pub(super) enum MaterialField {
-    Diffuse,
-    Emissive,
-    Specular,
-    Shininess,
-    AmbientIntensity,
-    Transparency,
 }
 
 /// Where a recognised `GasParticle` PROTO keeps its profile and width.

@@ -13,33 +13,9 @@ use std::rc::Rc;
 
 use hashbrown::HashSet;
 
+use super::build::open::Name;
 use crate::source::Pos;
 use crate::vrml::syntax::{Event, OwnedEvent};
-
-/// A node type or field name held while its node is open: the standard tables' own string
-/// when there is one (no allocation per node), a shared copy otherwise.
-#[derive(Clone, Debug)]
-pub(super) enum Name {
-    Static(&'static str),
-    Shared(Rc<str>),
-}
-
-impl std::ops::Deref for Name {
-    type Target = str;
-    #[inline]
-    fn deref(&self) -> &str {
-        match self {
-            Name::Static(s) => s,
-            Name::Shared(s) => s,
-        }
-    }
-}
-
-impl std::fmt::Display for Name {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self)
-    }
-}
 
 /// An event in the arena: as written, or a USE already resolved to the recording it names.
 #[derive(Clone, Debug)]

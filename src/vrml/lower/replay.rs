@@ -7,11 +7,12 @@
 
 use std::ops::Range;
 
-use super::open::{Frame, Kind};
+use super::build::open::{Frame, Kind};
 use super::record::Rec;
 use super::Lowerer;
 use crate::error::Error;
 use crate::source::{Pos, SourceWindow};
+use crate::vrml::syntax::OwnedEvent;
 
 /// How many USE, Switch choice and PROTO body replays may nest (each level is a few stack
 /// frames of the event handlers, well within a 2 MiB thread stack).
@@ -105,24 +106,32 @@ impl Lowerer {
                 at,
             });
         }
-        if self.open.quiet == 0 {
+        if self.build.open.quiet == 0 {
             // A USE'd IndexedFaceSet as a Shape's geometry: lowered once, then looked up.
             let mesh = self.is_mesh_use(range.start);
-            if mesh && self.reuse_mesh(src, range.start, at)? {
+            if mesh && self.build.reuse_mesh(&mut self.cx, src, range.start, at)? {
                 return Ok(());
             }
             self.replay_reused(src, range.clone(), at, "USE")?;
             if mesh {
-                self.remember_mesh(range.start);
+                self.build.remember_mesh(range.start);
             }
         } else if let Some(Frame {
             kind: Kind::Switch { choices, .. },
             ..
-        }) = self.open.frames.last_mut()
+        }) = self.build.open.frames.last_mut()
         {
             // A USE among a Switch's choices is a choice of its own.
             choices.push(range);
         }
         Ok(())
+    }
+    /// Whether a USE of the recording at `start` is of a mesh as a Shape's geometry (lowered
+    /// once, then looked up).
+    pub(super) fn is_mesh_use(&self, start: usize) -> bool {
+        self.build.open.in_shape_geometry()
+            && matches!(&self.rec.arena[start],
+                Rec::Ev(OwnedEvent::NodeStart { ty, .. })
+                    if matches!(&**ty, "IndexedFaceSet" | "PointSet" | "ElevationGrid" | "Extrusion"))
     }
 }

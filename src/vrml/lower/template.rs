@@ -18,51 +18,16 @@ use std::ops::Range;
 
 use glam::DVec3;
 
-use super::open::Kind;
-use super::proto::{MaterialField, ProtoDecl, Slot, SphereTemplate};
+use super::build::sphere::{in_range, padded3, radius_ok, Inputs, MaterialField, Placed};
+use super::proto::{ProtoDecl, Slot, SphereTemplate};
 use super::record::Rec;
 use super::replay::MAX_REPLAY_DEPTH;
-use super::transform::{Marks, TransformFields};
 use super::Lowerer;
 use crate::error::Error;
-use crate::scene::{Material, Sphere};
+use crate::scene::Material;
 use crate::source::{Pos, SourceWindow};
-use crate::vrml::sphere_node::{SphereNode, MATERIAL_FIELDS};
+use crate::vrml::sphere_node::SphereNode;
 use crate::vrml::syntax::{OwnedEvent, OwnedValue};
-
-impl MaterialField {
-    /// By index into [`MATERIAL_FIELDS`].
-    const ALL: [MaterialField; 6] = [
-        MaterialField::Diffuse,
-        MaterialField::Emissive,
-        MaterialField::Specular,
-        MaterialField::Shininess,
-        MaterialField::AmbientIntensity,
-        MaterialField::Transparency,
-    ];
-
-    fn of(name: &str) -> Option<MaterialField> {
-        let i = MATERIAL_FIELDS.iter().position(|(n, _)| *n == name)?;
-        Some(Self::ALL[i])
-    }
-    /// Sets this field of `m` to `v` (its `arity` values), as replaying would without a
-    /// warning; `None` where replaying would warn ([`in_range`]).
-    fn set(self, m: &mut Material, v: &[f64]) -> Option<()> {
-        match self {
-            _ if !in_range(self, v) => return None,
-            MaterialField::Diffuse => m.diffuse = DVec3::from_slice(v),
-            MaterialField::Emissive => m.emissive = DVec3::from_slice(v),
-            MaterialField::Specular => m.specular = DVec3::from_slice(v),
-            MaterialField::Shininess => m.shininess = v[0],
-            MaterialField::AmbientIntensity => m.ambient_intensity = v[0],
-            MaterialField::Transparency => m.transparency = v[0],
-        }
-        Some(())
-    }
-    fn arity(self) -> usize {
-        MATERIAL_FIELDS[self as usize].1
-    }
-}
 
 /// Reads the body's first node as a template, if it is one.
 pub(super) fn compile(decl: &ProtoDecl) -> Option<SphereTemplate> {
@@ -277,33 +242,6 @@ impl<'a> Matcher<'a> {
     }
 }
 
-/// A Material value replaying stores without a warning: shininess and transparency in
-/// [0, 1], colours and ambientIntensity not negative.
-fn in_range(f: MaterialField, v: &[f64]) -> bool {
-    match f {
-        MaterialField::Shininess | MaterialField::Transparency => (0.0..=1.0).contains(&v[0]),
-        _ => v.iter().all(|x| *x >= 0.0),
-    }
-}
-
-/// A radius replaying accepts.
-fn radius_ok(r: f64) -> bool {
-    r > 0.0 && r.is_finite()
-}
-
-/// Up to three numbers in a fixed array, the rest zero. (Element by element: copying a slice
-/// of varying length called `memcpy`, six times a particle in the PROTO layout.)
-#[inline(always)]
-pub(super) fn padded3(values: &[f64]) -> [f64; 3] {
-    let mut v = [0.0; 3];
-    for (i, x) in v.iter_mut().enumerate() {
-        if let Some(&y) = values.get(i) {
-            *x = y;
-        }
-    }
-    v
-}
-
 /// What an instance gives one interface field (see [`Lowerer::template_inputs`]).
 pub(super) enum Given<'a> {
     /// Plain numbers, not bracketed.
@@ -312,22 +250,6 @@ pub(super) enum Given<'a> {
     Other,
     /// Not given: the field's default.
     Absent,
-}
-
-/// Where a sphere node's parts are, how many nodes it has, and what it spends of the
-/// expansion budget.
-struct Placed {
-    nodes: u64,
-    spent: u64,
-    transform_at: Pos,
-    sphere_at: Pos,
-}
-
-/// An instance's values as the template needs them, read before anything changes.
-pub(super) struct Inputs {
-    translation: Option<DVec3>,
-    material: Option<Material>,
-    radius: f64,
 }
 
 impl Lowerer {
@@ -433,30 +355,12 @@ impl Lowerer {
 
     /// Whether a sphere's `nodes` nodes lowered at once here are what lowering them one by
     /// one would give: not where a PROTO named like a standard node may stand for one of
-    /// them, nor inside a node that is not lowered, nor too deep in replays, nor where the
-    /// Transform is out of place (anywhere but the top level or a grouping node's
-    /// `children`), nor past the node limit.
+    /// them, nor too deep in replays, nor where the builder would not lower them so
+    /// ([`super::Builder::sphere_fits_here`]).
     fn sphere_fits_here(&self, src: &SourceWindow, nodes: u64) -> bool {
-        if self.scopes.proto_shadows_standard
-            || self.open.quiet > 0
-            || self.replay.depth >= MAX_REPLAY_DEPTH
-        {
-            return false;
-        }
-        if let Some(ctx) = self.open.fields.last() {
-            let in_children = &*ctx.name == "children"
-                && matches!(
-                    self.open.frames[ctx.frame].kind,
-                    Kind::Group {
-                        inline_urls: None,
-                        ..
-                    }
-                );
-            if !in_children {
-                return false;
-            }
-        }
-        self.cx.fits(nodes, src)
+        !self.scopes.proto_shadows_standard
+            && self.replay.depth < MAX_REPLAY_DEPTH
+            && self.build.sphere_fits_here(&self.cx, src, nodes)
     }
 
     /// A plain sphere node read whole from the text (see [`crate::vrml::sphere_node`]) at
@@ -474,35 +378,7 @@ impl Lowerer {
         {
             return Ok(false);
         }
-        let material = if node.material {
-            let mut m = Material::default();
-            for (f, v) in node.material_fields() {
-                if MaterialField::ALL[f].set(&mut m, v).is_none() {
-                    return Ok(false);
-                }
-            }
-            Some(m)
-        } else {
-            None
-        };
-        let radius = node.radius.unwrap_or(1.0);
-        if !radius_ok(radius) {
-            return Ok(false);
-        }
-        let inputs = Inputs {
-            translation: node.translation.map(DVec3::from_array),
-            material,
-            radius,
-        };
-        let placed = Placed {
-            nodes: node.nodes,
-            spent: node.nodes,
-            transform_at: at,
-            sphere_at: at + node.sphere_at as u64,
-        };
-        self.lower_sphere(src, placed, inputs)?;
-        self.whole_nodes += 1;
-        Ok(true)
+        self.build.whole_sphere_node(&mut self.cx, src, at, node)
     }
 
     /// Lowers the template's sphere with the instance's `inputs`.
@@ -519,59 +395,6 @@ impl Lowerer {
             sphere_at: tpl.sphere_at,
         };
         self.templated += 1;
-        self.lower_sphere(src, placed, inputs)
-    }
-
-    /// Lowers a sphere node (a Transform holding a Shape with a Sphere) with `inputs`.
-    fn lower_sphere(
-        &mut self,
-        src: &SourceWindow,
-        tpl: Placed,
-        inputs: Inputs,
-    ) -> Result<(), Error> {
-        // What replaying does, in its order: the nodes are counted as they start, the
-        // Material is stored when it closes, the sphere when the Shape closes, and the
-        // Transform moves it when it closes.
-        self.cx.nodes += tpl.nodes;
-        self.cx.spent += tpl.spent;
-        self.cx.watch_nodes(src.offset());
-        let marks = Marks::of(&self.scene);
-        let paint = match inputs.material {
-            Some(m) => {
-                self.materials.open.push(m);
-                self.close_material()
-            }
-            None => self.materials.unlit,
-        };
-        self.scene.spheres.push(Sphere {
-            center: DVec3::ZERO,
-            radius: inputs.radius,
-            color: paint.color,
-            material: paint.material,
-            ellipsoid: None,
-            origin: self.cx.origin(tpl.sphere_at),
-        });
-        let t = TransformFields {
-            translation: inputs.translation.unwrap_or(DVec3::ZERO),
-            ..TransformFields::default()
-        };
-        self.close_transform(src, &t, marks, tpl.transform_at)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn material_fields_follow_the_parsers_table() {
-        // `arity` and the whole sphere node index MATERIAL_FIELDS by the variant's number.
-        for (i, f) in MaterialField::ALL.iter().enumerate() {
-            assert_eq!(*f as usize, i);
-            assert!(matches!(MaterialField::of(MATERIAL_FIELDS[i].0), Some(g) if g as usize == i));
-        }
-        assert_eq!(MaterialField::Specular.arity(), 3);
-        assert_eq!(MaterialField::Transparency.arity(), 1);
-        assert!(MaterialField::of("diffuse").is_none());
+        self.build.lower_sphere(&mut self.cx, src, placed, inputs)
     }
 }

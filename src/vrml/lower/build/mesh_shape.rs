@@ -14,14 +14,16 @@
 
 use glam::DVec3;
 
-use super::diags::Diags;
 use super::meshes::{Grid, MeshKind, MeshParts, MeshState, Meshes};
-use super::{LoadOptions, Lowerer};
+use super::Builder;
 use crate::error::Error;
 use crate::geom::mesh::{components, crease_normals, faces, first_bad_index, triangulate};
 use crate::geom::sphere_fit;
 use crate::scene::Triangle;
 use crate::source::{Pos, SourceWindow};
+use crate::vrml::lower::context::Ctx;
+use crate::vrml::lower::diags::Diags;
+use crate::vrml::lower::LoadOptions;
 
 /// The colour (or normal) of the corner at position `pos` of `coord_index`, in face `face`,
 /// by VRML97's rules for `colorIndex`/`colorPerVertex` (and the same for normals).
@@ -45,10 +47,11 @@ fn corner_value(
     usize::try_from(i).ok().and_then(|i| values.get(i)).copied()
 }
 
-impl Lowerer {
+impl Builder {
     /// What mesh `m` lowers to (see the module documentation).
-    pub(super) fn mesh_parts(
+    pub(in crate::vrml::lower) fn mesh_parts(
         &mut self,
+        cx: &mut Ctx,
         src: &SourceWindow,
         m: &MeshState,
         at: Pos,
@@ -57,13 +60,12 @@ impl Lowerer {
         // before they are made. (An ElevationGrid's come from heights in the text.)
         if let MeshKind::Extrusion(e) = &m.kind {
             let points = (e.spine.len() as u64).saturating_mul(e.cross_section.len() as u64);
-            self.cx
-                .spend(points.saturating_mul(2), src, at, "Extrusion")?;
+            cx.spend(points.saturating_mul(2), src, at, "Extrusion")?;
         }
         let mut cx = MeshCtx {
             meshes: &self.meshes,
-            opts: &self.cx.opts,
-            diags: &mut self.cx.diags,
+            opts: &cx.opts,
+            diags: &mut cx.diags,
             src,
             at,
         };
