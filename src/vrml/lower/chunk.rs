@@ -12,30 +12,13 @@ use glam::{DAffine3, DVec3};
 
 use super::build::transform::Marks;
 use super::context::Headroom;
+use super::expand::Watch;
 use super::Lowerer;
 use crate::error::Error;
 use crate::input::FileRange;
 use crate::scene::{EllipsoidId, Light, LightScope, MaterialTable, Sphere, Surface, Viewpoint};
 use crate::source::SourceWindow;
 use crate::vrml::parse::{Parser, Run};
-
-/// Watching a chunk's lowering (set on a worker's lowerer once its prefix is read).
-pub(super) struct Watch {
-    /// Arena position where the chunk began: DEFs recorded before it are the prefix's.
-    pub(super) arena_mark: usize,
-    /// File-scope names the chunk USEd or ROUTEd from the prefix's DEFs.
-    pub(super) imports: Vec<String>,
-    /// Nodes counted when the chunk began (the budget spent is watched in
-    /// [`Ctx::headroom`]).
-    pub(super) nodes_at_start: u64,
-    /// PROTO instances lowered by a template when the chunk began.
-    pub(super) templated_at_start: u64,
-    /// Sphere nodes read whole when the chunk began.
-    pub(super) whole_at_start: u64,
-    /// The chunk declared a PROTO or EXTERNPROTO in the file's scope, which the chunks after
-    /// it and the main reader would not know.
-    pub(super) declared: bool,
-}
 
 /// What a chunk added, moved to the main thread.
 pub(super) struct Delta {
@@ -110,7 +93,9 @@ pub(super) fn lower_chunk(
     // new one for each chunk was faulted in again: about 40 ms of CPU per million particles).
     window.clear();
     src.buf = std::mem::take(window);
-    let mut opened = low.open_file(&src, path);
+    let mut opened = low
+        .expand
+        .open_file(&mut low.cx, &mut low.build, &src, path);
     let mut parser = Parser::new(src);
     parser.pause_at_end = true;
     let r = parser.begin().and_then(|()| parser.resume(&mut low));
@@ -135,7 +120,7 @@ pub(super) fn lower_chunk(
             },
         ),
     };
-    low.resume_outside(&mut opened);
+    low.expand.resume_outside(&mut opened);
     *window = std::mem::take(&mut parser.src.buf);
     (d, text)
 }
@@ -181,13 +166,13 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source)
     let meshes_before = (low.build.meshes.spheres, low.build.meshes.point_spheres);
     let bound_before = (low.build.bound.navigation_info, low.build.bound.background);
     let files_before = low.build.scene.files.len();
-    let arena_mark = low.rec.arena.len();
-    low.rec.pinned = low.rec.pinned.max(arena_mark);
-    low.watch = Some(Watch {
+    let arena_mark = low.expand.rec.arena.len();
+    low.expand.rec.pinned = low.expand.rec.pinned.max(arena_mark);
+    low.expand.watch = Some(Watch {
         arena_mark,
         imports: Vec::new(),
         nodes_at_start: low.cx.nodes,
-        templated_at_start: low.templated,
+        templated_at_start: low.expand.templated,
         whole_at_start: low.build.whole_nodes,
         declared: false,
     });
@@ -219,10 +204,10 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source)
     if low.build.scene.files.len() != files_before {
         return Err("it reads another file".into());
     }
-    if let Some(why) = low.fallback.take() {
+    if let Some(why) = low.expand.fallback.take() {
         return Err(why);
     }
-    let watch = low.watch.take().expect("watching the chunk");
+    let watch = low.expand.watch.take().expect("watching the chunk");
     let headroom = low.cx.headroom.take().expect("watching the chunk's budget");
     if watch.declared {
         return Err("it declares a PROTO".into());
@@ -259,14 +244,14 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source)
         skipped,
         nodes: low.cx.nodes - watch.nodes_at_start,
         spent: low.cx.spent - headroom.spent_at_start,
-        templated: low.templated - watch.templated_at_start,
+        templated: low.expand.templated - watch.templated_at_start,
         whole_nodes: low.build.whole_nodes - watch.whole_at_start,
         excess: headroom.excess,
         mesh_spheres: low.build.meshes.spheres - meshes_before.0,
         point_spheres: low.build.meshes.point_spheres - meshes_before.1,
         headlight: (!bound_before.0 && low.build.bound.navigation_info).then_some(scene.headlight),
         background: (!bound_before.1 && low.build.bound.background).then_some(scene.background),
-        exports: low.scopes.file_defs_since(arena_mark),
+        exports: low.expand.scopes.file_defs_since(arena_mark),
         imports: watch.imports,
         line_starts: (parser.src.lines.starts_after(start))
             .take_while(|&l| end.is_none_or(|e| l <= e))
@@ -283,29 +268,6 @@ impl Delta {
 }
 
 impl Lowerer {
-    /// Looks a DEF name up in the innermost namespace, noting (in the file's namespace) a
-    /// chunk's use of the prefix's DEFs and the main reader's use of names chunks DEF'd.
-    pub(super) fn lookup_def(&mut self, name: &str) -> Option<super::scope::DefEntry> {
-        let d = self.scopes.def(name).cloned();
-        if self.scopes.depth() == 1 {
-            if let Some(w) = &mut self.watch {
-                if d.as_ref().is_some_and(|d| d.range.start < w.arena_mark) {
-                    w.imports.push(name.to_string());
-                }
-            }
-            if self.poison.as_ref().is_some_and(|p| p.contains(name)) {
-                self.fallback
-                    .get_or_insert_with(|| format!("'{name}' is used after a chunk DEF'd it"));
-                // The pieces' result cannot stand: not found, so that the main reader stops
-                // here (a USE of an unknown name is an error) rather than read on to the end
-                // for nothing (copies of a Jmol export, 1e6 atoms, two threads: 3.66 s, then
-                // about one reader's time).
-                return None;
-            }
-        }
-        d
-    }
-
     /// Puts a chunk's result in place, as if its text had been lowered here; gives back its
     /// list of spheres, emptied, for another chunk.
     pub(super) fn put_in_place(
@@ -380,7 +342,7 @@ impl Lowerer {
         }
         self.cx.nodes += d.nodes;
         self.cx.spent += d.spent;
-        self.templated += d.templated;
+        self.expand.templated += d.templated;
         self.build.whole_nodes += d.whole_nodes;
         self.build.meshes.spheres += d.mesh_spheres;
         self.build.meshes.point_spheres += d.point_spheres;

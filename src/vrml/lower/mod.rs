@@ -31,40 +31,26 @@
 //! DEF'd mesh lowers to is kept at its first USE, so later USEs cost a lookup, not a
 //! replay of its events.
 //!
-//! **Layout.** `Lowerer` holds the scene being built and one part per concern, each owned
-//! by the file that works on it: `dispatch` (the one fast path for common events, and the
-//! general handler), `record` (the event arena and the recordings under way), `replay` (USE
-//! and Switch choices, and the one depth guard), `scope` (DEF and PROTO namespaces),
-//! `declare` (PROTO declarations), `expand` (PROTO instances and `IS`), `open` (the stack of
-//! open nodes), `start` (the node table and `node_start`), `close` (closing nodes), `fields`
-//! (field values), `transform` (the Transform matrix and what it moves), `lights` (light
-//! scopes), `material` (open Materials and sharing), `mesh` (meshes while they are read),
-//! `mesh_shape` (what a closed mesh becomes), `inline` (files and Inline), `extern_proto`
-//! (the files EXTERNPROTOs name, and positions tagged with the file they are in), `route`
-//! (ROUTE checks), `parallel` (one large file read on several threads) and `chunk` (a piece
-//! of it read on its own, and put in place).
+//! **Layout.** Two halves, and what they share. The expander ([`expand`]) takes the parser's
+//! events and resolves DEF and USE, PROTO and `IS`, EXTERNPROTO, Inline and ROUTE into plain
+//! nodes; the scene builder ([`build`]) turns those into the [`Scene`] (the open frames,
+//! materials, transforms, meshes, lights and bound nodes), knowing nothing of how VRML builds
+//! by reference. The builder imports nothing of the expander; the expander drives it through
+//! a concrete `&mut Builder` lent for each call (no trait: one builder), and never touches the
+//! `Scene`. Both borrow the [`context`] (options, node count, expansion budget, diagnostics,
+//! the file being read). `Lowerer` owns the three and is the parser's sink; `parallel` (one
+//! large file read on several threads), `chunk` (a piece of it read on its own, and put in
+//! place) and `in_order` (the pieces' results taken in file order) are its. Passing the
+//! expander its builder and context as arguments rather than reaching them through one object
+//! costs nothing measurable in reading speed (see docs/internals.md).
 
 mod build;
 mod chunk;
-mod close;
 mod context;
-mod declare;
 mod diags;
-mod direct;
-mod dispatch;
 mod expand;
-mod extern_proto;
-mod gas_particle;
 mod in_order;
-mod inline;
 mod parallel;
-mod proto;
-mod record;
-mod replay;
-mod route;
-mod scope;
-mod start;
-mod template;
 
 use std::collections::BTreeMap;
 
@@ -74,21 +60,15 @@ use std::time::Instant;
 
 use crate::diag::{Diagnostic, Severity};
 use crate::error::Error;
-use std::rc::Rc;
 
 use crate::scene::Scene;
-use crate::source::SourceWindow;
+use crate::source::{Pos, SourceWindow};
 use crate::vrml::syntax::OwnedEvent;
+use crate::vrml::syntax::{Event, Sink};
 
 use build::Builder;
 use context::Ctx;
-use expand::Expansions;
-use extern_proto::Externs;
-use inline::Files;
-use proto::ProtoDecl;
-use record::{Rec, Recording};
-use replay::Replay;
-use scope::Scopes;
+use expand::{Expander, Lent, Rec};
 
 /// The default [`LoadOptions::expansion_base`]: 2^22, room for a small file that builds a
 /// lattice of a million nodes by DEF and USE.
@@ -266,7 +246,12 @@ fn load_in_pieces(
         }
     }
     let mut low = Lowerer::new(opts.clone());
-    low.load_source(SourceWindow::new(name, open()?), path)?;
+    low.expand.load_source(
+        &mut low.cx,
+        &mut low.build,
+        SourceWindow::new(name, open()?),
+        path,
+    )?;
     let (scene, mut report) = low.finish(t0)?;
     report.read_again = again;
     Ok((scene, report))
@@ -321,50 +306,53 @@ struct Lowerer {
     cx: Ctx,
     /// The scene being built (`build`).
     build: Builder,
-    /// PROTO instances lowered by a sphere template (`template.rs`).
-    templated: u64,
-    /// The PROTO instance read straight into its template (`direct`).
-    direct: direct::Direct,
-    /// The PROTO instances whose frames are open, with their depth in the open frames
-    /// (`start`).
-    instances: Vec<(usize, Rc<ProtoDecl>)>,
-    /// Recorded events and the recordings under way (`record`).
-    rec: Recording,
-    /// How deep replays nest, and whether DEFs are being read again (`replay`).
-    replay: Replay,
-    /// DEF and PROTO namespaces (`scope`).
-    scopes: Scopes,
-    /// The PROTO expansions under way (`expand`).
-    expansions: Expansions,
-    /// The file being read and the chain of Inlines to it (`inline`).
-    files: Files,
-    /// The files read for their PROTOs (`extern_proto`).
-    externs: Externs,
-    /// A chunk being read on its own (`parallel`).
-    watch: Option<chunk::Watch>,
-    /// Names chunks read on their own DEF'd: the main reader may not use them.
-    poison: Option<hashbrown::HashSet<String>>,
-    /// Why what was read in pieces must be read again by one reader.
-    fallback: Option<String>,
+    /// DEF, PROTO, Inline and the rest of what VRML builds by reference (`expand`).
+    expand: Expander,
+}
+
+/// The parser's events go to the expander, which lends them to the builder as plain nodes.
+impl Sink for Lowerer {
+    #[inline(always)]
+    fn event(&mut self, src: &SourceWindow, ev: Event<'_>) -> Result<(), Error> {
+        self.lent().event(src, ev)
+    }
+
+    fn whole_node(
+        &mut self,
+        src: &SourceWindow,
+        at: Pos,
+        text: &str,
+    ) -> Result<Option<usize>, Error> {
+        self.lent().whole_node(src, at, text)
+    }
+
+    fn flat_node(
+        &mut self,
+        src: &SourceWindow,
+        at: Pos,
+        text: &str,
+        node: &crate::vrml::parse::flat::FlatNode,
+    ) -> Result<bool, Error> {
+        self.lent().flat_node(src, at, text, node)
+    }
 }
 
 impl Lowerer {
+    /// The expander with the builder and context it drives, as the parser's sink.
+    #[inline(always)]
+    fn lent(&mut self) -> Lent<'_> {
+        Lent {
+            x: &mut self.expand,
+            cx: &mut self.cx,
+            b: &mut self.build,
+        }
+    }
+
     fn new(opts: LoadOptions) -> Self {
         Lowerer {
             cx: Ctx::new(opts),
             build: Builder::new(),
-            templated: 0,
-            direct: direct::Direct::default(),
-            instances: Vec::new(),
-            rec: Recording::default(),
-            replay: Replay::default(),
-            scopes: Scopes::default(),
-            expansions: Expansions::default(),
-            files: Files::default(),
-            externs: Externs::default(),
-            watch: None,
-            poison: None,
-            fallback: None,
+            expand: Expander::default(),
         }
     }
 
@@ -388,19 +376,19 @@ impl Lowerer {
         let report = LoadReport {
             warnings: self.cx.diags.warnings,
             skipped: self.cx.diags.skipped,
-            bytes: self.files.bytes,
+            bytes: self.expand.files.bytes,
             seconds: t0.elapsed().as_secs_f64(),
             nodes: self.cx.nodes,
             expansion: self.cx.spent,
             files: self.build.scene.files.clone(),
-            recorded_bytes: self.rec.arena.capacity() * std::mem::size_of::<Rec>(),
+            recorded_bytes: self.expand.rec.arena.capacity() * std::mem::size_of::<Rec>(),
             mesh_spheres: self.build.meshes.spheres,
             point_spheres: self.build.meshes.point_spheres,
             notes: self.cx.diags.notes,
             read_pieces: 0,
             read_again: None,
             read_on: None,
-            template_instances: self.templated,
+            template_instances: self.expand.templated,
             whole_sphere_nodes: self.build.whole_nodes,
         };
         Ok((self.build.scene, report))

@@ -342,16 +342,19 @@ fn main_reader(
     (size, in_file): (u64, Option<Arc<std::fs::File>>),
 ) -> Result<Parallel, Error> {
     let src = SourceWindow::new(name, Box::new(reader.clone()));
-    let mut opened = low.open_file(&src, path);
+    let mut opened = low
+        .expand
+        .open_file(&mut low.cx, &mut low.build, &src, path);
     let mut parser = Parser::new(src);
     parser.pause_at_end = true;
     let r = parser.begin().and_then(|()| parser.resume(low));
     if !matches!(reader.take_stop(), Some(Msg::PrefixEnd)) {
         // No region: this was one reader all along, and its result stands.
-        low.resume_outside(&mut opened);
+        low.expand.resume_outside(&mut opened);
         r?;
         parser.end()?;
-        low.close_file(opened, &parser.src)?;
+        low.expand
+            .close_file(&mut low.cx, &mut low.build, opened, &parser.src)?;
         return Ok(Parallel::Chunks(0, None));
     }
     // From here on, a failure's message is one reader's to give.
@@ -366,15 +369,22 @@ fn main_reader(
         parser.end().map_err(|e| e.to_string())?;
         Ok((placed.count, placed.why))
     })();
-    low.resume_outside(&mut opened);
+    low.expand.resume_outside(&mut opened);
     let (chunks, why) = match outcome {
         Ok(r) => r,
-        Err(why) => return Ok(Parallel::Fallback(low.fallback.take().unwrap_or(why))),
+        Err(why) => {
+            return Ok(Parallel::Fallback(
+                low.expand.fallback.take().unwrap_or(why),
+            ))
+        }
     };
-    if let Err(e) = low.close_file(opened, &parser.src) {
+    if let Err(e) = low
+        .expand
+        .close_file(&mut low.cx, &mut low.build, opened, &parser.src)
+    {
         return Ok(Parallel::Fallback(e.to_string()));
     }
-    Ok(match low.fallback.take() {
+    Ok(match low.expand.fallback.take() {
         Some(why) => Parallel::Fallback(why),
         None => Parallel::Chunks(chunks, why),
     })
@@ -492,7 +502,7 @@ fn put_chunks_in_place(
         }
     };
     if !defined.is_empty() {
-        low.poison = Some(defined);
+        low.expand.poison = Some(defined);
     }
     let rest: Box<dyn Read> = match in_file {
         // (The chunks still coming are not waited for: dropping `results` stops them.)

@@ -67,7 +67,7 @@ pub(in crate::vrml::lower) struct MeshState {
     pub(in crate::vrml::lower) crease_angle: f64,
     /// An index field was given values that are not integers: nothing is drawn.
     pub(in crate::vrml::lower) malformed: bool,
-    /// `Lowerer::nodes` before this node started (to cache the node count of a DEF).
+    /// `Ctx::nodes` before this node started (to cache the node count of a DEF).
     pub(in crate::vrml::lower) nodes_before: u64,
 }
 

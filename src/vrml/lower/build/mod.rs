@@ -78,4 +78,28 @@ impl Builder {
         b.materials.unlit = b.scene.materials.add(&Material::unlit());
         b
     }
+
+    /// Names another file read (an Inline, or a file read for its PROTOs): its index in
+    /// `Scene::files`, which origins refer to.
+    pub(super) fn add_file(&mut self, name: &str) -> usize {
+        self.scene.files.push(name.to_string());
+        self.scene.files.len() - 1
+    }
+
+    /// Opens a file's root: a group of its top-level nodes (the scope of its top-level
+    /// DirectionalLights), closed by `close_group_like` when the file ends.
+    pub(super) fn open_file_root(&mut self) {
+        let root = open::Kind::Group {
+            transform: None,
+            marks: transform::Marks::of(&self.scene),
+            dirlights: None,
+            inline_urls: None,
+        };
+        self.open.push(
+            open::Name::Static("<file>"),
+            None,
+            root,
+            crate::source::Pos::at(0),
+        );
+    }
 }

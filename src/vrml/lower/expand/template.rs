@@ -18,19 +18,23 @@ use std::ops::Range;
 
 use glam::DVec3;
 
-use super::build::sphere::{in_range, padded3, radius_ok, Inputs, MaterialField, Placed};
 use super::proto::{ProtoDecl, Slot, SphereTemplate};
 use super::record::Rec;
 use super::replay::MAX_REPLAY_DEPTH;
-use super::Lowerer;
+use super::Expander;
 use crate::error::Error;
 use crate::scene::Material;
 use crate::source::{Pos, SourceWindow};
+use crate::vrml::lower::build::sphere::{
+    in_range, padded3, radius_ok, Inputs, MaterialField, Placed,
+};
+use crate::vrml::lower::build::Builder;
+use crate::vrml::lower::context::Ctx;
 use crate::vrml::sphere_node::SphereNode;
 use crate::vrml::syntax::{OwnedEvent, OwnedValue};
 
 /// Reads the body's first node as a template, if it is one.
-pub(super) fn compile(decl: &ProtoDecl) -> Option<SphereTemplate> {
+pub(in crate::vrml::lower) fn compile(decl: &ProtoDecl) -> Option<SphereTemplate> {
     let n = decl.first_end;
     let events = &decl.body_events[..n];
     let mut m = Matcher {
@@ -54,7 +58,7 @@ pub(super) fn compile(decl: &ProtoDecl) -> Option<SphereTemplate> {
     let written: u64 = events
         .iter()
         .map(|r| match r {
-            Rec::Ev(ev) => super::event_cost(ev),
+            Rec::Ev(ev) => crate::vrml::lower::event_cost(ev),
             Rec::Used { .. } => 0,
         })
         .sum();
@@ -242,8 +246,8 @@ impl<'a> Matcher<'a> {
     }
 }
 
-/// What an instance gives one interface field (see [`Lowerer::template_inputs`]).
-pub(super) enum Given<'a> {
+/// What an instance gives one interface field (see [`Expander::template_inputs`]).
+pub(in crate::vrml::lower) enum Given<'a> {
     /// Plain numbers, not bracketed.
     Numbers(&'a [f64]),
     /// Anything else: the template cannot take it.
@@ -252,12 +256,14 @@ pub(super) enum Given<'a> {
     Absent,
 }
 
-impl Lowerer {
+impl Expander {
     /// Lowers a PROTO instance by its body's template: `values` are the instance's values
-    /// (arena ranges by interface field, as `expand` found them). `None`: replay the body
+    /// (arena ranges by interface field, as `instance` found them). `None`: replay the body
     /// instead (nothing was changed).
-    pub(super) fn expand_by_template(
+    pub(in crate::vrml::lower) fn expand_by_template(
         &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
         src: &SourceWindow,
         proto: &ProtoDecl,
         tpl: &SphereTemplate,
@@ -279,21 +285,23 @@ impl Lowerer {
                 _ => Given::Other,
             },
         };
-        let inputs = self.template_inputs(src, proto, tpl, given)?;
-        Some(self.lower_template(src, tpl, inputs))
+        let inputs = self.template_inputs(cx, b, src, proto, tpl, given)?;
+        Some(self.lower_template(cx, b, src, tpl, inputs))
     }
 
     /// The instance's values for the template, `given(fi)` by interface field; `None` where
     /// replaying would do more than lower the sphere (see the module's comment).
-    pub(super) fn template_inputs<'a>(
+    pub(in crate::vrml::lower) fn template_inputs<'a>(
         &'a self,
+        cx: &Ctx,
+        b: &Builder,
         src: &SourceWindow,
         proto: &ProtoDecl,
         tpl: &SphereTemplate,
         given: impl Fn(usize) -> Given<'a>,
     ) -> Option<Inputs> {
         // An external PROTO's body sees other PROTOs.
-        if proto.home.is_some() || !self.sphere_fits_here(src, tpl.spent) {
+        if proto.home.is_some() || !self.sphere_fits_here(cx, b, src, tpl.spent) {
             return None;
         }
         let arena = &self.rec.arena;
@@ -356,34 +364,38 @@ impl Lowerer {
     /// Whether a sphere's `nodes` nodes lowered at once here are what lowering them one by
     /// one would give: not where a PROTO named like a standard node may stand for one of
     /// them, nor too deep in replays, nor where the builder would not lower them so
-    /// ([`super::Builder::sphere_fits_here`]).
-    fn sphere_fits_here(&self, src: &SourceWindow, nodes: u64) -> bool {
+    /// ([`crate::vrml::lower::build::Builder::sphere_fits_here`]).
+    fn sphere_fits_here(&self, cx: &Ctx, b: &Builder, src: &SourceWindow, nodes: u64) -> bool {
         !self.scopes.proto_shadows_standard
             && self.replay.depth < MAX_REPLAY_DEPTH
-            && self.build.sphere_fits_here(&self.cx, src, nodes)
+            && b.sphere_fits_here(cx, src, nodes)
     }
 
     /// A plain sphere node read whole from the text (see [`crate::vrml::sphere_node`]) at
     /// `at`: lowered as its events would be, if nothing is recorded and its values are ones
     /// that lower without a message. False: its events follow.
-    pub(super) fn whole_sphere_node(
+    pub(in crate::vrml::lower) fn whole_sphere_node(
         &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
         src: &SourceWindow,
         at: Pos,
         node: &SphereNode,
     ) -> Result<bool, Error> {
-        if self.cx.opts.replay_every_instance
+        if cx.opts.replay_every_instance
             || !self.rec.idle()
-            || !self.sphere_fits_here(src, node.nodes)
+            || !self.sphere_fits_here(cx, b, src, node.nodes)
         {
             return Ok(false);
         }
-        self.build.whole_sphere_node(&mut self.cx, src, at, node)
+        b.whole_sphere_node(cx, src, at, node)
     }
 
     /// Lowers the template's sphere with the instance's `inputs`.
-    pub(super) fn lower_template(
+    pub(in crate::vrml::lower) fn lower_template(
         &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
         src: &SourceWindow,
         tpl: &SphereTemplate,
         inputs: Inputs,
@@ -395,6 +407,6 @@ impl Lowerer {
             sphere_at: tpl.sphere_at,
         };
         self.templated += 1;
-        self.build.lower_sphere(&mut self.cx, src, placed, inputs)
+        b.lower_sphere(cx, src, placed, inputs)
     }
 }

@@ -5,17 +5,21 @@
 
 use std::rc::Rc;
 
-use super::build::open::{Kind, Leaf, Name};
 use super::proto::ProtoDecl;
 use super::record::RecKind;
-use super::Lowerer;
+use super::Expander;
 use crate::error::Error;
 use crate::source::{Pos, SourceWindow};
+use crate::vrml::lower::build::open::{Kind, Leaf, Name};
+use crate::vrml::lower::build::Builder;
+use crate::vrml::lower::context::Ctx;
 use crate::vrml::schema;
 
-impl Lowerer {
-    pub(super) fn node_start(
+impl Expander {
+    pub(in crate::vrml::lower) fn node_start(
         &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
         src: &SourceWindow,
         def: Option<&str>,
         ty: &str,
@@ -30,7 +34,7 @@ impl Lowerer {
             self.rec.start_def(d, ty, at);
             self.scopes.open_def(d);
         }
-        self.cx.add_nodes(1, src, at)?;
+        cx.add_nodes(1, src, at)?;
         let index = schema::node_index(ty);
         let spec = index.map(|i| &schema::NODES[i]);
         // A standard type was found by this very name.
@@ -38,17 +42,17 @@ impl Lowerer {
             Some(s) => Name::Static(s.name),
             None => Name::Shared(self.rec.names.rc(ty)),
         };
-        if self.build.open.quiet > 0 {
+        if b.open.quiet > 0 {
             // Not lowered; a frame keeps the nesting.
-            self.build.open.push(ty_rc, None, Kind::Quiet, at);
+            b.open.push(ty_rc, None, Kind::Quiet, at);
             return Ok(());
         }
-        self.check_child(src, ty, at);
+        self.check_child(cx, b, src, ty, at);
         // Where does this node stand? (A Switch choice, an LOD level after the first, or a
         // Collision proxy is recorded or ignored, not lowered.)
-        let (in_choice, ignored_level) = match self.build.open.fields.last() {
+        let (in_choice, ignored_level) = match b.open.fields.last() {
             None => (false, false),
-            Some(ctx) => match &mut self.build.open.frames[ctx.frame].kind {
+            Some(ctx) => match &mut b.open.frames[ctx.frame].kind {
                 Kind::Switch { .. } => (&*ctx.name == "choice", false),
                 Kind::Lod { levels, .. } if &*ctx.name == "level" => {
                     let ignored = *levels > 0;
@@ -57,7 +61,7 @@ impl Lowerer {
                 }
                 Kind::Group { .. } => (false, &*ctx.name == "proxy"),
                 Kind::Mesh(_) => {
-                    self.build.mesh_child(ty_rc, at);
+                    b.mesh_child(ty_rc, at);
                     return Ok(());
                 }
                 _ => (false, false),
@@ -67,7 +71,7 @@ impl Lowerer {
             if in_choice && !self.rec.in_choice() {
                 self.rec.start_here(&ty_rc, def, at, RecKind::Choice);
             }
-            self.build.open.push_quiet(ty_rc, at);
+            b.open.push_quiet(ty_rc, at);
             return Ok(());
         }
         let proto = if index.is_none() || self.scopes.proto_shadows_standard {
@@ -79,12 +83,12 @@ impl Lowerer {
             if proto.body.is_some() {
                 // Read the instance into its template, or record it and expand it when it
                 // closes.
-                if !self.start_direct(&proto, &ty_rc, def, at) {
+                if !self.start_direct(cx, &proto, &ty_rc, def, at) {
                     self.rec.start_here(&ty_rc, def, at, RecKind::Instance);
                 }
             } else {
-                self.cx.diags.skip(ty);
-                self.cx.diags.warn(
+                cx.diags.skip(ty);
+                cx.diags.warn(
                     src,
                     at,
                     format!(
@@ -92,12 +96,11 @@ impl Lowerer {
                     ),
                 );
             }
-            self.build.open.push_quiet(ty_rc, at);
-            self.open_instance(self.build.open.frames.len(), proto);
+            b.open.push_quiet(ty_rc, at);
+            self.open_instance(b.open.frames.len(), proto);
             return Ok(());
         }
-        self.build
-            .open_node(&mut self.cx, src, (index, ty_rc), def, at)
+        b.open_node(cx, src, (index, ty_rc), def, at)
     }
 
     /// Notes that the frame opened at depth `depth` (the frame count once it is pushed) is an
@@ -110,7 +113,7 @@ impl Lowerer {
     }
 
     /// The PROTO of the instance whose frame, at depth `depth`, closes now.
-    pub(super) fn instance_proto(&mut self, depth: usize) -> Option<Rc<ProtoDecl>> {
+    pub(in crate::vrml::lower) fn instance_proto(&mut self, depth: usize) -> Option<Rc<ProtoDecl>> {
         while let Some((d, proto)) = self.instances.pop() {
             if d == depth {
                 return Some(proto);
@@ -125,11 +128,18 @@ impl Lowerer {
 
     /// Warns when a node type does not belong in the field it stands in.
     #[inline(always)]
-    pub(super) fn check_child(&mut self, src: &SourceWindow, ty: &str, at: Pos) {
-        let Some(ctx) = self.build.open.fields.last() else {
+    pub(in crate::vrml::lower) fn check_child(
+        &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
+        src: &SourceWindow,
+        ty: &str,
+        at: Pos,
+    ) {
+        let Some(ctx) = b.open.fields.last() else {
             return;
         };
-        let parent = &self.build.open.frames[ctx.frame];
+        let parent = &b.open.frames[ctx.frame];
         let allowed: &[&str] = match (&parent.kind, &*ctx.name) {
             (Kind::Leaf(Leaf::Shape { .. }), "appearance") => &["Appearance"],
             (Kind::Leaf(Leaf::Appearance { .. }), "material") => &["Material"],
@@ -140,7 +150,7 @@ impl Lowerer {
                 "{ty} is not allowed in field '{}' of {}: ignored",
                 ctx.name, parent.ty
             );
-            self.cx.diags.warn(src, at, msg);
+            cx.diags.warn(src, at, msg);
         }
     }
 }

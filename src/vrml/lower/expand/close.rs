@@ -3,21 +3,29 @@
 //! expanded; an Inline reads its file and a Switch replays its choice; otherwise the scene
 //! builder closes the node's frame (`build::close`).
 
-use super::build::meshes::Geom;
-use super::build::open::{Frame, Kind, Result_};
 use super::record::{Done, Rec, RecKind};
 use super::scope::DefEntry;
-use super::Lowerer;
+use super::Expander;
 use crate::error::Error;
 use crate::source::SourceWindow;
+use crate::vrml::lower::build::meshes::Geom;
+use crate::vrml::lower::build::open::{Frame, Kind, Result_};
+use crate::vrml::lower::build::Builder;
+use crate::vrml::lower::context::Ctx;
 use crate::vrml::syntax::OwnedEvent;
 
-impl Lowerer {
+impl Expander {
     /// A node's `}`; `done` are the recordings that ended with it.
-    pub(super) fn node_end(&mut self, src: &SourceWindow, done: Done) -> Result<(), Error> {
-        if done.is_empty() && self.build.open.quiet == 0 {
-            if let Some(result) = self.build.close_top_leaf(&mut self.cx) {
-                self.build.deliver(result);
+    pub(in crate::vrml::lower) fn node_end(
+        &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
+        src: &SourceWindow,
+        done: Done,
+    ) -> Result<(), Error> {
+        if done.is_empty() && b.open.quiet == 0 {
+            if let Some(result) = b.close_top_leaf(cx) {
+                b.deliver(result);
                 return Ok(());
             }
         }
@@ -42,13 +50,13 @@ impl Lowerer {
             }
         }
         self.rec.hand_back(done);
-        let depth = self.build.open.frames.len();
-        let frame = self.build.open.pop_closing();
+        let depth = b.open.frames.len();
+        let frame = b.open.pop_closing();
         if let Some(range) = choice {
             if let Some(Frame {
                 kind: Kind::Switch { choices, .. },
                 ..
-            }) = self.build.open.frames.last_mut()
+            }) = b.open.frames.last_mut()
             {
                 choices.push(range);
             }
@@ -56,19 +64,19 @@ impl Lowerer {
         }
         if let Some(range) = instance {
             if let Some(proto) = self.instance_proto(depth) {
-                self.expand(src, proto, range.clone(), frame.at)?;
+                self.expand(cx, b, src, proto, range.clone(), frame.at)?;
                 // The instance's recording is no longer needed unless a DEF refers into it.
                 self.rec.release(range.start);
             }
             return Ok(());
         }
-        if self.build.open.quiet > 0 || matches!(frame.kind, Kind::Quiet | Kind::Skip) {
-            let result = if matches!(frame.kind, Kind::Skip) && self.build.open.quiet == 0 {
+        if b.open.quiet > 0 || matches!(frame.kind, Kind::Quiet | Kind::Skip) {
+            let result = if matches!(frame.kind, Kind::Skip) && b.open.quiet == 0 {
                 Result_::Geometry(Geom::Other)
             } else {
                 Result_::Nothing
             };
-            self.build.deliver(result);
+            b.deliver(result);
             return Ok(());
         }
         let at = frame.at;
@@ -76,20 +84,19 @@ impl Lowerer {
             Kind::Group {
                 inline_urls: Some(_),
                 ..
-            } => self.close_inline(src, frame)?,
+            } => self.close_inline(cx, b, src, frame)?,
             Kind::Switch {
                 which, ref choices, ..
             } if usize::try_from(which).is_ok_and(|w| w < choices.len()) => {
                 let range = choices[which as usize].clone();
-                self.build.open.frames.push(frame);
-                self.replay_reused(src, range, at, "Switch choice")?;
-                let frame = self.build.open.frames.pop().expect("switch frame");
-                self.build
-                    .close_group_like(&mut self.cx, src, frame.kind, at)?;
+                b.open.frames.push(frame);
+                self.replay_reused(cx, b, src, range, at, "Switch choice")?;
+                let frame = b.open.frames.pop().expect("switch frame");
+                b.close_group_like(cx, src, frame.kind, at)?;
             }
             _ => {
-                let result = self.build.close(&mut self.cx, src, frame)?;
-                self.build.deliver(result);
+                let result = b.close(cx, src, frame)?;
+                b.deliver(result);
             }
         }
         Ok(())
