@@ -98,7 +98,7 @@ pub(super) fn lower_chunk(
         .open_file(&mut low.cx, &mut low.build, &src, path);
     let mut parser = Parser::new(src);
     parser.pause_at_end = true;
-    let r = parser.begin().and_then(|()| parser.resume(&mut low));
+    let r = parser.begin().and_then(|()| parser.resume(&mut low.lent()));
     let held = matches!(source, Source::Text(_));
     let (d, text) = match r {
         Ok(_) => {
@@ -190,7 +190,7 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source)
     parser.floor = parser.depth();
     // The list may end in it (the region's last chunk): what comes before the end stands,
     // and the main reader reads on from the end.
-    let end = match parser.resume(low).map_err(|e| reason(&e))? {
+    let end = match parser.resume(&mut low.lent()).map_err(|e| reason(&e))? {
         Run::Floor => Some(parser.src.offset()),
         _ if parser.depth() != parser.floor => return Err("it ends inside a node".into()),
         _ => None,

@@ -62,9 +62,8 @@ use crate::diag::{Diagnostic, Severity};
 use crate::error::Error;
 
 use crate::scene::Scene;
-use crate::source::{Pos, SourceWindow};
+use crate::source::SourceWindow;
 use crate::vrml::syntax::OwnedEvent;
-use crate::vrml::syntax::{Event, Sink};
 
 use build::Builder;
 use context::Ctx;
@@ -310,35 +309,10 @@ struct Lowerer {
     expand: Expander,
 }
 
-/// The parser's events go to the expander, which lends them to the builder as plain nodes.
-impl Sink for Lowerer {
-    #[inline(always)]
-    fn event(&mut self, src: &SourceWindow, ev: Event<'_>) -> Result<(), Error> {
-        self.lent().event(src, ev)
-    }
-
-    fn whole_node(
-        &mut self,
-        src: &SourceWindow,
-        at: Pos,
-        text: &str,
-    ) -> Result<Option<usize>, Error> {
-        self.lent().whole_node(src, at, text)
-    }
-
-    fn flat_node(
-        &mut self,
-        src: &SourceWindow,
-        at: Pos,
-        text: &str,
-        node: &crate::vrml::parse::flat::FlatNode,
-    ) -> Result<bool, Error> {
-        self.lent().flat_node(src, at, text, node)
-    }
-}
-
 impl Lowerer {
-    /// The expander with the builder and context it drives, as the parser's sink.
+    /// The expander with the builder and context it drives: the parser's sink. (The one sink
+    /// type: the parser is generic over it, and a second type would be a second copy of the
+    /// parser.)
     #[inline(always)]
     fn lent(&mut self) -> Lent<'_> {
         Lent {

@@ -347,7 +347,7 @@ fn main_reader(
         .open_file(&mut low.cx, &mut low.build, &src, path);
     let mut parser = Parser::new(src);
     parser.pause_at_end = true;
-    let r = parser.begin().and_then(|()| parser.resume(low));
+    let r = parser.begin().and_then(|()| parser.resume(&mut low.lent()));
     if !matches!(reader.take_stop(), Some(Msg::PrefixEnd)) {
         // No region: this was one reader all along, and its result stands.
         low.expand.resume_outside(&mut opened);
@@ -364,7 +364,7 @@ fn main_reader(
         // The rest: from the first chunk whose result did not stand (or the file's end).
         stop.store(true, Ordering::Relaxed);
         parser.src.jump(placed.from, Box::new(placed.rest));
-        let run = parser.resume(low).map_err(|e| e.to_string())?;
+        let run = parser.resume(&mut low.lent()).map_err(|e| e.to_string())?;
         debug_assert_eq!(run, Run::Paused);
         parser.end().map_err(|e| e.to_string())?;
         Ok((placed.count, placed.why))
