@@ -299,8 +299,9 @@ pub fn load_str(name: &str, text: &str, opts: &LoadOptions) -> Result<(Scene, Lo
     load_bytes(name, text.as_bytes().to_vec(), opts)
 }
 
-/// The lowering of one scene (its Inlines included): the scene built so far, and one part
-/// per concern, each owned by the file named.
+/// The lowering of one scene (its Inlines included): the two halves and what they share. It
+/// lends them to the parser as one sink ([`Self::lent`]) and puts pieces read apart in place
+/// (`chunk`).
 struct Lowerer {
     /// The options, node count, budget and diagnostics (`context`).
     cx: Ctx,
