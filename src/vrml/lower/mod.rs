@@ -42,8 +42,8 @@
 //! large file read on several threads), `chunk` (a piece of it read on its own, and put in
 //! place) and `in_order` (the pieces' results taken in file order) are its. Passing the
 //! expander its builder and context as arguments rather than reaching them through one object
-//! costs 1 to 2.5 % of reading time (docs/internals.md has the measurement); the parser has
-//! one sink type, [`expand::Lent`], as a second would be a second copy of the parser.
+//! costs no reading speed (docs/internals.md has the measurement); the parser has one sink
+//! type, [`expand::Lent`], as a second would be a second copy of the parser.
 
 mod build;
 mod chunk;

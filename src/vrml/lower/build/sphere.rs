@@ -110,6 +110,7 @@ impl Builder {
     /// them one by one would give: not inside a node that is not lowered, nor where the
     /// Transform is out of place (anywhere but the top level or a grouping node's
     /// `children`), nor past the expansion budget.
+    #[inline]
     pub(in crate::vrml::lower) fn sphere_fits_here(
         &self,
         cx: &Ctx,
@@ -139,6 +140,7 @@ impl Builder {
     /// `at`, where [`Self::sphere_fits_here`] (and nothing recorded): lowered as its events
     /// would be, if its values are ones that lower without a message. False: its events
     /// follow.
+    #[inline]
     pub(in crate::vrml::lower) fn whole_sphere_node(
         &mut self,
         cx: &mut Ctx,
