@@ -40,10 +40,9 @@
 //! `Scene`. Both borrow the [`context`] (options, node count, expansion budget, diagnostics,
 //! the file being read). `Lowerer` owns the three and is the parser's sink; `parallel` (one
 //! large file read on several threads), `chunk` (a piece of it read on its own, and put in
-//! place) and `in_order` (the pieces' results taken in file order) are its. Passing the
-//! expander its builder and context as arguments rather than reaching them through one object
-//! costs no reading speed (docs/internals.md has the measurement); the parser has one sink
-//! type, [`expand::Lent`], as a second would be a second copy of the parser.
+//! place) and `in_order` (the pieces' results taken in file order) are its. The parser has
+//! one sink type, [`expand::Lent`] (the expander lent its builder and context), as a second
+//! would be a second copy of the parser.
 
 mod build;
 mod chunk;
