@@ -1,5 +1,5 @@
 //! The reader's recursion bounds, tested at the bound and just past it: nested USE and PROTO
-//! replays (at most 200 at once, `MAX_REPLAY_DEPTH` in src/vrml/lower/replay.rs) and nested
+//! replays (at most 200 at once, `MAX_REPLAY_DEPTH` in src/vrml/lower/expand/replay.rs) and nested
 //! Inline files (`LoadOptions::max_inline_depth`, 16 by default). At the bound the scene
 //! loads whole; past it the error names the file, line and column of the USE, instance or
 //! Inline that goes too deep, with no panic and no stack overflow. Group nesting has no

@@ -61,8 +61,8 @@ fn paths(code: &str) -> Vec<Vec<&str>> {
     out
 }
 
-#[test]
-fn library_modules_have_no_import_cycle() {
+/// Each module and the modules its code (outside comments and tests) names.
+fn import_edges() -> BTreeMap<String, BTreeSet<String>> {
     let src = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("src");
     let mut files = Vec::new();
     rust_files(&src, &mut files);
@@ -115,6 +115,12 @@ fn library_modules_have_no_import_cycle() {
             }
         }
     }
+    edges
+}
+
+#[test]
+fn library_modules_have_no_import_cycle() {
+    let edges = import_edges();
     // A cycle: a module that reaches itself.
     let mut cycles = Vec::new();
     for start in edges.keys() {
@@ -137,4 +143,35 @@ fn library_modules_have_no_import_cycle() {
     assert!(edges
         .get("crate::render::lighting")
         .is_some_and(|e| e.contains("crate::render::visibility")));
+}
+
+#[test]
+fn the_scene_builder_imports_nothing_of_the_expander() {
+    // Lowering is two halves: the expander (DEF/USE, PROTO, Inline, ...) drives the scene
+    // builder, never the other way round.
+    let edges = import_edges();
+    let builder = "crate::vrml::lower::build";
+    let expander = "crate::vrml::lower::expand";
+    let mut wrong = Vec::new();
+    for (m, targets) in &edges {
+        if m == builder || m.starts_with(&format!("{builder}::")) {
+            for t in targets {
+                if t == expander || t.starts_with(&format!("{expander}::")) {
+                    wrong.push(format!("{m} -> {t}"));
+                }
+            }
+        }
+    }
+    assert!(
+        wrong.is_empty(),
+        "the builder imports the expander:\n{}",
+        wrong.join("\n")
+    );
+    // The reading found both halves and the way between them.
+    assert!(edges
+        .get("crate::vrml::lower::build::fields")
+        .is_some_and(|e| e.contains("crate::vrml::lower::context")));
+    assert!(edges
+        .get("crate::vrml::lower::expand::dispatch")
+        .is_some_and(|e| e.contains("crate::vrml::lower::build")));
 }

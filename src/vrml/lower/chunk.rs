@@ -10,33 +10,15 @@ use std::sync::Arc;
 
 use glam::{DAffine3, DVec3};
 
-use super::transform::Marks;
+use super::build::transform::Marks;
+use super::context::Headroom;
+use super::expand::Watch;
 use super::Lowerer;
 use crate::error::Error;
 use crate::input::FileRange;
 use crate::scene::{EllipsoidId, Light, LightScope, MaterialTable, Sphere, Surface, Viewpoint};
 use crate::source::SourceWindow;
 use crate::vrml::parse::{Parser, Run};
-
-/// Watching a chunk's lowering (set on a worker's lowerer once its prefix is read).
-pub(super) struct Watch {
-    /// Arena position where the chunk began: DEFs recorded before it are the prefix's.
-    pub(super) arena_mark: usize,
-    /// File-scope names the chunk USEd or ROUTEd from the prefix's DEFs.
-    pub(super) imports: Vec<String>,
-    /// Nodes counted and budget spent when the chunk began, and the most that the budget
-    /// spent since ran ahead of the bytes before the cursor (see [`Lowerer::spend`]).
-    pub(super) nodes_at_start: u64,
-    pub(super) spent_at_start: u64,
-    /// PROTO instances lowered by a template when the chunk began.
-    pub(super) templated_at_start: u64,
-    /// Sphere nodes read whole when the chunk began.
-    pub(super) whole_at_start: u64,
-    pub(super) excess: i64,
-    /// The chunk declared a PROTO or EXTERNPROTO in the file's scope, which the chunks after
-    /// it and the main reader would not know.
-    pub(super) declared: bool,
-}
 
 /// What a chunk added, moved to the main thread.
 pub(super) struct Delta {
@@ -105,16 +87,18 @@ pub(super) fn lower_chunk(
     let mut low = Lowerer::new(opts.clone());
     // An earlier chunk's list, emptied: its pages are already mapped.
     debug_assert!(spheres.is_empty());
-    low.scene.spheres = spheres;
+    low.build.scene.spheres = spheres;
     let mut src = SourceWindow::new(name.clone(), Box::new(Cursor::new(prefix.clone())));
     // The window an earlier chunk's reader read through: its pages are already mapped (a
     // new one for each chunk was faulted in again: about 40 ms of CPU per million particles).
     window.clear();
     src.buf = std::mem::take(window);
-    let mut opened = low.open_file(&src, path);
+    let mut opened = low
+        .expand
+        .open_file(&mut low.cx, &mut low.build, &src, path);
     let mut parser = Parser::new(src);
     parser.pause_at_end = true;
-    let r = parser.begin().and_then(|()| parser.resume(&mut low));
+    let r = parser.begin().and_then(|()| parser.resume(&mut low.lent()));
     let held = matches!(source, Source::Text(_));
     let (d, text) = match r {
         Ok(_) => {
@@ -136,7 +120,7 @@ pub(super) fn lower_chunk(
             },
         ),
     };
-    low.resume_outside(&mut opened);
+    low.expand.resume_outside(&mut opened);
     *window = std::mem::take(&mut parser.src.buf);
     (d, text)
 }
@@ -175,24 +159,26 @@ fn said(d: &[crate::diag::Diagnostic]) -> u64 {
 }
 
 fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source) -> Outcome {
-    let base = Marks::of(&low.scene);
-    let ellipsoid_base = low.scene.ellipsoids.len();
-    let said_before = (said(&low.diags.warnings), said(&low.diags.notes));
-    let skipped_before = low.diags.skipped.clone();
-    let meshes_before = (low.meshes.spheres, low.meshes.point_spheres);
-    let bound_before = (low.bound.navigation_info, low.bound.background);
-    let files_before = low.scene.files.len();
-    let arena_mark = low.rec.arena.len();
-    low.rec.pinned = low.rec.pinned.max(arena_mark);
-    low.watch = Some(Watch {
+    let base = Marks::of(&low.build.scene);
+    let ellipsoid_base = low.build.scene.ellipsoids.len();
+    let said_before = (said(&low.cx.diags.warnings), said(&low.cx.diags.notes));
+    let skipped_before = low.cx.diags.skipped.clone();
+    let meshes_before = (low.build.meshes.spheres, low.build.meshes.point_spheres);
+    let bound_before = (low.build.bound.navigation_info, low.build.bound.background);
+    let files_before = low.build.scene.files.len();
+    let arena_mark = low.expand.rec.arena.len();
+    low.expand.rec.pinned = low.expand.rec.pinned.max(arena_mark);
+    low.expand.watch = Some(Watch {
         arena_mark,
         imports: Vec::new(),
-        nodes_at_start: low.nodes,
-        spent_at_start: low.spent,
-        templated_at_start: low.templated,
-        whole_at_start: low.whole_nodes,
-        excess: i64::MIN,
+        nodes_at_start: low.cx.nodes,
+        templated_at_start: low.expand.templated,
+        whole_at_start: low.build.whole_nodes,
         declared: false,
+    });
+    low.cx.headroom = Some(Headroom {
+        spent_at_start: low.cx.spent,
+        excess: i64::MIN,
     });
     let bad_utf8 = parser.src.bad_utf8;
     match text {
@@ -204,7 +190,7 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source)
     parser.floor = parser.depth();
     // The list may end in it (the region's last chunk): what comes before the end stands,
     // and the main reader reads on from the end.
-    let end = match parser.resume(low).map_err(|e| reason(&e))? {
+    let end = match parser.resume(&mut low.lent()).map_err(|e| reason(&e))? {
         Run::Floor => Some(parser.src.offset()),
         _ if parser.depth() != parser.floor => return Err("it ends inside a node".into()),
         _ => None,
@@ -212,20 +198,22 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source)
     if parser.src.bad_utf8 != bad_utf8 {
         return Err("it has invalid UTF-8".into());
     }
-    if (said(&low.diags.warnings), said(&low.diags.notes)) != said_before {
+    if (said(&low.cx.diags.warnings), said(&low.cx.diags.notes)) != said_before {
         return Err("it has warnings or notes".into());
     }
-    if low.scene.files.len() != files_before {
+    if low.build.scene.files.len() != files_before {
         return Err("it reads another file".into());
     }
-    if let Some(why) = low.fallback.take() {
+    if let Some(why) = low.expand.fallback.take() {
         return Err(why);
     }
-    let watch = low.watch.take().expect("watching the chunk");
+    let watch = low.expand.watch.take().expect("watching the chunk");
+    let headroom = low.cx.headroom.take().expect("watching the chunk's budget");
     if watch.declared {
         return Err("it declares a PROTO".into());
     }
     let dirlights = low
+        .build
         .open
         .innermost_dirlights()
         .and_then(|d| d.as_deref())
@@ -235,14 +223,14 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source)
                 .map(|&i| i - base.lights)
                 .collect()
         });
-    let mut skipped = low.diags.skipped.clone();
+    let mut skipped = low.cx.diags.skipped.clone();
     for (ty, n) in &skipped_before {
         if let Some(m) = skipped.get_mut(ty) {
             *m -= n;
         }
     }
     skipped.retain(|_, n| *n > 0);
-    let scene = &mut low.scene;
+    let scene = &mut low.build.scene;
     Ok(Box::new(Delta {
         spheres: tail(&mut scene.spheres, base.spheres),
         ellipsoids: tail(&mut scene.ellipsoids, ellipsoid_base),
@@ -254,16 +242,16 @@ fn chunk_delta(low: &mut Lowerer, parser: &mut Parser, start: u64, text: Source)
         ellipsoid_base,
         dirlights,
         skipped,
-        nodes: low.nodes - watch.nodes_at_start,
-        spent: low.spent - watch.spent_at_start,
-        templated: low.templated - watch.templated_at_start,
-        whole_nodes: low.whole_nodes - watch.whole_at_start,
-        excess: watch.excess,
-        mesh_spheres: low.meshes.spheres - meshes_before.0,
-        point_spheres: low.meshes.point_spheres - meshes_before.1,
-        headlight: (!bound_before.0 && low.bound.navigation_info).then_some(scene.headlight),
-        background: (!bound_before.1 && low.bound.background).then_some(scene.background),
-        exports: low.scopes.file_defs_since(arena_mark),
+        nodes: low.cx.nodes - watch.nodes_at_start,
+        spent: low.cx.spent - headroom.spent_at_start,
+        templated: low.expand.templated - watch.templated_at_start,
+        whole_nodes: low.build.whole_nodes - watch.whole_at_start,
+        excess: headroom.excess,
+        mesh_spheres: low.build.meshes.spheres - meshes_before.0,
+        point_spheres: low.build.meshes.point_spheres - meshes_before.1,
+        headlight: (!bound_before.0 && low.build.bound.navigation_info).then_some(scene.headlight),
+        background: (!bound_before.1 && low.build.bound.background).then_some(scene.background),
+        exports: low.expand.scopes.file_defs_since(arena_mark),
         imports: watch.imports,
         line_starts: (parser.src.lines.starts_after(start))
             .take_while(|&l| end.is_none_or(|e| l <= e))
@@ -280,40 +268,6 @@ impl Delta {
 }
 
 impl Lowerer {
-    /// Looks a DEF name up in the innermost namespace, noting (in the file's namespace) a
-    /// chunk's use of the prefix's DEFs and the main reader's use of names chunks DEF'd.
-    pub(super) fn lookup_def(&mut self, name: &str) -> Option<super::scope::DefEntry> {
-        let d = self.scopes.def(name).cloned();
-        if self.scopes.depth() == 1 {
-            if let Some(w) = &mut self.watch {
-                if d.as_ref().is_some_and(|d| d.range.start < w.arena_mark) {
-                    w.imports.push(name.to_string());
-                }
-            }
-            if self.poison.as_ref().is_some_and(|p| p.contains(name)) {
-                self.fallback
-                    .get_or_insert_with(|| format!("'{name}' is used after a chunk DEF'd it"));
-                // The pieces' result cannot stand: not found, so that the main reader stops
-                // here (a USE of an unknown name is an error) rather than read on to the end
-                // for nothing (copies of a Jmol export, 1e6 atoms, two threads: 3.66 s, then
-                // about one reader's time).
-                return None;
-            }
-        }
-        d
-    }
-
-    /// Notes how far the budget spent in a chunk ran ahead of what the bytes before the
-    /// cursor allow.
-    #[inline]
-    pub(super) fn watch_nodes(&mut self, cursor: u64) {
-        if let Some(w) = &mut self.watch {
-            let allowed = self.opts.max_expansion.saturating_mul(cursor);
-            let e = (self.spent - w.spent_at_start) as i64 - allowed.min(i64::MAX as u64) as i64;
-            w.excess = w.excess.max(e);
-        }
-    }
-
     /// Puts a chunk's result in place, as if its text had been lowered here; gives back its
     /// list of spheres, emptied, for another chunk.
     pub(super) fn put_in_place(
@@ -321,8 +275,8 @@ impl Lowerer {
         mut d: Delta,
         src: &mut SourceWindow,
     ) -> Result<Vec<Sphere>, String> {
-        let moved = self.scene.materials.append(&d.materials);
-        let scene = &mut self.scene;
+        let moved = self.build.scene.materials.append(&d.materials);
+        let scene = &mut self.build.scene;
         let (s0, f0, l0) = (
             scene.spheres.len(),
             scene.surfaces.len(),
@@ -370,28 +324,28 @@ impl Lowerer {
         }
         scene.viewpoints.extend(d.views);
         if !d.dirlights.is_empty() {
-            if let Some(dirlights) = self.open.innermost_dirlights() {
+            if let Some(dirlights) = self.build.open.innermost_dirlights() {
                 let list = dirlights.get_or_insert_with(Box::default);
                 list.extend(d.dirlights.iter().map(|i| i + l0));
             }
         }
-        if let (Some(h), false) = (d.headlight, self.bound.navigation_info) {
-            self.scene.headlight = h;
-            self.bound.navigation_info = true;
+        if let (Some(h), false) = (d.headlight, self.build.bound.navigation_info) {
+            self.build.scene.headlight = h;
+            self.build.bound.navigation_info = true;
         }
-        if let (Some(b), false) = (d.background, self.bound.background) {
-            self.scene.background = b;
-            self.bound.background = true;
+        if let (Some(b), false) = (d.background, self.build.bound.background) {
+            self.build.scene.background = b;
+            self.build.bound.background = true;
         }
         for (ty, n) in d.skipped {
-            *self.diags.skipped.entry(ty).or_default() += n;
+            *self.cx.diags.skipped.entry(ty).or_default() += n;
         }
-        self.nodes += d.nodes;
-        self.spent += d.spent;
-        self.templated += d.templated;
-        self.whole_nodes += d.whole_nodes;
-        self.meshes.spheres += d.mesh_spheres;
-        self.meshes.point_spheres += d.point_spheres;
+        self.cx.nodes += d.nodes;
+        self.cx.spent += d.spent;
+        self.expand.templated += d.templated;
+        self.build.whole_nodes += d.whole_nodes;
+        self.build.meshes.spheres += d.mesh_spheres;
+        self.build.meshes.point_spheres += d.point_spheres;
         src.lines_skipped(d.line_starts);
         Ok(d.spheres)
     }

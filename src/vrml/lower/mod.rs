@@ -31,73 +31,43 @@
 //! DEF'd mesh lowers to is kept at its first USE, so later USEs cost a lookup, not a
 //! replay of its events.
 //!
-//! **Layout.** `Lowerer` holds the scene being built and one part per concern, each owned
-//! by the file that works on it: `dispatch` (the one fast path for common events, and the
-//! general handler), `record` (the event arena and the recordings under way), `replay` (USE
-//! and Switch choices, and the one depth guard), `scope` (DEF and PROTO namespaces),
-//! `declare` (PROTO declarations), `expand` (PROTO instances and `IS`), `open` (the stack of
-//! open nodes), `start` (the node table and `node_start`), `close` (closing nodes), `fields`
-//! (field values), `transform` (the Transform matrix and what it moves), `lights` (light
-//! scopes), `material` (open Materials and sharing), `mesh` (meshes while they are read),
-//! `mesh_shape` (what a closed mesh becomes), `inline` (files and Inline), `extern_proto`
-//! (the files EXTERNPROTOs name, and positions tagged with the file they are in), `route`
-//! (ROUTE checks), `parallel` (one large file read on several threads) and `chunk` (a piece
-//! of it read on its own, and put in place).
+//! **Layout.** Two halves, and what they share. The expander ([`expand`]) takes the parser's
+//! events and resolves DEF and USE, PROTO and `IS`, EXTERNPROTO, Inline and ROUTE into plain
+//! nodes; the scene builder ([`build`]) turns those into the [`Scene`] (the open frames,
+//! materials, transforms, meshes, lights and bound nodes), knowing nothing of how VRML builds
+//! by reference. The builder imports nothing of the expander; the expander drives it through
+//! a concrete `&mut Builder` lent for each call (no trait: one builder), and never touches the
+//! `Scene`. Both borrow the [`context`] (options, node count, expansion budget, diagnostics,
+//! the file being read). `Lowerer` owns the three and is the parser's sink; `parallel` (one
+//! large file read on several threads), `chunk` (a piece of it read on its own, and put in
+//! place) and `in_order` (the pieces' results taken in file order) are its. The parser has
+//! one sink type, [`expand::Lent`] (the expander lent its builder and context), as a second
+//! would be a second copy of the parser.
 
+mod build;
 mod chunk;
-mod close;
-mod declare;
-mod direct;
-mod dispatch;
+mod context;
+mod diags;
 mod expand;
-mod extern_proto;
-mod fields;
-mod gas_particle;
 mod in_order;
-mod inline;
-mod lights;
-mod material;
-mod mesh;
-mod mesh_shape;
-mod meshes;
-mod open;
 mod parallel;
-mod proto;
-mod record;
-mod replay;
-mod route;
-mod scope;
-mod start;
-mod template;
-mod transform;
 
 use std::collections::BTreeMap;
 
-// hashbrown's default hasher (foldhash), not SipHash: every lookup here is on names and
-// offsets from the scene text, hashed once per node or field of each PROTO instance.
-use hashbrown::HashMap;
 use std::path::Path;
-use std::rc::Rc;
 use std::sync::Arc;
 use std::time::Instant;
 
 use crate::diag::{Diagnostic, Severity};
 use crate::error::Error;
-use crate::scene::{Material, Origin, Scene};
-use crate::source::{Pos, SourceWindow};
+
+use crate::scene::Scene;
+use crate::source::SourceWindow;
 use crate::vrml::syntax::OwnedEvent;
 
-use close::Bound;
-use expand::Expansions;
-use extern_proto::Externs;
-use inline::Files;
-use material::Materials;
-use meshes::Meshes;
-use open::Open;
-use record::{Rec, Recording};
-use replay::Replay;
-use scope::Scopes;
-use transform::Transforms;
+use build::Builder;
+use context::Ctx;
+use expand::{Expander, Lent, Rec};
 
 /// The default [`LoadOptions::expansion_base`]: 2^22, room for a small file that builds a
 /// lattice of a million nodes by DEF and USE.
@@ -275,7 +245,12 @@ fn load_in_pieces(
         }
     }
     let mut low = Lowerer::new(opts.clone());
-    low.load_source(SourceWindow::new(name, open()?), path)?;
+    low.expand.load_source(
+        &mut low.cx,
+        &mut low.build,
+        SourceWindow::new(name, open()?),
+        path,
+    )?;
     let (scene, mut report) = low.finish(t0)?;
     report.read_again = again;
     Ok((scene, report))
@@ -323,159 +298,43 @@ pub fn load_str(name: &str, text: &str, opts: &LoadOptions) -> Result<(Scene, Lo
     load_bytes(name, text.as_bytes().to_vec(), opts)
 }
 
-/// The lowering of one scene (its Inlines included): the scene built so far, and one part
-/// per concern, each owned by the file named.
+/// The lowering of one scene (its Inlines included): the two halves and what they share. It
+/// lends them to the parser as one sink ([`Self::lent`]) and puts pieces read apart in place
+/// (`chunk`).
 struct Lowerer {
-    opts: LoadOptions,
-    scene: Scene,
-    /// Nodes lowered, USE and PROTO expansions included.
-    nodes: u64,
-    /// The expansion budget spent: nodes and what copies create (see [`Self::spend`]).
-    spent: u64,
-    /// PROTO instances lowered by a sphere template (`template.rs`).
-    templated: u64,
-    /// Plain sphere nodes read whole from the text (`template.rs`).
-    whole_nodes: u64,
-    /// The PROTO instance read straight into its template (`direct`).
-    direct: direct::Direct,
-    /// The profile of the `GasParticle` instance being expanded (its Materials take it).
-    gas_profile: Option<crate::scene::Profile>,
-    /// Recorded events and the recordings under way (`record`).
-    rec: Recording,
-    /// How deep replays nest, and whether DEFs are being read again (`replay`).
-    replay: Replay,
-    /// DEF and PROTO namespaces (`scope`).
-    scopes: Scopes,
-    /// The PROTO expansions under way (`expand`).
-    expansions: Expansions,
-    /// The open nodes and node-valued fields (`open`).
-    open: Open,
-    /// Open Materials and the materials met recently (`material`).
-    materials: Materials,
-    /// Transform field boxes for reuse (`transform`).
-    transforms: Transforms,
-    /// Tessellated spheres (`mesh`).
-    meshes: Meshes,
-    /// The file being read and the chain of Inlines to it (`inline`).
-    files: Files,
-    /// The files read for their PROTOs (`extern_proto`).
-    externs: Externs,
-    /// The first NavigationInfo and Background are bound (`close`).
-    bound: Bound,
-    /// Warnings and skipped node types.
-    diags: Diags,
-    /// A chunk being read on its own (`parallel`).
-    watch: Option<chunk::Watch>,
-    /// Names chunks read on their own DEF'd: the main reader may not use them.
-    poison: Option<hashbrown::HashSet<String>>,
-    /// Why what was read in pieces must be read again by one reader.
-    fallback: Option<String>,
-    /// The buffer plain sphere nodes are read into from their text (kept: a node is a few
-    /// hundred bytes).
-    sphere_text: Option<Box<crate::vrml::sphere_node::SphereNode>>,
-}
-
-/// Warnings (repeats folded) and the node types counted as skipped.
-#[derive(Default)]
-struct Diags {
-    warnings: Vec<Diagnostic>,
-    /// Where each (file, message) is in `warnings`.
-    index: HashMap<(Arc<str>, String), usize>,
-    skipped: BTreeMap<String, u64>,
-    notes: Vec<Diagnostic>,
-    /// The files read for their PROTOs (EXTERNPROTO), by index in `Scene::files`: positions
-    /// tagged with one of them point into it, not into the file being read (see
-    /// [`Pos::tagged`]).
-    sources: HashMap<u32, Rc<SourceWindow>>,
-}
-
-impl Diags {
-    /// The source that position `at` is in, and its offset there: `src` (the file being read)
-    /// unless `at` is tagged with a file read for its PROTOs.
-    fn locate<'a>(&'a self, src: &'a SourceWindow, at: Pos) -> (&'a SourceWindow, u64) {
-        match at.file() {
-            Some(file) => (self.sources.get(&file).map_or(src, |s| &**s), at.offset()),
-            None => (src, at.offset()),
-        }
-    }
-
-    /// A note: not a problem (`--strict` does not refuse it), a choice the user should see.
-    fn note(&mut self, src: &SourceWindow, at: Pos, msg: impl Into<String>) {
-        let (src, at) = self.locate(src, at);
-        let d = src.diagnostic(Severity::Note, at, msg.into());
-        // Repeats (a PROTO of points instanced many times) are folded, as warnings are.
-        if let Some(first) = self
-            .notes
-            .iter_mut()
-            .find(|n| n.message == d.message && n.file == d.file)
-        {
-            first.repeats += 1;
-            return;
-        }
-        self.notes.push(d);
-    }
-
-    /// A warning; repeats of the same message in the same file are folded into the first.
-    fn warn(&mut self, src: &SourceWindow, at: Pos, msg: impl Into<String>) {
-        let (src, at) = self.locate(src, at);
-        let msg = msg.into();
-        let key = (src.name.clone(), msg);
-        if let Some(&i) = self.index.get(&key) {
-            self.warnings[i].repeats += 1;
-            return;
-        }
-        let d = src.diagnostic(Severity::Warning, at, key.1.clone());
-        self.index.insert(key, self.warnings.len());
-        self.warnings.push(d);
-    }
-
-    /// An error at `at` (in `src`, or in the file `at` is tagged with).
-    fn error(&self, src: &SourceWindow, at: Pos, msg: impl Into<String>) -> Error {
-        let (src, at) = self.locate(src, at);
-        Error::Diag(Box::new(src.diagnostic(Severity::Error, at, msg.into())))
-    }
-
-    /// Counts one more instance of a node type that is not lowered.
-    fn skip(&mut self, ty: &str) {
-        *self.skipped.entry(ty.to_string()).or_default() += 1;
-    }
+    /// The options, node count, budget and diagnostics (`context`).
+    cx: Ctx,
+    /// The scene being built (`build`).
+    build: Builder,
+    /// DEF, PROTO, Inline and the rest of what VRML builds by reference (`expand`).
+    expand: Expander,
 }
 
 impl Lowerer {
+    /// The expander with the builder and context it drives: the parser's sink. (The one sink
+    /// type: the parser is generic over it, and a second type would be a second copy of the
+    /// parser.)
+    #[inline(always)]
+    fn lent(&mut self) -> Lent<'_> {
+        Lent {
+            x: &mut self.expand,
+            cx: &mut self.cx,
+            b: &mut self.build,
+        }
+    }
+
     fn new(opts: LoadOptions) -> Self {
-        let mut low = Lowerer {
-            opts,
-            scene: Scene::default(),
-            nodes: 0,
-            spent: 0,
-            templated: 0,
-            whole_nodes: 0,
-            direct: direct::Direct::default(),
-            gas_profile: None,
-            rec: Recording::default(),
-            replay: Replay::default(),
-            scopes: Scopes::default(),
-            expansions: Expansions::default(),
-            open: Open::default(),
-            materials: Materials::default(),
-            transforms: Transforms::default(),
-            meshes: Meshes::default(),
-            files: Files::default(),
-            externs: Externs::default(),
-            bound: Bound::default(),
-            diags: Diags::default(),
-            watch: None,
-            poison: None,
-            fallback: None,
-            sphere_text: None,
-        };
-        low.materials.unlit = low.scene.materials.add(&Material::unlit());
-        low
+        Lowerer {
+            cx: Ctx::new(opts),
+            build: Builder::new(),
+            expand: Expander::default(),
+        }
     }
 
     fn finish(mut self, t0: Instant) -> Result<(Scene, LoadReport), Error> {
-        if self.opts.strict && !self.diags.warnings.is_empty() {
+        if self.cx.opts.strict && !self.cx.diags.warnings.is_empty() {
             let errs = self
+                .cx
                 .diags
                 .warnings
                 .into_iter()
@@ -486,83 +345,28 @@ impl Lowerer {
                 .collect();
             return Err(Error::Diags(errs));
         }
-        self.scene.spheres.shrink_to_fit();
-        self.scene.surfaces.shrink_to_fit();
-        self.scene.materials.shrink_to_fit();
+        self.build.scene.spheres.shrink_to_fit();
+        self.build.scene.surfaces.shrink_to_fit();
+        self.build.scene.materials.shrink_to_fit();
         let report = LoadReport {
-            warnings: self.diags.warnings,
-            skipped: self.diags.skipped,
-            bytes: self.files.bytes,
+            warnings: self.cx.diags.warnings,
+            skipped: self.cx.diags.skipped,
+            bytes: self.expand.files.bytes,
             seconds: t0.elapsed().as_secs_f64(),
-            nodes: self.nodes,
-            expansion: self.spent,
-            files: self.scene.files.clone(),
-            recorded_bytes: self.rec.arena.capacity() * std::mem::size_of::<Rec>(),
-            mesh_spheres: self.meshes.spheres,
-            point_spheres: self.meshes.point_spheres,
-            notes: self.diags.notes,
+            nodes: self.cx.nodes,
+            expansion: self.cx.spent,
+            files: self.build.scene.files.clone(),
+            recorded_bytes: self.expand.rec.arena.capacity() * std::mem::size_of::<Rec>(),
+            mesh_spheres: self.build.meshes.spheres,
+            point_spheres: self.build.meshes.point_spheres,
+            notes: self.cx.diags.notes,
             read_pieces: 0,
             read_again: None,
             read_on: None,
-            template_instances: self.templated,
-            whole_sphere_nodes: self.whole_nodes,
+            template_instances: self.expand.templated,
+            whole_sphere_nodes: self.build.whole_nodes,
         };
-        Ok((self.scene, report))
-    }
-
-    /// Where an IR item made at `at` comes from: the file being read, or the file a PROTO
-    /// body was read from (a tagged position, see [`Pos::tagged`]): the one conversion of
-    /// positions to origins.
-    #[inline]
-    fn origin(&self, at: Pos) -> Origin {
-        Origin::new(at.file().unwrap_or(self.files.current), at.offset())
-    }
-
-    /// Counts `n` more lowered nodes, which spend as much of the expansion budget.
-    #[inline]
-    fn add_nodes(&mut self, n: u64, src: &SourceWindow, at: Pos) -> Result<(), Error> {
-        self.nodes += n;
-        self.spend(n, src, at, "node")
-    }
-
-    /// The expansion budget once `bytes` of text are read: `expansion_base` plus
-    /// `max_expansion` per byte. A blow-up through USE or PROTO grows far faster than the
-    /// text, while a file of a hundred million particles (5e8 nodes from 13 GB of PROTO
-    /// instances) is text all the way.
-    #[inline(always)]
-    fn budget(&self, bytes: u64) -> u64 {
-        self.opts
-            .expansion_base
-            .saturating_add(self.opts.max_expansion.saturating_mul(bytes))
-    }
-
-    /// Whether `n` more units fit the budget at the text read so far.
-    #[inline(always)]
-    fn fits(&self, n: u64, src: &SourceWindow) -> bool {
-        self.spent.saturating_add(n) <= self.budget(src.bytes_read)
-    }
-
-    /// Spends `n` units of the expansion budget on `what` at `at`, before what they stand for
-    /// is made; an error there once the budget is exceeded.
-    #[inline]
-    fn spend(&mut self, n: u64, src: &SourceWindow, at: Pos, what: &str) -> Result<(), Error> {
-        self.spent = self.spent.saturating_add(n);
-        self.watch_nodes(src.offset());
-        let limit = self.budget(src.bytes_read);
-        if self.spent > limit {
-            return Err(self.diags.error(
-                src,
-                at,
-                format!(
-                    "this {what} takes the scene past its expansion limit: {limit} nodes and \
-                     values ({} plus {} per byte of text read), as USE, PROTO or IS copies \
-                     multiply; `--max-expansion` (Python: `max_expansion`) raises the {} \
-                     per byte",
-                    self.opts.expansion_base, self.opts.max_expansion, self.opts.max_expansion
-                ),
-            ));
-        }
-        Ok(())
+        Ok((self.build.scene, report))
     }
 }
 

@@ -165,7 +165,7 @@ pub(super) fn load(
     // made them more often, and the main thread no longer wakes to take a worker's core).
     let chunk_rx = Arc::new(Mutex::new(chunk_rx));
     let worker_rx: Vec<_> = (1..threads.max(2)).map(|_| chunk_rx.clone()).collect();
-    let opts = low.opts.clone();
+    let opts = low.cx.opts.clone();
     std::thread::scope(|scope| {
         let splitter_done = done_tx.clone();
         let (spare_tx, spare_rx) = channel();
@@ -342,16 +342,19 @@ fn main_reader(
     (size, in_file): (u64, Option<Arc<std::fs::File>>),
 ) -> Result<Parallel, Error> {
     let src = SourceWindow::new(name, Box::new(reader.clone()));
-    let mut opened = low.open_file(&src, path);
+    let mut opened = low
+        .expand
+        .open_file(&mut low.cx, &mut low.build, &src, path);
     let mut parser = Parser::new(src);
     parser.pause_at_end = true;
-    let r = parser.begin().and_then(|()| parser.resume(low));
+    let r = parser.begin().and_then(|()| parser.resume(&mut low.lent()));
     if !matches!(reader.take_stop(), Some(Msg::PrefixEnd)) {
         // No region: this was one reader all along, and its result stands.
-        low.resume_outside(&mut opened);
+        low.expand.resume_outside(&mut opened);
         r?;
         parser.end()?;
-        low.close_file(opened, &parser.src)?;
+        low.expand
+            .close_file(&mut low.cx, &mut low.build, opened, &parser.src)?;
         return Ok(Parallel::Chunks(0, None));
     }
     // From here on, a failure's message is one reader's to give.
@@ -361,20 +364,27 @@ fn main_reader(
         // The rest: from the first chunk whose result did not stand (or the file's end).
         stop.store(true, Ordering::Relaxed);
         parser.src.jump(placed.from, Box::new(placed.rest));
-        let run = parser.resume(low).map_err(|e| e.to_string())?;
+        let run = parser.resume(&mut low.lent()).map_err(|e| e.to_string())?;
         debug_assert_eq!(run, Run::Paused);
         parser.end().map_err(|e| e.to_string())?;
         Ok((placed.count, placed.why))
     })();
-    low.resume_outside(&mut opened);
+    low.expand.resume_outside(&mut opened);
     let (chunks, why) = match outcome {
         Ok(r) => r,
-        Err(why) => return Ok(Parallel::Fallback(low.fallback.take().unwrap_or(why))),
+        Err(why) => {
+            return Ok(Parallel::Fallback(
+                low.expand.fallback.take().unwrap_or(why),
+            ))
+        }
     };
-    if let Err(e) = low.close_file(opened, &parser.src) {
+    if let Err(e) = low
+        .expand
+        .close_file(&mut low.cx, &mut low.build, opened, &parser.src)
+    {
         return Ok(Parallel::Fallback(e.to_string()));
     }
-    Ok(match low.fallback.take() {
+    Ok(match low.expand.fallback.take() {
         Some(why) => Parallel::Fallback(why),
         None => Parallel::Chunks(chunks, why),
     })
@@ -393,7 +403,7 @@ fn reserve_ahead(
 ) {
     let ahead = ahead as f64;
     let more = |n: usize, most: f64| (1.02 * n as f64 / len.max(1) as f64 * ahead).min(most);
-    let _ = (low.scene.spheres).try_reserve_exact(more(spheres, ahead / 8.0) as usize);
+    let _ = (low.build.scene.spheres).try_reserve_exact(more(spheres, ahead / 8.0) as usize);
     src.lines.try_reserve(more(lines, ahead / 2.0) as usize);
 }
 
@@ -462,16 +472,16 @@ fn put_chunks_in_place(
                 "chunk {placed} USEs '{n}', which an earlier chunk DEF'd again"
             ));
         }
-        if low.spent as i64 + d.excess > low.opts.expansion_base.min(i64::MAX as u64) as i64 {
+        if low.cx.spent as i64 + d.excess > low.cx.opts.expansion_base.min(i64::MAX as u64) as i64 {
             return Err("the budget spent may pass the expansion limit".into());
         }
         defined.extend(d.exports.iter().cloned());
         let end = d.end;
         let lines = d.lines();
-        let before = low.scene.spheres.len();
+        let before = low.build.scene.spheres.len();
         let emptied = low.put_in_place(*d, src)?;
         if placed == 0 {
-            let added = [low.scene.spheres.len() - before, lines];
+            let added = [low.build.scene.spheres.len() - before, lines];
             reserve_ahead(low, src, added, (size.saturating_sub(start + len), len));
         }
         if let Ok(mut spare) = results.spheres.lock() {
@@ -492,7 +502,7 @@ fn put_chunks_in_place(
         }
     };
     if !defined.is_empty() {
-        low.poison = Some(defined);
+        low.expand.poison = Some(defined);
     }
     let rest: Box<dyn Read> = match in_file {
         // (The chunks still coming are not waited for: dropping `results` stops them.)

@@ -71,7 +71,7 @@ fn the_kinds_are_the_reader_s() {
             .map(|n| n.name)
             .collect()
     };
-    // The lowering models 25 node types (`lower::start`): these and the mesh parts.
+    // The lowering models 25 node types (`lower::build::node`): these and the mesh parts.
     assert_eq!(of(NodeRole::Used).len() + of(NodeRole::Mesh).len() + 1, 25);
     assert_eq!(
         of(NodeRole::Mesh),

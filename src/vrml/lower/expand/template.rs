@@ -18,54 +18,23 @@ use std::ops::Range;
 
 use glam::DVec3;
 
-use super::open::Kind;
-use super::proto::{MaterialField, ProtoDecl, Slot, SphereTemplate};
+use super::proto::{ProtoDecl, Slot, SphereTemplate};
 use super::record::Rec;
 use super::replay::MAX_REPLAY_DEPTH;
-use super::transform::{Marks, TransformFields};
-use super::Lowerer;
+use super::Expander;
 use crate::error::Error;
-use crate::scene::{Material, Sphere};
+use crate::scene::Material;
 use crate::source::{Pos, SourceWindow};
-use crate::vrml::sphere_node::{SphereNode, MATERIAL_FIELDS};
+use crate::vrml::lower::build::sphere::{
+    in_range, padded3, radius_ok, Inputs, MaterialField, Placed,
+};
+use crate::vrml::lower::build::Builder;
+use crate::vrml::lower::context::Ctx;
+use crate::vrml::sphere_node::SphereNode;
 use crate::vrml::syntax::{OwnedEvent, OwnedValue};
 
-impl MaterialField {
-    /// By index into [`MATERIAL_FIELDS`].
-    const ALL: [MaterialField; 6] = [
-        MaterialField::Diffuse,
-        MaterialField::Emissive,
-        MaterialField::Specular,
-        MaterialField::Shininess,
-        MaterialField::AmbientIntensity,
-        MaterialField::Transparency,
-    ];
-
-    fn of(name: &str) -> Option<MaterialField> {
-        let i = MATERIAL_FIELDS.iter().position(|(n, _)| *n == name)?;
-        Some(Self::ALL[i])
-    }
-    /// Sets this field of `m` to `v` (its `arity` values), as replaying would without a
-    /// warning; `None` where replaying would warn ([`in_range`]).
-    fn set(self, m: &mut Material, v: &[f64]) -> Option<()> {
-        match self {
-            _ if !in_range(self, v) => return None,
-            MaterialField::Diffuse => m.diffuse = DVec3::from_slice(v),
-            MaterialField::Emissive => m.emissive = DVec3::from_slice(v),
-            MaterialField::Specular => m.specular = DVec3::from_slice(v),
-            MaterialField::Shininess => m.shininess = v[0],
-            MaterialField::AmbientIntensity => m.ambient_intensity = v[0],
-            MaterialField::Transparency => m.transparency = v[0],
-        }
-        Some(())
-    }
-    fn arity(self) -> usize {
-        MATERIAL_FIELDS[self as usize].1
-    }
-}
-
 /// Reads the body's first node as a template, if it is one.
-pub(super) fn compile(decl: &ProtoDecl) -> Option<SphereTemplate> {
+pub(in crate::vrml::lower) fn compile(decl: &ProtoDecl) -> Option<SphereTemplate> {
     let n = decl.first_end;
     let events = &decl.body_events[..n];
     let mut m = Matcher {
@@ -89,7 +58,7 @@ pub(super) fn compile(decl: &ProtoDecl) -> Option<SphereTemplate> {
     let written: u64 = events
         .iter()
         .map(|r| match r {
-            Rec::Ev(ev) => super::event_cost(ev),
+            Rec::Ev(ev) => crate::vrml::lower::event_cost(ev),
             Rec::Used { .. } => 0,
         })
         .sum();
@@ -277,35 +246,49 @@ impl<'a> Matcher<'a> {
     }
 }
 
-/// A Material value replaying stores without a warning: shininess and transparency in
-/// [0, 1], colours and ambientIntensity not negative.
-fn in_range(f: MaterialField, v: &[f64]) -> bool {
-    match f {
-        MaterialField::Shininess | MaterialField::Transparency => (0.0..=1.0).contains(&v[0]),
-        _ => v.iter().all(|x| *x >= 0.0),
-    }
-}
-
-/// A radius replaying accepts.
-fn radius_ok(r: f64) -> bool {
-    r > 0.0 && r.is_finite()
-}
-
-/// Up to three numbers in a fixed array, the rest zero. (Element by element: copying a slice
-/// of varying length called `memcpy`, six times a particle in the PROTO layout.)
+/// The value of a template slot with `arity` numbers: written in the body, or the instance's
+/// (`given(fi)`), or the interface default's; `None` where the template cannot take it.
+/// Inlined: called out of line, its result went back through memory and reading it stalled
+/// (a quarter of the time of reading a PROTO instance whole, on the continuous-colour bench
+/// file; `perf annotate`).
 #[inline(always)]
-pub(super) fn padded3(values: &[f64]) -> [f64; 3] {
-    let mut v = [0.0; 3];
-    for (i, x) in v.iter_mut().enumerate() {
-        if let Some(&y) = values.get(i) {
-            *x = y;
-        }
+fn slot_value<'a>(
+    s: &Slot,
+    arity: usize,
+    given: &impl Fn(usize) -> Given<'a>,
+    proto: &ProtoDecl,
+    arena: &'a [Rec],
+) -> Option<[f64; 3]> {
+    let numbers = match *s {
+        Slot::Given(v) => return Some(v),
+        Slot::Is(fi) => match given(fi as usize) {
+            Given::Numbers(v) => v,
+            Given::Other => return None,
+            Given::Absent => {
+                let range = proto.fields.get(fi as usize)?.default.clone()?;
+                match arena.get(range.start)? {
+                    Rec::Ev(OwnedEvent::Field {
+                        value:
+                            OwnedValue::Numbers {
+                                values,
+                                bracketed: false,
+                                ..
+                            },
+                        ..
+                    }) => values,
+                    _ => return None,
+                }
+            }
+        },
+    };
+    if numbers.len() != arity {
+        return None;
     }
-    v
+    Some(padded3(numbers))
 }
 
-/// What an instance gives one interface field (see [`Lowerer::template_inputs`]).
-pub(super) enum Given<'a> {
+/// What an instance gives one interface field (see [`Expander::template_inputs`]).
+pub(in crate::vrml::lower) enum Given<'a> {
     /// Plain numbers, not bracketed.
     Numbers(&'a [f64]),
     /// Anything else: the template cannot take it.
@@ -314,28 +297,14 @@ pub(super) enum Given<'a> {
     Absent,
 }
 
-/// Where a sphere node's parts are, how many nodes it has, and what it spends of the
-/// expansion budget.
-struct Placed {
-    nodes: u64,
-    spent: u64,
-    transform_at: Pos,
-    sphere_at: Pos,
-}
-
-/// An instance's values as the template needs them, read before anything changes.
-pub(super) struct Inputs {
-    translation: Option<DVec3>,
-    material: Option<Material>,
-    radius: f64,
-}
-
-impl Lowerer {
+impl Expander {
     /// Lowers a PROTO instance by its body's template: `values` are the instance's values
-    /// (arena ranges by interface field, as `expand` found them). `None`: replay the body
+    /// (arena ranges by interface field, as `instance` found them). `None`: replay the body
     /// instead (nothing was changed).
-    pub(super) fn expand_by_template(
+    pub(in crate::vrml::lower) fn expand_by_template(
         &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
         src: &SourceWindow,
         proto: &ProtoDecl,
         tpl: &SphereTemplate,
@@ -357,54 +326,28 @@ impl Lowerer {
                 _ => Given::Other,
             },
         };
-        let inputs = self.template_inputs(src, proto, tpl, given)?;
-        Some(self.lower_template(src, tpl, inputs))
+        let inputs = self.template_inputs(cx, b, src, proto, tpl, given)?;
+        Some(self.lower_template(cx, b, src, tpl, inputs))
     }
 
     /// The instance's values for the template, `given(fi)` by interface field; `None` where
     /// replaying would do more than lower the sphere (see the module's comment).
-    pub(super) fn template_inputs<'a>(
+    pub(in crate::vrml::lower) fn template_inputs<'a>(
         &'a self,
+        cx: &Ctx,
+        b: &Builder,
         src: &SourceWindow,
         proto: &ProtoDecl,
         tpl: &SphereTemplate,
         given: impl Fn(usize) -> Given<'a>,
     ) -> Option<Inputs> {
         // An external PROTO's body sees other PROTOs.
-        if proto.home.is_some() || !self.sphere_fits_here(src, tpl.spent) {
+        if proto.home.is_some() || !self.sphere_fits_here(cx, b, src, tpl.spent) {
             return None;
         }
-        let arena = &self.rec.arena;
-        let value = |s: &Slot, arity: usize| -> Option<[f64; 3]> {
-            let numbers = match *s {
-                Slot::Given(v) => return Some(v),
-                Slot::Is(fi) => match given(fi as usize) {
-                    Given::Numbers(v) => v,
-                    Given::Other => return None,
-                    Given::Absent => {
-                        let range = proto.fields.get(fi as usize)?.default.clone()?;
-                        match arena.get(range.start)? {
-                            Rec::Ev(OwnedEvent::Field {
-                                value:
-                                    OwnedValue::Numbers {
-                                        values,
-                                        bracketed: false,
-                                        ..
-                                    },
-                                ..
-                            }) => values,
-                            _ => return None,
-                        }
-                    }
-                },
-            };
-            if numbers.len() != arity {
-                return None;
-            }
-            Some(padded3(numbers))
-        };
+        let arena = &self.rec.arena[..];
         let translation = match &tpl.translation {
-            Some(s) => Some(DVec3::from_array(value(s, 3)?)),
+            Some(s) => Some(DVec3::from_array(slot_value(s, 3, &given, proto, arena)?)),
             None => None,
         };
         let material = match &tpl.material {
@@ -412,13 +355,14 @@ impl Lowerer {
             Some(fields) => {
                 let mut m = Material::default();
                 for &(f, ref s) in fields {
-                    f.set(&mut m, &value(s, f.arity())?[..f.arity()])?;
+                    let v = slot_value(s, f.arity(), &given, proto, arena)?;
+                    f.set(&mut m, &v[..f.arity()])?;
                 }
                 Some(m)
             }
         };
         let radius = match &tpl.radius {
-            Some(s) => value(s, 1)?[0],
+            Some(s) => slot_value(s, 1, &given, proto, arena)?[0],
             None => 1.0,
         };
         if !radius_ok(radius) {
@@ -433,81 +377,40 @@ impl Lowerer {
 
     /// Whether a sphere's `nodes` nodes lowered at once here are what lowering them one by
     /// one would give: not where a PROTO named like a standard node may stand for one of
-    /// them, nor inside a node that is not lowered, nor too deep in replays, nor where the
-    /// Transform is out of place (anywhere but the top level or a grouping node's
-    /// `children`), nor past the node limit.
-    fn sphere_fits_here(&self, src: &SourceWindow, nodes: u64) -> bool {
-        if self.scopes.proto_shadows_standard
-            || self.open.quiet > 0
-            || self.replay.depth >= MAX_REPLAY_DEPTH
-        {
-            return false;
-        }
-        if let Some(ctx) = self.open.fields.last() {
-            let in_children = &*ctx.name == "children"
-                && matches!(
-                    self.open.frames[ctx.frame].kind,
-                    Kind::Group {
-                        inline_urls: None,
-                        ..
-                    }
-                );
-            if !in_children {
-                return false;
-            }
-        }
-        self.fits(nodes, src)
+    /// them, nor too deep in replays, nor where the builder would not lower them so
+    /// ([`crate::vrml::lower::build::Builder::sphere_fits_here`]).
+    #[inline]
+    fn sphere_fits_here(&self, cx: &Ctx, b: &Builder, src: &SourceWindow, nodes: u64) -> bool {
+        !self.scopes.proto_shadows_standard
+            && self.replay.depth < MAX_REPLAY_DEPTH
+            && b.sphere_fits_here(cx, src, nodes)
     }
 
     /// A plain sphere node read whole from the text (see [`crate::vrml::sphere_node`]) at
     /// `at`: lowered as its events would be, if nothing is recorded and its values are ones
     /// that lower without a message. False: its events follow.
-    pub(super) fn whole_sphere_node(
+    pub(in crate::vrml::lower) fn whole_sphere_node(
         &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
         src: &SourceWindow,
         at: Pos,
         node: &SphereNode,
     ) -> Result<bool, Error> {
-        if self.opts.replay_every_instance
+        if cx.opts.replay_every_instance
             || !self.rec.idle()
-            || !self.sphere_fits_here(src, node.nodes)
+            || !self.sphere_fits_here(cx, b, src, node.nodes)
         {
             return Ok(false);
         }
-        let material = if node.material {
-            let mut m = Material::default();
-            for (f, v) in node.material_fields() {
-                if MaterialField::ALL[f].set(&mut m, v).is_none() {
-                    return Ok(false);
-                }
-            }
-            Some(m)
-        } else {
-            None
-        };
-        let radius = node.radius.unwrap_or(1.0);
-        if !radius_ok(radius) {
-            return Ok(false);
-        }
-        let inputs = Inputs {
-            translation: node.translation.map(DVec3::from_array),
-            material,
-            radius,
-        };
-        let placed = Placed {
-            nodes: node.nodes,
-            spent: node.nodes,
-            transform_at: at,
-            sphere_at: at + node.sphere_at as u64,
-        };
-        self.lower_sphere(src, placed, inputs)?;
-        self.whole_nodes += 1;
-        Ok(true)
+        b.whole_sphere_node(cx, src, at, node)
     }
 
     /// Lowers the template's sphere with the instance's `inputs`.
-    pub(super) fn lower_template(
+    pub(in crate::vrml::lower) fn lower_template(
         &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
         src: &SourceWindow,
         tpl: &SphereTemplate,
         inputs: Inputs,
@@ -519,59 +422,6 @@ impl Lowerer {
             sphere_at: tpl.sphere_at,
         };
         self.templated += 1;
-        self.lower_sphere(src, placed, inputs)
-    }
-
-    /// Lowers a sphere node (a Transform holding a Shape with a Sphere) with `inputs`.
-    fn lower_sphere(
-        &mut self,
-        src: &SourceWindow,
-        tpl: Placed,
-        inputs: Inputs,
-    ) -> Result<(), Error> {
-        // What replaying does, in its order: the nodes are counted as they start, the
-        // Material is stored when it closes, the sphere when the Shape closes, and the
-        // Transform moves it when it closes.
-        self.nodes += tpl.nodes;
-        self.spent += tpl.spent;
-        self.watch_nodes(src.offset());
-        let marks = Marks::of(&self.scene);
-        let paint = match inputs.material {
-            Some(m) => {
-                self.materials.open.push(m);
-                self.close_material()
-            }
-            None => self.materials.unlit,
-        };
-        self.scene.spheres.push(Sphere {
-            center: DVec3::ZERO,
-            radius: inputs.radius,
-            color: paint.color,
-            material: paint.material,
-            ellipsoid: None,
-            origin: self.origin(tpl.sphere_at),
-        });
-        let t = TransformFields {
-            translation: inputs.translation.unwrap_or(DVec3::ZERO),
-            ..TransformFields::default()
-        };
-        self.close_transform(src, &t, marks, tpl.transform_at)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn material_fields_follow_the_parsers_table() {
-        // `arity` and the whole sphere node index MATERIAL_FIELDS by the variant's number.
-        for (i, f) in MaterialField::ALL.iter().enumerate() {
-            assert_eq!(*f as usize, i);
-            assert!(matches!(MaterialField::of(MATERIAL_FIELDS[i].0), Some(g) if g as usize == i));
-        }
-        assert_eq!(MaterialField::Specular.arity(), 3);
-        assert_eq!(MaterialField::Transparency.arity(), 1);
-        assert!(MaterialField::of("diffuse").is_none());
+        b.lower_sphere(cx, src, placed, inputs)
     }
 }

@@ -8,22 +8,23 @@
 
 use glam::{DAffine3, DMat3, DQuat, DVec3};
 
-use super::Lowerer;
+use super::Builder;
 use crate::error::Error;
 use crate::scene::{EllipsoidId, Light, Scene};
 use crate::source::{Pos, SourceWindow};
+use crate::vrml::lower::context::Ctx;
 
 /// How much of the IR existed when a grouping node opened.
 #[derive(Clone, Copy, Debug, Default)]
-pub(super) struct Marks {
-    pub(super) spheres: usize,
-    pub(super) surfaces: usize,
-    pub(super) lights: usize,
-    pub(super) views: usize,
+pub(in crate::vrml::lower) struct Marks {
+    pub(in crate::vrml::lower) spheres: usize,
+    pub(in crate::vrml::lower) surfaces: usize,
+    pub(in crate::vrml::lower) lights: usize,
+    pub(in crate::vrml::lower) views: usize,
 }
 
 impl Marks {
-    pub(super) fn of(scene: &Scene) -> Marks {
+    pub(in crate::vrml::lower) fn of(scene: &Scene) -> Marks {
         Marks {
             spheres: scene.spheres.len(),
             surfaces: scene.surfaces.len(),
@@ -35,12 +36,12 @@ impl Marks {
 
 /// A Transform's fields, with VRML97 defaults.
 #[derive(Debug)]
-pub(super) struct TransformFields {
-    pub(super) translation: DVec3,
-    pub(super) rotation: [f64; 4],
-    pub(super) scale: DVec3,
-    pub(super) scale_orientation: [f64; 4],
-    pub(super) center: DVec3,
+pub(in crate::vrml::lower) struct TransformFields {
+    pub(in crate::vrml::lower) translation: DVec3,
+    pub(in crate::vrml::lower) rotation: [f64; 4],
+    pub(in crate::vrml::lower) scale: DVec3,
+    pub(in crate::vrml::lower) scale_orientation: [f64; 4],
+    pub(in crate::vrml::lower) center: DVec3,
 }
 
 impl Default for TransformFields {
@@ -58,7 +59,7 @@ impl Default for TransformFields {
 /// The boxes of closed Transforms' fields, reused by the next Transforms (one allocation per
 /// nesting level, not per Transform).
 #[derive(Default)]
-pub(super) struct Transforms {
+pub(in crate::vrml::lower) struct Transforms {
     #[allow(
         clippy::vec_box,
         reason = "the allocations themselves are what is reused"
@@ -68,7 +69,7 @@ pub(super) struct Transforms {
 
 impl Transforms {
     /// A box of default fields for a Transform that opens.
-    pub(super) fn take(&mut self) -> Box<TransformFields> {
+    pub(in crate::vrml::lower) fn take(&mut self) -> Box<TransformFields> {
         match self.spare.pop() {
             Some(mut t) => {
                 *t = TransformFields::default();
@@ -79,13 +80,13 @@ impl Transforms {
     }
 
     /// Keeps a closed Transform's box for the next one.
-    pub(super) fn give_back(&mut self, t: Box<TransformFields>) {
+    pub(in crate::vrml::lower) fn give_back(&mut self, t: Box<TransformFields>) {
         self.spare.push(t);
     }
 }
 
 /// Axis-angle rotation; a zero axis means no rotation.
-pub(super) fn quat(r: [f64; 4]) -> DQuat {
+pub(in crate::vrml::lower) fn quat(r: [f64; 4]) -> DQuat {
     let axis = DVec3::new(r[0], r[1], r[2]);
     let len = axis.length();
     if len == 0.0 || !len.is_finite() || r[3] == 0.0 {
@@ -168,11 +169,12 @@ fn check_sphere(center: DVec3, radius: f64) -> Result<(), String> {
     Ok(())
 }
 
-impl Lowerer {
+impl Builder {
     /// Applies a closing Transform's fields to what was lowered inside it (since `marks`).
     #[inline(always)]
-    pub(super) fn close_transform(
+    pub(in crate::vrml::lower) fn close_transform(
         &mut self,
+        cx: &mut Ctx,
         src: &SourceWindow,
         t: &TransformFields,
         marks: Marks,
@@ -188,7 +190,7 @@ impl Lowerer {
                 for s in &mut self.scene.spheres[marks.spheres..] {
                     s.center += d;
                     if let Err(what) = check_sphere(s.center, s.radius) {
-                        return Err(self.diags.error(
+                        return Err(cx.diags.error(
                             src,
                             at,
                             format!("this Transform makes {what}"),
@@ -209,7 +211,7 @@ impl Lowerer {
         let flat = shift.is_none() && m.matrix3.determinant() == 0.0;
         if !m.is_finite() || flat {
             // A zero scale (or a degenerate scaleOrientation) flattens the contents: not shown.
-            self.diags.warn(
+            cx.diags.warn(
                 src,
                 at,
                 "a Transform with a zero or non-finite scale hides its contents",
@@ -222,7 +224,7 @@ impl Lowerer {
         }
         // Each matrix is finite, but their product may not be: check what the contents became.
         apply(&mut self.scene, &m, shift.is_some(), marks).map_err(|what| {
-            self.diags
+            cx.diags
                 .error(src, at, format!("this Transform makes {what}"))
         })
     }

@@ -3,34 +3,33 @@
 //! top-level nodes (the scope of top-level DirectionalLights); an Inline's file is read when
 //! the Inline closes, inside the Inline's group, so its Transforms apply. Only local relative
 //! paths to VRML97 files are read (never a network URL); an Inline that includes itself is an
-//! error, and so is one nested deeper than [`super::LoadOptions::max_inline_depth`] files.
-//! The files EXTERNPROTOs name follow the same rules ([`local_path`], [`Lowerer::admit`]).
+//! error, and so is one nested deeper than [`crate::vrml::lower::LoadOptions::max_inline_depth`] files.
+//! The files EXTERNPROTOs name follow the same rules ([`local_path`], [`Expander::admit`]).
 
 use std::path::{Path, PathBuf};
 
-use super::expand::Subst;
-use super::open::{Frame, Kind};
-use super::record::{Name, SetAside};
-use super::transform::Marks;
-use super::Lowerer;
+use super::instance::Subst;
+use super::record::SetAside;
+use super::{Expander, Lent};
 use crate::error::Error;
 use crate::source::{Pos, SourceWindow};
+use crate::vrml::lower::build::open::{Frame, Kind};
+use crate::vrml::lower::build::Builder;
+use crate::vrml::lower::context::Ctx;
 use crate::vrml::parse::Parser;
 
 /// The file being read and the chain of files that include it.
 #[derive(Default)]
-pub(super) struct Files {
-    /// The index in `Scene::files` of the file being read.
-    pub(super) current: u32,
+pub(in crate::vrml::lower) struct Files {
     /// The path of the scene file, then of each Inline'd file (or file read for its
     /// PROTOs) being read, innermost last.
-    pub(super) stack: Vec<PathBuf>,
+    pub(in crate::vrml::lower) stack: Vec<PathBuf>,
     /// Source bytes read (decompressed), over all files.
-    pub(super) bytes: u64,
+    pub(in crate::vrml::lower) bytes: u64,
 }
 
-/// What entering a file put aside ([`Lowerer::open_file`]).
-pub(super) struct Opened {
+/// What entering a file put aside ([`Expander::open_file`]).
+pub(in crate::vrml::lower) struct Opened {
     saved_file: u32,
     depth: usize,
     reusing: u32,
@@ -52,7 +51,10 @@ fn is_local_relative(url: &str) -> bool {
 
 /// The local file `url` names in the folder `base`, and its canonical path; otherwise why
 /// not (for the warning that lists the urls tried).
-pub(super) fn local_path(base: &Path, url: &str) -> Result<(PathBuf, PathBuf), &'static str> {
+pub(in crate::vrml::lower) fn local_path(
+    base: &Path,
+    url: &str,
+) -> Result<(PathBuf, PathBuf), &'static str> {
     if !is_local_relative(url) {
         return Err("not a local relative path");
     }
@@ -65,50 +67,58 @@ pub(super) fn local_path(base: &Path, url: &str) -> Result<(PathBuf, PathBuf), &
 }
 
 /// Whether a local file may be read now (the same rules for Inline and EXTERNPROTO).
-pub(super) enum Admit {
+pub(in crate::vrml::lower) enum Admit {
     Yes,
     /// It is being read: reading it again would never end.
     Cycle,
-    /// It would nest deeper than [`super::LoadOptions::max_inline_depth`] files.
+    /// It would nest deeper than [`crate::vrml::lower::LoadOptions::max_inline_depth`] files.
     TooDeep,
     /// It is not VRML97 (X3D, 3DS, VRML 1.0): reported, not fatal.
     NotVrml97,
 }
 
-impl Lowerer {
-    pub(super) fn load_file(&mut self, path: &Path) -> Result<(), Error> {
-        let src = crate::input::open(path, self.opts.inflate_ratio())?;
-        self.load_source(src, path)
+impl Expander {
+    pub(in crate::vrml::lower) fn load_file(
+        &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
+        path: &Path,
+    ) -> Result<(), Error> {
+        let src = crate::input::open(path, cx.opts.inflate_ratio())?;
+        self.load_source(cx, b, src, path)
     }
 
     /// Parses and lowers one file, its Inlines included.
-    pub(super) fn load_source(&mut self, src: SourceWindow, path: &Path) -> Result<(), Error> {
-        let mut opened = self.open_file(&src, path);
+    pub(in crate::vrml::lower) fn load_source(
+        &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
+        src: SourceWindow,
+        path: &Path,
+    ) -> Result<(), Error> {
+        let mut opened = self.open_file(cx, b, &src, path);
         let mut parser = Parser::new(src);
-        let r = parser.run(self);
+        let r = parser.run(&mut Lent { x: self, cx, b });
         self.resume_outside(&mut opened);
         r?;
-        self.close_file(opened, &parser.src)
+        self.close_file(cx, b, opened, &parser.src)
     }
 
     /// Enters a file: its namespace, its root frame, and no recording or substitution of the
     /// includer's. Then its events; then [`Self::resume_outside`] and [`Self::close_file`].
-    pub(super) fn open_file(&mut self, src: &SourceWindow, path: &Path) -> Opened {
-        let saved_file = self.files.current;
-        self.files.current = self.scene.files.len() as u32;
-        self.scene.files.push(src.name.to_string());
+    pub(in crate::vrml::lower) fn open_file(
+        &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
+        src: &SourceWindow,
+        path: &Path,
+    ) -> Opened {
+        let saved_file = cx.file;
+        cx.file = b.add_file(&src.name) as u32;
         self.files.stack.push(path.to_path_buf());
         self.scopes.push_file();
-        // The file's root groups its top-level nodes (scope of top-level DirectionalLights).
-        let root = Kind::Group {
-            transform: None,
-            marks: Marks::of(&self.scene),
-            dirlights: None,
-            inline_urls: None,
-        };
-        self.open
-            .push(Name::Static("<file>"), None, root, Pos::at(0));
-        let depth = self.open.frames.len();
+        b.open_file_root();
+        let depth = b.open.frames.len();
         // A new file is a new namespace, even when reached again through a USE'd Inline.
         let reusing = std::mem::replace(&mut self.replay.reusing, 0);
         let substs = std::mem::take(&mut self.expansions.substs);
@@ -126,7 +136,7 @@ impl Lowerer {
 
     /// Puts back the includer's recording and substitutions (once the file's events are
     /// read, whether or not they failed).
-    pub(super) fn resume_outside(&mut self, opened: &mut Opened) {
+    pub(in crate::vrml::lower) fn resume_outside(&mut self, opened: &mut Opened) {
         if let Some(aside) = opened.aside.take() {
             self.rec.resume(aside);
         }
@@ -137,24 +147,36 @@ impl Lowerer {
     }
 
     /// Leaves a file whose events were all read: its warnings, its root frame, its namespace.
-    pub(super) fn close_file(&mut self, opened: Opened, src: &SourceWindow) -> Result<(), Error> {
+    pub(in crate::vrml::lower) fn close_file(
+        &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
+        opened: Opened,
+        src: &SourceWindow,
+    ) -> Result<(), Error> {
         if let Some(at) = src.bad_utf8 {
-            self.diags
+            cx.diags
                 .warn(src, Pos::at(at), "invalid UTF-8 (bytes replaced by '?')");
         }
-        debug_assert_eq!(self.open.frames.len(), opened.depth);
-        let root = self.open.frames.pop().expect("file root frame");
-        self.close_group_like(src, root.kind, Pos::at(0))?;
+        debug_assert_eq!(b.open.frames.len(), opened.depth);
+        let root = b.open.frames.pop().expect("file root frame");
+        b.close_group_like(cx, src, root.kind, Pos::at(0))?;
         self.scopes.pop();
         self.files.stack.pop();
         self.files.bytes += src.bytes_read;
-        self.files.current = opened.saved_file;
+        cx.file = opened.saved_file;
         Ok(())
     }
 
     /// Closes an Inline: loads the file it names inside its group, then closes the group
     /// over what it lowered.
-    pub(super) fn close_inline(&mut self, src: &SourceWindow, frame: Frame) -> Result<(), Error> {
+    pub(in crate::vrml::lower) fn close_inline(
+        &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
+        src: &SourceWindow,
+        frame: Frame,
+    ) -> Result<(), Error> {
         let at = frame.at;
         let urls = match &frame.kind {
             Kind::Group {
@@ -163,15 +185,15 @@ impl Lowerer {
             } => urls.clone(),
             _ => Box::default(),
         };
-        self.open.frames.push(frame);
-        self.load_inline(src, at, &urls)?;
-        let frame = self.open.frames.pop().expect("inline frame");
-        self.close_group_like(src, frame.kind, at)
+        b.open.frames.push(frame);
+        self.load_inline(cx, b, src, at, &urls)?;
+        let frame = b.open.frames.pop().expect("inline frame");
+        b.close_group_like(cx, src, frame.kind, at)
     }
 
     /// The folder the relative urls of a node at `at` are resolved in: that of the file it
     /// was written in (the file being read, or the file an external PROTO's body came from).
-    pub(super) fn base_dir(&self, at: Pos) -> PathBuf {
+    pub(in crate::vrml::lower) fn base_dir(&self, at: Pos) -> PathBuf {
         let file = match at.file() {
             Some(tag) => self.externs.path_of(tag),
             None => self.files.stack.last().map(PathBuf::as_path),
@@ -182,7 +204,7 @@ impl Lowerer {
     }
 
     /// Whether the local file at `path` (canonically `canon`) may be read now.
-    pub(super) fn admit(&self, path: &Path, canon: &Path) -> Admit {
+    pub(in crate::vrml::lower) fn admit(&self, cx: &Ctx, path: &Path, canon: &Path) -> Admit {
         if self
             .files
             .stack
@@ -191,18 +213,18 @@ impl Lowerer {
         {
             return Admit::Cycle;
         }
-        self.admit_file(path)
+        self.admit_file(cx, path)
     }
 
     /// [`Self::admit`] but for cycles: whether the file nests too deep or is not VRML97.
-    pub(super) fn admit_file(&self, path: &Path) -> Admit {
+    pub(in crate::vrml::lower) fn admit_file(&self, cx: &Ctx, path: &Path) -> Admit {
         // The stack holds the scene file and the files being read inside it: this one
         // would be number `stack.len()` down from the scene file.
-        if self.files.stack.len() > self.opts.max_inline_depth {
+        if self.files.stack.len() > cx.opts.max_inline_depth {
             return Admit::TooDeep;
         }
         let mut head = [0u8; 16];
-        let n = crate::input::open(path, self.opts.inflate_ratio())
+        let n = crate::input::open(path, cx.opts.inflate_ratio())
             .ok()
             .map(|mut w| {
                 let _ = w.fill(16);
@@ -219,8 +241,15 @@ impl Lowerer {
     }
 
     /// Loads the first of `urls` that is a local VRML97 file; a warning if none is.
-    fn load_inline(&mut self, src: &SourceWindow, at: Pos, urls: &[String]) -> Result<(), Error> {
-        if !self.opts.inline {
+    fn load_inline(
+        &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
+        src: &SourceWindow,
+        at: Pos,
+        urls: &[String],
+    ) -> Result<(), Error> {
+        if !cx.opts.inline {
             return Ok(());
         }
         let base = self.base_dir(at);
@@ -233,16 +262,16 @@ impl Lowerer {
                     continue;
                 }
             };
-            match self.admit(&path, &canon) {
-                Admit::Yes => return self.load_file(&path),
+            match self.admit(cx, &path, &canon) {
+                Admit::Yes => return self.load_file(cx, b, &path),
                 Admit::Cycle => {
                     let msg = format!("Inline '{url}' includes itself (a cycle)");
-                    return Err(self.diags.error(src, at, msg));
+                    return Err(cx.diags.error(src, at, msg));
                 }
                 Admit::TooDeep => {
-                    let max = self.opts.max_inline_depth;
+                    let max = cx.opts.max_inline_depth;
                     let msg = format!("Inline '{url}' nests deeper than {max} files");
-                    return Err(self.diags.error(src, at, msg));
+                    return Err(cx.diags.error(src, at, msg));
                 }
                 Admit::NotVrml97 => tried.push(format!("'{url}' (not a VRML97 file)")),
             }
@@ -252,8 +281,7 @@ impl Lowerer {
         } else {
             tried.join(", ")
         };
-        self.diags
-            .warn(src, at, format!("Inline not loaded: {what}"));
+        cx.diags.warn(src, at, format!("Inline not loaded: {what}"));
         Ok(())
     }
 }

@@ -15,12 +15,15 @@
 use glam::DVec3;
 
 use super::meshes::{Grid, MeshKind, MeshParts, MeshState, Meshes};
-use super::{Diags, LoadOptions, Lowerer};
+use super::Builder;
 use crate::error::Error;
 use crate::geom::mesh::{components, crease_normals, faces, first_bad_index, triangulate};
 use crate::geom::sphere_fit;
 use crate::scene::Triangle;
 use crate::source::{Pos, SourceWindow};
+use crate::vrml::lower::context::Ctx;
+use crate::vrml::lower::diags::Diags;
+use crate::vrml::lower::LoadOptions;
 
 /// The colour (or normal) of the corner at position `pos` of `coord_index`, in face `face`,
 /// by VRML97's rules for `colorIndex`/`colorPerVertex` (and the same for normals).
@@ -44,10 +47,11 @@ fn corner_value(
     usize::try_from(i).ok().and_then(|i| values.get(i)).copied()
 }
 
-impl Lowerer {
+impl Builder {
     /// What mesh `m` lowers to (see the module documentation).
-    pub(super) fn mesh_parts(
+    pub(in crate::vrml::lower) fn mesh_parts(
         &mut self,
+        cx: &mut Ctx,
         src: &SourceWindow,
         m: &MeshState,
         at: Pos,
@@ -56,12 +60,12 @@ impl Lowerer {
         // before they are made. (An ElevationGrid's come from heights in the text.)
         if let MeshKind::Extrusion(e) = &m.kind {
             let points = (e.spine.len() as u64).saturating_mul(e.cross_section.len() as u64);
-            self.spend(points.saturating_mul(2), src, at, "Extrusion")?;
+            cx.spend(points.saturating_mul(2), src, at, "Extrusion")?;
         }
-        let mut cx = Ctx {
+        let mut cx = MeshCtx {
             meshes: &self.meshes,
-            opts: &self.opts,
-            diags: &mut self.diags,
+            opts: &cx.opts,
+            diags: &mut cx.diags,
             src,
             at,
         };
@@ -140,7 +144,7 @@ fn grid_mesh(g: &Grid) -> Option<(Vec<DVec3>, Vec<i64>)> {
 
 /// What the functions below read, and where they report: the arrays of the open mesh, the
 /// load options, and the diagnostics at the mesh's node.
-struct Ctx<'a> {
+struct MeshCtx<'a> {
     meshes: &'a Meshes,
     opts: &'a LoadOptions,
     diags: &'a mut Diags,
@@ -148,7 +152,7 @@ struct Ctx<'a> {
     at: Pos,
 }
 
-impl Ctx<'_> {
+impl MeshCtx<'_> {
     fn warn(&mut self, msg: impl Into<String>) {
         self.diags.warn(self.src, self.at, msg);
     }
@@ -158,7 +162,7 @@ impl Ctx<'_> {
 }
 
 /// Points as particles.
-fn point_cloud(cx: &mut Ctx, m: &MeshState, points: &[DVec3], ty: &str) -> MeshParts {
+fn point_cloud(cx: &mut MeshCtx, m: &MeshState, points: &[DVec3], ty: &str) -> MeshParts {
     let colors = cx.meshes.array(m.color);
     let finite: Vec<DVec3> = points.iter().copied().filter(|p| p.is_finite()).collect();
     if finite.len() < points.len() {
@@ -202,7 +206,7 @@ fn point_cloud(cx: &mut Ctx, m: &MeshState, points: &[DVec3], ty: &str) -> MeshP
 }
 
 /// Faces as spheres and triangles.
-fn faces_to_parts(cx: &mut Ctx, m: &MeshState, points: &[DVec3]) -> MeshParts {
+fn faces_to_parts(cx: &mut MeshCtx, m: &MeshState, points: &[DVec3]) -> MeshParts {
     let ci = &m.coord_index;
     let mut face_list = faces(ci);
     if let Some(k) = first_bad_index(ci, points.len()) {

@@ -2,33 +2,37 @@
 //! [`SphereTemplate`] is normally recorded while it is read (each field as an event in the
 //! arena, its name shared, its value copied) and expanded when it closes. Where nothing
 //! else is recording, its plain numeric field values are instead kept by interface field as
-//! they come, and the template lowers them when the instance closes: what `expand` and
+//! they come, and the template lowers them when the instance closes: what `instance` and
 //! `expand_by_template` do with the recording, without making it.
 //!
 //! Anything else in the instance (a field the PROTO does not have or whose value does not
 //! fit, a node, `IS`, `USE`, a bracketed list) makes the instance recorded after all: the
 //! fields kept so far are recorded as they would have been, and the event goes on as usual
-//! ([`Lowerer::record_direct`]). An instance the template refuses when it closes (see
+//! ([`Expander::record_direct`]). An instance the template refuses when it closes (see
 //! `template`) is recorded the same way and replayed. So warnings, errors and the scene are
 //! the recording's in every case (`src/vrml/tests/proto_template.rs` compares them with replaying
 //! every instance).
 //!
 //! An instance the parser read whole, because its fields all hold plain numbers
 //! ([`crate::vrml::parse::flat::FlatNode`]), takes the same checks without any events
-//! ([`Lowerer::whole_instance`]); one that fails them is given to the events after all.
+//! ([`Expander::whole_instance`]); one that fails them is given to the events after all.
 
 use std::rc::Rc;
 
-use super::fields::is_event;
 use super::proto::{ProtoDecl, SphereTemplate};
-use super::record::{Name, Rec, RecKind};
-use super::Lowerer;
+use super::record::{Rec, RecKind};
+use super::Expander;
 use crate::error::Error;
 use crate::source::{Pos, SourceWindow};
+use crate::vrml::lower::build::fields::is_event;
+use crate::vrml::lower::build::open::Name;
+use crate::vrml::lower::build::Builder;
+use crate::vrml::lower::context::Ctx;
 use crate::vrml::schema;
 use crate::vrml::syntax::{Event, Nums, OwnedEvent, OwnedValue, Value};
 
-use super::template::{padded3, Given};
+use super::template::Given;
+use crate::vrml::lower::build::sphere::padded3;
 use crate::vrml::parse::flat::FlatNode;
 
 /// One field value an instance gave, as written (the last of a name counts).
@@ -51,7 +55,7 @@ struct Reading {
 
 /// The instance read into its template, if any, and the buffer of its values.
 #[derive(Default)]
-pub(super) struct Direct {
+pub(in crate::vrml::lower) struct Direct {
     reading: Option<Reading>,
     given: Vec<GivenField>,
     memo: FieldMemo,
@@ -126,17 +130,18 @@ impl FieldMemo {
     }
 }
 
-impl Lowerer {
+impl Expander {
     /// Starts reading a PROTO instance (its NodeStart is being handled) into its template
     /// when it may be; false: record it.
-    pub(super) fn start_direct(
+    pub(in crate::vrml::lower) fn start_direct(
         &mut self,
+        cx: &mut Ctx,
         proto: &Rc<ProtoDecl>,
         ty: &Name,
         def: Option<&str>,
         at: Pos,
     ) -> bool {
-        let may = def.is_none() && self.template_may_read(proto);
+        let may = def.is_none() && self.template_may_read(cx, proto);
         if may {
             self.direct.reading = Some(Reading {
                 proto: proto.clone(),
@@ -152,11 +157,11 @@ impl Lowerer {
     /// Whether an instance of `proto` starting here may be read into its template: it has
     /// one (and is neither a GasParticle nor another file's PROTO), the option allows it,
     /// and nothing records, declares a PROTO or is being read into a template.
-    fn template_may_read(&self, proto: &ProtoDecl) -> bool {
+    fn template_may_read(&self, cx: &Ctx, proto: &ProtoDecl) -> bool {
         proto.sphere.is_some()
             && proto.gas.is_none()
             && proto.home.is_none()
-            && !self.opts.replay_every_instance
+            && !cx.opts.replay_every_instance
             && self.rec.idle()
     }
 
@@ -164,9 +169,11 @@ impl Lowerer {
     /// [`crate::vrml::parse::flat::flat_node`]) at `at`: lowered at once if it is an
     /// instance that [`Self::start_direct`] would read into its template and that template
     /// takes, with what its events would have done (the instance's node counted, its values
-    /// checked as `expand` checks them). False: its events follow.
-    pub(super) fn whole_instance(
+    /// checked as `instance` checks them). False: its events follow.
+    pub(in crate::vrml::lower) fn whole_instance(
         &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
         src: &SourceWindow,
         at: Pos,
         text: &str,
@@ -179,17 +186,21 @@ impl Lowerer {
         let Some(proto) = self.scopes.proto_memo(ty) else {
             return Ok(false);
         };
-        if !self.template_may_read(&proto) {
+        if !self.template_may_read(cx, &proto) {
             return Ok(false);
         }
         let Some(tpl) = proto.sphere.clone() else {
             return Ok(false);
         };
-        self.whole_instance_with(src, at, text, node, &proto, &tpl)
+        self.whole_instance_with(cx, b, src, at, text, node, &proto, &tpl)
     }
 
+    // (Its own arguments, and the context and builder lent to the expander.)
+    #[allow(clippy::too_many_arguments)]
     fn whole_instance_with(
         &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
         src: &SourceWindow,
         at: Pos,
         text: &str,
@@ -220,22 +231,28 @@ impl Lowerer {
         }
         let given = &self.direct.given;
         // The instance's own node is counted before the template's.
-        if !self.fits(1 + tpl.spent, src) {
+        if !cx.fits(1 + tpl.spent, src) {
             return Ok(false);
         }
         let lookup = |fi: usize| last_given(given, fi);
-        let Some(inputs) = self.template_inputs(src, proto, tpl, lookup) else {
+        let Some(inputs) = self.template_inputs(cx, b, src, proto, tpl, lookup) else {
             return Ok(false);
         };
-        self.nodes += 1;
-        self.spent += 1;
-        self.watch_nodes(src.offset());
-        self.lower_template(src, tpl, inputs)?;
+        cx.nodes += 1;
+        cx.spent += 1;
+        cx.watch_nodes(src.offset());
+        self.lower_template(cx, b, src, tpl, inputs)?;
         Ok(true)
     }
 
     /// An event inside the instance being read into its template.
-    pub(super) fn direct_event(&mut self, src: &SourceWindow, ev: Event<'_>) -> Result<(), Error> {
+    pub(in crate::vrml::lower) fn direct_event(
+        &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
+        src: &SourceWindow,
+        ev: Event<'_>,
+    ) -> Result<(), Error> {
         match ev {
             Event::Field {
                 name,
@@ -253,11 +270,11 @@ impl Lowerer {
                     return Ok(());
                 }
             }
-            Event::NodeEnd { .. } => return self.finish_direct(src),
+            Event::NodeEnd { .. } => return self.finish_direct(cx, b, src),
             _ => {}
         }
         self.record_direct();
-        self.handle(src, ev)
+        self.handle(cx, b, src, ev)
     }
 
     /// Turns the instance being read into its template into a recorded one: its recorder
@@ -300,8 +317,13 @@ impl Lowerer {
 
     /// The instance's `}`: closes its frame, as `node_end` does, and lowers it by its
     /// template, or records and replays it where the template refuses.
-    fn finish_direct(&mut self, src: &SourceWindow) -> Result<(), Error> {
-        let frame = self.open.pop_closing();
+    fn finish_direct(
+        &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
+        src: &SourceWindow,
+    ) -> Result<(), Error> {
+        let frame = b.open.pop_closing();
         self.rec.direct = false;
         let Some(Reading { proto, .. }) = self.direct.reading.take() else {
             return Ok(());
@@ -311,8 +333,8 @@ impl Lowerer {
         };
         let given = &self.direct.given;
         let lookup = |fi: usize| last_given(given, fi);
-        if let Some(inputs) = self.template_inputs(src, &proto, &tpl, lookup) {
-            return self.lower_template(src, &tpl, inputs);
+        if let Some(inputs) = self.template_inputs(cx, b, src, &proto, &tpl, lookup) {
+            return self.lower_template(cx, b, src, &tpl, inputs);
         }
         // Replayed: the values recorded first, where expand finds an instance's.
         let fields = self.record_given(&proto);
@@ -320,14 +342,14 @@ impl Lowerer {
         for (g, i) in self.direct.given.iter().zip(fields.clone()) {
             values[g.fi as usize] = Some(i..i + 1);
         }
-        let r = self.replay_body(src, proto, values, frame.at);
+        let r = self.replay_body(cx, b, src, proto, values, frame.at);
         self.rec.release(fields.start);
         r
     }
 }
 
 /// A field value the template can take: an interface field of the PROTO's that is not an
-/// event nor node-valued, with a value of its type (what `expand` checks).
+/// event nor node-valued, with a value of its type (what `instance` checks).
 fn given_field(
     proto: &ProtoDecl,
     name: &str,

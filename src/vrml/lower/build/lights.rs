@@ -7,30 +7,32 @@
 use glam::DVec3;
 
 use super::transform::Marks;
-use super::Lowerer;
+use super::Builder;
 use crate::scene::{DirectionalLight, Light, LightScope, PointLight};
 use crate::source::{Pos, SourceWindow};
+use crate::vrml::lower::context::Ctx;
 
 /// The DirectionalLights among a grouping node's children (indices into the scene's lights).
 /// Rare, so boxed: the open-node frames stay small enough to move without a `memcpy` call.
-pub(super) type DirLights = Option<Box<Vec<usize>>>;
+pub(in crate::vrml::lower) type DirLights = Option<Box<Vec<usize>>>;
 
-impl Lowerer {
+impl Builder {
     /// A closed PointLight.
-    pub(super) fn close_point_light(&mut self, l: PointLight) {
+    pub(in crate::vrml::lower) fn close_point_light(&mut self, l: PointLight) {
         self.scene.lights.push(Light::Point(l));
     }
 
     /// A closed DirectionalLight: stored, and its scope left to the enclosing grouping node.
-    pub(super) fn close_directional_light(
+    pub(in crate::vrml::lower) fn close_directional_light(
         &mut self,
+        cx: &mut Ctx,
         src: &SourceWindow,
         mut l: DirectionalLight,
         at: Pos,
     ) {
         let d = l.direction;
         if d.length_squared() == 0.0 || !d.is_finite() {
-            self.diags
+            cx.diags
                 .warn(src, at, "DirectionalLight direction is zero: using 0 0 -1");
             l.direction = DVec3::new(0.0, 0.0, -1.0);
         } else {
@@ -46,7 +48,7 @@ impl Lowerer {
 
     /// A grouping node that opened at `marks` closes: its DirectionalLights light what was
     /// lowered inside it.
-    pub(super) fn scope_lights(&mut self, marks: Marks, dirlights: DirLights) {
+    pub(in crate::vrml::lower) fn scope_lights(&mut self, marks: Marks, dirlights: DirLights) {
         let end = self.scene.spheres.len() as u32;
         let surfaces_end = self.scene.surfaces.len() as u32;
         for i in dirlights.into_iter().flat_map(|d| *d) {

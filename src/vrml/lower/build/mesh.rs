@@ -8,12 +8,13 @@
 use glam::DVec3;
 
 use super::meshes::{Array, Geom, MeshCache, MeshKind, MeshParts, MeshState, Meshes};
+use super::open::Name;
 use super::open::{Kind, Result_};
-use super::record::{Name, Rec};
-use super::Lowerer;
+use super::Builder;
 use crate::error::Error;
 use crate::source::{Pos, SourceWindow};
-use crate::vrml::syntax::{OwnedEvent, Value};
+use crate::vrml::lower::context::Ctx;
+use crate::vrml::syntax::Value;
 
 fn triples(values: &[f64]) -> Vec<DVec3> {
     values
@@ -28,7 +29,12 @@ fn integers(values: &[f64]) -> Vec<i64> {
 
 /// Reads a field of a mesh or of one of its arrays, leniently: a value of another type is
 /// ignored (the node was skipped whole before it was modelled).
-pub(super) fn mesh_field(kind: &mut Kind, name: &str, value: &Value, meshes: &mut Meshes) {
+pub(in crate::vrml::lower) fn mesh_field(
+    kind: &mut Kind,
+    name: &str,
+    value: &Value,
+    meshes: &mut Meshes,
+) {
     if let (Kind::Mesh(m), Value::Numbers { values, .. }) = (&mut *kind, value) {
         if let MeshKind::Extrusion(e) = &mut m.kind {
             let pairs = || {
@@ -113,12 +119,18 @@ pub(super) fn mesh_field(kind: &mut Kind, name: &str, value: &Value, meshes: &mu
     }
 }
 
-impl Lowerer {
+impl Builder {
     /// An IndexedFaceSet or PointSet: its fields are read leniently (see `mesh_field`), with
     /// no table: as for a skipped node, none of them is checked or warned about.
     #[cold]
     #[inline(never)]
-    pub(super) fn open_mesh(&mut self, ty: Name, at: Pos, kind: MeshKind) {
+    pub(in crate::vrml::lower) fn open_mesh(
+        &mut self,
+        cx: &mut Ctx,
+        ty: Name,
+        at: Pos,
+        kind: MeshKind,
+    ) {
         let kind = Kind::Mesh(Box::new(MeshState {
             kind,
             coord: None,
@@ -133,7 +145,7 @@ impl Lowerer {
             normal_per_vertex: true,
             crease_angle: 0.0,
             malformed: false,
-            nodes_before: self.nodes - 1,
+            nodes_before: cx.nodes - 1,
         }));
         self.open.push(ty, None, kind, at);
     }
@@ -142,7 +154,7 @@ impl Lowerer {
     /// neither lowered nor counted (as when the mesh was skipped whole).
     #[cold]
     #[inline(never)]
-    pub(super) fn mesh_child(&mut self, ty: Name, at: Pos) {
+    pub(in crate::vrml::lower) fn mesh_child(&mut self, ty: Name, at: Pos) {
         let Some(ctx) = self.open.fields.last() else {
             return;
         };
@@ -163,7 +175,7 @@ impl Lowerer {
     }
 
     /// An array node closed inside a mesh: the mesh takes it.
-    pub(super) fn take_array(m: &mut MeshState, which: Array, slot: u32) {
+    pub(in crate::vrml::lower) fn take_array(m: &mut MeshState, which: Array, slot: u32) {
         match which {
             Array::Coord => m.coord = Some(slot),
             Array::Color => m.color = Some(slot),
@@ -172,8 +184,9 @@ impl Lowerer {
     }
 
     /// A closed mesh: what it lowers to (see `mesh_shape`), kept for the Shape that draws it.
-    pub(super) fn close_mesh(
+    pub(in crate::vrml::lower) fn close_mesh(
         &mut self,
+        cx: &mut Ctx,
         src: &SourceWindow,
         m: &MeshState,
         at: Pos,
@@ -186,24 +199,24 @@ impl Lowerer {
                 _ => !self.meshes.array(m.coord).is_empty(),
             };
         let geom = if self.open.in_shape_geometry() && drawable {
-            let parts = self.mesh_parts(src, m, at)?;
+            let parts = self.mesh_parts(cx, src, m, at)?;
             let i = self.meshes.parts.len() as u32;
             self.meshes.parts.push(Some(parts));
             Geom::Mesh(i, at)
         } else {
-            self.diags.skip(m.kind.name());
+            cx.diags.skip(m.kind.name());
             Geom::Other
         };
         self.meshes.arrays.clear();
         self.meshes.last = Some(MeshCache {
             geom,
-            nodes: self.nodes - m.nodes_before,
+            nodes: cx.nodes - m.nodes_before,
         });
         Ok(Result_::Geometry(geom))
     }
 
     /// The parts of mesh `i` for a Shape: taken, unless the cache still needs them.
-    pub(super) fn mesh_parts_for_shape(&mut self, i: u32) -> Option<MeshParts> {
+    pub(in crate::vrml::lower) fn mesh_parts_for_shape(&mut self, i: u32) -> Option<MeshParts> {
         let slot = self.meshes.parts.get_mut(i as usize)?;
         if self.meshes.kept.contains(&i) {
             slot.clone()
@@ -212,31 +225,23 @@ impl Lowerer {
         }
     }
 
-    /// Whether a USE of the recording at `start` is of a mesh as a Shape's geometry (lowered
-    /// once, then looked up).
-    pub(super) fn is_mesh_use(&self, start: usize) -> bool {
-        self.open.in_shape_geometry()
-            && matches!(&self.rec.arena[start],
-                Rec::Ev(OwnedEvent::NodeStart { ty, .. })
-                    if matches!(&**ty, "IndexedFaceSet" | "PointSet" | "ElevationGrid" | "Extrusion"))
-    }
-
     /// A USE of the mesh recorded at `start`, if what it lowers to is known: counted and
     /// delivered without replaying it. Says whether it was.
-    pub(super) fn reuse_mesh(
+    pub(in crate::vrml::lower) fn reuse_mesh(
         &mut self,
+        cx: &mut Ctx,
         src: &SourceWindow,
         start: usize,
         at: Pos,
     ) -> Result<bool, Error> {
         if let Some(c) = self.meshes.cache.get(&start).copied() {
-            self.add_nodes(c.nodes, src, at)?;
+            cx.add_nodes(c.nodes, src, at)?;
             if let Geom::Mesh(i, _) = c.geom {
                 if let Some(Some(p)) = self.meshes.parts.get(i as usize) {
                     let (spheres, points) = (p.mesh_spheres(), p.point_spheres());
                     // The copies of its spheres and triangles the Shape will add.
                     let items = (p.spheres.len() + p.triangles.len()) as u64;
-                    self.spend(items, src, at, "USE of a mesh")?;
+                    cx.spend(items, src, at, "USE of a mesh")?;
                     self.meshes.spheres += spheres;
                     self.meshes.point_spheres += points;
                 }
@@ -250,7 +255,7 @@ impl Lowerer {
 
     /// After the first USE of the mesh recorded at `start` was replayed: keeps what it lowered
     /// to for the next USEs.
-    pub(super) fn remember_mesh(&mut self, start: usize) {
+    pub(in crate::vrml::lower) fn remember_mesh(&mut self, start: usize) {
         if let Some(c) = self.meshes.last.take() {
             if let Geom::Mesh(i, _) = c.geom {
                 self.meshes.kept.insert(i);

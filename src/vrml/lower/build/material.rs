@@ -3,21 +3,22 @@
 //! it becomes what a Shape's geometry refers to: the scene's record of its fields but the
 //! diffuse colour (shared with every equal one), and its colour.
 
+use super::Builder;
 use crate::scene::{Material, Paint};
 
 /// Open Materials, and the unlit white of a Shape without Appearance or Material.
 #[derive(Default)]
-pub(super) struct Materials {
+pub(in crate::vrml::lower) struct Materials {
     /// The fields of the open Material nodes, innermost last (see `Leaf::Material`).
-    pub(super) open: Vec<Material>,
+    pub(in crate::vrml::lower) open: Vec<Material>,
     /// [`Material::unlit`], stored when the lowerer starts.
-    pub(super) unlit: Paint,
+    pub(in crate::vrml::lower) unlit: Paint,
 }
 
-impl super::Lowerer {
+impl Builder {
     /// The innermost open Material's paint; its fields are taken off `open` (read in place:
     /// no copy of the material).
-    pub(super) fn close_material(&mut self) -> Paint {
+    pub(in crate::vrml::lower) fn close_material(&mut self) -> Paint {
         if let (Some(p), Some(m)) = (self.gas_profile, self.materials.open.last_mut()) {
             m.profile = p;
         }

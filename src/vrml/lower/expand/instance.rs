@@ -11,18 +11,20 @@
 use std::ops::Range;
 use std::rc::Rc;
 
-use super::fields::is_event;
 use super::proto::ProtoDecl;
 use super::record::{value_end, Rec};
-use super::Lowerer;
+use super::Expander;
 use crate::error::Error;
 use crate::source::{Pos, SourceWindow};
+use crate::vrml::lower::build::fields::is_event;
+use crate::vrml::lower::build::Builder;
+use crate::vrml::lower::context::Ctx;
 use crate::vrml::schema;
 use crate::vrml::syntax::{Event, OwnedEvent, OwnedValue};
 
 /// The values an instance gives its PROTO's interface fields.
 #[derive(Debug)]
-pub(super) struct Subst {
+pub(in crate::vrml::lower) struct Subst {
     proto: Rc<ProtoDecl>,
     /// By interface field index (the first field of a name, as [`ProtoDecl::field`] finds).
     values: Vec<Option<Range<usize>>>,
@@ -32,24 +34,26 @@ pub(super) struct Subst {
 
 /// The PROTO expansions under way.
 #[derive(Default)]
-pub(super) struct Expansions {
+pub(in crate::vrml::lower) struct Expansions {
     /// IS substitutions of the expansions under way (innermost last).
-    pub(super) substs: Vec<Subst>,
+    pub(in crate::vrml::lower) substs: Vec<Subst>,
     /// Emptied `Subst::values` of finished expansions, reused (one per nesting level).
     spare_values: Vec<Vec<Option<Range<usize>>>>,
 }
 
-impl Lowerer {
+impl Expander {
     /// Replaces `field IS target` by the PROTO instance's value (or the interface default).
-    pub(super) fn substitute(
+    pub(in crate::vrml::lower) fn substitute(
         &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
         src: &SourceWindow,
         name: &str,
         target: &str,
         at: Pos,
     ) -> Result<(), Error> {
         let Some(sub) = self.expansions.substs.last() else {
-            return Err(self.diags.error(
+            return Err(cx.diags.error(
                 src,
                 at,
                 format!("'{name} IS {target}' outside a PROTO body"),
@@ -60,14 +64,16 @@ impl Lowerer {
                 "'IS {target}': PROTO {} has no interface field '{target}'",
                 sub.proto.name
             );
-            return Err(self.diags.error(src, at, msg));
+            return Err(cx.diags.error(src, at, msg));
         };
-        self.substitute_field(src, name, fi, at)
+        self.substitute_field(cx, b, src, name, fi, at)
     }
 
     /// [`Self::substitute`] for interface field `fi` of the innermost expansion's PROTO.
     fn substitute_field(
         &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
         src: &SourceWindow,
         name: &str,
         fi: usize,
@@ -90,8 +96,8 @@ impl Lowerer {
         if let Rec::Ev(OwnedEvent::Field { value, at: vat, .. }) = &self.rec.arena[range.start] {
             if !matches!(value, OwnedValue::Is(_)) && self.rec.idle() {
                 let (v, vat) = (value.clone(), *vat);
-                self.spend(1 + v.len() as u64, src, at, "IS value")?;
-                return self.field(src, name, vat, v.as_value());
+                cx.spend(1 + v.len() as u64, src, at, "IS value")?;
+                return b.field(cx, src, name, vat, v.as_value());
             }
         }
         // The instance's substitutions are set aside while its value is emitted: the value is
@@ -104,8 +110,10 @@ impl Lowerer {
         let r = match &self.rec.arena[range.start] {
             Rec::Ev(OwnedEvent::Field { value, at: vat, .. }) => {
                 let (v, vat) = (value.clone(), *vat);
-                self.spend(1 + v.len() as u64, src, at, "IS value")?;
+                cx.spend(1 + v.len() as u64, src, at, "IS value")?;
                 self.dispatch(
+                    cx,
+                    b,
                     src,
                     Event::Field {
                         name,
@@ -116,9 +124,11 @@ impl Lowerer {
             }
             Rec::Ev(OwnedEvent::NodesStart { at: vat, .. }) => {
                 let vat = *vat;
-                self.handle(src, Event::NodesStart { name, at: vat })
-                    .and_then(|_| self.replay(src, range.start + 1..range.end - 1, at, "IS value"))
-                    .and_then(|_| self.handle(src, Event::NodesEnd { at: vat }))
+                self.handle(cx, b, src, Event::NodesStart { name, at: vat })
+                    .and_then(|_| {
+                        self.replay(cx, b, src, range.start + 1..range.end - 1, at, "IS value")
+                    })
+                    .and_then(|_| self.handle(cx, b, src, Event::NodesEnd { at: vat }))
             }
             _ => Ok(()),
         };
@@ -130,8 +140,10 @@ impl Lowerer {
     }
 
     /// Expands a recorded PROTO instance: its field values replace `IS` in the body's first node.
-    pub(super) fn expand(
+    pub(in crate::vrml::lower) fn expand(
         &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
         src: &SourceWindow,
         proto: Rc<ProtoDecl>,
         inst: Range<usize>,
@@ -152,7 +164,7 @@ impl Lowerer {
                 }
             };
             match proto.public_index(&fname) {
-                None => self.diags.warn(
+                None => cx.diags.warn(
                     src,
                     fat,
                     format!("unknown field '{fname}' of PROTO {}: ignored", proto.name),
@@ -162,7 +174,7 @@ impl Lowerer {
                     if let Rec::Ev(OwnedEvent::Field { value, .. }) = &self.rec.arena[i] {
                         if f.ty.is_node() {
                             if *value != OwnedValue::Empty {
-                                return Err(self.diags.error(
+                                return Err(cx.diags.error(
                                     src,
                                     fat,
                                     format!(
@@ -173,14 +185,14 @@ impl Lowerer {
                                 ));
                             }
                         } else if let Err(e) = schema::check_value(f.ty, &value.as_value()) {
-                            return Err(self.diags.error(
+                            return Err(cx.diags.error(
                                 src,
                                 fat,
                                 format!("field '{fname}' of PROTO {} {e}", proto.name),
                             ));
                         }
                     } else if !f.ty.is_node() {
-                        return Err(self.diags.error(
+                        return Err(cx.diags.error(
                             src,
                             fat,
                             format!(
@@ -191,7 +203,7 @@ impl Lowerer {
                         ));
                     }
                     if is_event(f.access) {
-                        self.diags.warn(
+                        cx.diags.warn(
                             src,
                             fat,
                             format!(
@@ -208,12 +220,12 @@ impl Lowerer {
             i = end;
         }
         // A GasParticle's Materials take its profile (checked here, at the instance's values).
-        let outer_profile = self.gas_profile;
+        let outer_profile = b.gas_profile;
         if let Some(gas) = proto.gas {
-            self.gas_profile = Some(self.instance_profile(src, &proto, gas, &values, at)?);
+            b.gas_profile = Some(self.instance_profile(cx, src, &proto, gas, &values, at)?);
         }
-        let by_template = match (&proto.sphere, self.opts.replay_every_instance) {
-            (Some(tpl), false) => self.expand_by_template(src, &proto, tpl, &values),
+        let by_template = match (&proto.sphere, cx.opts.replay_every_instance) {
+            (Some(tpl), false) => self.expand_by_template(cx, b, src, &proto, tpl, &values),
             _ => None,
         };
         let r = match by_template {
@@ -222,16 +234,18 @@ impl Lowerer {
                 self.expansions.spare_values.push(values);
                 r
             }
-            None => self.replay_body(src, proto, values, at),
+            None => self.replay_body(cx, b, src, proto, values, at),
         };
-        self.gas_profile = outer_profile;
+        b.gas_profile = outer_profile;
         r
     }
 
     /// Replays an instance's body with its `values` (by interface field), in a namespace of
     /// its own.
-    pub(super) fn replay_body(
+    pub(in crate::vrml::lower) fn replay_body(
         &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
         src: &SourceWindow,
         proto: Rc<ProtoDecl>,
         values: Vec<Option<Range<usize>>>,
@@ -252,7 +266,8 @@ impl Lowerer {
         let saved = std::mem::take(&mut self.rec.recorders);
         let reusing = std::mem::replace(&mut self.replay.reusing, 0);
         let n = proto.first_end;
-        let r = self.replay_first_node(src, &proto.body_events[..n], &proto.body_is[..n], at);
+        let r =
+            self.replay_first_node(cx, b, src, &proto.body_events[..n], &proto.body_is[..n], at);
         self.replay.reusing = reusing;
         self.rec.recorders = saved;
         if let Some(mut sub) = self.expansions.substs.pop() {
@@ -268,6 +283,8 @@ impl Lowerer {
     /// take the same fast path as scene text (see `dispatch`).
     fn replay_first_node(
         &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
         src: &SourceWindow,
         events: &[Rec],
         is: &[u32],
@@ -276,21 +293,26 @@ impl Lowerer {
         for (rec, &is) in events.iter().zip(is) {
             match rec {
                 Rec::Ev(ev) => {
-                    self.spend(super::event_cost(ev), src, at, "PROTO instance")?;
-                    self.enter_replay(src, at, "PROTO expansions")?;
+                    cx.spend(
+                        crate::vrml::lower::event_cost(ev),
+                        src,
+                        at,
+                        "PROTO instance",
+                    )?;
+                    self.enter_replay(cx, src, at, "PROTO expansions")?;
                     let r = match ev {
                         // `field IS target` of this body: the instance's value, found by index.
                         OwnedEvent::Field { name, at, .. }
                             if is != u32::MAX && self.rec.proto_decls == 0 =>
                         {
-                            self.substitute_field(src, name, is as usize, *at)
+                            self.substitute_field(cx, b, src, name, is as usize, *at)
                         }
-                        _ => self.dispatch_recorded(src, ev),
+                        _ => self.dispatch_recorded(cx, b, src, ev),
                     };
                     self.replay.depth -= 1;
                     r?;
                 }
-                Rec::Used { range, at } => self.use_range(src, range.clone(), *at)?,
+                Rec::Used { range, at } => self.use_range(cx, b, src, range.clone(), *at)?,
             }
         }
         Ok(())

@@ -18,14 +18,14 @@ use crate::vrml::schema::same_bytes;
 
 /// A DEF: the arena range of its node's events, and its node type.
 #[derive(Clone, Debug)]
-pub(super) struct DefEntry {
-    pub(super) range: Range<usize>,
-    pub(super) ty: Rc<str>,
+pub(in crate::vrml::lower) struct DefEntry {
+    pub(in crate::vrml::lower) range: Range<usize>,
+    pub(in crate::vrml::lower) ty: Rc<str>,
 }
 
 /// A DEF and PROTO namespace: one per file, one per PROTO body expansion.
 #[derive(Default)]
-pub(super) struct Scope {
+pub(in crate::vrml::lower) struct Scope {
     defs: HashMap<Rc<str>, DefEntry>,
     protos: Protos,
     /// The PROTOs of another file, shared: the home of an external PROTO's body.
@@ -38,11 +38,11 @@ pub(super) struct Scope {
 
 /// The namespaces in effect, innermost last.
 #[derive(Default)]
-pub(super) struct Scopes {
+pub(in crate::vrml::lower) struct Scopes {
     stack: Vec<Scope>,
     /// A PROTO was declared with a standard node type's name: standard types must then be
     /// looked up among the PROTOs too (otherwise they cannot name one).
-    pub(super) proto_shadows_standard: bool,
+    pub(in crate::vrml::lower) proto_shadows_standard: bool,
     /// The last name [`Self::proto_memo`] looked up and what it found (a file of a million
     /// instances names the same PROTO a million times). Forgotten whenever the namespaces
     /// change.
@@ -51,7 +51,7 @@ pub(super) struct Scopes {
 
 impl Scopes {
     /// Enters a file's namespace.
-    pub(super) fn push_file(&mut self) {
+    pub(in crate::vrml::lower) fn push_file(&mut self) {
         self.memo = None;
         self.stack.push(Scope {
             file_root: true,
@@ -60,14 +60,14 @@ impl Scopes {
     }
 
     /// Enters a PROTO body expansion's namespace.
-    pub(super) fn push_body(&mut self) {
+    pub(in crate::vrml::lower) fn push_body(&mut self) {
         self.memo = None;
         self.stack.push(Scope::default());
     }
 
     /// Enters the file scope of an external PROTO's body: the PROTOs of its file, and none
     /// of those around the instance.
-    pub(super) fn push_home(&mut self, home: Rc<Protos>) {
+    pub(in crate::vrml::lower) fn push_home(&mut self, home: Rc<Protos>) {
         self.memo = None;
         self.stack.push(Scope {
             file_root: true,
@@ -76,47 +76,47 @@ impl Scopes {
         });
     }
 
-    pub(super) fn pop(&mut self) {
+    pub(in crate::vrml::lower) fn pop(&mut self) {
         self.memo = None;
         self.stack.pop();
     }
 
     /// Leaves a file's namespace, keeping the PROTOs it declared.
-    pub(super) fn pop_protos(&mut self) -> Protos {
+    pub(in crate::vrml::lower) fn pop_protos(&mut self) -> Protos {
         self.memo = None;
         self.stack.pop().map(|s| s.protos).unwrap_or_default()
     }
 
     /// How many namespaces are in effect (for [`Self::take_above`]).
-    pub(super) fn depth(&self) -> usize {
+    pub(in crate::vrml::lower) fn depth(&self) -> usize {
         self.stack.len()
     }
 
     /// Takes away the namespaces entered since there were `depth` (to be put back by
     /// [`Self::restore`]): an instance's value is read in the instance's namespace, not in
     /// the namespaces of the body it is substituted into.
-    pub(super) fn take_above(&mut self, depth: usize) -> Vec<Scope> {
+    pub(in crate::vrml::lower) fn take_above(&mut self, depth: usize) -> Vec<Scope> {
         self.memo = None;
         self.stack.split_off(depth.min(self.stack.len()))
     }
 
     /// Leaves the namespaces entered since there were `depth`.
-    pub(super) fn leave_to(&mut self, depth: usize) {
+    pub(in crate::vrml::lower) fn leave_to(&mut self, depth: usize) {
         self.memo = None;
         self.stack.truncate(depth);
     }
 
     /// Puts back the namespaces [`Self::take_above`] took.
-    pub(super) fn restore(&mut self, scopes: Vec<Scope>) {
+    pub(in crate::vrml::lower) fn restore(&mut self, scopes: Vec<Scope>) {
         self.memo = None;
         self.stack.extend(scopes);
     }
 
-    pub(super) fn def(&self, name: &str) -> Option<&DefEntry> {
+    pub(in crate::vrml::lower) fn def(&self, name: &str) -> Option<&DefEntry> {
         self.stack.last().and_then(|s| s.defs.get(name))
     }
 
-    pub(super) fn proto(&self, name: &str) -> Option<Rc<ProtoDecl>> {
+    pub(in crate::vrml::lower) fn proto(&self, name: &str) -> Option<Rc<ProtoDecl>> {
         for s in self.stack.iter().rev() {
             if let Some(p) = s.protos.get(name) {
                 return Some(p.clone());
@@ -132,7 +132,7 @@ impl Scopes {
     }
 
     /// [`Self::proto`], remembering the last name looked up while the namespaces stay the same.
-    pub(super) fn proto_memo(&mut self, name: &str) -> Option<Rc<ProtoDecl>> {
+    pub(in crate::vrml::lower) fn proto_memo(&mut self, name: &str) -> Option<Rc<ProtoDecl>> {
         if let Some((n, p)) = &self.memo {
             if same_bytes(n.as_bytes(), name.as_bytes()) {
                 return Some(p.clone());
@@ -147,7 +147,7 @@ impl Scopes {
     }
 
     /// The names the file's namespace has defined from arena position `mark` on.
-    pub(super) fn file_defs_since(&self, mark: usize) -> Vec<String> {
+    pub(in crate::vrml::lower) fn file_defs_since(&self, mark: usize) -> Vec<String> {
         self.stack.first().map_or_else(Vec::new, |s| {
             s.defs
                 .iter()
@@ -158,21 +158,21 @@ impl Scopes {
     }
 
     /// A DEF'd node of this name has started and not yet ended.
-    pub(super) fn open_def(&mut self, name: &Rc<str>) {
+    pub(in crate::vrml::lower) fn open_def(&mut self, name: &Rc<str>) {
         if let Some(s) = self.stack.last_mut() {
             s.open_defs.push(name.clone());
         }
     }
 
     /// Whether the DEF'd node of this name is still open (a USE of it is inside it).
-    pub(super) fn is_open(&self, name: &str) -> bool {
+    pub(in crate::vrml::lower) fn is_open(&self, name: &str) -> bool {
         self.stack
             .last()
             .is_some_and(|s| s.open_defs.iter().any(|n| &**n == name))
     }
 
     /// A DEF'd node has ended: its name now means its events.
-    pub(super) fn define(&mut self, name: Rc<str>, def: DefEntry) {
+    pub(in crate::vrml::lower) fn define(&mut self, name: Rc<str>, def: DefEntry) {
         if let Some(s) = self.stack.last_mut() {
             s.open_defs.retain(|n| *n != name);
             s.defs.insert(name, def);
@@ -180,7 +180,12 @@ impl Scopes {
     }
 
     /// A PROTO declaration has ended: its name now means it.
-    pub(super) fn declare(&mut self, name: Rc<str>, decl: Rc<ProtoDecl>, standard_name: bool) {
+    pub(in crate::vrml::lower) fn declare(
+        &mut self,
+        name: Rc<str>,
+        decl: Rc<ProtoDecl>,
+        standard_name: bool,
+    ) {
         self.memo = None;
         self.proto_shadows_standard |= standard_name;
         if let Some(s) = self.stack.last_mut() {

@@ -1,6 +1,6 @@
 //! EXTERNPROTO (VRML97 4.9): the PROTO an EXTERNPROTO names is read from a local file, by
 //! the rules of Inline (see `inline`: local paths relative to the declaring file only, never
-//! a network URL or an absolute path; at most [`super::LoadOptions::max_inline_depth`] files
+//! a network URL or an absolute path; at most [`crate::vrml::lower::LoadOptions::max_inline_depth`] files
 //! deep; a file that is being read is a cycle, an error). `"file.wrl#Name"` names the PROTO
 //! `Name` declared at the top level of that file, `"file.wrl"` the first PROTO declared
 //! there. The urls are tried in order; when none leads to a PROTO, the EXTERNPROTO stays a
@@ -22,7 +22,7 @@
 //! every position recorded from that file is *tagged* with the file's index in
 //! `Scene::files`, in the top bits, as [`crate::scene::Origin`] packs them (see
 //! [`crate::source::Pos`]); `Diags` keeps the file's line index to turn tagged positions
-//! into `file:line:col`, and `Lowerer::origin` turns them into origins in that file.
+//! into `file:line:col`, and `Expander::origin` turns them into origins in that file.
 
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
@@ -31,10 +31,13 @@ use hashbrown::HashMap;
 
 use super::inline::{local_path, Admit};
 use super::proto::{InterfaceField, ProtoDecl, Protos};
-use super::record::{Name, Rec};
-use super::Lowerer;
+use super::record::Rec;
+use super::{Expander, Lent};
 use crate::error::Error;
 use crate::source::{Pos, SourceWindow};
+use crate::vrml::lower::build::open::Name;
+use crate::vrml::lower::build::Builder;
+use crate::vrml::lower::context::Ctx;
 use crate::vrml::parse::Parser;
 use crate::vrml::syntax::OwnedEvent;
 
@@ -112,7 +115,7 @@ enum Unread {
 
 /// The files read for their PROTOs.
 #[derive(Default)]
-pub(super) struct Externs {
+pub(in crate::vrml::lower) struct Externs {
     /// By canonical path: each file is read once per scene.
     libraries: HashMap<PathBuf, Rc<Library>>,
     /// The path of each, by its index in `Scene::files` (the folder of its relative urls).
@@ -129,14 +132,14 @@ pub(super) struct Externs {
 
 impl Externs {
     /// The path of the file read for its PROTOs that has index `file` in `Scene::files`.
-    pub(super) fn path_of(&self, file: u32) -> Option<&Path> {
+    pub(in crate::vrml::lower) fn path_of(&self, file: u32) -> Option<&Path> {
         self.paths.get(&file).map(PathBuf::as_path)
     }
 
     /// A PROTO was declared: the first one at the top level of a file read for its PROTOs
     /// is what a url without `#Name` names. (While such a file is read nothing is expanded,
     /// so every declaration then is at its top level.)
-    pub(super) fn declared(&mut self, name: &Rc<str>) {
+    pub(in crate::vrml::lower) fn declared(&mut self, name: &Rc<str>) {
         if let Some(first @ None) = self.reading.last_mut() {
             *first = Some(name.clone());
         }
@@ -152,19 +155,23 @@ fn split_url(url: &str) -> (&str, Option<&str>) {
     }
 }
 
-impl Lowerer {
+impl Expander {
     /// What the EXTERNPROTO `name` (interface `iface`, declared at `at`) becomes: the PROTO
     /// named by the first of `urls` that leads to one; `None` (and a warning that lists what
     /// was tried) if none does, or when other files are not read (`LoadOptions::inline`).
-    pub(super) fn import_proto(
+    // (Its own arguments, and the context and builder lent to the expander.)
+    #[allow(clippy::too_many_arguments)]
+    pub(in crate::vrml::lower) fn import_proto(
         &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
         src: &SourceWindow,
         name: &Rc<str>,
         iface: &[InterfaceField],
         urls: &[String],
         at: Pos,
     ) -> Result<Option<ProtoDecl>, Error> {
-        if !self.opts.inline {
+        if !cx.opts.inline {
             return Ok(None);
         }
         let base = self.base_dir(at);
@@ -172,7 +179,7 @@ impl Lowerer {
         let mut pending = false;
         for url in urls {
             let (file, wanted) = split_url(url);
-            let (lib, canon) = match self.library(src, name, at, &base, url, file)? {
+            let (lib, canon) = match self.library(cx, b, src, name, at, &base, url, file)? {
                 Ok(lib) => lib,
                 Err(Unread::Pending) => {
                     pending = true;
@@ -190,14 +197,14 @@ impl Lowerer {
             match found {
                 Some(ext) if ext.body.is_some() => {
                     let ext = ext.clone();
-                    return Ok(Some(self.adopt(src, name, iface, &ext, &lib, url)));
+                    return Ok(Some(self.adopt(cx, src, name, iface, &ext, &lib, url)));
                 }
                 Some(ext) if self.externs.pending.contains(&(canon, ext.name.clone())) => {
                     let msg = format!(
                         "EXTERNPROTO {name}: '{url}' names an EXTERNPROTO that needs a file \
                          whose PROTOs are being read: it needs itself (a cycle)"
                     );
-                    return Err(self.diags.error(src, at, msg));
+                    return Err(cx.diags.error(src, at, msg));
                 }
                 Some(ext) => tried.push(format!(
                     "'{url}' (its {} is an EXTERNPROTO that was not loaded)",
@@ -222,7 +229,7 @@ impl Lowerer {
         } else {
             tried.join(", ")
         };
-        self.diags
+        cx.diags
             .warn(src, at, format!("EXTERNPROTO {name} not loaded: {what}"));
         Ok(None)
     }
@@ -230,8 +237,12 @@ impl Lowerer {
     /// The file `file` (of `url`) read for its PROTOs: from the cache, or read now. Why not
     /// if it cannot be read (not a local relative path, no such file, not VRML97), or that
     /// its PROTOs are being read; an error at `at` if it would nest too deep.
+    // (Its own arguments, and the context and builder lent to the expander.)
+    #[allow(clippy::too_many_arguments)]
     fn library(
         &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
         src: &SourceWindow,
         name: &str,
         at: Pos,
@@ -254,27 +265,27 @@ impl Lowerer {
         }
         // A file being read as a scene (the very file of this EXTERNPROTO, or one that
         // Inlines it) is read again for its PROTO declarations only, not its scene: no cycle.
-        let admitted = match self.admit(&path, &canon) {
-            Admit::Cycle => self.admit_file(&path),
+        let admitted = match self.admit(cx, &path, &canon) {
+            Admit::Cycle => self.admit_file(cx, &path),
             other => other,
         };
         match admitted {
             Admit::Yes => {}
             Admit::Cycle => {
                 let msg = format!("EXTERNPROTO {name}: '{url}' names a file being read (a cycle)");
-                return Err(self.diags.error(src, at, msg));
+                return Err(cx.diags.error(src, at, msg));
             }
             Admit::TooDeep => {
-                let max = self.opts.max_inline_depth;
+                let max = cx.opts.max_inline_depth;
                 let msg = format!("EXTERNPROTO {name}: '{url}' nests deeper than {max} files");
-                return Err(self.diags.error(src, at, msg));
+                return Err(cx.diags.error(src, at, msg));
             }
             Admit::NotVrml97 => {
                 return Ok(Err(Unread::Why(format!("'{url}' (not a VRML97 file)"))))
             }
         }
         self.externs.reading_paths.push(canon.clone());
-        let lib = self.read_library(&path);
+        let lib = self.read_library(cx, b, &path);
         self.externs.reading_paths.pop();
         let lib = Rc::new(lib?);
         self.externs.libraries.insert(canon.clone(), lib.clone());
@@ -285,47 +296,51 @@ impl Lowerer {
     /// file, in a namespace of its own, but under a quiet root (its nodes are read, not
     /// lowered nor counted) and apart from whatever is under way around it (recordings,
     /// expansions, open node-valued fields).
-    fn read_library(&mut self, path: &Path) -> Result<Library, Error> {
-        let src = crate::input::open(path, self.opts.inflate_ratio())?;
-        let file = u32::try_from(self.scene.files.len()).unwrap_or(u32::MAX);
-        self.scene.files.push(src.name.to_string());
+    fn read_library(
+        &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
+        path: &Path,
+    ) -> Result<Library, Error> {
+        let src = crate::input::open(path, cx.opts.inflate_ratio())?;
+        let file = u32::try_from(b.add_file(&src.name)).unwrap_or(u32::MAX);
         self.externs.paths.insert(file, path.to_path_buf());
         self.files.stack.push(path.to_path_buf());
-        let current = std::mem::replace(&mut self.files.current, file);
+        let current = std::mem::replace(&mut cx.file, file);
         let aside = self.rec.set_aside();
-        let fields = std::mem::take(&mut self.open.fields);
+        let fields = std::mem::take(&mut b.open.fields);
         let substs = std::mem::take(&mut self.expansions.substs);
         let reusing = std::mem::replace(&mut self.replay.reusing, 0);
-        let (nodes, spent) = (self.nodes, self.spent);
+        let (nodes, spent) = (cx.nodes, cx.spent);
         let from = self.rec.arena.len();
         self.scopes.push_file();
-        self.open.push_quiet(Name::Static("<file>"), Pos::at(0));
-        let depth = self.open.frames.len();
+        b.open.push_quiet(Name::Static("<file>"), Pos::at(0));
+        let depth = b.open.frames.len();
         self.externs.reading.push(None);
         let mut parser = Parser::new(src);
-        let r = parser.run(self);
+        let r = parser.run(&mut Lent { x: self, cx, b });
         let first = self.externs.reading.pop().flatten();
-        debug_assert!(r.is_err() || self.open.frames.len() == depth);
-        self.open.frames.truncate(depth - 1);
-        self.open.quiet -= 1;
+        debug_assert!(r.is_err() || b.open.frames.len() == depth);
+        b.open.frames.truncate(depth - 1);
+        b.open.quiet -= 1;
         let protos = self.scopes.pop_protos();
         // Its positions point into it from now on.
         tag_all(&mut self.rec.arena[from..], file);
-        (self.nodes, self.spent) = (nodes, spent);
+        (cx.nodes, cx.spent) = (nodes, spent);
         self.replay.reusing = reusing;
         self.expansions.substs = substs;
-        self.open.fields = fields;
+        b.open.fields = fields;
         self.rec.resume(aside);
-        self.files.current = current;
+        cx.file = current;
         self.files.stack.pop();
         r?;
         let src = parser.src;
         if let Some(at) = src.bad_utf8 {
-            self.diags
+            cx.diags
                 .warn(&src, Pos::at(at), "invalid UTF-8 (bytes replaced by '?')");
         }
         self.files.bytes += src.bytes_read;
-        self.diags.sources.insert(file, Rc::new(kept(src)));
+        cx.diags.sources.insert(file, Rc::new(kept(src)));
         // Its own PROTOs get tagged positions; its EXTERNPROTOs already point elsewhere.
         let protos = protos
             .into_iter()
@@ -343,8 +358,11 @@ impl Lowerer {
     /// The EXTERNPROTO `name` as the PROTO `ext` of `lib` that `url` names: its body, its
     /// interface and defaults, expanded under its file's PROTOs; an instance may set the
     /// fields `iface` declares with the same access and type as `ext` (warnings for others).
+    // (Its own arguments, and the context and builder lent to the expander.)
+    #[allow(clippy::too_many_arguments)]
     fn adopt(
         &mut self,
+        cx: &mut Ctx,
         src: &SourceWindow,
         name: &Rc<str>,
         iface: &[InterfaceField],
@@ -360,7 +378,7 @@ impl Lowerer {
                     "EXTERNPROTO {name} declares '{}', which PROTO {} in '{url}' does not have: it cannot be set",
                     f.name, ext.name
                 );
-                self.diags.warn(src, f.at, msg);
+                cx.diags.warn(src, f.at, msg);
                 continue;
             };
             let e = &ext.fields[i];
@@ -378,7 +396,7 @@ impl Lowerer {
                 e.ty.name(),
                 e.name
             );
-            self.diags.warn(src, f.at, msg);
+            cx.diags.warn(src, f.at, msg);
         }
         ProtoDecl {
             name: name.clone(),

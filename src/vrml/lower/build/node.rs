@@ -1,23 +1,21 @@
-//! The node table and `node_start`: what each standard node type is lowered to
+//! The node table and what a node opens as: what each standard node type is lowered to
 //! ([`Lowered`], one entry per [`schema::NODES`] entry, built at compile time so that no node
-//! type is matched by string), and where a starting node goes: a DEF starts a recording, a
-//! node inside a PROTO declaration, a skipped node or a Switch choice opens a quiet frame, a
-//! PROTO instance is recorded for expansion when it closes, and a modelled node opens a frame
-//! of its [`Kind`] with the VRML97 defaults of its fields.
+//! type is matched by string), and the frame a modelled node opens, of its [`Kind`] with the
+//! VRML97 defaults of its fields; a node not modelled opens a frame that suppresses what it
+//! holds.
 
 use glam::DVec3;
 
 use super::meshes::{Grid, MeshKind};
-use super::open::{Frame, Kind, Leaf};
-use super::record::{Name, RecKind};
+use super::open::{Frame, Kind, Leaf, Name};
 use super::transform::Marks;
-use super::Lowerer;
+use super::Builder;
 use crate::error::Error;
 use crate::geom::shapes::Solid;
 use crate::scene::{DirectionalLight, LightScope, Material, PointLight, Viewpoint};
 use crate::source::{Pos, SourceWindow};
+use crate::vrml::lower::context::Ctx;
 use crate::vrml::schema;
-
 /// What a standard node type lowers to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Lowered {
@@ -111,95 +109,20 @@ static LOWERED: [Lowered; schema::NODES.len()] = {
     t
 };
 
-impl Lowerer {
-    pub(super) fn node_start(
+impl Builder {
+    /// Opens a frame for a node of type `ty` (the standard node `index` of
+    /// [`schema::NODES`], if it is one) that is lowered here: not a PROTO instance and not
+    /// inside a node that is not lowered.
+    pub(in crate::vrml::lower) fn open_node(
         &mut self,
+        cx: &mut Ctx,
         src: &SourceWindow,
+        (index, ty_rc): (Option<usize>, Name),
         def: Option<&str>,
-        ty: &str,
         at: Pos,
     ) -> Result<(), Error> {
-        let def_rc: Option<std::rc::Rc<str>> = def.map(std::rc::Rc::from);
-        if self.rec.proto_decls > 0 {
-            return Ok(());
-        }
-        if let (Some(d), 0) = (&def_rc, self.replay.reusing) {
-            // Record the DEF'd node (this NodeStart was pushed just before, if recording).
-            self.rec.start_def(d, ty, at);
-            self.scopes.open_def(d);
-        }
-        self.add_nodes(1, src, at)?;
-        let index = schema::node_index(ty);
+        let ty: &str = &ty_rc;
         let spec = index.map(|i| &schema::NODES[i]);
-        // A standard type was found by this very name.
-        let ty_rc = match spec {
-            Some(s) => Name::Static(s.name),
-            None => Name::Shared(self.rec.names.rc(ty)),
-        };
-        if self.open.quiet > 0 {
-            // Not lowered; a frame keeps the nesting.
-            self.open.push(ty_rc, None, Kind::Quiet, at);
-            return Ok(());
-        }
-        self.check_child(src, ty, at);
-        // Where does this node stand? (A Switch choice, an LOD level after the first, or a
-        // Collision proxy is recorded or ignored, not lowered.)
-        let (in_choice, ignored_level) = match self.open.fields.last() {
-            None => (false, false),
-            Some(ctx) => match &mut self.open.frames[ctx.frame].kind {
-                Kind::Switch { .. } => (&*ctx.name == "choice", false),
-                Kind::Lod { levels, .. } if &*ctx.name == "level" => {
-                    let ignored = *levels > 0;
-                    *levels += 1;
-                    (false, ignored)
-                }
-                Kind::Group { .. } => (false, &*ctx.name == "proxy"),
-                Kind::Mesh(_) => {
-                    self.mesh_child(ty_rc, at);
-                    return Ok(());
-                }
-                _ => (false, false),
-            },
-        };
-        if in_choice || ignored_level {
-            if in_choice && !self.rec.in_choice() {
-                self.rec.start_here(&ty_rc, def, at, RecKind::Choice);
-            }
-            self.open.push_quiet(ty_rc, at);
-            return Ok(());
-        }
-        let proto = if index.is_none() || self.scopes.proto_shadows_standard {
-            self.scopes.proto(ty)
-        } else {
-            None
-        };
-        if let Some(proto) = proto {
-            if proto.body.is_some() {
-                // Read the instance into its template, or record it and expand it when it
-                // closes.
-                if !self.start_direct(&proto, &ty_rc, def, at) {
-                    self.rec.start_here(&ty_rc, def, at, RecKind::Instance);
-                }
-            } else {
-                self.diags.skip(ty);
-                self.diags.warn(
-                    src,
-                    at,
-                    format!(
-                        "EXTERNPROTO {ty} is not available (none of its urls was loaded): skipped"
-                    ),
-                );
-            }
-            self.open.push_suppressing(Frame {
-                ty: ty_rc,
-                spec: None,
-                proto: Some(proto),
-                kind: Kind::Quiet,
-                at,
-                quiet: true,
-            });
-            return Ok(());
-        }
         let m = Marks::of(&self.scene);
         let group = |transform| Kind::Group {
             transform,
@@ -266,23 +189,23 @@ impl Lowerer {
                     Lowered::Extrusion => MeshKind::Extrusion(Box::default()),
                     _ => MeshKind::IndexedFaceSet,
                 };
-                self.open_mesh(ty_rc, at, kind);
+                self.open_mesh(cx, ty_rc, at, kind);
                 return Ok(());
             }
             Lowered::PointLight => Kind::PointLight(Box::new(PointLight {
-                origin: self.origin(at),
+                origin: cx.origin(at),
                 ..PointLight::default()
             })),
             // The scope is set when the light's grouping node closes.
             Lowered::DirectionalLight => Kind::DirectionalLight(Box::new(DirectionalLight {
                 scope: LightScope::Range { start: 0, end: 0 },
                 surface_scope: LightScope::Range { start: 0, end: 0 },
-                origin: self.origin(at),
+                origin: cx.origin(at),
                 ..DirectionalLight::default()
             })),
             Lowered::Viewpoint => Kind::Viewpoint(Box::new(Viewpoint {
                 name: def.map(str::to_string),
-                origin: self.origin(at),
+                origin: cx.origin(at),
                 ..Viewpoint::default()
             })),
             Lowered::NavigationInfo => Kind::NavigationInfo { headlight: None },
@@ -292,14 +215,13 @@ impl Lowerer {
                 // Standard nodes we do not model are counted in the report, not warned about:
                 // they are valid VRML, and `--strict` is about validity.
                 if spec.is_none() {
-                    self.diags
+                    cx.diags
                         .warn(src, at, format!("unknown node type '{ty}': skipped"));
                 }
-                self.diags.skip(ty);
+                cx.diags.skip(ty);
                 self.open.push_suppressing(Frame {
                     ty: ty_rc,
                     spec,
-                    proto: None,
                     kind: Kind::Skip,
                     at,
                     quiet: true,
@@ -317,27 +239,6 @@ impl Lowerer {
     fn open_solid(&mut self, s: Solid) -> Kind {
         self.meshes.solids.push(s);
         Kind::Leaf(Leaf::Solid(self.meshes.solids.len() as u32 - 1))
-    }
-
-    /// Warns when a node type does not belong in the field it stands in.
-    #[inline(always)]
-    pub(super) fn check_child(&mut self, src: &SourceWindow, ty: &str, at: Pos) {
-        let Some(ctx) = self.open.fields.last() else {
-            return;
-        };
-        let parent = &self.open.frames[ctx.frame];
-        let allowed: &[&str] = match (&parent.kind, &*ctx.name) {
-            (Kind::Leaf(Leaf::Shape { .. }), "appearance") => &["Appearance"],
-            (Kind::Leaf(Leaf::Appearance { .. }), "material") => &["Material"],
-            _ => return,
-        };
-        if !allowed.contains(&ty) && self.scopes.proto(ty).is_none() {
-            let msg = format!(
-                "{ty} is not allowed in field '{}' of {}: ignored",
-                ctx.name, parent.ty
-            );
-            self.diags.warn(src, at, msg);
-        }
     }
 }
 

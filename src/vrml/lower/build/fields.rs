@@ -10,24 +10,26 @@ use std::rc::Rc;
 use glam::DVec3;
 
 use super::mesh::mesh_field;
+use super::open::Name;
 use super::open::{FieldCtx, Frame, Kind, Leaf};
-use super::record::Name;
 use super::transform::quat;
-use super::{Diags, Lowerer};
+use super::Builder;
 use crate::error::Error;
 use crate::geom::shapes::Solid;
 use crate::source::{Pos, SourceWindow};
+use crate::vrml::lower::context::Ctx;
+use crate::vrml::lower::diags::Diags;
 use crate::vrml::schema::{self, Access};
 use crate::vrml::syntax::Value;
 
 /// Whether a member with this access takes no value in a node (an eventIn or eventOut).
 #[inline(always)]
-pub(super) fn is_event(access: Access) -> bool {
+pub(in crate::vrml::lower) fn is_event(access: Access) -> bool {
     matches!(access, Access::EventIn | Access::EventOut)
 }
 
 /// Warns when a value is given to an eventIn or eventOut (`name` of node type `ty`).
-pub(super) fn warn_if_event(
+pub(in crate::vrml::lower) fn warn_if_event(
     diags: &mut Diags,
     src: &SourceWindow,
     name: &str,
@@ -104,10 +106,11 @@ fn solid_field(s: &mut Solid, name: &str, v: &Value) -> Result<(), String> {
     Ok(())
 }
 
-impl Lowerer {
+impl Builder {
     /// A non-node field value of the innermost open node.
-    pub(super) fn field(
+    pub(in crate::vrml::lower) fn field(
         &mut self,
+        cx: &mut Ctx,
         src: &SourceWindow,
         name: &str,
         at: Pos,
@@ -116,7 +119,7 @@ impl Lowerer {
         if self.open.quiet > 0 {
             return Ok(());
         }
-        let Some((f, access)) = self.field_spec(src, name, at) else {
+        let Some((f, access)) = self.field_spec(cx, src, name, at) else {
             // (IndexedFaceSet and Coordinate frames have no table: their fields come here.)
             if let Some(Frame {
                 kind: k @ (Kind::Mesh(_) | Kind::MeshArray(..)),
@@ -129,7 +132,7 @@ impl Lowerer {
         };
         if is_event(access) {
             let ty = self.open.open_type();
-            warn_if_event(&mut self.diags, src, name, &ty, access, at);
+            warn_if_event(&mut cx.diags, src, name, &ty, access, at);
             return Ok(());
         }
         if f.ty.is_node() {
@@ -137,7 +140,7 @@ impl Lowerer {
                 return Ok(());
             }
             let ty = self.open.open_type();
-            return Err(self.diags.error(
+            return Err(cx.diags.error(
                 src,
                 at,
                 format!(
@@ -149,11 +152,11 @@ impl Lowerer {
         }
         if let Err(e) = schema::check_value(f.ty, &value) {
             let ty = self.open.open_type();
-            return Err(self
+            return Err(cx
                 .diags
                 .error(src, at, format!("field '{name}' of {ty} {e}")));
         }
-        self.apply_field(src, f.name, at, &value)
+        self.apply_field(cx, src, f.name, at, &value)
     }
 
     /// The field table entry for `name` in the innermost open standard node, with the access it
@@ -162,6 +165,7 @@ impl Lowerer {
     #[inline(always)]
     fn field_spec(
         &mut self,
+        cx: &mut Ctx,
         src: &SourceWindow,
         name: &str,
         at: Pos,
@@ -170,15 +174,16 @@ impl Lowerer {
         let found = frame.spec?.event(name);
         if found.is_none() {
             let ty = self.open.open_type();
-            self.diags
+            cx.diags
                 .warn(src, at, format!("unknown field '{name}' of {ty}: ignored"));
         }
         found
     }
 
     /// A node-valued field (SFNode or MFNode) starts: the nodes until its end stand in it.
-    pub(super) fn nodes_start(
+    pub(in crate::vrml::lower) fn nodes_start(
         &mut self,
+        cx: &mut Ctx,
         src: &SourceWindow,
         name: &str,
         at: Pos,
@@ -186,11 +191,11 @@ impl Lowerer {
         let idx = self.open.frames.len().saturating_sub(1);
         let mut known = None;
         if self.open.quiet == 0 {
-            if let Some((f, access)) = self.field_spec(src, name, at) {
+            if let Some((f, access)) = self.field_spec(cx, src, name, at) {
                 known = Some(f.name);
                 if !f.ty.is_node() {
                     let ty = self.open.open_type();
-                    return Err(self.diags.error(
+                    return Err(cx.diags.error(
                         src,
                         at,
                         format!(
@@ -201,7 +206,7 @@ impl Lowerer {
                 }
                 if is_event(access) {
                     let ty = self.open.open_type();
-                    warn_if_event(&mut self.diags, src, name, &ty, access, at);
+                    warn_if_event(&mut cx.diags, src, name, &ty, access, at);
                 }
             }
         }
@@ -219,6 +224,7 @@ impl Lowerer {
     #[inline(always)]
     fn apply_field(
         &mut self,
+        cx: &mut Ctx,
         src: &SourceWindow,
         name: &str,
         at: Pos,
@@ -266,7 +272,7 @@ impl Lowerer {
             Kind::Leaf(Leaf::Sphere { radius }) if name == "radius" => {
                 let r = num1(v);
                 if r <= 0.0 || !r.is_finite() {
-                    return Err(self.diags.error(
+                    return Err(cx.diags.error(
                         src,
                         at,
                         format!("Sphere radius must be positive, found {r}"),
@@ -276,7 +282,7 @@ impl Lowerer {
             }
             Kind::Leaf(Leaf::Solid(i)) => {
                 if let Err(e) = solid_field(&mut self.meshes.solids[*i as usize], name, v) {
-                    return Err(self.diags.error(src, at, e));
+                    return Err(cx.diags.error(src, at, e));
                 }
             }
             Kind::PointLight(l) => match name {
@@ -333,7 +339,7 @@ impl Lowerer {
             _ => {}
         }
         if let Some(p) = problem {
-            self.diags.warn(src, at, p);
+            cx.diags.warn(src, at, p);
         }
         Ok(())
     }

@@ -13,17 +13,40 @@ use glam::DVec3;
 
 use super::lights::DirLights;
 use super::meshes::{Array, Geom, MeshState};
-use super::proto::ProtoDecl;
-use super::record::Name;
 use super::transform::{Marks, TransformFields};
 use crate::scene::{DirectionalLight, Paint, PointLight, Viewpoint};
 use crate::source::Pos;
 use crate::vrml::schema;
 
+/// A node type or field name held while its node is open: the standard tables' own string
+/// when there is one (no allocation per node), a shared copy otherwise.
+#[derive(Clone, Debug)]
+pub(in crate::vrml::lower) enum Name {
+    Static(&'static str),
+    Shared(Rc<str>),
+}
+
+impl std::ops::Deref for Name {
+    type Target = str;
+    #[inline]
+    fn deref(&self) -> &str {
+        match self {
+            Name::Static(s) => s,
+            Name::Shared(s) => s,
+        }
+    }
+}
+
+impl std::fmt::Display for Name {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self)
+    }
+}
+
 /// The nodes that are closed in place, without moving their frame out (most nodes of a
 /// particle file: see `close`). Small and `Copy`.
 #[derive(Clone, Copy, Debug)]
-pub(super) enum Leaf {
+pub(in crate::vrml::lower) enum Leaf {
     Shape {
         appearance: Option<Option<Paint>>,
         geometry: Option<Geom>,
@@ -43,7 +66,7 @@ pub(super) enum Leaf {
 /// What an open node is lowered to. Large, rare payloads are boxed and a Material's fields
 /// live on `Materials::open`, so that a [`Frame`] stays within 128 bytes.
 #[derive(Debug)]
-pub(super) enum Kind {
+pub(in crate::vrml::lower) enum Kind {
     /// Group, Transform, Anchor, Billboard, Collision, Inline, and each file's root.
     Group {
         transform: Option<Box<TransformFields>>,
@@ -85,19 +108,17 @@ pub(super) enum Kind {
 
 /// An open node.
 #[derive(Debug)]
-pub(super) struct Frame {
-    pub(super) ty: Name,
-    pub(super) spec: Option<&'static schema::NodeSpec>,
-    /// The PROTO whose instance this is (interface used for field checks).
-    pub(super) proto: Option<Rc<ProtoDecl>>,
-    pub(super) kind: Kind,
-    pub(super) at: Pos,
+pub(in crate::vrml::lower) struct Frame {
+    pub(in crate::vrml::lower) ty: Name,
+    pub(in crate::vrml::lower) spec: Option<&'static schema::NodeSpec>,
+    pub(in crate::vrml::lower) kind: Kind,
+    pub(in crate::vrml::lower) at: Pos,
     /// This frame started a suppression (contents are not lowered).
-    pub(super) quiet: bool,
+    pub(in crate::vrml::lower) quiet: bool,
 }
 
 /// What a closed node hands to the field it stands in.
-pub(super) enum Result_ {
+pub(in crate::vrml::lower) enum Result_ {
     Nothing,
     Material(Paint),
     Appearance(Option<Paint>),
@@ -107,24 +128,24 @@ pub(super) enum Result_ {
 
 /// The node-valued field being filled, with the frame index that owns it.
 #[derive(Debug)]
-pub(super) struct FieldCtx {
-    pub(super) name: Name,
-    pub(super) frame: usize,
+pub(in crate::vrml::lower) struct FieldCtx {
+    pub(in crate::vrml::lower) name: Name,
+    pub(in crate::vrml::lower) frame: usize,
 }
 
 /// The open nodes and node-valued fields, innermost last.
 #[derive(Default)]
-pub(super) struct Open {
-    pub(super) frames: Vec<Frame>,
-    pub(super) fields: Vec<FieldCtx>,
+pub(in crate::vrml::lower) struct Open {
+    pub(in crate::vrml::lower) frames: Vec<Frame>,
+    pub(in crate::vrml::lower) fields: Vec<FieldCtx>,
     /// Open frames that suppress lowering (Skip / Quiet frames, PROTO declarations).
-    pub(super) quiet: u32,
+    pub(in crate::vrml::lower) quiet: u32,
 }
 
 impl Open {
     /// Pushes a frame of `kind` for a node of type `ty` (lowered, not suppressing).
     #[inline(always)]
-    pub(super) fn push(
+    pub(in crate::vrml::lower) fn push(
         &mut self,
         ty: Name,
         spec: Option<&'static schema::NodeSpec>,
@@ -134,7 +155,6 @@ impl Open {
         self.frames.push(Frame {
             ty,
             spec,
-            proto: None,
             kind,
             at,
             quiet: false,
@@ -142,7 +162,7 @@ impl Open {
     }
 
     /// Pushes a frame that suppresses lowering of its contents (`frame.quiet` is set).
-    pub(super) fn push_suppressing(&mut self, frame: Frame) {
+    pub(in crate::vrml::lower) fn push_suppressing(&mut self, frame: Frame) {
         debug_assert!(frame.quiet);
         self.frames.push(frame);
         self.quiet += 1;
@@ -150,7 +170,7 @@ impl Open {
 
     /// Pops the innermost frame as its node closes, undoing what [`Self::push_suppressing`]
     /// counted.
-    pub(super) fn pop_closing(&mut self) -> Frame {
+    pub(in crate::vrml::lower) fn pop_closing(&mut self) -> Frame {
         let frame = self.frames.pop().expect("a node closes while one is open");
         if frame.quiet {
             self.quiet -= 1;
@@ -159,11 +179,10 @@ impl Open {
     }
 
     /// Pushes a frame whose contents are recorded or ignored, not lowered.
-    pub(super) fn push_quiet(&mut self, ty: Name, at: Pos) {
+    pub(in crate::vrml::lower) fn push_quiet(&mut self, ty: Name, at: Pos) {
         self.push_suppressing(Frame {
             ty,
             spec: None,
-            proto: None,
             kind: Kind::Quiet,
             at,
             quiet: true,
@@ -171,14 +190,14 @@ impl Open {
     }
 
     /// The type of the innermost open node (for messages).
-    pub(super) fn open_type(&self) -> Name {
+    pub(in crate::vrml::lower) fn open_type(&self) -> Name {
         self.frames
             .last()
             .map_or(Name::Static(""), |f| f.ty.clone())
     }
 
     /// Whether the node starting now stands in a Shape's `geometry` field.
-    pub(super) fn in_shape_geometry(&self) -> bool {
+    pub(in crate::vrml::lower) fn in_shape_geometry(&self) -> bool {
         self.fields.last().is_some_and(|ctx| {
             &*ctx.name == "geometry"
                 && matches!(self.frames[ctx.frame].kind, Kind::Leaf(Leaf::Shape { .. }))
@@ -187,7 +206,7 @@ impl Open {
 
     /// The DirectionalLights of the innermost open grouping node (the scope of a
     /// DirectionalLight closing now).
-    pub(super) fn innermost_dirlights(&mut self) -> Option<&mut DirLights> {
+    pub(in crate::vrml::lower) fn innermost_dirlights(&mut self) -> Option<&mut DirLights> {
         self.frames
             .iter_mut()
             .rev()

@@ -24,18 +24,19 @@ use std::ops::Range;
 
 use super::proto::{GasFields, ProtoDecl};
 use super::record::Rec;
-use super::Lowerer;
+use super::Expander;
 use crate::error::Error;
 use crate::scene::profile::{Profile, ProfileError};
 use crate::source::{Pos, SourceWindow};
+use crate::vrml::lower::context::Ctx;
 use crate::vrml::schema::{Access, FieldType};
 use crate::vrml::syntax::{OwnedEvent, OwnedValue};
 
 /// The PROTO name that carries a profile.
-pub(super) const NAME: &str = "GasParticle";
+pub(in crate::vrml::lower) const NAME: &str = "GasParticle";
 
 /// A PROTO's profile fields, if it is a `GasParticle`.
-pub(super) fn recognise(decl: &ProtoDecl) -> Option<GasFields> {
+pub(in crate::vrml::lower) fn recognise(decl: &ProtoDecl) -> Option<GasFields> {
     if &*decl.name != NAME {
         return None;
     }
@@ -52,11 +53,12 @@ pub(super) fn recognise(decl: &ProtoDecl) -> Option<GasFields> {
     })
 }
 
-impl Lowerer {
+impl Expander {
     /// The profile an instance of a `GasParticle` gives (`values`: its values by interface
-    /// field, as `expand` found them).
-    pub(super) fn instance_profile(
+    /// field, as `instance` found them).
+    pub(in crate::vrml::lower) fn instance_profile(
         &mut self,
+        cx: &mut Ctx,
         src: &SourceWindow,
         proto: &ProtoDecl,
         gas: GasFields,
@@ -95,11 +97,11 @@ impl Lowerer {
                     (ProfileError::Width(_), Some((_, wat, _))) => wat,
                     _ => name_at,
                 };
-                self.diags.error(src, at, format!("{NAME}: {e}"))
+                cx.diags.error(src, at, format!("{NAME}: {e}"))
             })?;
         // (A width the PROTO's default gives is no one's mistake.)
         if let (Some(_), Some((_, wat, true))) = (ignored, width) {
-            self.diags.warn(
+            cx.diags.warn(
                 src,
                 wat,
                 format!("{NAME} width applies to the gaussian profile only: ignored"),

@@ -1,96 +1,29 @@
-//! Closing nodes: what happens at a node's `}`. Recordings that end there are registered (a
-//! DEF's name now means its events), a Switch choice is kept for its Switch and a PROTO
-//! instance is expanded; otherwise the node's frame becomes what it lowers to. Leaves
-//! (Shape, Appearance, Material, Sphere: most nodes of a particle file) are closed in place
-//! without moving their frame out; grouping nodes apply their matrix and light scope to what
-//! was lowered inside them; and a closed node hands its result ([`Result_`]) to the field it
-//! stands in.
+//! Closing nodes: what a node's frame becomes at its `}`. Leaves (Shape, Appearance,
+//! Material, Sphere: most nodes of a particle file) are closed in place without moving their
+//! frame out; grouping nodes apply their matrix and light scope to what was lowered inside
+//! them; and a closed node hands its result ([`Result_`]) to the field it stands in.
 
 use glam::{DAffine3, DVec3};
 
 use super::meshes::Geom;
 use super::open::{Frame, Kind, Leaf, Result_};
-use super::record::{Done, Rec, RecKind};
-use super::scope::DefEntry;
-use super::Lowerer;
+use super::Builder;
 use crate::error::Error;
 use crate::geom::shapes::Solid;
 use crate::scene::{Paint, Sphere, Surface, SurfaceShape};
 use crate::source::{Pos, SourceWindow};
-use crate::vrml::syntax::OwnedEvent;
+use crate::vrml::lower::context::Ctx;
 
 /// The first NavigationInfo and Background are bound; later ones are ignored.
 #[derive(Default)]
-pub(super) struct Bound {
-    pub(super) navigation_info: bool,
-    pub(super) background: bool,
+pub(in crate::vrml::lower) struct Bound {
+    pub(in crate::vrml::lower) navigation_info: bool,
+    pub(in crate::vrml::lower) background: bool,
 }
 
-impl Lowerer {
-    /// A node's `}`; `done` are the recordings that ended with it.
-    pub(super) fn node_end(&mut self, src: &SourceWindow, done: Done) -> Result<(), Error> {
-        if done.is_empty() && self.open.quiet == 0 {
-            if let Some(result) = self.close_top_leaf() {
-                self.deliver(result);
-                return Ok(());
-            }
-        }
-        // Register DEFs first: the node is complete.
-        let mut instance = None;
-        let mut choice = None;
-        let mut done = done;
-        for (kind, range) in done.drain(..) {
-            match kind {
-                RecKind::Def(name) if self.rec.proto_decls == 0 => {
-                    let ty = match &self.rec.arena[range.start] {
-                        Rec::Ev(OwnedEvent::NodeStart { ty, .. }) => ty.clone(),
-                        _ => std::rc::Rc::from("?"),
-                    };
-                    let end = range.end;
-                    self.scopes.define(name, DefEntry { range, ty });
-                    self.rec.pinned = self.rec.pinned.max(end);
-                }
-                RecKind::Instance => instance = Some(range),
-                RecKind::Choice => choice = Some(range),
-                _ => {}
-            }
-        }
-        self.rec.hand_back(done);
-        let frame = self.open.pop_closing();
-        if let Some(range) = choice {
-            if let Some(Frame {
-                kind: Kind::Switch { choices, .. },
-                ..
-            }) = self.open.frames.last_mut()
-            {
-                choices.push(range);
-            }
-            return Ok(());
-        }
-        if let Some(range) = instance {
-            if let Some(proto) = frame.proto.clone() {
-                self.expand(src, proto, range.clone(), frame.at)?;
-                // The instance's recording is no longer needed unless a DEF refers into it.
-                self.rec.release(range.start);
-            }
-            return Ok(());
-        }
-        if self.open.quiet > 0 || matches!(frame.kind, Kind::Quiet | Kind::Skip) {
-            let result = if matches!(frame.kind, Kind::Skip) && self.open.quiet == 0 {
-                Result_::Geometry(Geom::Other)
-            } else {
-                Result_::Nothing
-            };
-            self.deliver(result);
-            return Ok(());
-        }
-        let result = self.close(src, frame)?;
-        self.deliver(result);
-        Ok(())
-    }
-
+impl Builder {
     /// Hands a closed node's result to the field it stands in.
-    pub(super) fn deliver(&mut self, result: Result_) {
+    pub(in crate::vrml::lower) fn deliver(&mut self, result: Result_) {
         let Some(ctx) = self.open.fields.last() else {
             return;
         };
@@ -107,7 +40,7 @@ impl Lowerer {
             }
             // (Coordinate frames open only in an IndexedFaceSet's `coord`.)
             (Kind::Mesh(m), _, Result_::MeshArray(which, slot)) => {
-                Lowerer::take_array(m, which, slot)
+                Builder::take_array(m, which, slot)
             }
             _ => {}
         }
@@ -116,25 +49,25 @@ impl Lowerer {
     /// Closes the innermost node in place if it is a leaf: what `close` does for it, without
     /// moving the frame out (these are most nodes).
     #[inline(always)]
-    pub(super) fn close_top_leaf(&mut self) -> Option<Result_> {
+    pub(in crate::vrml::lower) fn close_top_leaf(&mut self, cx: &mut Ctx) -> Option<Result_> {
         let frame = self.open.frames.last()?;
         let Kind::Leaf(leaf) = frame.kind else {
             return None;
         };
         let at = frame.at;
         self.open.frames.truncate(self.open.frames.len() - 1);
-        Some(self.close_leaf(leaf, at))
+        Some(self.close_leaf(cx, leaf, at))
     }
 
     /// What a leaf node lowers to when it closes (a Shape: a sphere, if its geometry is one).
     #[inline(always)]
-    fn close_leaf(&mut self, leaf: Leaf, at: Pos) -> Result_ {
+    fn close_leaf(&mut self, cx: &mut Ctx, leaf: Leaf, at: Pos) -> Result_ {
         match leaf {
             Leaf::Shape {
                 appearance,
                 geometry,
             } => {
-                self.shape_geometry(appearance, geometry);
+                self.shape_geometry(cx, appearance, geometry);
                 Result_::Nothing
             }
             Leaf::Appearance { material } => Result_::Appearance(material),
@@ -144,51 +77,45 @@ impl Lowerer {
         }
     }
 
-    /// What a node lowers to when it closes.
-    fn close(&mut self, src: &SourceWindow, frame: Frame) -> Result<Result_, Error> {
+    /// What a node lowers to when it closes. (An Inline, and a Switch with a choice to show,
+    /// are the expander's: they read a file or replay a recording first.)
+    pub(in crate::vrml::lower) fn close(
+        &mut self,
+        cx: &mut Ctx,
+        src: &SourceWindow,
+        frame: Frame,
+    ) -> Result<Result_, Error> {
         let at = frame.at;
         Ok(match frame.kind {
-            Kind::Group {
-                inline_urls: Some(_),
-                ..
-            } => {
-                self.close_inline(src, frame)?;
-                Result_::Nothing
-            }
             Kind::Switch {
                 which, ref choices, ..
             } => {
-                let chosen = usize::try_from(which)
-                    .ok()
-                    .and_then(|w| choices.get(w))
-                    .cloned();
                 let n = choices.len();
-                if let Some(range) = chosen {
-                    self.open.frames.push(frame);
-                    self.replay_reused(src, range, at, "Switch choice")?;
-                    let frame = self.open.frames.pop().expect("switch frame");
-                    self.close_group_like(src, frame.kind, at)?;
-                } else {
-                    if which >= 0 && which as usize >= n {
-                        self.diags.warn(src, at, format!("Switch whichChoice {which} is out of range (0..{n}): nothing shown"));
-                    }
-                    self.close_group_like(src, frame.kind, at)?;
+                if which >= 0 && which as usize >= n {
+                    cx.diags.warn(
+                        src,
+                        at,
+                        format!(
+                            "Switch whichChoice {which} is out of range (0..{n}): nothing shown"
+                        ),
+                    );
                 }
+                self.close_group_like(cx, src, frame.kind, at)?;
                 Result_::Nothing
             }
             k @ (Kind::Group { .. } | Kind::Lod { .. }) => {
-                self.close_group_like(src, k, at)?;
+                self.close_group_like(cx, src, k, at)?;
                 Result_::Nothing
             }
-            Kind::Leaf(leaf) => self.close_leaf(leaf, at),
-            Kind::Mesh(m) => self.close_mesh(src, &m, at)?,
+            Kind::Leaf(leaf) => self.close_leaf(cx, leaf, at),
+            Kind::Mesh(m) => self.close_mesh(cx, src, &m, at)?,
             Kind::MeshArray(which, slot) => Result_::MeshArray(which, slot),
             Kind::PointLight(l) => {
                 self.close_point_light(*l);
                 Result_::Nothing
             }
             Kind::DirectionalLight(l) => {
-                self.close_directional_light(src, *l, at);
+                self.close_directional_light(cx, src, *l, at);
                 Result_::Nothing
             }
             Kind::Viewpoint(v) => {
@@ -215,8 +142,9 @@ impl Lowerer {
 
     /// Closes a grouping node: its matrix applies to everything lowered since it opened, and
     /// its DirectionalLights light exactly that range.
-    pub(super) fn close_group_like(
+    pub(in crate::vrml::lower) fn close_group_like(
         &mut self,
+        cx: &mut Ctx,
         src: &SourceWindow,
         kind: Kind,
         at: Pos,
@@ -240,22 +168,27 @@ impl Lowerer {
         let Some(t) = transform else {
             return Ok(());
         };
-        let result = self.close_transform(src, &t, marks, at);
+        let result = self.close_transform(cx, src, &t, marks, at);
         self.transforms.give_back(t);
         result
     }
 
     /// A closed Shape: a sphere if its geometry is one, in the object space of its Transforms.
     #[inline(always)]
-    fn shape_geometry(&mut self, appearance: Option<Option<Paint>>, geometry: Option<Geom>) {
+    fn shape_geometry(
+        &mut self,
+        cx: &mut Ctx,
+        appearance: Option<Option<Paint>>,
+        geometry: Option<Geom>,
+    ) {
         let paint = match appearance {
             Some(Some(m)) => m,
             _ => self.materials.unlit,
         };
         let (center, radius, sat) = match geometry {
             Some(Geom::Sphere(radius, sat)) => (DVec3::ZERO, radius, sat),
-            Some(Geom::Solid(solid, sat)) => return self.shape_solid(solid, paint, sat),
-            Some(Geom::Mesh(i, sat)) => return self.shape_mesh(i, paint, sat),
+            Some(Geom::Solid(solid, sat)) => return self.shape_solid(cx, solid, paint, sat),
+            Some(Geom::Mesh(i, sat)) => return self.shape_mesh(cx, i, paint, sat),
             _ => return,
         };
         self.scene.spheres.push(Sphere {
@@ -264,14 +197,14 @@ impl Lowerer {
             color: paint.color,
             material: paint.material,
             ellipsoid: None,
-            origin: self.origin(sat),
+            origin: cx.origin(sat),
         });
     }
 
     /// A Shape whose geometry is a Box, Cylinder or Cone.
     #[cold]
     #[inline(never)]
-    fn shape_solid(&mut self, i: u32, paint: Paint, at: Pos) {
+    fn shape_solid(&mut self, cx: &mut Ctx, i: u32, paint: Paint, at: Pos) {
         let Some(&solid) = self.meshes.solids.get(i as usize) else {
             return;
         };
@@ -279,8 +212,8 @@ impl Lowerer {
             // Read and drawn: the common case keeps the list short.
             self.meshes.solids.pop();
         }
-        if self.opts.spheres_only {
-            self.diags.skip(match solid {
+        if cx.opts.spheres_only {
+            cx.diags.skip(match solid {
                 Solid::Cuboid { .. } => "Box",
                 Solid::Cylinder { .. } => "Cylinder",
                 Solid::Cone { .. } => "Cone",
@@ -294,7 +227,7 @@ impl Lowerer {
             },
             color: paint.color,
             material: paint.material,
-            origin: self.origin(at),
+            origin: cx.origin(at),
         });
     }
 
@@ -302,11 +235,11 @@ impl Lowerer {
     /// colours) and its triangles.
     #[cold]
     #[inline(never)]
-    fn shape_mesh(&mut self, i: u32, paint: Paint, at: Pos) {
+    fn shape_mesh(&mut self, cx: &mut Ctx, i: u32, paint: Paint, at: Pos) {
         let Some(parts) = self.mesh_parts_for_shape(i) else {
             return;
         };
-        let origin = self.origin(at);
+        let origin = cx.origin(at);
         for &(center, radius, colour) in &parts.spheres {
             let color = match colour {
                 Some(c) => self.scene.materials.add_color(c),

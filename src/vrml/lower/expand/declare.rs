@@ -13,20 +13,24 @@ use std::rc::Rc;
 
 use hashbrown::HashMap;
 
-use super::fields::warn_if_event;
 use super::gas_particle;
 use super::proto::{InterfaceField, ProtoDecl};
 use super::record::{value_end, Rec};
 use super::template;
-use super::Lowerer;
+use super::Expander;
 use crate::error::Error;
 use crate::source::SourceWindow;
+use crate::vrml::lower::build::fields::warn_if_event;
+use crate::vrml::lower::build::Builder;
+use crate::vrml::lower::context::Ctx;
 use crate::vrml::schema::{self, Access, FieldType};
 use crate::vrml::syntax::{OwnedEvent, OwnedValue};
 
-impl Lowerer {
-    pub(super) fn declare_proto(
+impl Expander {
+    pub(in crate::vrml::lower) fn declare_proto(
         &mut self,
+        cx: &mut Ctx,
+        b: &mut Builder,
         src: &SourceWindow,
         range: Range<usize>,
     ) -> Result<(), Error> {
@@ -52,17 +56,17 @@ impl Lowerer {
                     at,
                 }) => {
                     let access_k = Access::from_keyword(access).ok_or_else(|| {
-                        self.diags
+                        cx.diags
                             .error(src, *at, format!("unknown access type '{access}'"))
                     })?;
                     let fty = FieldType::from_name(ty).ok_or_else(|| {
-                        self.diags
+                        cx.diags
                             .error(src, *at, format!("unknown field type '{ty}'"))
                     })?;
                     let fname = fname.clone();
                     let dat = *at;
                     if fields.iter().any(|f| f.name == fname) {
-                        self.diags
+                        cx.diags
                             .warn(src, dat, format!("PROTO {name} declares '{fname}' twice"));
                     }
                     let mut default = None;
@@ -74,14 +78,14 @@ impl Lowerer {
                             self.rec.arena.get(vstart)
                         {
                             if let Err(e) = schema::check_value(fty, &value.as_value()) {
-                                return Err(self.diags.error(
+                                return Err(cx.diags.error(
                                     src,
                                     *vat,
                                     format!("default of '{fname}' {e}"),
                                 ));
                             }
                         }
-                        self.resolve_default_uses(src, vstart..vend)?;
+                        self.resolve_default_uses(cx, src, vstart..vend)?;
                         default = Some(vstart..vend);
                         i = vend - 1;
                     }
@@ -113,7 +117,7 @@ impl Lowerer {
                         .iter()
                         .any(|g| &*g.name == b && g.access == Access::ExposedField)
                     {
-                        self.diags.warn(
+                        cx.diags.warn(
                             src,
                             at,
                             format!(
@@ -138,7 +142,7 @@ impl Lowerer {
             home: None,
         };
         if let Some(b) = decl.body.clone() {
-            self.check_body(src, &decl, b.clone())?;
+            self.check_body(cx, src, &decl, b.clone())?;
             decl.body_events = self.rec.arena[b].into();
             let mut is = Vec::with_capacity(decl.body_events.len());
             let (mut depth, mut protos) = (0i32, 0i32);
@@ -183,7 +187,7 @@ impl Lowerer {
                 Some(Rec::Ev(OwnedEvent::ProtoEnd { urls, .. })) => urls.clone(),
                 _ => Rc::from([]),
             };
-            if let Some(imported) = self.import_proto(src, &name, &decl.fields, &urls, at)? {
+            if let Some(imported) = self.import_proto(cx, b, src, &name, &decl.fields, &urls, at)? {
                 decl = imported;
             }
         } else {
@@ -206,6 +210,7 @@ impl Lowerer {
     /// own, so a USE of a DEF in another field's default is an error (OpenVRML's test suite).
     fn resolve_default_uses(
         &mut self,
+        cx: &mut Ctx,
         src: &SourceWindow,
         range: Range<usize>,
     ) -> Result<(), Error> {
@@ -237,7 +242,7 @@ impl Lowerer {
                         None => {
                             let msg =
                                 format!("USE of undefined name '{name}' in a PROTO field default");
-                            return Err(self.diags.error(src, at, msg));
+                            return Err(cx.diags.error(src, at, msg));
                         }
                     }
                 }
@@ -251,6 +256,7 @@ impl Lowerer {
     /// fit the body field (VRML97 4.8.3, Table 4.4).
     fn check_body(
         &mut self,
+        cx: &mut Ctx,
         src: &SourceWindow,
         decl: &ProtoDecl,
         body: Range<usize>,
@@ -275,7 +281,7 @@ impl Lowerer {
                     value: OwnedValue::Is(target),
                 } => {
                     let Some(iface) = decl.field(target) else {
-                        return Err(self.diags.error(
+                        return Err(cx.diags.error(
                             src,
                             *at,
                             format!(
@@ -294,7 +300,7 @@ impl Lowerer {
                         continue;
                     };
                     if f.ty != iface.ty {
-                        return Err(self.diags.error(
+                        return Err(cx.diags.error(
                             src,
                             *at,
                             format!(
@@ -313,7 +319,7 @@ impl Lowerer {
                         }
                     };
                     if !ok {
-                        self.diags.warn(
+                        cx.diags.warn(
                             src,
                             *at,
                             format!(
@@ -332,7 +338,7 @@ impl Lowerer {
                         continue;
                     };
                     if let Some((_, access)) = spec.event(name) {
-                        warn_if_event(&mut self.diags, src, name, node_ty, access, *at);
+                        warn_if_event(&mut cx.diags, src, name, node_ty, access, *at);
                     }
                 }
                 _ => {}

@@ -14,36 +14,12 @@ use std::rc::Rc;
 use hashbrown::HashSet;
 
 use crate::source::Pos;
+use crate::vrml::lower::build::open::Name;
 use crate::vrml::syntax::{Event, OwnedEvent};
-
-/// A node type or field name held while its node is open: the standard tables' own string
-/// when there is one (no allocation per node), a shared copy otherwise.
-#[derive(Clone, Debug)]
-pub(super) enum Name {
-    Static(&'static str),
-    Shared(Rc<str>),
-}
-
-impl std::ops::Deref for Name {
-    type Target = str;
-    #[inline]
-    fn deref(&self) -> &str {
-        match self {
-            Name::Static(s) => s,
-            Name::Shared(s) => s,
-        }
-    }
-}
-
-impl std::fmt::Display for Name {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self)
-    }
-}
 
 /// An event in the arena: as written, or a USE already resolved to the recording it names.
 #[derive(Clone, Debug)]
-pub(super) enum Rec {
+pub(in crate::vrml::lower) enum Rec {
     Ev(OwnedEvent),
     /// A USE resolved when it was recorded (later redefinitions do not change what it means).
     Used {
@@ -54,7 +30,7 @@ pub(super) enum Rec {
 
 /// What an active recording is for.
 #[derive(Debug)]
-pub(super) enum RecKind {
+pub(in crate::vrml::lower) enum RecKind {
     Def(Rc<str>),
     ProtoDecl,
     /// A node inside a Switch's `choice`: kept for replay when the Switch closes.
@@ -64,29 +40,29 @@ pub(super) enum RecKind {
 }
 
 #[derive(Debug)]
-pub(super) struct Recorder {
-    pub(super) start: usize,
+pub(in crate::vrml::lower) struct Recorder {
+    pub(in crate::vrml::lower) start: usize,
     /// Open nodes (or PROTOs for a ProtoDecl) inside the recording; it ends when this returns to 0.
-    pub(super) depth: u32,
-    pub(super) kind: RecKind,
+    pub(in crate::vrml::lower) depth: u32,
+    pub(in crate::vrml::lower) kind: RecKind,
 }
 
 /// Recordings set aside while another file is read (see [`Recording::set_aside`]).
-pub(super) struct SetAside {
+pub(in crate::vrml::lower) struct SetAside {
     recorders: Vec<Recorder>,
     /// The arena's length when they were set aside.
     from: usize,
 }
 
 /// Recordings that ended at one event, with the arena range each recorded.
-pub(super) type Done = Vec<(RecKind, Range<usize>)>;
+pub(in crate::vrml::lower) type Done = Vec<(RecKind, Range<usize>)>;
 
 /// Slots of [`Interner::recent`].
 const RECENT_NAMES: usize = 16;
 
 /// Shared copies of node type and field names (DEF names are not kept here).
 #[derive(Default)]
-pub(super) struct Interner {
+pub(in crate::vrml::lower) struct Interner {
     names: HashSet<Rc<str>>,
     /// The last name met in each slot of a small cache in front of `names`.
     recent: [Option<Rc<str>>; RECENT_NAMES],
@@ -94,7 +70,7 @@ pub(super) struct Interner {
 
 impl Interner {
     /// A shared copy of `name`.
-    pub(super) fn rc(&mut self, name: &str) -> Rc<str> {
+    pub(in crate::vrml::lower) fn rc(&mut self, name: &str) -> Rc<str> {
         // The same few names come back in turn (one PROTO instance after another): a small
         // direct-mapped cache answers most of them without hashing.
         let b = name.as_bytes();
@@ -119,31 +95,31 @@ impl Interner {
 
 /// The event arena and the recordings under way.
 #[derive(Default)]
-pub(super) struct Recording {
-    pub(super) arena: Vec<Rec>,
+pub(in crate::vrml::lower) struct Recording {
+    pub(in crate::vrml::lower) arena: Vec<Rec>,
     /// Arena entries below this are referenced by DEFs or PROTOs and must stay.
-    pub(super) pinned: usize,
-    pub(super) recorders: Vec<Recorder>,
+    pub(in crate::vrml::lower) pinned: usize,
+    pub(in crate::vrml::lower) recorders: Vec<Recorder>,
     /// Open PROTO declarations being recorded (their contents are neither lowered nor checked).
-    pub(super) proto_decls: u32,
+    pub(in crate::vrml::lower) proto_decls: u32,
     /// Node type and field names of recorded events, shared (no allocation per recorded event).
-    pub(super) names: Interner,
+    pub(in crate::vrml::lower) names: Interner,
     /// A buffer for the recordings that end at one event (see `end_slow`).
     done_buf: Done,
     /// A PROTO instance is being read into its template (`direct`): its events go there.
-    pub(super) direct: bool,
+    pub(in crate::vrml::lower) direct: bool,
 }
 
 impl Recording {
     /// Nothing is being recorded, no PROTO declaration is open and no instance is read into
     /// its template: events of plain scene text may take the fast path (see `dispatch`).
     #[inline(always)]
-    pub(super) fn idle(&self) -> bool {
+    pub(in crate::vrml::lower) fn idle(&self) -> bool {
         self.recorders.is_empty() && self.proto_decls == 0 && !self.direct
     }
 
     /// Appends `ev` to the arena if anything is recording.
-    pub(super) fn record(&mut self, ev: &Event) {
+    pub(in crate::vrml::lower) fn record(&mut self, ev: &Event) {
         if self.recorders.is_empty() {
             return;
         }
@@ -169,7 +145,7 @@ impl Recording {
 
     /// Called after an event has been handled: closes recorders whose node (or PROTO) ended.
     #[inline]
-    pub(super) fn end(&mut self, ev: &Event) -> Done {
+    pub(in crate::vrml::lower) fn end(&mut self, ev: &Event) -> Done {
         if self.recorders.is_empty() {
             return Vec::new();
         }
@@ -177,7 +153,7 @@ impl Recording {
     }
 
     /// [`Self::end`] when something is recording.
-    pub(super) fn end_slow(&mut self, ev: &Event) -> Done {
+    pub(in crate::vrml::lower) fn end_slow(&mut self, ev: &Event) -> Done {
         let mut done = Vec::new();
         let (open, close) = match ev {
             Event::NodeStart { .. } => (true, false),
@@ -213,14 +189,14 @@ impl Recording {
     }
 
     /// Takes back the (emptied) buffer that [`Self::end`] handed out, for the next time.
-    pub(super) fn hand_back(&mut self, done: Done) {
+    pub(in crate::vrml::lower) fn hand_back(&mut self, done: Done) {
         if done.capacity() > 0 {
             self.done_buf = done;
         }
     }
 
     /// Drops arena entries that nothing refers to (after a PROTO instance or Switch choice).
-    pub(super) fn release(&mut self, from: usize) {
+    pub(in crate::vrml::lower) fn release(&mut self, from: usize) {
         if self.recorders.is_empty() {
             let keep = from.max(self.pinned);
             if keep < self.arena.len() {
@@ -231,7 +207,7 @@ impl Recording {
 
     /// Starts recording a DEF'd node whose NodeStart is being handled (and was recorded just
     /// before, if anything was recording).
-    pub(super) fn start_def(&mut self, def: &Rc<str>, ty: &str, at: Pos) {
+    pub(in crate::vrml::lower) fn start_def(&mut self, def: &Rc<str>, ty: &str, at: Pos) {
         let start = if self.recorders.is_empty() {
             self.arena.push(Rec::Ev(OwnedEvent::NodeStart {
                 def: Some(def.clone()),
@@ -250,7 +226,13 @@ impl Recording {
     }
 
     /// Starts a recorder of `kind` whose first event is the NodeStart just handled.
-    pub(super) fn start_here(&mut self, ty: &Name, def: Option<&str>, at: Pos, kind: RecKind) {
+    pub(in crate::vrml::lower) fn start_here(
+        &mut self,
+        ty: &Name,
+        def: Option<&str>,
+        at: Pos,
+        kind: RecKind,
+    ) {
         let start = if self.recorders.is_empty() {
             let ty = match ty {
                 Name::Shared(rc) => rc.clone(),
@@ -278,7 +260,7 @@ impl Recording {
     }
 
     /// Starts recording a PROTO declaration at its ProtoStart event (outside any other).
-    pub(super) fn start_proto_decl(&mut self, ev: &Event) {
+    pub(in crate::vrml::lower) fn start_proto_decl(&mut self, ev: &Event) {
         self.recorders.push(Recorder {
             start: self.arena.len() - usize::from(!self.recorders.is_empty()),
             depth: 0,
@@ -291,7 +273,7 @@ impl Recording {
 
     /// Sets the recordings under way aside while another file is read inside them (an
     /// external PROTO's file): its events are its own, not theirs.
-    pub(super) fn set_aside(&mut self) -> SetAside {
+    pub(in crate::vrml::lower) fn set_aside(&mut self) -> SetAside {
         SetAside {
             recorders: std::mem::take(&mut self.recorders),
             from: self.arena.len(),
@@ -302,7 +284,7 @@ impl Recording {
     /// arena meanwhile is not theirs, and each recording must stay one range: the part they
     /// had recorded is copied after it, and they go on from the copy (the earlier copy stays,
     /// for what already refers into it).
-    pub(super) fn resume(&mut self, aside: SetAside) {
+    pub(in crate::vrml::lower) fn resume(&mut self, aside: SetAside) {
         let mut recorders = aside.recorders;
         if let Some(first) = recorders.iter().map(|r| r.start).min() {
             if self.arena.len() > aside.from {
@@ -317,7 +299,7 @@ impl Recording {
     }
 
     /// Whether a Switch choice is being recorded (a node inside it is part of that choice).
-    pub(super) fn in_choice(&self) -> bool {
+    pub(in crate::vrml::lower) fn in_choice(&self) -> bool {
         self.recorders
             .iter()
             .any(|r| matches!(r.kind, RecKind::Choice))
@@ -325,7 +307,7 @@ impl Recording {
 }
 
 /// The end (exclusive) of the value that starts at `i`: one Field, or NodesStart .. NodesEnd.
-pub(super) fn value_end(arena: &[Rec], i: usize) -> usize {
+pub(in crate::vrml::lower) fn value_end(arena: &[Rec], i: usize) -> usize {
     match arena.get(i) {
         Some(Rec::Ev(OwnedEvent::NodesStart { .. })) => {
             let mut depth = 0;
