@@ -110,18 +110,16 @@ fn piece_ranges(codes: &[u64], piece: usize) -> Vec<Range<usize>> {
     if cells.len() <= MAX_PIECES {
         return cells;
     }
-    let n = codes.len();
-    let per = n.div_ceil(MAX_PIECES);
+    let (n, per) = (codes.len(), codes.len().div_ceil(MAX_PIECES));
     (0..n)
         .step_by(per)
         .map(|at| at..(at + per).min(n))
         .collect()
 }
 
-/// [`radix_sort`] as far as [`chunk_ranges`] needs, then the chunks: the same as a full sort
-/// gives, each chunk with the same primitives. Where the cells give too many chunks and
-/// [`chunk_ranges`] falls back to fixed counts, which cut inside cells, the sort is finished
-/// first.
+/// [`radix_sort`] as far as [`chunk_ranges`] needs, then the chunks: those a full sort gives.
+/// Where the cells give too many chunks and [`chunk_ranges`] falls back to fixed counts,
+/// which cut inside cells, the sort is finished first.
 fn sort_and_cut(prims: &mut [Packed], codes: &mut [u64], per_chunk: usize) -> Vec<Range<usize>> {
     radix_sort(prims, codes, 56, per_chunk);
     cell_ranges(codes, per_chunk).unwrap_or_else(|| {
