@@ -172,7 +172,7 @@ struct Cap {
 pub fn covered_with_stats(n: V3, caps: &[(V3, f64)], weight: Weight) -> (f64, Stats) {
     let n = normalize(n);
     let (e1, e2) = basis(n);
-    let mut stats = Stats::default();
+    let stats = Stats::default();
 
     let mut cs: Vec<Cap> = Vec::with_capacity(caps.len());
     for &(axis, c) in caps {
@@ -211,7 +211,18 @@ pub fn covered_with_stats(n: V3, caps: &[(V3, f64)], weight: Weight) -> (f64, St
         buf: Vec::with_capacity(cs.len()),
     };
 
-    // Sum the sub-interval integrals with Neumaier (compensated) summation.
+    integrate_azimuth(&bps, &mut eval, weight, stats)
+}
+
+/// The integral of `eval` over the azimuth, between each breakpoint of `bps` and the next
+/// (round the circle), summed with Neumaier (compensated) summation, as a covered fraction
+/// under `weight`.
+fn integrate_azimuth(
+    bps: &[f64],
+    eval: &mut Integrand<'_>,
+    weight: Weight,
+    mut stats: Stats,
+) -> (f64, Stats) {
     let (mut sum, mut comp) = (0.0f64, 0.0f64);
     for i in 0..bps.len() {
         let a = bps[i];

@@ -16,7 +16,7 @@ pub fn covered_with_triangles(
 ) -> (f64, Stats) {
     let n = normalize(n);
     let (e1, e2) = basis(n);
-    let mut stats = Stats::default();
+    let stats = Stats::default();
     let frame = |axis: V3, c: f64| {
         let axis = normalize(axis);
         Cap {
@@ -100,29 +100,7 @@ pub fn covered_with_triangles(
         weight,
         buf: Vec::with_capacity(cs.len() + tris.len()),
     };
-    let (mut sum, mut comp) = (0.0f64, 0.0f64);
-    for i in 0..bps.len() {
-        let a = bps[i];
-        let b = if i + 1 < bps.len() {
-            bps[i + 1]
-        } else {
-            bps[0] + TAU
-        };
-        let v = tanh_sinh(|p| eval.f(p), a, b, &mut stats);
-        let t = sum + v;
-        comp += if sum.abs() >= v.abs() {
-            (sum - t) + v
-        } else {
-            (v - t) + sum
-        };
-        sum = t;
-    }
-    let total = sum + comp;
-    let result = match weight {
-        Weight::Cosine => total / PI,
-        Weight::Uniform => total / TAU,
-    };
-    (result, stats)
+    integrate_azimuth(&bps, &mut eval, weight, stats)
 }
 
 /// The polar angles `[t0, t1]` (within `[0, pi/2]`) of the directions of the meridian of

@@ -27,18 +27,7 @@ fn random_mixed_scenes_match_the_reference() {
                 0.5 * side + 0.8 * ((5.0 * u).sin() + (4.0 * v).cos()),
             )
         };
-        for i in 0..3 {
-            for j in 0..3 {
-                let (a, b, c, d) = (
-                    grid(i, j),
-                    grid(i + 1, j),
-                    grid(i + 1, j + 1),
-                    grid(i, j + 1),
-                );
-                triangles.push([a, b, c]);
-                triangles.push([a, c, d]);
-            }
-        }
+        tessellate(3, &grid, &mut triangles);
         for _ in 0..4 {
             let c = DVec3::new(rng.next(), rng.next(), rng.next()) * side;
             triangles.push(std::array::from_fn(|_| c + rng.unit() * (0.5 + rng.next())));
@@ -217,18 +206,7 @@ fn random_scenes_with_triangles_and_boxes_render_as_the_reference_says() {
             )
         };
         let mut triangles = Vec::new();
-        for i in 0..2 {
-            for j in 0..2 {
-                let (a, b, c, d) = (
-                    grid(i, j),
-                    grid(i + 1, j),
-                    grid(i + 1, j + 1),
-                    grid(i, j + 1),
-                );
-                triangles.push([a, b, c]);
-                triangles.push([a, c, d]);
-            }
-        }
+        tessellate(2, &grid, &mut triangles);
         let boxes = (0..3)
             .map(|_| {
                 let (half, to_world) = skewed_box(
@@ -276,18 +254,7 @@ fn points_on_a_mesh_near_its_edges_and_off_its_plane_by_rounding() {
         DVec3::new(u, 0.3 * (2.0 * u).sin() + 0.25 * (1.7 * v).cos(), v)
     };
     let mut triangles = Vec::new();
-    for i in 0..4 {
-        for j in 0..4 {
-            let (a, b, c, d) = (
-                grid(i, j),
-                grid(i + 1, j),
-                grid(i + 1, j + 1),
-                grid(i, j + 1),
-            );
-            triangles.push([a, b, c]);
-            triangles.push([a, c, d]);
-        }
-    }
+    tessellate(4, &grid, &mut triangles);
     let occ = Occluders {
         spheres: vec![(DVec3::new(1.4, 1.2, 1.4), 0.5)],
         triangles,
@@ -353,4 +320,21 @@ fn points_on_a_mesh_near_its_edges_and_off_its_plane_by_rounding() {
         "points on a mesh near its edges: worst {worst:e}, {worst_ratio:.3} of the bound \
          ({unconverged_near_corners} pieces of the reference unconverged near corners)"
     );
+}
+
+/// Adds to `triangles` the `cells` x `cells` squares of the grid of points `grid(i, j)`, each
+/// as two triangles sharing its diagonal.
+fn tessellate(cells: usize, grid: &dyn Fn(usize, usize) -> DVec3, triangles: &mut Vec<[DVec3; 3]>) {
+    for i in 0..cells {
+        for j in 0..cells {
+            let (a, b, c, d) = (
+                grid(i, j),
+                grid(i + 1, j),
+                grid(i + 1, j + 1),
+                grid(i, j + 1),
+            );
+            triangles.push([a, b, c]);
+            triangles.push([a, c, d]);
+        }
+    }
 }
