@@ -376,31 +376,7 @@ fn breakpoints(n: V3, e1: V3, e2: V3, caps: &[Cap]) -> Vec<f64> {
         }
     }
 
-    let mut p: Vec<f64> = p
-        .into_iter()
-        .filter(|v| v.is_finite())
-        .map(|v| {
-            let w = v.rem_euclid(TAU);
-            if w >= TAU {
-                0.0
-            } else {
-                w
-            }
-        })
-        .collect();
-    p.sort_unstable_by(|a, b| a.total_cmp(b));
-    // Drop (near-)duplicates: sub-intervals shorter than 1e-14 carry nothing, and moving a
-    // breakpoint by < 1e-14 changes the quadrature error by O((1e-14)^1.5).
-    let mut out: Vec<f64> = Vec::with_capacity(p.len());
-    for v in p {
-        if out.last().is_none_or(|&l| v - l > 1e-14) {
-            out.push(v);
-        }
-    }
-    while out.len() > 1 && out[0] + TAU - out[out.len() - 1] <= 1e-14 {
-        out.pop();
-    }
-    out
+    sorted_azimuths(p)
 }
 
 /// [`breakpoints`] of `circles` (each with the occluder whose boundary it bounds, `None` for a
@@ -440,6 +416,13 @@ fn breakpoints_of(
             }
         }
     }
+    sorted_azimuths(p)
+}
+
+/// The finite angles of `p` in `[0, 2π)`, sorted, with (near-)duplicates dropped:
+/// sub-intervals shorter than 1e-14 carry nothing, and moving a breakpoint by < 1e-14
+/// changes the quadrature error by O((1e-14)^1.5).
+fn sorted_azimuths(p: Vec<f64>) -> Vec<f64> {
     let mut p: Vec<f64> = p
         .into_iter()
         .filter(|v| v.is_finite())
