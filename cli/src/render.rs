@@ -39,12 +39,13 @@ pub enum AovArg {
     Id,
     /// The pixel's estimated absolute error (exact: mean of its samples' error estimates,
     /// truncation bounds included, an upper estimate; mc, and ao by `--ao-method mc`: standard
-    /// error of its mean; 0 where the answer is exact, and for the other AO approximations,
-    /// whose error is not estimated).
+    /// error of its mean; exact AO: 0, or among cylinders and cones a bound within --tol; 0
+    /// for the other AO approximations, whose error is not estimated).
     Error,
     /// Exact ambient occlusion at the first opaque hit through the pixel centre, with
     /// --ao-reach and --ao-weighting, whatever the integrator draws; NaN on a miss (opaque
-    /// spheres, triangles and boxes, as --integrator ao).
+    /// spheres, triangles and boxes, and to --tol closed cylinders and cones, as --integrator
+    /// ao).
     Ao,
 }
 
@@ -59,7 +60,8 @@ pub enum IntegratorArg {
     /// per pixel.
     Mc,
     /// Ambient occlusion as the picture: the unoccluded fraction at each visible point,
-    /// exact for opaque spheres, triangles and boxes or by a named approximation (see
+    /// exact for opaque spheres, triangles and boxes (to --tol among cylinders and cones)
+    /// or by a named approximation (see
     /// --ao-method, --ao-reach, --ao-colours).
     Ao,
 }
@@ -163,7 +165,8 @@ pub struct RenderArgs {
     /// Target error of `--integrator exact`, relative to the pixel's value (absolute floor
     /// `tol * 1e-3`). What cannot change a ray within it (gas behind a large optical depth,
     /// light paths through it) is bounded instead of computed, and the bound is in the error
-    /// AOV.
+    /// AOV. With exact AO (--integrator ao, --aov ao): the largest error of the unoccluded
+    /// fraction where cylinders or cones occlude, as an absolute bound.
     #[arg(long, default_value_t = 1e-4)]
     pub tol: f64,
     /// Make every sphere a ball of gas with this extinction (per world unit); emission is the
@@ -442,6 +445,7 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
     }
     let spheres = scene.spheres.len();
     let surfaces = scene.surfaces.len();
+    let scene_counts = scene.surface_counts();
     let headlight = scene.headlight;
     let in_scene = |e: Error| Error::Other(format!("{}: {e}", args.scene.display()));
     // Every stage after reading (the BVH build, the lights' grids, the render) runs on the
@@ -498,6 +502,13 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
                 Integrator::Ao(_) => unreachable!("said above"),
             }
         ));
+    }
+    let exact_ao = match opts.integrator {
+        Integrator::Ao(a) => Some(a).filter(|a| a.method == gtsphere::render::ao::AoMethod::Exact),
+        _ => opts.aovs.ao.then_some(opts.ao),
+    };
+    if let Some(note) = exact_ao.and_then(|a| ao::cost_note(&a, &scene_counts)) {
+        say(note);
     }
     let bar = TileBar::new(!args.quiet);
     let done = pool.install(|| render_view(&view, opts, &bar))?;

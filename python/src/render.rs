@@ -294,7 +294,8 @@ fn aovs_of(names: Vec<String>) -> PyResult<Aovs> {
 /// spp: samples per pixel. integrator: "exact" (closed form and adaptive quadrature to
 /// `tol`, relative to the pixel's value), "march" (fixed steps of `step` world units, an
 /// approximation), "mc" (unbiased Monte Carlo, `spp` paths) or "ao" (ambient occlusion as
-/// the picture, exact for opaque spheres, triangles and boxes: the unoccluded fraction at
+/// the picture, exact for opaque spheres, triangles and boxes, within `tol` among
+/// cylinders and cones: the unoccluded fraction at
 /// each visible point, about a triangle's or box's face normal on the viewer's side, within
 /// `ao_reach` world units, None for any distance, weighted "cosine" or "uniform" by
 /// `ao_weighting`, on white or, with `ao_colours`, times the diffuse colours; `ao_method`

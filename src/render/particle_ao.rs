@@ -17,7 +17,7 @@ use glam::DVec3;
 
 use rayon::prelude::*;
 
-use super::ao::{unoccluded, unsupported, AoScratch, Weighting};
+use super::ao::{unoccluded_to, unsupported, AoScratch, Weighting};
 use super::visibility::Opaque;
 use super::{Prepared, Progress};
 use crate::Error;
@@ -78,6 +78,10 @@ struct Surface<'a> {
     reach: (f64, Weighting),
     s: &'a mut AoScratch,
     points: u64,
+    /// The tolerance of each point's value where Cylinders or Cones occlude, and the largest
+    /// bound of a point's error so far: the mean's error is within it plus the cells'.
+    point_tol: f64,
+    point_error: f64,
 }
 
 impl Surface<'_> {
@@ -85,14 +89,17 @@ impl Surface<'_> {
         self.points += 1;
         let sin = ((1.0 - u) * (1.0 + u)).max(0.0).sqrt();
         let n = DVec3::new(sin * phi.cos(), sin * phi.sin(), u);
-        unoccluded(
+        let (v, error) = unoccluded_to(
             self.prep,
             self.centre + self.radius * n,
             n,
             self.own.map(Opaque::Sphere),
             self.reach,
+            self.point_tol,
             self.s,
-        )
+        );
+        self.point_error = self.point_error.max(error);
+        v
     }
 
     /// The integral of AO over a cell, divided by the rectangle's area 4π.
@@ -171,6 +178,8 @@ fn integrate(
         reach: (reach, w),
         s,
         points: 0,
+        point_tol: 0.25 * tol,
+        point_error: 0.0,
     };
     // A first grid of 4 x 8 cells.
     let mut heap = BinaryHeap::new();
@@ -206,7 +215,7 @@ fn integrate(
         }
     }
     // (Summed afresh: the running sum drifts by rounding as cells come and go.)
-    let error: f64 = heap.iter().map(|c| c.error).sum();
+    let error: f64 = heap.iter().map(|c| c.error).sum::<f64>() + f.point_error;
     let mean: f64 = heap.iter().map(|c| c.quarters.iter().sum::<f64>()).sum();
     Some(ParticleAo {
         mean: mean.clamp(0.0, 1.0),

@@ -222,7 +222,8 @@ fn centre_hit(
             };
             let ao = if opts.aovs.ao {
                 let reach = (opts.ao.reach, opts.ao.weighting);
-                super::ao::at_hit(view, &sp, reach, ao_scratch)
+                // (The bound of its error, with Cylinders or Cones, is within `tol`.)
+                super::ao::at_hit(view, &sp, reach, opts.tol, ao_scratch).0
             } else {
                 0.0
             };

@@ -5,6 +5,7 @@ use clap::{Args, ValueEnum};
 
 use gtsphere::render::ao::methods::{voxel, AoMethod, MAX_DIRECTIONS, MAX_SAMPLES};
 use gtsphere::render::ao::{AoSettings, Weighting};
+use gtsphere::scene::SurfaceCounts;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum AoMethodArg {
@@ -156,6 +157,31 @@ impl AoArgs {
     }
 }
 
+/// From how many faces exact AO with no reach is worth a note on its cost.
+const MANY_FACES: usize = 1000;
+/// The faces a cylinder or a cone counts as: its polyhedra's faces that face a point, at
+/// their fewest sides (`bracket` in the library).
+const ROUND_FACES: usize = 6;
+
+/// A note on the cost of exact AO with no reach among the scene's triangles, boxes,
+/// cylinders and cones (`counts`), when there are many: every one visible from a point enters
+/// its union, whose work grows faster than their number (docs/benchmarks.md has the
+/// measurements).
+pub fn cost_note(ao: &AoSettings, counts: &SurfaceCounts) -> Option<String> {
+    let rounds = counts.cylinders + counts.cones;
+    let faces = counts.triangles + counts.boxes + ROUND_FACES * rounds;
+    (ao.reach.is_infinite() && faces >= MANY_FACES).then(|| {
+        format!(
+            "note: with no --ao-reach, exact AO takes every surface other than spheres that a \
+             point sees ({} in the scene) into its union, at a cost per pixel that grows \
+             faster than their number: seconds per pixel among tens of thousands of \
+             triangles, or thousands of cylinders and cones. --ao-reach D bounds it to those \
+             within D",
+            counts.triangles + counts.boxes + rounds
+        )
+    })
+}
+
 /// What a render with `ao` computes, in a sentence; `grid` is the voxel method's.
 pub fn describe(ao: &AoSettings, grid: Option<&voxel::Grid>) -> String {
     let method = match ao.method {
@@ -195,4 +221,31 @@ pub fn describe(ao: &AoSettings, grid: Option<&voxel::Grid>) -> String {
             ""
         }
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_cost_note_comes_with_no_reach_among_many_surfaces_only() {
+        let mut ao = AoSettings::default();
+        assert!(ao.reach.is_infinite());
+        let counts = |triangles, cylinders| SurfaceCounts {
+            triangles,
+            cylinders,
+            ..SurfaceCounts::default()
+        };
+        let note = cost_note(&ao, &counts(MANY_FACES, 0)).expect("a note");
+        assert!(note.contains("--ao-reach") && note.contains(&MANY_FACES.to_string()));
+        assert_eq!(cost_note(&ao, &counts(MANY_FACES - 1, 0)), None);
+        // A cylinder counts as several faces.
+        assert!(cost_note(&ao, &counts(0, MANY_FACES / ROUND_FACES + 1)).is_some());
+        assert_eq!(
+            cost_note(&ao, &counts(0, MANY_FACES / ROUND_FACES - 1)),
+            None
+        );
+        ao.reach = 2.0;
+        assert_eq!(cost_note(&ao, &counts(10 * MANY_FACES, 0)), None);
+    }
 }

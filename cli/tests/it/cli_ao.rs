@@ -65,7 +65,7 @@ fn ao_pictures_hold_fractions_and_ao_refuses_what_it_cannot_do_exactly() {
     );
     assert!(!out.status.success());
     assert!(
-        stderr(&out).contains("exact for opaque spheres, triangles and boxes only"),
+        stderr(&out).contains("ambient occlusion knows opaque spheres, triangles, boxes"),
         "{}",
         stderr(&out)
     );
@@ -102,7 +102,7 @@ fn floor_scene(extra: &str) -> String {
 }
 
 #[test]
-fn ao_takes_triangles_and_boxes_and_counts_the_cylinders_and_cones_it_refuses() {
+fn ao_takes_triangles_boxes_and_closed_round_solids_and_counts_the_open_ones_it_refuses() {
     let dir = scratch("cli_ao", "surfaces");
     std::fs::write(dir.join("floor.wrl"), floor_scene("")).unwrap();
     let args = |file: &'static str, extra: &[&'static str]| -> Vec<&'static str> {
@@ -142,19 +142,36 @@ fn ao_takes_triangles_and_boxes_and_counts_the_cylinders_and_cones_it_refuses() 
         stderr(&out)
     );
     assert!(!dir.join("mc.npy").exists());
-    // Cylinders and cones are refused, counted.
+    // Closed cylinders and cones occlude, to the tolerance, with the bound of the error in
+    // the error channel; open ones are refused, counted.
+    std::fs::write(
+        dir.join("round.wrl"),
+        floor_scene(
+            "Transform { translation -2 0.5 1 children Shape { geometry Cylinder { } } } \
+             Transform { translation 2 0.5 1 children Shape { geometry Cone { } } }",
+        ),
+    )
+    .unwrap();
+    let out = gtsphere(
+        &args(
+            "round.wrl",
+            &["--tol", "1e-3", "--aov", "error", "-o", "round.exr"],
+        ),
+        &dir,
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
     std::fs::write(
         dir.join("more.wrl"),
         floor_scene(
-            "Shape { geometry Cylinder { } } Shape { geometry Cylinder { } } \
-             Shape { geometry Cone { } }",
+            "Shape { geometry Cylinder { top FALSE } } Shape { geometry Cylinder { } } \
+             Shape { geometry Cone { bottom FALSE } }",
         ),
     )
     .unwrap();
     let out = gtsphere(&args("more.wrl", &["-o", "more.npy"]), &dir);
     assert!(!out.status.success());
     assert!(
-        stderr(&out).contains("2 cylinders, 1 cones"),
+        stderr(&out).contains("2 open cylinders or cones"),
         "{}",
         stderr(&out)
     );

@@ -1,9 +1,11 @@
-//! Ambient occlusion, exact for opaque spheres, triangles and boxes (docs/model.md section
-//! 11): at a surface point, the fraction of the hemisphere about its normal (cosine-weighted
-//! or uniform) whose rays meet no other occluder within the reach.
+//! Ambient occlusion, exact for opaque spheres, triangles and boxes, and to a tolerance among
+//! cylinders and cones (docs/model.md section 11): at a surface point, the fraction of the
+//! hemisphere about its normal (cosine-weighted or uniform) whose rays meet no other occluder
+//! within the reach.
 //!
 //! - `cap`: what one sphere blocks, a cap of directions;
 //! - `polygon`: what a triangle or a face of a Box blocks, an intersection of caps;
+//! - `bracket`: a Cylinder or a Cone, between the polyhedra inscribed in it and about it;
 //! - `union`: the measure of the union of those regions, in closed form;
 //! - `sky`: which directions the regions found so far block whole, to leave out occluders
 //!   hidden behind them;
@@ -16,6 +18,7 @@
 //! occluder above the tangent plane not hidden by nearer ones is a candidate: a cost that
 //! grows with the scene, for each pixel.
 
+pub(crate) mod bracket;
 pub(crate) mod cap;
 pub mod methods;
 pub(crate) mod polygon;
@@ -33,12 +36,15 @@ use super::visibility::Opaque;
 use super::{Counters, Prepared, View};
 use crate::accel::SphereBvh;
 use crate::geom::shapes::Solid;
+use bracket::{blocked_by_round, Fit};
 use cap::{blocked_by_ball, Blocked, Cap};
 pub use methods::AoMethod;
 use polygon::{blocked_by_box, blocked_by_triangle, coplanar, is_sliver, BoxBlocks};
 use sky::Sky;
 pub use union::Weighting;
-use union::{covered_fraction, covered_fraction_of_regions, RegionScratch, Regions, UnionScratch};
+use union::{
+    covered_fraction, covered_fraction_of_regions, Cone, RegionScratch, Regions, UnionScratch,
+};
 
 /// How ambient occlusion is computed and shown.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -70,6 +76,11 @@ impl Default for AoSettings {
 pub struct AoScratch {
     caps: Vec<Cap>,
     regions: Regions,
+    /// The Cylinders and Cones that may block (`bracket`): index in `Surfaces::items`, and
+    /// the cone of directions that holds the ball about it.
+    rounds: Vec<(u32, Cone)>,
+    /// A polyhedron's ring of corners (`bracket`).
+    ring: Vec<DVec3>,
     stack: Vec<u32>,
     union: UnionScratch,
     general: RegionScratch,
@@ -95,11 +106,12 @@ pub(crate) fn check_reach(reach: f64) -> Result<(), String> {
     Ok(())
 }
 
-/// The unoccluded fraction at `x` on a surface of unit normal `n`: one minus the fraction of
-/// the hemisphere about `n`, weighted by `w`, covered by the opaque spheres, triangles and
-/// Boxes of `prep` within `reach`, what `x` is on (`own`) left out. 0 if `x` is inside a
-/// sphere or a Box; a point on a sphere's surface to rounding (within 1e-10 of its radius)
-/// is on it. Cylinders and Cones are left out: [`unsupported`] refuses scenes with them.
+/// The unoccluded fraction at `x` on a surface of unit normal `n`, and a bound of its error:
+/// one minus the fraction of the hemisphere about `n`, weighted by `w`, covered by the opaque
+/// spheres, triangles, Boxes, Cylinders and Cones of `prep` within `reach`, what `x` is on
+/// (`own`) left out. 0 if `x` is inside a sphere or a solid; a point on a sphere's surface to
+/// rounding (within 1e-10 of its radius) is on it. Exact up to rounding (the error is 0)
+/// without Cylinders or Cones near `x`; with them, bracketed to within `tol` (`bracket`).
 ///
 /// The occluders near `x` are gathered first. When the reach goes beyond them, the caps of
 /// the spheres, largest first, and then the triangles' and faces' regions mark the cells of
@@ -108,14 +120,15 @@ pub(crate) fn check_reach(reach: f64) -> Result<(), String> {
 /// all fall in marked cells is left out. What is left out lies within the union of the
 /// regions kept, so the union is the same. Without triangles or Boxes near `x` the union is
 /// that of caps alone (`union::covered_fraction`), as for a scene of spheres.
-pub(crate) fn unoccluded(
+pub(crate) fn unoccluded_to(
     prep: &Prepared,
     x: DVec3,
     n: DVec3,
     own: Option<Opaque>,
     (reach, w): (f64, Weighting),
+    tol: f64,
     s: &mut AoScratch,
-) -> f64 {
+) -> (f64, f64) {
     let surfaces = !prep.surfaces.is_empty();
     let typical = if prep.typical_radius > 0.0 || !surfaces {
         prep.typical_radius
@@ -125,6 +138,7 @@ pub(crate) fn unoccluded(
     let near = (NEAR_RADII * typical).min(reach);
     s.caps.clear();
     s.regions.clear();
+    s.rounds.clear();
     let own_triangle = match own {
         Some(Opaque::Surface(i)) => match &prep.surfaces.items[i as usize] {
             Traced::Triangle(t) => Some(t.p),
@@ -140,18 +154,18 @@ pub(crate) fn unoccluded(
         reach,
     };
     if around.gather(&prep.bvh, (0.0, near), None, &mut s.caps, &mut s.stack) {
-        return 0.0;
+        return (0.0, 0.0);
     }
     if surfaces
         && around.gather_surfaces(
             &prep.surfaces,
             (0.0, near),
             None,
-            &mut s.regions,
+            (&mut s.regions, &mut s.rounds),
             &mut s.stack,
         )
     {
-        return 0.0;
+        return (0.0, 0.0);
     }
     if near < reach || s.caps.len() + s.regions.len() > PRUNE {
         s.caps.sort_unstable_by(|a, b| a.cos.total_cmp(&b.cos));
@@ -164,6 +178,10 @@ pub(crate) fn unoccluded(
             sky.cover(c.axis, alpha);
             true
         });
+        // (A round solid whose ball the sky hides is hidden whole: what its polyhedra block
+        // beyond it is left out of both bounds, which keeps each a bound.)
+        s.rounds
+            .retain(|(_, cone)| !sky.hides(cone.axis, cone.angle));
         s.regions.retain(|caps, cone| {
             if sky.hides(cone.axis, cone.angle) {
                 return false;
@@ -184,18 +202,96 @@ pub(crate) fn unoccluded(
                     &prep.surfaces,
                     (near, reach),
                     Some(sky),
-                    &mut s.regions,
+                    (&mut s.regions, &mut s.rounds),
                     &mut s.stack,
                 )
             {
-                return 0.0;
+                return (0.0, 0.0);
             }
         }
     }
-    if s.regions.is_empty() {
+    if !s.rounds.is_empty() {
+        return bracketed(prep, (x, n), (reach, w), tol, s);
+    }
+    let v = if s.regions.is_empty() {
         1.0 - covered_fraction(n, &s.caps, w, &mut s.union)
     } else {
         1.0 - covered_fraction_of_regions(n, &s.caps, &s.regions, w, &mut s.general)
+    };
+    (v, 0.0)
+}
+
+/// [`unoccluded_to`] among occluders none of which is a Cylinder or a Cone: exact.
+#[cfg(test)]
+pub(crate) fn unoccluded(
+    prep: &Prepared,
+    x: DVec3,
+    n: DVec3,
+    own: Option<Opaque>,
+    reach: (f64, Weighting),
+    s: &mut AoScratch,
+) -> f64 {
+    let (v, error) = unoccluded_to(prep, x, n, own, reach, 0.0, s);
+    assert_eq!(error, 0.0, "a round solid near the point");
+    v
+}
+
+/// The end of [`unoccluded_to`] with the round solids `s.rounds` among the occluders: the
+/// unoccluded fractions among their inner and their outer polyhedra, with more sides until
+/// they are within `2 tol` (`bracket`); their mean and half their gap.
+fn bracketed(
+    prep: &Prepared,
+    (x, n): (DVec3, DVec3),
+    (reach, w): (f64, Weighting),
+    tol: f64,
+    s: &mut AoScratch,
+) -> (f64, f64) {
+    let base = s.regions.len();
+    let mut sides = bracket::FIRST_SIDES;
+    loop {
+        let mut bounds = [0.0; 2];
+        for (bound, fit) in bounds.iter_mut().zip([Fit::Inner, Fit::Outer]) {
+            s.regions.truncate(base);
+            let mut everything = false;
+            for &(i, _) in &s.rounds {
+                let Traced::Solid {
+                    solid, to_object, ..
+                } = &prep.surfaces.items[i as usize]
+                else {
+                    continue;
+                };
+                let to_world = to_object.inverse();
+                let maps = (to_object, &to_world);
+                let blocks = blocked_by_round(
+                    (x, n),
+                    solid,
+                    maps,
+                    sides,
+                    fit,
+                    reach,
+                    &mut s.ring,
+                    &mut s.regions,
+                );
+                if blocks == BoxBlocks::Everything {
+                    everything = true;
+                    break;
+                }
+            }
+            *bound = if everything {
+                0.0
+            } else if s.regions.is_empty() {
+                1.0 - covered_fraction(n, &s.caps, w, &mut s.union)
+            } else {
+                1.0 - covered_fraction_of_regions(n, &s.caps, &s.regions, w, &mut s.general)
+            };
+        }
+        // (Rounding may leave the outer bound a hair above the inner one.)
+        let [upper, lower] = bounds;
+        let gap = (upper - lower).max(0.0);
+        if gap <= 2.0 * tol || sides >= bracket::MAX_SIDES {
+            return (0.5 * (upper + lower), 0.5 * gap);
+        }
+        sides *= 2;
     }
 }
 
@@ -206,10 +302,11 @@ pub(crate) fn at_hit(
     prep: &Prepared,
     sp: &SurfacePoint,
     reach: (f64, Weighting),
+    tol: f64,
     s: &mut AoScratch,
-) -> f64 {
+) -> (f64, f64) {
     let n = geometric_normal(prep, sp);
-    unoccluded(prep, sp.x, n, Some(sp.on), reach, s)
+    unoccluded_to(prep, sp.x, n, Some(sp.on), reach, tol, s)
 }
 
 /// The normal AO is taken about at a surface point: see [`at_hit`].
@@ -295,14 +392,14 @@ impl Around {
     }
 
     /// Adds to `regions` those of the triangles and Boxes whose bounding balls' nearest
-    /// points are at a distance in `from..to`, leaving out those the `sky` hides; whether `x`
-    /// is inside a Box.
+    /// points are at a distance in `from..to`, and to `rounds` the Cylinders and Cones,
+    /// leaving out those the `sky` hides; whether `x` is inside a solid.
     fn gather_surfaces(
         &self,
         surfaces: &Surfaces,
         (from, to): (f64, f64),
         sky: Option<&Sky>,
-        regions: &mut Regions,
+        (regions, rounds): (&mut Regions, &mut Vec<(u32, Cone)>),
         stack: &mut Vec<u32>,
     ) -> bool {
         let Around { x, n, reach, .. } = *self;
@@ -329,6 +426,18 @@ impl Around {
                     return;
                 }
                 let before = regions.len();
+                // The directions of the bounding ball (all of them from inside it).
+                let ball_cone = if d > p.radius {
+                    Cone {
+                        axis: (p.center - x) / d,
+                        angle: (p.radius / d).asin(),
+                    }
+                } else {
+                    Cone {
+                        axis: n,
+                        angle: std::f64::consts::PI,
+                    }
+                };
                 match &surfaces.items[i as usize] {
                     Traced::Triangle(t) => {
                         if is_sliver(&t.p) || self.own_triangle.is_some_and(|o| coplanar(&o, &t.p))
@@ -349,8 +458,18 @@ impl Around {
                             return;
                         }
                     }
-                    // Refused by `unsupported`.
-                    Traced::Solid { .. } => {}
+                    // A Cylinder or a Cone: bracketed at the end (`bracketed`); open ones are
+                    // refused by `unsupported`.
+                    Traced::Solid {
+                        solid, to_object, ..
+                    } => {
+                        if bracket::inside(solid, to_object.transform_point3(x)) {
+                            everything = true;
+                        } else {
+                            rounds.push((i, ball_cone));
+                        }
+                        return;
+                    }
                 }
                 if let Some(sky) = sky {
                     // Those the sky hides, of the ones just added.
@@ -393,7 +512,7 @@ pub(crate) fn radiance_of_hit(
     };
     let sp = surface_point(view, o, d, hit);
     let (v, error) = match ao.method {
-        AoMethod::Exact => (at_hit(view, &sp, (ao.reach, ao.weighting), s), 0.0),
+        AoMethod::Exact => at_hit(view, &sp, (ao.reach, ao.weighting), view.tol, s),
         // (Spheres only: the approximations refuse other surfaces.)
         _ => {
             let at = (sp.x, sp.n, hit.on.sphere());
@@ -413,7 +532,8 @@ pub(crate) fn radiance_of_hit(
 }
 
 /// Why `prep` cannot be rendered with exact AO, if it cannot: the occluders exact AO knows
-/// are opaque spheres, triangles and Boxes.
+/// are opaque spheres, triangles and Boxes (exactly), and closed Cylinders and Cones (to the
+/// tolerance, `bracket`).
 pub(crate) fn unsupported(prep: &Prepared) -> Option<String> {
     let ellipsoids = prep
         .bvh
@@ -421,35 +541,39 @@ pub(crate) fn unsupported(prep: &Prepared) -> Option<String> {
         .iter()
         .filter(|q| q.is_ellipsoid())
         .count();
-    let solids = |which: fn(&Solid) -> bool| {
-        prep.surfaces
-            .items
-            .iter()
-            .filter(|t| matches!(t, Traced::Solid { solid, .. } if which(solid)))
-            .count()
-    };
-    let cylinders = solids(|s| matches!(s, Solid::Cylinder { .. }));
-    let cones = solids(|s| matches!(s, Solid::Cone { .. }));
+    let open = prep
+        .surfaces
+        .items
+        .iter()
+        .filter(|t| {
+            matches!(t, Traced::Solid { solid, .. }
+                if bracket::is_round(solid) && !bracket::is_closed_round(solid))
+        })
+        .count();
     let what = [
         (prep.gas_spheres, "gas spheres"),
         (ellipsoids, "ellipsoids (spheres under a non-uniform scale)"),
-        (cylinders, "cylinders"),
-        (cones, "cones"),
+        (
+            open,
+            "open cylinders or cones (a side, cap or base left out)",
+        ),
     ];
     let found: Vec<String> = what
         .iter()
-        .filter(|(k, _)| *k > 0)
-        .map(|(k, w)| format!("{k} {w}"))
+        .filter(|(count, _)| *count > 0)
+        .map(|(count, what)| format!("{count} {what}"))
         .collect();
     (!found.is_empty()).then(|| {
         format!(
-            "ambient occlusion is exact for opaque spheres, triangles and boxes only, and this \
-             scene has {}",
+            "ambient occlusion knows opaque spheres, triangles, boxes and closed cylinders and \
+             cones only, and this scene has {}",
             found.join(", ")
         )
     })
 }
 
+#[cfg(test)]
+mod bracket_tests;
 #[cfg(test)]
 mod reference;
 #[cfg(test)]

@@ -76,10 +76,18 @@ fn region(
     out: &mut Regions,
 ) -> bool {
     let k = corners.len();
-    debug_assert!((3..=4).contains(&k));
+    debug_assert!(k >= 3);
     // The corners relative to x; those of `own` lie in its plane, through x: in the tangent
-    // plane of x (projected onto it), and the polygon is the one through them.
-    let mut a = [DVec3::ZERO; 4];
+    // plane of x (projected onto it), and the polygon is the one through them. (A triangle
+    // or a face of a Box on the stack; a polyhedron's larger faces, `bracket`, on the heap.)
+    let (mut small, mut large);
+    let a: &mut [DVec3] = if k <= 4 {
+        small = [DVec3::ZERO; 4];
+        &mut small[..k]
+    } else {
+        large = vec![DVec3::ZERO; k];
+        &mut large
+    };
     let mut flattened = false;
     for (ai, &p) in a.iter_mut().zip(corners) {
         let v = p - x;
@@ -90,7 +98,7 @@ fn region(
             v
         };
     }
-    let a = &a[..k];
+    let a = &*a;
     let normal = if flattened {
         (a[1] - a[0]).cross(a[2] - a[0])
     } else {
@@ -106,13 +114,14 @@ fn region(
         return false;
     }
     let s = h.signum();
-    let mut caps = [(
-        Cap {
-            axis: DVec3::ZERO,
-            cos: 0.0,
-        },
-        None,
-    ); 5];
+    let (mut small_axes, mut large_axes);
+    let axes: &mut [DVec3] = if k <= 4 {
+        small_axes = [DVec3::ZERO; 4];
+        &mut small_axes[..k]
+    } else {
+        large_axes = vec![DVec3::ZERO; k];
+        &mut large_axes
+    };
     for i in 0..k {
         let j = (i + 1) % k;
         let shared = own.is_some_and(|o| o.contains(&corners[i]) && o.contains(&corners[j]));
@@ -131,8 +140,18 @@ fn region(
             }
             e * (s / len)
         };
-        caps[i] = (Cap { axis, cos: 0.0 }, Some([a[i], a[j]]));
+        axes[i] = axis;
     }
+    let edges = (0..k).map(|i| {
+        let edge = [a[i], a[(i + 1) % k]];
+        (
+            Cap {
+                axis: axes[i],
+                cos: 0.0,
+            },
+            Some(edge),
+        )
+    });
     // Towards the plane, and the cone about it that holds the corners (the spherical polygon
     // is their convex hull, inside any cap of at most 90 degrees that holds them).
     let m = normal * s;
@@ -155,11 +174,10 @@ fn region(
             bound = Cone { axis, angle };
         }
     }
-    let mut count = k;
+    let mut reach_cap = None;
     if far > reach {
         let cos = h.abs() / reach;
-        caps[k] = (Cap { axis: m, cos }, None);
-        count += 1;
+        reach_cap = Some((Cap { axis: m, cos }, None));
         let angle = ((1.0 - cos) * (1.0 + cos)).sqrt().atan2(cos);
         if angle < bound.angle {
             bound = Cone { axis: m, angle };
@@ -171,7 +189,7 @@ fn region(
     } else {
         std::f64::consts::PI
     };
-    out.push(caps[..count].iter().copied(), bound);
+    out.push(edges.chain(reach_cap), bound);
     true
 }
 

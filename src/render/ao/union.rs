@@ -463,6 +463,21 @@ impl Regions {
         self.bounds.push(bound);
     }
 
+    /// Keeps the first `len` regions.
+    pub fn truncate(&mut self, len: usize) {
+        if len < self.ends.len() {
+            let caps = if len == 0 {
+                0
+            } else {
+                self.ends[len - 1] as usize
+            };
+            self.caps.truncate(caps);
+            self.corners.truncate(caps);
+            self.ends.truncate(len);
+            self.bounds.truncate(len);
+        }
+    }
+
     /// Removes region `k`.
     pub fn remove(&mut self, k: usize) {
         let start = if k == 0 { 0 } else { self.ends[k - 1] as usize };
