@@ -84,8 +84,10 @@ pub struct Outcome {
     pub step: f64,
     /// Exact's failing (pixel, channel)s, for a second opinion from march and mc.
     pub exact_failed: Vec<(usize, usize)>,
-    /// Seconds in the reference, exact, march and mc.
-    pub secs: [f64; 4],
+    /// Seconds in the reference, exact, march, mc and AO (its reference and render).
+    pub secs: [f64; 5],
+    /// What the AO dimension found.
+    pub ao: super::ao::Tally,
     /// The reference took longer than its budget: the scene was not checked.
     pub reference_late: bool,
 }

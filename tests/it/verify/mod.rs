@@ -10,12 +10,16 @@
 //!   verify`) draws `VERIFY_SCENES` (default 10 000) from seed `VERIFY_FIRST` (default
 //!   1 000 000). `VERIFY_SEED=S` re-runs the one scene of seed S in either, and
 //!   `verify_shrink` (`shrink.rs`) shrinks it.
-//! - A failing scene is written to `target/verify-failures/seed-S.wrl` with the command
-//!   that reproduces it.
+//! - `ao` adds ambient occlusion: a scene with shapes AO refuses (gas, Cylinders, Cones) must
+//!   be refused, and the scene, or else its AO part (the tree without those shapes), is
+//!   rendered by `Integrator::Ao` and checked against a Monte Carlo reference.
+//! - A failing scene is written to `target/verify-failures/seed-S.wrl` (its AO part to
+//!   `seed-S-ao.wrl`) with the command that reproduces it.
 
 // Colour channels are indexed together across several arrays.
 #![allow(clippy::needless_range_loop)]
 
+mod ao;
 mod checks;
 mod generate;
 mod quad;
@@ -127,7 +131,20 @@ fn library_film(
     integ: Integrator,
     viewer: bool,
 ) -> Option<gtsphere::render::Film> {
-    match checks::library(text, desc, &checks::options(desc, integ, out.tol, viewer)) {
+    let tol = out.tol;
+    library_film_at(out, text, desc, integ, viewer, tol)
+}
+
+/// [`library_film`] at the tolerance `tol`.
+fn library_film_at(
+    out: &mut Outcome,
+    text: &str,
+    desc: &SceneDesc,
+    integ: Integrator,
+    viewer: bool,
+    tol: f64,
+) -> Option<gtsphere::render::Film> {
+    match checks::library(text, desc, &checks::options(desc, integ, tol, viewer)) {
         Ok(f) => Some(f),
         Err(e) => {
             out.failures.push(format!("library refused the scene: {e}"));
@@ -151,8 +168,79 @@ fn check_exact_of(
     }
 }
 
-/// Draws, renders and checks scene `seed`.
-fn run_scene(seed: u64, z: f64) -> Outcome {
+/// The AO dimension of scene `desc` (text `text`, written to `name` on failure; see `ao.rs`):
+/// a scene with shapes AO refuses must be refused, and its AO part is checked instead, with
+/// `z` standard errors allowed. Returns the AO part's text when it failed, to be written
+/// beside the scene.
+fn check_ao(
+    out: &mut Outcome,
+    desc: &SceneDesc,
+    text: &str,
+    z: f64,
+    name: &str,
+    commands: &mut Vec<String>,
+) -> Option<String> {
+    let viewer = viewer_carried(desc.seed);
+    let s = ao::settings(desc.seed);
+    let integ = Integrator::Ao(s);
+    // The bound AO is held to where Cylinders or Cones occlude.
+    let ao_tol = ao::tolerance(desc.seed);
+    let refused = ao::Unsupported::of(&desc.nodes);
+    let mut tally = ao::Tally {
+        scenes: 1,
+        ..ao::Tally::default()
+    };
+    if refused.any() {
+        tally.to_refuse = 1;
+        let problem =
+            match checks::library(text, desc, &checks::options(desc, integ, ao_tol, viewer)) {
+                Ok(_) => Some(format!(
+                    "ao: the library rendered a scene with {} gas spheres",
+                    refused.gas
+                )),
+                Err(e) => refused
+                    .judge(&e)
+                    .map(|what| format!("ao: the library's refusal {what}: {e}")),
+            };
+        match problem {
+            Some(p) => {
+                out.failures.push(p);
+                commands.push(command(name, desc, &ao::cli_args(&s, ao_tol), viewer));
+            }
+            None => tally.refused = 1,
+        }
+    }
+    let part = refused.any().then(|| SceneDesc {
+        nodes: ao::ao_part(&desc.nodes),
+        ..desc.clone()
+    });
+    tally.whole = u64::from(part.is_none());
+    let d = part.as_ref().unwrap_or(desc);
+    let part_text = part.as_ref().map(vrml::write);
+    let refs = ao::reference(&World::new(d, viewer), &s, desc.seed);
+    let before = out.failures.len();
+    let t = part_text.as_deref().unwrap_or(text);
+    if let Some(f) = library_film_at(out, t, d, integ, viewer, ao_tol) {
+        ao::check(&mut tally, &mut out.failures, d, &f, &refs, z);
+    }
+    out.ao = tally;
+    if out.failures.len() == before {
+        return None;
+    }
+    let file = match part {
+        Some(_) => failures_dir()
+            .join(format!("seed-{}-ao.wrl", desc.seed))
+            .display()
+            .to_string(),
+        None => name.to_string(),
+    };
+    commands.push(command(&file, d, &ao::cli_args(&s, ao_tol), viewer));
+    part_text
+}
+
+/// Draws, renders and checks scene `seed` (`z`: standard errors allowed to mc, `z_ao` to
+/// AO's reference).
+fn run_scene(seed: u64, z: f64, z_ao: f64) -> Outcome {
     let desc = generate::scene(seed);
     let viewer = viewer_carried(seed);
     let world = World::new(&desc, viewer);
@@ -253,9 +341,15 @@ fn run_scene(seed: u64, z: f64) -> Outcome {
             checks::second_opinion(&mut out, march.as_ref(), &m, &desc);
         }
     }
+    let clock = Instant::now();
+    let ao_text = check_ao(&mut out, &desc, &text, z_ao, &name, &mut commands);
+    out.secs[4] = clock.elapsed().as_secs_f64();
     if !out.failures.is_empty() {
         let _ = std::fs::create_dir_all(failures_dir());
         let _ = std::fs::write(&file, &text);
+        if let Some(t) = ao_text {
+            let _ = std::fs::write(failures_dir().join(format!("seed-{seed}-ao.wrl")), t);
+        }
         let mut msg = format!(
             "scene seed {seed} failed ({} checks; re-run: VERIFY_SEED={seed} cargo test --test it \
              verify_matrix -- --nocapture; headlight {}):",
@@ -353,6 +447,10 @@ fn run(seeds: &[u64], every: usize) {
     let start = Instant::now();
     // mc channels: at most 3 * 144 per scene.
     let z = z_for(MC_FALSE_ALARM / (seeds.len() as f64 * 3.0 * 144.0));
+    // AO pixels: at most 144 per scene, with a false-alarm budget of their own.
+    let z_ao = z_for(MC_FALSE_ALARM / (seeds.len() as f64 * 144.0));
+    let mut ao = ao::Tally::default();
+    let z_bias = z_for(MC_FALSE_ALARM);
     let mut failures = Vec::new();
     let (mut exact_px, mut march_px, mut mc_px, mut zero_se) = (0u64, 0u64, 0u64, 0u64);
     let (mut worst, mut worst_z) = (0.0f64, 0.0f64);
@@ -360,15 +458,16 @@ fn run(seeds: &[u64], every: usize) {
     let mut rates = Vec::new();
     let mut skipped = 0;
     let mut late = Vec::new();
-    let mut secs = [0.0f64; 4];
+    let mut secs = [0.0f64; 5];
     for (n, &seed) in seeds.iter().enumerate() {
-        let o = run_scene(seed, z);
-        for k in 0..4 {
+        let o = run_scene(seed, z, z_ao);
+        ao.add(&o.ao);
+        for k in 0..5 {
             secs[k] += o.secs[k];
         }
         if std::env::var_os("VERIFY_VERBOSE").is_some() {
             eprintln!(
-                "seed {seed}: seconds reference, exact, march, mc {:.2?}",
+                "seed {seed}: seconds reference, exact, march, mc, ao {:.2?}",
                 o.secs
             );
         }
@@ -421,13 +520,28 @@ fn run(seeds: &[u64], every: usize) {
          pixels with an error above rounding ({:.2} %), median reported/true {median:.2}; \
          march's fitted order {slowest:.2} at worst, {typical:.2} median; mc \
          worst |error|/se {worst_z:.2} (z {z:.2}), zero-se pixels differing {zero_se}; \
-         seconds in reference, exact, march, mc {secs:.1?}",
+         ao: {} scenes ({} whole, the rest their AO part; {} of {} with gas refused as \
+         they should be), pixels {} estimated, {} exactly 1, {} exactly 0, \
+         {} misses, {} on another surface (not checked), worst |error| beyond the bound / sigma {:.2} \
+         (z {z_ao:.2}, {} directions), summed error {:.2} sigma (z {z_bias:.2}); seconds in reference, exact, march, mc, ao {secs:.1?}",
         seeds.len(),
         failures.len(),
         late.len(),
         start.elapsed().as_secs_f64(),
         pairs.len(),
         100.0 * coverage,
+        ao.scenes,
+        ao.whole,
+        ao.refused,
+        ao.to_refuse,
+        ao.estimated,
+        ao.open,
+        ao.inside,
+        ao.misses,
+        ao.on_another,
+        ao.worst_z,
+        ao::SIDE * ao::SIDE,
+        ao.bias_z(),
     );
     assert!(
         failures.is_empty(),
@@ -435,6 +549,12 @@ fn run(seeds: &[u64], every: usize) {
         failures.len(),
         seeds.len(),
         failures_dir().display()
+    );
+    assert!(
+        ao.bias_z().abs() <= z_bias,
+        "ao: the summed error over {} pixels is {:.2} standard errors, beyond z {z_bias:.2}",
+        ao.estimated,
+        ao.bias_z()
     );
     assert!(
         coverage >= AOV_COVERAGE,

@@ -71,11 +71,12 @@ pub fn sphere_roots(c: DVec3, r: f64, o: DVec3, w: DVec3) -> Option<(f64, f64)> 
     Some((tc - h, tc + h))
 }
 
-/// An opaque hit seen by a camera ray.
-struct Hit {
-    t: f64,
-    k: usize,
-    n: DVec3,
+/// An opaque hit seen by a camera ray: its parameter, the primitive (index in
+/// `World::prims`) and the unit normal on the side the ray came from.
+pub struct Hit {
+    pub t: f64,
+    pub k: usize,
+    pub n: DVec3,
 }
 
 /// What a light is at a point: unit direction to it, distance (infinite for directional),
@@ -310,7 +311,9 @@ impl World {
         out
     }
 
-    fn first_opaque(&self, o: DVec3, w: DVec3) -> Option<Hit> {
+    /// The nearest opaque hit of `o + t w`, `t > 0` (front faces of solids, either side of a
+    /// triangle).
+    pub fn first_opaque(&self, o: DVec3, w: DVec3) -> Option<Hit> {
         let mut best: Option<Hit> = None;
         for (k, p) in self.prims.iter().enumerate() {
             if p.gas().is_some() {

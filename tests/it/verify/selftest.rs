@@ -1,8 +1,9 @@
 //! The reference's own checks: its camera rays agree with the library's (depth AOV of one
 //! sphere), and its values agree with closed forms: one gas sphere's emission
 //! `C (1 - exp(-tau_chord))` (constant, linear, quadratic profiles, tau 1e-6 to 7e2), thin gas
-//! single scattering to first order, the VRML lighting equation on a lit sphere, and a known
-//! chord's transmittance.
+//! single scattering to first order, the VRML lighting equation on a lit sphere, a known
+//! chord's transmittance, and the AO reference (`ao.rs`) against the closed forms of what one
+//! sphere (with and without a reach) and one triangle block.
 
 use glam::DVec3;
 use gtsphere::render::Integrator;
@@ -251,5 +252,95 @@ fn verify_reference_lit_sphere_and_chord_transmittance_are_closed_form() {
             "channel {k}: {} against {want}",
             r.value[k]
         );
+    }
+}
+
+/// The AO reference at the point (0, 0, 1) on top of a unit sphere, seen by the centre pixel,
+/// against closed forms: a sphere of angular radius `a` whose axis makes the angle `t` with
+/// the normal (wholly above the horizon) blocks `sin^2 a cos t` of the cosine-weighted
+/// hemisphere and `1 - cos a` of the uniform one; within a reach `D` between `d - r` and
+/// `sqrt(d^2 - r^2)` the same with the cap of cosine `(d^2 + D^2 - r^2) / (2 d D)`, and
+/// nothing for `D < d - r`; a triangle blocks its solid angle (Van Oosterom and Strackee)
+/// over 2 pi, or its form factor `(1/2pi) sum_i angle_i n . unit(v_i x v_i+1)` (Lambert).
+#[test]
+fn verify_ao_reference_matches_closed_forms() {
+    use super::ao::{reference, settings, AoRef, SIDE};
+    use gtsphere::render::ao::Weighting;
+
+    let x = DVec3::Z;
+    let base = at(DVec3::ZERO, Geometry::Sphere { r: 1.0 }, None);
+    let (c, r) = (DVec3::new(0.8, 0.0, 2.2), 0.3);
+    let v = c - x;
+    let d = v.length();
+    let cos_t = v.z / d;
+    let cap = |cos_a: f64, w: Weighting| match w {
+        Weighting::Cosine => (1.0 - cos_a * cos_a) * cos_t,
+        Weighting::Uniform => 1.0 - cos_a,
+    };
+    let p = [
+        DVec3::new(0.6, 0.3, 1.8),
+        DVec3::new(0.2, 0.8, 2.0),
+        DVec3::new(0.9, 0.7, 1.6),
+    ];
+    let triangle = |w: Weighting| {
+        let q = p.map(|k| k - x);
+        let l = q.map(|k| k.length());
+        match w {
+            Weighting::Uniform => {
+                let num = q[0].dot(q[1].cross(q[2])).abs();
+                let den = l[0] * l[1] * l[2]
+                    + q[0].dot(q[1]) * l[2]
+                    + q[0].dot(q[2]) * l[1]
+                    + q[1].dot(q[2]) * l[0];
+                2.0 * num.atan2(den) / std::f64::consts::TAU
+            }
+            Weighting::Cosine => {
+                let s: f64 = (0..3)
+                    .map(|i| {
+                        let (a, b) = (q[i], q[(i + 1) % 3]);
+                        a.angle_between(b) * DVec3::Z.dot(a.cross(b).normalize())
+                    })
+                    .sum();
+                s.abs() / std::f64::consts::TAU
+            }
+        }
+    };
+    let far = (d * d - r * r).sqrt();
+    let reach = 1.3;
+    assert!(reach > d - r && reach < far);
+    let beta = (d * d + reach * reach - r * r) / (2.0 * d * reach);
+    let sphere = at(c, Geometry::Sphere { r }, None);
+    let tri = Node::Shape {
+        geometry: Geometry::Triangle { p },
+        material: None,
+    };
+    let n = f64::from(SIDE * SIDE);
+    for w in [Weighting::Cosine, Weighting::Uniform] {
+        let cases = [
+            (&sphere, f64::INFINITY, Some(cap((r / d).asin().cos(), w))),
+            (&sphere, reach, Some(cap(beta, w))),
+            (&sphere, d - r - 0.01, None),
+            (&tri, f64::INFINITY, Some(triangle(w))),
+        ];
+        for (k, (occluder, reach, blocked)) in cases.into_iter().enumerate() {
+            let scene = desc(vec![base.clone(), occluder.clone()], None);
+            let mut s = settings(0);
+            s.reach = reach;
+            s.weighting = w;
+            let world = World::new(&scene, true);
+            let got = reference(&world, &s, k as u64)[(3 * scene.width + 4) as usize];
+            match (got, blocked) {
+                (AoRef::Estimate(p), Some(b)) => {
+                    let want = 1.0 - b;
+                    let sigma = (want * (1.0 - want) / n).sqrt();
+                    assert!(
+                        (p - want).abs() <= 5.0 * sigma && b > 0.01,
+                        "{w:?} case {k}: reference {p}, closed form {want} (sigma {sigma:.1e})"
+                    );
+                }
+                (AoRef::Open, None) => {}
+                _ => panic!("{w:?} case {k}: reference {got:?}, closed form blocks {blocked:?}"),
+            }
+        }
     }
 }

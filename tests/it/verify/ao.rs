@@ -1,0 +1,551 @@
+//! The ambient-occlusion dimension: scenes through `Integrator::Ao` (exact method, the centre
+//! sampler), each pixel against a Monte Carlo estimate written here from docs/model.md
+//! section 11 with the matrix's own geometry.
+//!
+//! - **Which scenes.** AO takes opaque spheres, triangles and Boxes exactly, and Cylinders
+//!   and Cones (the generator's have all their parts) to a tolerance drawn by seed
+//!   ([`tolerance`]), with a bound of the error per pixel. A scene with gas spheres (counted
+//!   from its description, not from the library's answer) must be refused with an error that
+//!   gives the count; its *AO part*, the same tree without them, is checked instead. The
+//!   generator scales uniformly only: it makes no ellipsoids.
+//! - **Reach and weighting**, by seed ([`settings`]): infinite in half the scenes, else
+//!   log-uniform from 0.1 to 3 world units (the scenes span about 3); cosine or uniform.
+//! - **The reference** ([`reference`]): the pixel-centre ray's first opaque hit
+//!   (`World::first_opaque`) and its normal on the viewer's side; AO 0 if that point is
+//!   inside another sphere or Box; else [`SIDE`]^2 directions, one in each cell of a grid
+//!   on the unit square mapped onto the hemisphere (cosine- or uniformly-weighted, so each
+//!   cell has equal weight), each traced against every other primitive within the reach
+//!   with the matrix's ray/sphere roots and `surface_reference::blocks_from` (a bounding
+//!   sphere first, to skip the primitives the direction misses by far).
+//! - **The check** ([`check`]): `|library - p| <= z sigma + 1e-9 + bound`, `bound` the
+//!   library's bound of its error at the pixel (0 without Cylinders or Cones), with
+//!   `sigma = sqrt(max(p (1 - p), q (1 - q)) / N)`, `q = min(z^2 / N, 1/2)`, and `z` from
+//!   Bonferroni over every AO pixel of the run. Stratification only lowers the variance, so
+//!   the binomial sigma is an upper bound. The floor `q`: when the true value is `1 - e`, all
+//!   N directions miss the blocked part with probability at most `exp(-e N)` (a stratified
+//!   draw misses it no more often), so a reference that sees `p = 1` (or 0) may be off by
+//!   up to about `ln(1 / alpha) / N = z^2 / (2 N)`; the floor allows `z^2 / N`, Wilson's
+//!   bound at `p = 0`. Over the run, the summed error `sum (library - p)` must be within
+//!   `z_1 sqrt(sum sigma^2)`, `z_1` for the false-alarm rate alone (a bias too small for any
+//!   one pixel; the pixels' estimates are independent).
+//! - **Exact cases**: a point with no other primitive reaching above its tangent plane
+//!   within the reach (by more than rounding) must be exactly 1 (or within the library's
+//!   bound of it: the polyhedron about a Cylinder or Cone may rise where the solid does not);
+//!   a point inside another
+//!   sphere or Box exactly 0; a miss the background; every hit grey (R = G = B). A point
+//!   within rounding of another primitive's surface is left out (counted), where the
+//!   library's rule for a point on a sphere or a face decides.
+//! - **Cost**: [`SIDE`] = 256, N = 65 536 directions, in every scene: 11.6 s of the CI run
+//!   (307 scenes, 3 289 pixels estimated) on 2 cores, almost all of it the reference's
+//!   directions (`cargo test -p gtsphere --test it verify_matrix -- --nocapture` prints the
+//!   seconds per dimension; the whole run took 91 s). With N = 2 304 (0.2 s for 48 scenes) a
+//!   pixel's error would have to pass 0.06 at p = 1/2 to show; at 65 536 it is 0.011 there,
+//!   2e-3 at p = 0.99 and 5e-4 at p = 1.
+
+use glam::{DAffine3, DVec3};
+use gtsphere::render::ao::{AoMethod, AoSettings, Weighting};
+use gtsphere::render::Film;
+
+use super::reference::sphere_roots;
+use super::scenes::{Geometry, Node, SceneDesc};
+use super::world::{Solid, World};
+use crate::support::Rng;
+use crate::surface_reference::{blocks_from, RefShape};
+
+/// Directions per pixel: a `SIDE` x `SIDE` grid.
+pub const SIDE: u32 = 256;
+
+/// Room for the rounding of a hit point, relative to the scene's unit and the point's
+/// distance from the origin.
+const BAND: f64 = 1e-9;
+
+/// The reach and weighting scene `seed` is rendered with.
+pub fn settings(seed: u64) -> AoSettings {
+    let mut rng = Rng::new(seed ^ 0xa0_5e77_1295);
+    let reach = if rng.f() < 0.5 {
+        f64::INFINITY
+    } else {
+        rng.log10(-1.0, 0.5)
+    };
+    let weighting = if rng.f() < 0.5 {
+        Weighting::Cosine
+    } else {
+        Weighting::Uniform
+    };
+    AoSettings {
+        reach,
+        weighting,
+        colours: false,
+        method: AoMethod::Exact,
+    }
+}
+
+/// The tolerance scene `seed`'s AO is rendered at (`--tol`): the bound of its error where
+/// Cylinders or Cones occlude, from 1e-2 to 1e-4 (tighter ones cost the CI run more than
+/// they tell: the bound and the reference's sigma, about 2e-3, are then far apart anyway).
+pub fn tolerance(seed: u64) -> f64 {
+    Rng::new(seed ^ 0x70_1e7a_9ce5).log10(-4.0, -2.0)
+}
+
+/// The command line's AO options for `s` at the tolerance `tol`.
+pub fn cli_args(s: &AoSettings, tol: f64) -> String {
+    let mut out = format!("--integrator ao --tol {tol:e}");
+    if s.reach.is_finite() {
+        out.push_str(&format!(" --ao-reach {:e}", s.reach));
+    }
+    let w = match s.weighting {
+        Weighting::Cosine => "cosine",
+        Weighting::Uniform => "uniform",
+    };
+    out.push_str(&format!(" --ao-weighting {w}"));
+    out
+}
+
+/// How many of each shape AO refuses a scene holds: gas spheres (the generator's Cylinders
+/// and Cones have all their parts, and it makes no ellipsoids).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Unsupported {
+    pub gas: usize,
+}
+
+impl Unsupported {
+    pub fn of(nodes: &[Node]) -> Unsupported {
+        let mut u = Unsupported::default();
+        for n in nodes {
+            match n {
+                Node::Shape { geometry, material } => {
+                    if matches!(geometry, Geometry::Sphere { .. })
+                        && material.is_some_and(|m| m.transparency > 0.0)
+                    {
+                        u.gas += 1;
+                    }
+                }
+                Node::Group { children, .. } => u.gas += Unsupported::of(children).gas,
+                Node::Point(_) | Node::Directional(_) => {}
+            }
+        }
+        u
+    }
+
+    pub fn any(&self) -> bool {
+        self.gas > 0
+    }
+
+    /// What is wrong with `message`, the library's refusal: what it says the scene has (after
+    /// "this scene has") must give the count of gas spheres, and name no kind the scene does
+    /// not have.
+    pub fn judge(&self, message: &str) -> Option<String> {
+        let m = message.to_lowercase();
+        let Some(at) = m.rfind("this scene has") else {
+            return Some("does not say what the scene has".into());
+        };
+        let has = &m[at..];
+        if !has.contains(&format!("{} gas sphere", self.gas)) {
+            return Some(format!("does not say {} gas sphere(s)", self.gas));
+        }
+        for word in ["ellipsoid", "cylinder", "cone"] {
+            if has.contains(word) {
+                return Some(format!(
+                    "names {word}s, which the scene has none refused of"
+                ));
+            }
+        }
+        None
+    }
+}
+
+/// `nodes` without the shapes AO refuses (gas spheres).
+pub fn ao_part(nodes: &[Node]) -> Vec<Node> {
+    nodes
+        .iter()
+        .filter_map(|n| match n {
+            Node::Shape { geometry, material } => {
+                let refused = matches!(geometry, Geometry::Sphere { .. })
+                    && material.is_some_and(|m| m.transparency > 0.0);
+                (!refused).then(|| n.clone())
+            }
+            Node::Group { xf, children } => Some(Node::Group {
+                xf: *xf,
+                children: ao_part(children),
+            }),
+            _ => Some(n.clone()),
+        })
+        .collect()
+}
+
+/// The reference at one pixel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AoRef {
+    /// The ray meets nothing: the background.
+    Miss,
+    /// The hit point is inside another sphere or solid: exactly 0.
+    Inside,
+    /// Nothing rises above the hit point's tangent plane within the reach: exactly 1.
+    Open,
+    /// The unoccluded share of the directions traced.
+    Estimate(f64),
+    /// The hit point is within rounding of another primitive's surface: not checked.
+    OnAnother,
+}
+
+/// An occluder as the reference traces it: its primitive, its solid, and a sphere that
+/// bounds it.
+struct Occluder {
+    k: usize,
+    solid: Solid,
+    centre: DVec3,
+    radius: f64,
+    /// Corners of its convex hull (Boxes and triangles), or of a box holding it (Cylinders
+    /// and Cones).
+    corners: Vec<DVec3>,
+}
+
+fn occluders(world: &World) -> Vec<Occluder> {
+    let mut out = Vec::new();
+    for (k, p) in world.prims.iter().enumerate() {
+        if p.gas().is_some() {
+            continue;
+        }
+        match p.solid {
+            Solid::Sphere { c, r } => out.push(Occluder {
+                k,
+                solid: p.solid,
+                centre: c,
+                radius: r,
+                corners: Vec::new(),
+            }),
+            Solid::Surface { shape, to_world } => {
+                let corners: Vec<DVec3> = match shape {
+                    RefShape::Triangle { p } => p.to_vec(),
+                    RefShape::Cuboid { size } => box_corners(size / 2.0, &to_world),
+                    RefShape::Cylinder { r, h } | RefShape::Cone { r, h } => {
+                        box_corners(DVec3::new(r, h / 2.0, r), &to_world)
+                    }
+                };
+                let centre = corners.iter().copied().sum::<DVec3>() / corners.len() as f64;
+                let radius = corners
+                    .iter()
+                    .map(|q| (*q - centre).length())
+                    .fold(0.0f64, f64::max);
+                out.push(Occluder {
+                    k,
+                    solid: p.solid,
+                    centre,
+                    radius: radius * (1.0 + 1e-12),
+                    corners,
+                });
+            }
+        }
+    }
+    out
+}
+
+fn box_corners(half: DVec3, to_world: &DAffine3) -> Vec<DVec3> {
+    (0..8)
+        .map(|b| {
+            let s = DVec3::new(
+                if b & 1 == 0 { -1.0 } else { 1.0 },
+                if b & 2 == 0 { -1.0 } else { 1.0 },
+                if b & 4 == 0 { -1.0 } else { 1.0 },
+            );
+            to_world.transform_point3(s * half)
+        })
+        .collect()
+}
+
+/// Where `x` is with respect to occluder `o`: -1 inside, 0 on its surface (to rounding
+/// `band`), 1 outside. Triangles have no inside.
+fn side(o: &Occluder, x: DVec3, band: f64) -> i32 {
+    let depth = match o.solid {
+        Solid::Sphere { c, r } => (r - (x - c).length()) / r.max(1.0),
+        Solid::Surface {
+            shape: RefShape::Cuboid { size },
+            to_world,
+        } => {
+            let p = to_world.inverse().transform_point3(x);
+            let half = size / 2.0;
+            (0..3)
+                .map(|i| (half[i] - p[i].abs()) / half[i])
+                .fold(f64::INFINITY, f64::min)
+        }
+        Solid::Surface {
+            shape: RefShape::Cylinder { r, h },
+            to_world,
+        } => {
+            let p = to_world.inverse().transform_point3(x);
+            ((r - p.x.hypot(p.z)) / r).min((h / 2.0 - p.y.abs()) / (h / 2.0))
+        }
+        Solid::Surface {
+            shape: RefShape::Cone { r, h },
+            to_world,
+        } => {
+            // Apex at y = h/2, base of radius r at y = -h/2.
+            let p = to_world.inverse().transform_point3(x);
+            let at = r * (h / 2.0 - p.y) / h;
+            ((at - p.x.hypot(p.z)) / r).min((p.y + h / 2.0) / (h / 2.0))
+        }
+        Solid::Surface { .. } => return 1,
+    };
+    if depth.abs() <= band {
+        0
+    } else if depth > 0.0 {
+        -1
+    } else {
+        1
+    }
+}
+
+/// Whether occluder `o` may hold a point above the plane through `x` of normal `n` within
+/// `reach` of `x` (`band`: rounding, counted against it).
+fn rises(o: &Occluder, x: DVec3, n: DVec3, reach: f64, band: f64) -> bool {
+    if (o.centre - x).length() - o.radius > reach + band {
+        return false;
+    }
+    match o.solid {
+        Solid::Sphere { c, r } => n.dot(c - x) + r > -band,
+        Solid::Surface { .. } => o.corners.iter().any(|q| n.dot(*q - x) > -band),
+    }
+}
+
+/// Whether the ray `x + s w`, `0 < s <= reach`, meets occluder `o`.
+fn blocks(o: &Occluder, x: DVec3, w: DVec3, reach: f64) -> bool {
+    let near =
+        |c: DVec3, r: f64| sphere_roots(c, r, x, w).is_some_and(|(t0, t1)| t1 > 0.0 && t0 <= reach);
+    match o.solid {
+        Solid::Sphere { c, r } => near(c, r),
+        Solid::Surface { shape, to_world } => {
+            near(o.centre, o.radius) && blocks_from(&shape, &to_world, x, w, 0.0, reach)
+        }
+    }
+}
+
+/// Direction of cell point `(u, v)` in `[0, 1)^2` about the frame `(t, b, n)`: cosine-weighted
+/// (`r = sqrt(u)`) or uniform in solid angle (`cos theta = u`).
+fn direction(u: f64, v: f64, weighting: Weighting, t: DVec3, b: DVec3, n: DVec3) -> DVec3 {
+    let (sin_t, cos_t) = match weighting {
+        Weighting::Cosine => (u.sqrt(), (1.0 - u).sqrt()),
+        Weighting::Uniform => ((1.0 - u * u).max(0.0).sqrt(), u),
+    };
+    let phi = std::f64::consts::TAU * v;
+    (t * phi.cos() + b * phi.sin()) * sin_t + n * cos_t
+}
+
+/// Two unit vectors completing the unit `n` to an orthonormal frame.
+fn frame(n: DVec3) -> (DVec3, DVec3) {
+    let a = if n.x.abs() < 0.6 { DVec3::X } else { DVec3::Y };
+    let t = n.cross(a).normalize();
+    (t, n.cross(t))
+}
+
+impl World {
+    /// The reference AO of pixel `(i, j)` with `s`, directions drawn from `seed`.
+    fn ao_pixel(&self, occ: &[Occluder], i: u32, j: u32, s: &AoSettings, seed: u64) -> AoRef {
+        let (o, w) = self.eye.ray(i, j);
+        let Some(hit) = self.first_opaque(o, w) else {
+            return AoRef::Miss;
+        };
+        let x = o + hit.t * w;
+        let n = hit.n.normalize();
+        let band = BAND * (1.0 + x.length());
+        let others: Vec<&Occluder> = occ.iter().filter(|q| q.k != hit.k).collect();
+        let mut on_another = false;
+        for q in &others {
+            match side(q, x, BAND) {
+                -1 => return AoRef::Inside,
+                0 => on_another = true,
+                _ => {}
+            }
+        }
+        if on_another {
+            return AoRef::OnAnother;
+        }
+        let mut cands: Vec<&Occluder> = others
+            .into_iter()
+            .filter(|q| rises(q, x, n, s.reach, band))
+            .collect();
+        if cands.is_empty() {
+            return AoRef::Open;
+        }
+        let (t, b) = frame(n);
+        let mut rng = Rng::new(
+            seed.wrapping_mul(0x100_0000_01b3) ^ (u64::from(j) << 32 | u64::from(i)) ^ 0xa0,
+        );
+        let mut open = 0u32;
+        for a in 0..SIDE {
+            for c in 0..SIDE {
+                let u = (f64::from(a) + rng.f()) / f64::from(SIDE);
+                let v = (f64::from(c) + rng.f()) / f64::from(SIDE);
+                let d = direction(u, v, s.weighting, t, b, n);
+                // The last occluder that blocked goes first: neighbouring cells are mostly
+                // blocked by the same one.
+                match cands.iter().position(|q| blocks(q, x, d, s.reach)) {
+                    Some(p) => cands.swap(0, p),
+                    None => open += 1,
+                }
+            }
+        }
+        AoRef::Estimate(f64::from(open) / f64::from(SIDE * SIDE))
+    }
+}
+
+/// The reference image (row-major) of `world` with `s`, rows split between threads.
+pub fn reference(world: &World, s: &AoSettings, seed: u64) -> Vec<AoRef> {
+    let occ = occluders(world);
+    let (w, h) = (world.eye.width, world.eye.height);
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()) as u32;
+    let mut out = vec![AoRef::Miss; (w * h) as usize];
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..threads)
+            .map(|k| {
+                let occ = &occ;
+                scope.spawn(move || {
+                    (k..h)
+                        .step_by(threads as usize)
+                        .flat_map(|j| (0..w).map(move |i| (i, j)))
+                        .map(|(i, j)| ((j * w + i) as usize, world.ao_pixel(occ, i, j, s, seed)))
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        for hd in handles {
+            for (k, r) in hd.join().expect("AO reference thread") {
+                out[k] = r;
+            }
+        }
+    });
+    out
+}
+
+/// What the AO checks found over a scene, or a run.
+#[derive(Clone, Debug, Default)]
+pub struct Tally {
+    /// Scenes checked: all, and those checked whole (not their AO part).
+    pub scenes: u64,
+    pub whole: u64,
+    /// Scenes with refused shapes, and those the library refused with the right counts.
+    pub to_refuse: u64,
+    pub refused: u64,
+    /// Pixels: estimated (checked statistically), open (exactly 1), inside (exactly 0),
+    /// misses, and left out on another surface.
+    pub estimated: u64,
+    pub open: u64,
+    pub inside: u64,
+    pub misses: u64,
+    pub on_another: u64,
+    /// Largest |library - reference| beyond the library's bound, over sigma.
+    pub worst_z: f64,
+    /// Sums over the estimated pixels with no bound (exact) of library - reference and of
+    /// sigma^2, for
+    /// [`Tally::bias_z`].
+    pub sum_err: f64,
+    pub sum_var: f64,
+}
+
+impl Tally {
+    pub fn add(&mut self, o: &Tally) {
+        self.scenes += o.scenes;
+        self.whole += o.whole;
+        self.to_refuse += o.to_refuse;
+        self.refused += o.refused;
+        self.estimated += o.estimated;
+        self.open += o.open;
+        self.inside += o.inside;
+        self.misses += o.misses;
+        self.on_another += o.on_another;
+        self.worst_z = self.worst_z.max(o.worst_z);
+        self.sum_err += o.sum_err;
+        self.sum_var += o.sum_var;
+    }
+
+    /// The summed error of the estimated pixels in standard errors: an error of the same sign
+    /// everywhere, too small for any one pixel to show, shows here.
+    pub fn bias_z(&self) -> f64 {
+        if self.sum_var > 0.0 {
+            self.sum_err / self.sum_var.sqrt()
+        } else {
+            0.0
+        }
+    }
+}
+
+/// The library's AO `film` of `desc` against `refs`: failures, one line each, into `fails`.
+pub fn check(
+    tally: &mut Tally,
+    fails: &mut Vec<String>,
+    desc: &SceneDesc,
+    film: &Film,
+    refs: &[AoRef],
+    z: f64,
+) {
+    let n = f64::from(SIDE * SIDE);
+    let q = (z * z / n).min(0.5);
+    for (k, r) in refs.iter().enumerate() {
+        let got = film.rgb[k];
+        // The library's bound of its error (Cylinders and Cones).
+        let bound = film.error.as_ref().map_or(0.0, |e| e[k]);
+        let at = format!(
+            "ao pixel ({}, {})",
+            k % desc.width as usize,
+            k / desc.width as usize
+        );
+        if *r == AoRef::Miss {
+            tally.misses += 1;
+            if got != desc.background {
+                fails.push(format!(
+                    "{at}: the reference misses, the library has {got:?}, not the background {:?}",
+                    desc.background
+                ));
+            }
+            continue;
+        }
+        if got[0] != got[1] || got[0] != got[2] {
+            fails.push(format!("{at}: not grey: {got:?}"));
+            continue;
+        }
+        let v = got[0];
+        match *r {
+            AoRef::Inside | AoRef::Open => {
+                let want = if *r == AoRef::Open { 1.0 } else { 0.0 };
+                if *r == AoRef::Open {
+                    tally.open += 1;
+                } else {
+                    tally.inside += 1;
+                }
+                // (Open: the polyhedron about a Cylinder or Cone may rise where the solid
+                // does not, which the bound covers, to the rounding of the mean and the half
+                // gap.)
+                let within = v == want || (want == 1.0 && 1.0 - v <= bound + 1e-12);
+                if !within {
+                    fails.push(format!(
+                        "{at}: got {v:.17e}, exactly {want} expected ({})",
+                        if want == 1.0 {
+                            "nothing rises above the horizon within the reach"
+                        } else {
+                            "the point is inside another sphere or solid"
+                        }
+                    ));
+                }
+            }
+            AoRef::Estimate(p) => {
+                tally.estimated += 1;
+                let sigma = (p * (1.0 - p)).max(q * (1.0 - q)).sqrt() / n.sqrt();
+                let e = (v - p).abs();
+                if bound == 0.0 {
+                    // (A bracketed value sits anywhere within its bound: not in the bias.)
+                    tally.sum_err += v - p;
+                    tally.sum_var += sigma * sigma;
+                }
+                tally.worst_z = tally.worst_z.max((e - bound).max(0.0) / sigma);
+                if e.is_nan() || e > z * sigma + 1e-9 + bound {
+                    fails.push(format!(
+                        "{at}: got {v:.10e} (bound {bound:.2e}), reference {p:.6e} from {n} \
+                         directions: error {e:.2e} = {:.2} sigma of {sigma:.2e} (z {z:.2})",
+                        e / sigma
+                    ));
+                }
+            }
+            AoRef::OnAnother => tally.on_another += 1,
+            AoRef::Miss => unreachable!("handled above"),
+        }
+    }
+}
