@@ -9,7 +9,7 @@
 //!   shaders);
 //! - [`voxel`]: three cones traced through a voxel density grid (MegaMol's MDAO).
 //!
-//! Each answers the question the exact method answers ([`super::unoccluded`]): the unoccluded
+//! Each answers the question the exact method answers (`super::unoccluded_to`): the unoccluded
 //! fraction at a point on an opaque sphere, the sphere itself left out, within the reach.
 //! `exact` is the default, and none of these is ever chosen silently.
 
