@@ -27,8 +27,9 @@ use crate::to_py;
 /// last with spheres_done == spheres_total (coincident copies are done once and counted
 /// once); an exception it raises stops the work.
 ///
-/// AO is exact for opaque spheres only: a scene with gas spheres, ellipsoids or other
-/// surfaces raises ValueError, as does a bad keyword (naming it). The GIL is released while
+/// AO is exact among opaque spheres, triangles and boxes, and to `tol` among closed
+/// cylinders and cones: a scene with gas spheres, ellipsoids or open cylinders or cones
+/// raises ValueError, as does a bad keyword (naming it). The GIL is released while
 /// integrating; Ctrl-C (KeyboardInterrupt) stops the work within a sphere's time. The
 /// values are the same for any thread count.
 #[pyfunction]

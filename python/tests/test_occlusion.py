@@ -148,14 +148,31 @@ def test_bad_keywords_raise_value_error_naming_them(kwargs, message):
         gt.occlusion(scene_of(EQUAL), **kwargs)
 
 
-def test_scenes_ao_is_not_exact_for_are_refused(tmp_path):
+def test_scenes_ao_does_not_take_are_refused_and_surfaces_occlude(tmp_path):
     gas = gt.Scene.from_arrays([[0, 0, 0], [2, 0, 0]], 1.0, transparency=[0.0, 0.5])
-    with pytest.raises(ValueError, match=r"^scene: ambient occlusion is exact for opaque spheres only, and this scene has 1 gas spheres$"):
+    with pytest.raises(
+        ValueError,
+        match=r"^scene: ambient occlusion knows opaque spheres, triangles, boxes and closed "
+        r"cylinders and cones only, and this scene has 1 gas spheres$",
+    ):
         gt.occlusion(gas)
-    box = tmp_path / "box.wrl"
-    box.write_text("#VRML V2.0 utf8\nShape { geometry Sphere { } }\nShape { geometry Box { } }\n")
-    with pytest.raises(ValueError, match=r"^scene: .* 1 surfaces other than spheres$"):
-        gt.occlusion(gt.load(box))
+    # A Box beside a sphere occludes it; a closed cylinder too, to the tolerance; an open one
+    # is refused.
+    lone = tmp_path / "lone.wrl"
+    lone.write_text("#VRML V2.0 utf8\nShape { geometry Sphere { } }\n")
+    (alone,), _ = gt.occlusion(gt.load(lone))
+    assert abs(alone - 1.0) <= 1e-12
+    for solid in ("Box { }", "Cylinder { }"):
+        f = tmp_path / "beside.wrl"
+        f.write_text(
+            "#VRML V2.0 utf8\nShape { geometry Sphere { } }\n"
+            f"Transform {{ translation 2.5 0 0 children Shape {{ geometry {solid} }} }}\n"
+        )
+        (ao,), (err,) = gt.occlusion(gt.load(f), tol=1e-2)
+        assert 0.5 < ao < 1.0 and err <= 1.5e-2, (solid, ao, err)
+    f.write_text("#VRML V2.0 utf8\nShape { geometry Sphere { } }\nShape { geometry Cylinder { top FALSE } }\n")
+    with pytest.raises(ValueError, match=r"this scene has 1 open cylinders or cones"):
+        gt.occlusion(gt.load(f))
 
 
 def test_progress_counts_spheres_and_an_exception_from_it_stops_the_work():
