@@ -216,6 +216,14 @@ mod tests {
         (*state >> 11) as f64 / (1u64 << 53) as f64
     }
 
+    /// Whether the direction `w` (above the horizon) lies in a cell `sky` has marked.
+    fn in_marked_cell(sky: &Sky, w: DVec3) -> bool {
+        let p = sky.polar(w);
+        let band = ((p.theta / FRAC_PI_2 * BANDS as f64) as usize).min(BANDS - 1);
+        let sector = (p.phi.rem_euclid(TAU) / TAU * SECTORS as f64) as usize % SECTORS;
+        sky.bands[band] >> sector & 1 == 1
+    }
+
     #[test]
     fn marked_cells_lie_inside_the_caps_and_hidden_cones_inside_marked_cells() {
         // Directions drawn at random: one in a marked cell must be inside some cap; a cone
@@ -252,10 +260,7 @@ mod tests {
                 if w.dot(n) < 0.0 {
                     continue;
                 }
-                let p = sky.polar(w);
-                let band = ((p.theta / FRAC_PI_2 * BANDS as f64) as usize).min(BANDS - 1);
-                let sector = (p.phi.rem_euclid(TAU) / TAU * SECTORS as f64) as usize % SECTORS;
-                if sky.bands[band] >> sector & 1 == 1 {
+                if in_marked_cell(&sky, w) {
                     assert!(inside(w), "a marked cell's direction outside every cap");
                 }
             }
@@ -307,10 +312,7 @@ mod tests {
                 if w.dot(n) < 0.0 {
                     continue;
                 }
-                let p = sky.polar(w);
-                let band = ((p.theta / FRAC_PI_2 * BANDS as f64) as usize).min(BANDS - 1);
-                let sector = (p.phi.rem_euclid(TAU) / TAU * SECTORS as f64) as usize % SECTORS;
-                if sky.bands[band] >> sector & 1 == 1 {
+                if in_marked_cell(&sky, w) {
                     marked += 1;
                     assert!(
                         caps.iter().all(|c| c.axis.dot(w) >= c.cos),
