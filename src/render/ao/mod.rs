@@ -426,18 +426,6 @@ impl Around {
                     return;
                 }
                 let before = regions.len();
-                // The directions of the bounding ball (all of them from inside it).
-                let ball_cone = if d > p.radius {
-                    Cone {
-                        axis: (p.center - x) / d,
-                        angle: (p.radius / d).asin(),
-                    }
-                } else {
-                    Cone {
-                        axis: n,
-                        angle: std::f64::consts::PI,
-                    }
-                };
                 match &surfaces.items[i as usize] {
                     Traced::Triangle(t) => {
                         if is_sliver(&t.p) || self.own_triangle.is_some_and(|o| coplanar(&o, &t.p))
@@ -466,7 +454,19 @@ impl Around {
                         if bracket::inside(solid, to_object.transform_point3(x)) {
                             everything = true;
                         } else {
-                            rounds.push((i, ball_cone));
+                            // The directions of its bounding ball (all from inside it).
+                            let ball = if d > p.radius {
+                                Cone {
+                                    axis: (p.center - x) / d,
+                                    angle: (p.radius / d).asin(),
+                                }
+                            } else {
+                                Cone {
+                                    axis: n,
+                                    angle: std::f64::consts::PI,
+                                }
+                            };
+                            rounds.push((i, ball));
                         }
                         return;
                     }
