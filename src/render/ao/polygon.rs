@@ -77,17 +77,19 @@ fn region(
 ) -> bool {
     let k = corners.len();
     debug_assert!(k >= 3);
-    // The corners relative to x; those of `own` lie in its plane, through x: in the tangent
-    // plane of x (projected onto it), and the polygon is the one through them. (A triangle
-    // or a face of a Box on the stack; a polyhedron's larger faces, `bracket`, on the heap.)
+    // The corners relative to x, and the edges' great circles' axes. (A triangle's or a
+    // face of a Box's on the stack; a polyhedron's larger faces', `bracket`, on the heap.)
     let (mut small, mut large);
-    let a: &mut [DVec3] = if k <= 4 {
-        small = [DVec3::ZERO; 4];
-        &mut small[..k]
+    let buffer: &mut [DVec3] = if k <= 4 {
+        small = [DVec3::ZERO; 8];
+        &mut small[..2 * k]
     } else {
-        large = vec![DVec3::ZERO; k];
+        large = vec![DVec3::ZERO; 2 * k];
         &mut large
     };
+    let (a, axes) = buffer.split_at_mut(k);
+    // Those of `own` lie in its plane, through x: in the tangent plane of x (projected onto
+    // it), and the polygon is the one through them.
     let mut flattened = false;
     for (ai, &p) in a.iter_mut().zip(corners) {
         let v = p - x;
@@ -114,14 +116,6 @@ fn region(
         return false;
     }
     let s = h.signum();
-    let (mut small_axes, mut large_axes);
-    let axes: &mut [DVec3] = if k <= 4 {
-        small_axes = [DVec3::ZERO; 4];
-        &mut small_axes[..k]
-    } else {
-        large_axes = vec![DVec3::ZERO; k];
-        &mut large_axes
-    };
     for i in 0..k {
         let j = (i + 1) % k;
         let shared = own.is_some_and(|o| o.contains(&corners[i]) && o.contains(&corners[j]));
