@@ -149,14 +149,25 @@ def test_bad_keywords_raise_value_error_naming_them(kwargs, message):
 
 
 def test_scenes_ao_does_not_take_are_refused_and_surfaces_occlude(tmp_path):
+    # Gas occludes by its transmittance; a gas sphere's own value leaves it out.
     gas = gt.Scene.from_arrays([[0, 0, 0], [2, 0, 0]], 1.0, transparency=[0.0, 0.5])
+    ao, err = gt.occlusion(gas, tol=1e-2)
+    assert all(0.5 < a < 0.99 for a in ao), ao
+    assert all(0.0 <= e <= 0.05 for e in err), err
+    # Gas beside a Cylinder is refused, with both counts.
+    mixed = tmp_path / "mixed.wrl"
+    mixed.write_text(
+        "#VRML V2.0 utf8\nShape { appearance Appearance { material Material { transparency 0.5 } }"
+        " geometry Sphere { } }\n"
+        "Transform { translation 3 0 0 children Shape { geometry Cylinder { } } }\n"
+    )
     with pytest.raises(
         ValueError,
-        match=r"^scene: per-particle AO knows opaque spheres, triangles, boxes and closed "
-        r"cylinders and cones only, and this scene has 1 gas spheres \(AO pictures take gas "
-        r"as an occluder\)$",
+        match=r"^scene: ambient occlusion knows opaque spheres, triangles, boxes, closed "
+        r"cylinders and cones, and gas spheres where no cylinder or cone occludes, and this "
+        r"scene has 1 gas spheres, 1 closed cylinders or cones beside the gas$",
     ):
-        gt.occlusion(gas)
+        gt.occlusion(gt.load(mixed))
     # A Box beside a sphere occludes it; a closed cylinder too, to the tolerance; an open one
     # is refused.
     lone = tmp_path / "lone.wrl"

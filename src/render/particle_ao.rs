@@ -10,6 +10,10 @@
 //! The integrand is continuous where neighbours only shade the sphere, with kinks where a
 //! cap meets the horizon, and jumps to 0 where a neighbour buries the surface; the estimate
 //! is the usual heuristic of embedded rules, not a bound.
+//!
+//! A gas sphere's value is taken over its surface as an opaque one's, itself left out; gas
+//! occludes by its transmittance (`ao::gas`), each point to a quarter of the tolerance with
+//! its estimate in the error, at the cost of a nested quadrature per point.
 
 use std::collections::BinaryHeap;
 
@@ -251,14 +255,6 @@ pub fn particles_ao(
 ) -> Result<Vec<ParticleAo>, Error> {
     if let Some(why) = unsupported(prep) {
         return Err(Error::Invalid(why));
-    }
-    if prep.gas_spheres > 0 {
-        return Err(Error::Invalid(format!(
-            "per-particle AO knows opaque spheres, triangles, boxes and closed cylinders and \
-             cones only, and this scene has {} gas spheres (AO pictures take gas as an \
-             occluder)",
-            prep.gas_spheres
-        )));
     }
     check_tol(tol).map_err(Error::Invalid)?;
     super::ao::check_reach(ao.0).map_err(Error::Invalid)?;

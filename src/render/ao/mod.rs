@@ -424,10 +424,13 @@ impl Around {
         stack: &mut Vec<u32>,
     ) {
         let Around { x, n, reach, .. } = *self;
+        // (A point on a gas sphere's surface, as the per-particle table takes one, does not
+        // see that sphere.)
+        let own = self.own.and_then(Opaque::sphere);
         bvh.near_region(
             |lo, hi| self.may_hold((lo, hi), (0.0, reach), sky),
-            |_, p| {
-                if !p.is_gas() {
+            |i, p| {
+                if !p.is_gas() || Some(i) == own {
                     return;
                 }
                 let v = p.center - x;
