@@ -3,38 +3,52 @@
 //! section 11 with the matrix's own geometry.
 //!
 //! - **Which scenes.** AO takes opaque spheres, triangles and Boxes exactly, and Cylinders
-//!   and Cones (the generator's have all their parts) to a tolerance drawn by seed
-//!   ([`tolerance`]), with a bound of the error per pixel. A scene with gas spheres (counted
-//!   from its description, not from the library's answer) must be refused with an error that
-//!   gives the count; its *AO part*, the same tree without them, is checked instead. The
-//!   generator scales uniformly only: it makes no ellipsoids.
+//!   and Cones (the generator's have all their parts) and gas spheres to a tolerance drawn by
+//!   seed ([`tolerance`]), with an error channel per pixel: a bound where Cylinders or Cones
+//!   occlude, an estimate where gas does. A scene with gas spheres *and* Cylinders or Cones
+//!   (counted from its description, not from the library's answer) must be refused with an
+//!   error that gives both counts; its *AO part*, the same tree without the gas, is checked
+//!   instead. Every other scene is checked whole, its gas included. The generator scales
+//!   uniformly only: it makes no ellipsoids.
 //! - **Reach and weighting**, by seed ([`settings`]): infinite in half the scenes, else
 //!   log-uniform from 0.1 to 3 world units (the scenes span about 3); cosine or uniform.
 //! - **The reference** ([`reference`]): the pixel-centre ray's first opaque hit
-//!   (`World::first_opaque`) and its normal on the viewer's side; AO 0 if that point is
-//!   inside another sphere or Box; else [`SIDE`]^2 directions, one in each cell of a grid
-//!   on the unit square mapped onto the hemisphere (cosine- or uniformly-weighted, so each
-//!   cell has equal weight), each traced against every other primitive within the reach
-//!   with the matrix's ray/sphere roots and `surface_reference::blocks_from` (a bounding
-//!   sphere first, to skip the primitives the direction misses by far).
-//! - **The check** ([`check`]): `|library - p| <= z sigma + 1e-9 + bound`, `bound` the
-//!   library's bound of its error at the pixel (0 without Cylinders or Cones), with
-//!   `sigma = sqrt(max(p (1 - p), q (1 - q)) / N)`, `q = min(z^2 / N, 1/2)`, and `z` from
-//!   Bonferroni over every AO pixel of the run. Stratification only lowers the variance, so
-//!   the binomial sigma is an upper bound. The floor `q`: when the true value is `1 - e`, all
-//!   N directions miss the blocked part with probability at most `exp(-e N)` (a stratified
-//!   draw misses it no more often), so a reference that sees `p = 1` (or 0) may be off by
-//!   up to about `ln(1 / alpha) / N = z^2 / (2 N)`; the floor allows `z^2 / N`, Wilson's
-//!   bound at `p = 0`. Over the run, the summed error `sum (library - p)` must be within
-//!   `z_1 sqrt(sum sigma^2)`, `z_1` for the false-alarm rate alone (a bias too small for any
-//!   one pixel; the pixels' estimates are independent).
-//! - **Exact cases**: a point with no other primitive reaching above its tangent plane
-//!   within the reach (by more than rounding) must be exactly 1 (or within the library's
-//!   bound of it: the polyhedron about a Cylinder or Cone may rise where the solid does not);
-//!   a point inside another
-//!   sphere or Box exactly 0; a miss the background; every hit grey (R = G = B). A point
-//!   within rounding of another primitive's surface is left out (counted), where the
-//!   library's rule for a point on a sphere or a face decides.
+//!   (`World::first_opaque`; gas is not a surface: the camera ray passes through it) and its
+//!   normal on the viewer's side; AO 0 if that point is inside another opaque sphere or Box;
+//!   else the mean of the visibility `V` over [`SIDE`]^2 directions, one in each cell of a
+//!   grid on the unit square mapped onto the hemisphere (cosine- or uniformly-weighted, so
+//!   each cell has equal weight). `V` is 0 if the direction meets another opaque primitive
+//!   within the reach (the matrix's ray/sphere roots and `surface_reference::blocks_from`,
+//!   a bounding sphere first, to skip the primitives the direction misses by far), else
+//!   `exp(-tau)`, `tau` the optical depth of the gas spheres along it from the point (from
+//!   the point itself when it is inside one) to the reach: each chord's integral of the
+//!   density in closed form ([`gas_depth`]), which the self-tests hold to the quadrature of
+//!   `World::depth`, and the reference as a whole to a thin-gas closed form and to
+//!   one-dimensional integrals (`selftest.rs`).
+//! - **The check** ([`check`]): `|library - p| <= z sigma + 1e-9 + err`, `err` the
+//!   library's error channel at the pixel (0 where neither Cylinders, Cones nor gas
+//!   occlude), with `sigma = sqrt(max(p (1 - p), q (1 - q)) / N)`, `q = min(z^2 / N, 1/2)`,
+//!   and `z` from Bonferroni over every AO pixel of the run. A direction's `V` lies in
+//!   [0, 1], so its variance is at most `p (1 - p)` for mean `p` (`E[V^2] <= E[V]`; equal
+//!   when `V` is 0 or 1, without gas), and stratification only lowers the variance of the
+//!   mean: the binomial sigma is an upper bound. The floor `q`: when the true value is
+//!   `1 - e`, the directions with `V < 1` have measure at least `e`, and all N directions
+//!   miss them with probability at most `exp(-e N)` (a stratified draw misses them no more
+//!   often), so a reference that sees `p = 1` (or 0) may be off by up to about
+//!   `ln(1 / alpha) / N = z^2 / (2 N)`; the floor allows `z^2 / N`, Wilson's bound at
+//!   `p = 0`. Over the run, the summed error `sum (library - p)` of the pixels whose error
+//!   channel is 0 must be within `z_1 sqrt(sum sigma^2)`, `z_1` for the false-alarm rate
+//!   alone (a bias too small for any one pixel; the pixels' estimates are independent). A
+//!   pixel with an error channel may be off by up to it with a sign of its own, so it is
+//!   left out of that sum.
+//! - **Exact cases**: a point with no other primitive, opaque or gas (of extinction above
+//!   0), reaching above its tangent plane within the reach (by more than rounding) must be
+//!   exactly 1 (or within the library's bound of it: the polyhedron about a Cylinder or Cone
+//!   may rise where the solid does not); a point inside another opaque sphere or Box exactly
+//!   0; a miss the background; every hit grey (R = G = B). A point within rounding of
+//!   another opaque primitive's surface is left out (counted), where the library's rule for
+//!   a point on a sphere or a face decides; a gas sphere's surface needs no such rule (the
+//!   chord from the point is the same either side).
 //! - **Cost**: [`SIDE`] = 256, N = 65 536 directions, in every scene: 11.6 s of the CI run
 //!   (307 scenes, 3 289 pixels estimated) on 2 cores, almost all of it the reference's
 //!   directions (`cargo test -p gtsphere --test it verify_matrix -- --nocapture` prints the
