@@ -550,3 +550,33 @@ fn verify_ao_reference_gas_matches_closed_forms() {
         }
     }
 }
+
+/// The AO refusal judge (`ao::Unsupported::judge`) takes a message that gives both counts
+/// after "this scene has" and rejects one that leaves a count out, gives a wrong one, or
+/// names ellipsoids.
+#[test]
+fn verify_ao_refusal_judge_needs_both_counts() {
+    use super::ao::Unsupported;
+
+    let u = Unsupported { gas: 12, rounds: 3 };
+    let head = "ambient occlusion knows ..., and this scene has ";
+    for good in [
+        "12 gas spheres, 3 cylinders or cones",
+        "12 gas spheres and 3 cylinders and cones",
+        "3 closed cylinders or cones, 12 gas spheres",
+    ] {
+        let m = format!("{head}{good}");
+        assert_eq!(u.judge(&m), None, "{m}");
+    }
+    for bad in [
+        "12 gas spheres",
+        "2 gas spheres, 3 cylinders or cones",
+        "12 gas spheres, 13 cylinders or cones",
+        "12 gas spheres, 3 ellipsoids, 3 cylinders or cones",
+        "3 cylinders or cones",
+    ] {
+        let m = format!("{head}{bad}");
+        assert!(u.judge(&m).is_some(), "{m}");
+    }
+    assert!(u.judge("12 gas spheres, 3 cylinders").is_some());
+}
