@@ -28,8 +28,8 @@ use crate::to_py;
 /// once); an exception it raises stops the work.
 ///
 /// AO is exact among opaque spheres, triangles and boxes, and to `tol` among closed
-/// cylinders and cones: a scene with gas spheres, ellipsoids or open cylinders or cones
-/// raises ValueError, as does a bad keyword (naming it). The GIL is released while
+/// cylinders and cones: a scene with gas spheres (which occlude in AO pictures, not in this
+/// table), ellipsoids or open cylinders or cones raises ValueError, as does a bad keyword (naming it). The GIL is released while
 /// integrating; Ctrl-C (KeyboardInterrupt) stops the work within a sphere's time. The
 /// values are the same for any thread count.
 #[pyfunction]

@@ -152,8 +152,9 @@ def test_scenes_ao_does_not_take_are_refused_and_surfaces_occlude(tmp_path):
     gas = gt.Scene.from_arrays([[0, 0, 0], [2, 0, 0]], 1.0, transparency=[0.0, 0.5])
     with pytest.raises(
         ValueError,
-        match=r"^scene: ambient occlusion knows opaque spheres, triangles, boxes and closed "
-        r"cylinders and cones only, and this scene has 1 gas spheres$",
+        match=r"^scene: per-particle AO knows opaque spheres, triangles, boxes and closed "
+        r"cylinders and cones only, and this scene has 1 gas spheres \(AO pictures take gas "
+        r"as an occluder\)$",
     ):
         gt.occlusion(gas)
     # A Box beside a sphere occludes it; a closed cylinder too, to the tolerance; an open one

@@ -252,6 +252,14 @@ pub fn particles_ao(
     if let Some(why) = unsupported(prep) {
         return Err(Error::Invalid(why));
     }
+    if prep.gas_spheres > 0 {
+        return Err(Error::Invalid(format!(
+            "per-particle AO knows opaque spheres, triangles, boxes and closed cylinders and \
+             cones only, and this scene has {} gas spheres (AO pictures take gas as an \
+             occluder)",
+            prep.gas_spheres
+        )));
+    }
     check_tol(tol).map_err(Error::Invalid)?;
     super::ao::check_reach(ao.0).map_err(Error::Invalid)?;
     let prims = prep.bvh.packed();

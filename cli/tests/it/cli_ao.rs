@@ -51,25 +51,71 @@ fn ao_pictures_hold_fractions_and_ao_refuses_what_it_cannot_do_exactly() {
         assert!(grey || p == [0.05, 0.05, 0.08], "{p:?}");
     }
     assert!(v.iter().any(|&x| x > 0.0 && x < 0.9));
-    // Gas is not an occluder of exact AO yet: refused, nothing written.
+    // Gas occludes by its transmittance, to --tol: an opaque sphere half inside a gas ball
+    // is dimmed where it faces the gas.
+    std::fs::write(
+        dir.join("in_gas.wrl"),
+        "#VRML V2.0 utf8\nViewpoint { position 0 0 5 }\nShape { geometry Sphere { } }\n\
+         Transform { translation 1 0.5 0.8 children Shape { appearance Appearance { \
+         material Material { transparency 0.3 } } geometry Sphere { } } }\n",
+    )
+    .unwrap();
     let out = gtsphere(
         &[
             "render",
-            &sample("gas.wrl"),
+            "in_gas.wrl",
+            "--integrator",
+            "ao",
+            "--width",
+            "12",
+            "--height",
+            "9",
+            "--spp",
+            "1",
+            "--tol",
+            "1e-2",
+            "-o",
+            "gas.npy",
+        ],
+        &dir,
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v = npy_values(&dir.join("gas.npy"));
+    let grey: Vec<f64> = v
+        .chunks_exact(3)
+        .filter(|p| p[0] == p[1] && p[1] == p[2] && p[0] > 0.0)
+        .map(|p| p[0])
+        .collect();
+    assert!(
+        grey.len() > 10 && grey.iter().all(|&x| x <= 1.0) && grey.iter().any(|&x| x < 0.9),
+        "{grey:?}"
+    );
+    // Gas beside a Cylinder is refused, with both counts; nothing written.
+    std::fs::write(
+        dir.join("gas_cylinder.wrl"),
+        "#VRML V2.0 utf8\nShape { appearance Appearance { material Material { transparency 0.5 } } \
+         geometry Sphere { } }\nTransform { translation 3 0 0 children Shape { geometry Cylinder { } } }\n",
+    )
+    .unwrap();
+    let out = gtsphere(
+        &[
+            "render",
+            "gas_cylinder.wrl",
             "--integrator",
             "ao",
             "-o",
-            "gas.png",
+            "refused.png",
         ],
         &dir,
     );
     assert!(!out.status.success());
     assert!(
-        stderr(&out).contains("ambient occlusion knows opaque spheres, triangles, boxes"),
+        stderr(&out)
+            .contains("this scene has 1 gas spheres, 1 closed cylinders or cones beside the gas"),
         "{}",
         stderr(&out)
     );
-    assert!(!dir.join("gas.png").exists());
+    assert!(!dir.join("refused.png").exists());
     for bad in [
         vec!["--ao-reach", "2"],
         vec!["--integrator", "ao", "--ao-reach", "-1"],

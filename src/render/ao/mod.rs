@@ -1,11 +1,12 @@
 //! Ambient occlusion, exact for opaque spheres, triangles and boxes, and to a tolerance among
-//! cylinders and cones (docs/model.md section 11): at a surface point, the fraction of the
-//! hemisphere about its normal (cosine-weighted or uniform) whose rays meet no other occluder
-//! within the reach.
+//! cylinders and cones and through gas (docs/model.md section 11): at a surface point, the
+//! fraction of the hemisphere about its normal (cosine-weighted or uniform) whose rays meet no
+//! other occluder within the reach, each ray seen through the gas on its way.
 //!
 //! - `cap`: what one sphere blocks, a cap of directions;
 //! - `polygon`: what a triangle or a face of a Box blocks, an intersection of caps;
 //! - `bracket`: a Cylinder or a Cone, between the polyhedra inscribed in it and about it;
+//! - `gas`: what gas spheres take from the opaque occluders' AO, by nested quadrature;
 //! - `union`: the measure of the union of those regions, in closed form;
 //! - `sky`: which directions the regions found so far block whole, to leave out occluders
 //!   hidden behind them;
@@ -20,6 +21,7 @@
 
 pub(crate) mod bracket;
 pub(crate) mod cap;
+pub(crate) mod gas;
 pub mod methods;
 pub(crate) mod polygon;
 pub(crate) mod sky;
@@ -85,6 +87,7 @@ pub struct AoScratch {
     union: UnionScratch,
     general: RegionScratch,
     sky: Option<Sky>,
+    gas: gas::GasScratch,
     methods: methods::MethodScratch,
 }
 
@@ -111,7 +114,8 @@ pub(crate) fn check_reach(reach: f64) -> Result<(), String> {
 /// spheres, triangles, Boxes, Cylinders and Cones of `prep` within `reach`, what `x` is on
 /// (`own`) left out. 0 if `x` is inside a sphere or a solid; a point on a sphere's surface to
 /// rounding (within 1e-10 of its radius) is on it. Exact up to rounding (the error is 0)
-/// without Cylinders or Cones near `x`; with them, bracketed to within `tol` (`bracket`).
+/// without Cylinders, Cones or gas near `x`; with Cylinders or Cones, bracketed to within
+/// `tol` (`bracket`); with gas spheres, less what they take, to about `tol` ([`gas`]).
 ///
 /// The occluders near `x` are gathered first. When the reach goes beyond them, the caps of
 /// the spheres, largest first, and then the triangles' and faces' regions mark the cells of
@@ -167,7 +171,8 @@ pub(crate) fn unoccluded_to(
     {
         return (0.0, 0.0);
     }
-    if near < reach || s.caps.len() + s.regions.len() > PRUNE {
+    let pruned = near < reach || s.caps.len() + s.regions.len() > PRUNE;
+    if pruned {
         s.caps.sort_unstable_by(|a, b| a.cos.total_cmp(&b.cos));
         let sky = s.sky.insert(Sky::new(n));
         s.caps.retain(|c| {
@@ -210,7 +215,14 @@ pub(crate) fn unoccluded_to(
             }
         }
     }
+    s.gas.clear();
+    if prep.gas_spheres > 0 {
+        let sky = if pruned { s.sky.as_ref() } else { None };
+        around.gather_gas(&prep.bvh, sky, &mut s.gas, &mut s.stack);
+    }
     if !s.rounds.is_empty() {
+        // (`unsupported` refuses gas beside Cylinders and Cones.)
+        debug_assert!(s.gas.is_empty());
         return bracketed(prep, (x, n), (reach, w), tol, s);
     }
     let v = if s.regions.is_empty() {
@@ -218,7 +230,18 @@ pub(crate) fn unoccluded_to(
     } else {
         1.0 - covered_fraction_of_regions(n, &s.caps, &s.regions, w, &mut s.general)
     };
-    (v, 0.0)
+    if s.gas.is_empty() {
+        return (v, 0.0);
+    }
+    let (loss, error) = gas::gas_loss(
+        prep,
+        (x, n),
+        (reach, w),
+        tol,
+        (&s.caps, &s.regions),
+        &mut s.gas,
+    );
+    ((v - loss).max(0.0), error)
 }
 
 /// [`unoccluded_to`] among occluders none of which is a Cylinder or a Cone: exact.
@@ -391,6 +414,36 @@ impl Around {
         everything
     }
 
+    /// Takes into `gas` the gas spheres whose nearest point is within the reach and that rise
+    /// above the horizon, leaving out those the `sky` (of opaque occluders) hides.
+    fn gather_gas(
+        &self,
+        bvh: &SphereBvh,
+        sky: Option<&Sky>,
+        gas: &mut gas::GasScratch,
+        stack: &mut Vec<u32>,
+    ) {
+        let Around { x, n, reach, .. } = *self;
+        bvh.near_region(
+            |lo, hi| self.may_hold((lo, hi), (0.0, reach), sky),
+            |_, p| {
+                if !p.is_gas() {
+                    return;
+                }
+                let v = p.center - x;
+                let d = v.length();
+                if d - p.radius >= reach
+                    || sky
+                        .is_some_and(|sky| d > p.radius && sky.hides(v / d, (p.radius / d).asin()))
+                {
+                    return;
+                }
+                gas.add(*p, x, n, reach);
+            },
+            stack,
+        );
+    }
+
     /// Adds to `regions` those of the triangles and Boxes whose bounding balls' nearest
     /// points are at a distance in `from..to`, and to `rounds` the Cylinders and Cones,
     /// leaving out those the `sky` hides; whether `x` is inside a solid.
@@ -532,26 +585,37 @@ pub(crate) fn radiance_of_hit(
 }
 
 /// Why `prep` cannot be rendered with exact AO, if it cannot: the occluders exact AO knows
-/// are opaque spheres, triangles and Boxes (exactly), and closed Cylinders and Cones (to the
-/// tolerance, `bracket`).
+/// are opaque spheres, triangles and Boxes (exactly), closed Cylinders and Cones (to the
+/// tolerance, `bracket`), and gas spheres (to the tolerance, [`gas`]) where no Cylinder or
+/// Cone occludes.
 pub(crate) fn unsupported(prep: &Prepared) -> Option<String> {
-    let ellipsoids = prep
-        .bvh
-        .packed()
-        .iter()
-        .filter(|q| q.is_ellipsoid())
-        .count();
-    let open = prep
-        .surfaces
-        .items
-        .iter()
-        .filter(|t| {
-            matches!(t, Traced::Solid { solid, .. }
-                if bracket::is_round(solid) && !bracket::is_closed_round(solid))
-        })
-        .count();
+    let (mut ellipsoids, mut gas) = (0, 0);
+    for q in prep.bvh.packed() {
+        if q.is_ellipsoid() {
+            ellipsoids += 1;
+        } else if q.is_gas() {
+            gas += 1;
+        }
+    }
+    let (mut open, mut closed) = (0, 0);
+    for t in &prep.surfaces.items {
+        if let Traced::Solid { solid, .. } = t {
+            if bracket::is_round(solid) {
+                if bracket::is_closed_round(solid) {
+                    closed += 1;
+                } else {
+                    open += 1;
+                }
+            }
+        }
+    }
+    let beside = |count: usize, other: usize| if other > 0 { count } else { 0 };
     let what = [
-        (prep.gas_spheres, "gas spheres"),
+        (beside(gas, closed), "gas spheres"),
+        (
+            beside(closed, gas),
+            "closed cylinders or cones beside the gas",
+        ),
         (ellipsoids, "ellipsoids (spheres under a non-uniform scale)"),
         (
             open,
@@ -565,8 +629,8 @@ pub(crate) fn unsupported(prep: &Prepared) -> Option<String> {
         .collect();
     (!found.is_empty()).then(|| {
         format!(
-            "ambient occlusion knows opaque spheres, triangles, boxes and closed cylinders and \
-             cones only, and this scene has {}",
+            "ambient occlusion knows opaque spheres, triangles, boxes, closed cylinders and \
+             cones, and gas spheres where no cylinder or cone occludes, and this scene has {}",
             found.join(", ")
         )
     })
@@ -574,6 +638,8 @@ pub(crate) fn unsupported(prep: &Prepared) -> Option<String> {
 
 #[cfg(test)]
 mod bracket_tests;
+#[cfg(test)]
+mod gas_tests;
 #[cfg(test)]
 mod reference;
 #[cfg(test)]

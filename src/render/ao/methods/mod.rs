@@ -138,6 +138,14 @@ pub fn prepare_view(
     if let Some(why) = super::unsupported(prep) {
         return Err(why);
     }
+    if ao.method != AoMethod::Exact && prep.gas_spheres > 0 {
+        return Err(format!(
+            "the {} AO method models a sphere renderer's approximation and knows opaque \
+             spheres only, and this scene has {} gas spheres; --ao-method exact takes them",
+            ao.method.name(),
+            prep.gas_spheres
+        ));
+    }
     if ao.method != AoMethod::Exact && !prep.surfaces.is_empty() {
         return Err(format!(
             "the {} AO method models a sphere renderer's approximation and knows spheres only, \
