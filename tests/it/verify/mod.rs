@@ -525,7 +525,8 @@ fn run(seeds: &[u64], every: usize) {
          ao: {} scenes ({} whole, {} of them with gas; the rest their AO part, {} of {} with \
          gas and Cylinders or Cones refused as they should be), pixels {} estimated ({} through \
          gas), {} exactly 1, {} exactly 0, {} misses, {} on another surface (not checked), \
-         worst |error| beyond the error channel / sigma {:.2} (z {z_ao:.2}, {} directions), \
+         worst |error| beyond the error channel / sigma {:.2} ({:.2} through gas; z {z_ao:.2}, \
+         {} directions), \
          summed error {:.2} sigma over {} pixels (z {z_bias:.2}); seconds in reference, exact, \
          march, mc, ao {secs:.1?}",
         seeds.len(),
@@ -546,6 +547,7 @@ fn run(seeds: &[u64], every: usize) {
         ao.misses,
         ao.on_another,
         ao.worst_z,
+        ao.worst_z_gas,
         ao::SIDE * ao::SIDE,
         ao.bias_z(),
         ao.bias_pixels,
