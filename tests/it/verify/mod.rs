@@ -183,9 +183,9 @@ fn check_ao(
     let viewer = viewer_carried(desc.seed);
     let s = ao::settings(desc.seed);
     let integ = Integrator::Ao(s);
-    let refused = ao::Unsupported::of(&desc.nodes);
     // The tolerance AO is held to where Cylinders, Cones or gas occlude.
-    let ao_tol = ao::tolerance(desc.seed, refused.gas > 0 && !refused.refused());
+    let ao_tol = ao::tolerance(desc.seed);
+    let refused = ao::Unsupported::of(&desc.nodes);
     let mut tally = ao::Tally {
         scenes: 1,
         ..ao::Tally::default()
