@@ -163,6 +163,8 @@ enum On {
 /// The buffers of [`covered_fraction_of_regions`].
 #[derive(Default)]
 pub struct RegionScratch {
+    /// The caps not held by a larger one.
+    caps: Vec<Circle>,
     circles: Vec<Circle>,
     /// Per circle, the corners of the polygon's edge it holds, if any.
     corners: Vec<Option<[DVec3; 2]>>,
@@ -224,12 +226,30 @@ pub fn covered_fraction_of_regions(
     s.cones.clear();
     s.circles.push(Circle::new(n, 0.0));
     s.corners.push(None);
-    for cap in caps {
-        if below_horizon(n, cap) {
-            continue;
+    // A cap or a region that a larger cap holds by far changes neither the union nor how
+    // any other circle's pieces lie (whatever is inside it is inside that cap, whose circle
+    // cuts where it would): left out first, at one dot product per pair.
+    s.caps.clear();
+    s.caps.extend(
+        caps.iter()
+            .filter(|c| !below_horizon(n, c))
+            .map(|c| Circle::new(c.axis, c.cos)),
+    );
+    let held = |caps: &[Circle], (axis, cos, sin, angle): (DVec3, f64, f64, f64)| {
+        caps.iter()
+            .any(|c| angle < c.angle && axis.dot(c.axis) > cos * c.cos + sin * c.sin + 1e-9)
+    };
+    let mut k = 0;
+    while k < s.caps.len() {
+        let c = s.caps[k];
+        if held(&s.caps, (c.axis, c.cos, c.sin, c.angle)) {
+            s.caps.swap_remove(k);
+        } else {
+            k += 1;
         }
+    }
+    for &c in &s.caps {
         s.starts.push(s.circles.len() as u32);
-        let c = Circle::new(cap.axis, cap.cos);
         s.cones.push((c.axis, c.cos, c.sin, c.angle));
         s.circles.push(c);
         s.corners.push(None);
@@ -239,9 +259,12 @@ pub fn covered_fraction_of_regions(
         if own.iter().any(|c| below_horizon(n, c)) {
             continue;
         }
-        s.starts.push(s.circles.len() as u32);
         let b = regions.bound(k);
         let (sin, cos) = b.angle.sin_cos();
+        if held(&s.caps, (b.axis, cos, sin, b.angle)) {
+            continue;
+        }
+        s.starts.push(s.circles.len() as u32);
         s.cones.push((b.axis, cos, sin, b.angle));
         s.circles
             .extend(own.iter().map(|c| Circle::new(c.axis, c.cos)));
