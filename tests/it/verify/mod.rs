@@ -10,9 +10,9 @@
 //!   verify`) draws `VERIFY_SCENES` (default 10 000) from seed `VERIFY_FIRST` (default
 //!   1 000 000). `VERIFY_SEED=S` re-runs the one scene of seed S in either, and
 //!   `verify_shrink` (`shrink.rs`) shrinks it.
-//! - `ao` adds ambient occlusion: a scene with shapes AO refuses (gas, Cylinders, Cones) must
-//!   be refused, and the scene, or else its AO part (the tree without those shapes), is
-//!   rendered by `Integrator::Ao` and checked against a Monte Carlo reference.
+//! - `ao` adds ambient occlusion: a scene with gas and Cylinders or Cones must be refused and
+//!   its AO part (the tree without the gas) is checked instead; any other scene is rendered
+//!   whole, gas included, by `Integrator::Ao` and checked against a Monte Carlo reference.
 //! - A failing scene is written to `target/verify-failures/seed-S.wrl` (its AO part to
 //!   `seed-S-ao.wrl`) with the command that reproduces it.
 
@@ -169,8 +169,8 @@ fn check_exact_of(
 }
 
 /// The AO dimension of scene `desc` (text `text`, written to `name` on failure; see `ao.rs`):
-/// a scene with shapes AO refuses must be refused, and its AO part is checked instead, with
-/// `z` standard errors allowed. Returns the AO part's text when it failed, to be written
+/// a scene with gas and Cylinders or Cones must be refused, and its AO part is checked
+/// instead; any other scene is checked whole; `z` standard errors allowed. Returns the AO part's text when it failed, to be written
 /// beside the scene.
 fn check_ao(
     out: &mut Outcome,
@@ -183,20 +183,21 @@ fn check_ao(
     let viewer = viewer_carried(desc.seed);
     let s = ao::settings(desc.seed);
     let integ = Integrator::Ao(s);
-    // The bound AO is held to where Cylinders or Cones occlude.
+    // The tolerance AO is held to where Cylinders, Cones or gas occlude.
     let ao_tol = ao::tolerance(desc.seed);
     let refused = ao::Unsupported::of(&desc.nodes);
     let mut tally = ao::Tally {
         scenes: 1,
         ..ao::Tally::default()
     };
-    if refused.any() {
+    if refused.refused() {
         tally.to_refuse = 1;
         let problem =
             match checks::library(text, desc, &checks::options(desc, integ, ao_tol, viewer)) {
                 Ok(_) => Some(format!(
-                    "ao: the library rendered a scene with {} gas spheres",
-                    refused.gas
+                    "ao: the library rendered a scene with {} gas spheres and {} Cylinders or \
+                     Cones",
+                    refused.gas, refused.rounds
                 )),
                 Err(e) => refused
                     .judge(&e)
@@ -210,11 +211,12 @@ fn check_ao(
             None => tally.refused = 1,
         }
     }
-    let part = refused.any().then(|| SceneDesc {
+    let part = refused.refused().then(|| SceneDesc {
         nodes: ao::ao_part(&desc.nodes),
         ..desc.clone()
     });
     tally.whole = u64::from(part.is_none());
+    tally.whole_gas = u64::from(part.is_none() && refused.gas > 0);
     let d = part.as_ref().unwrap_or(desc);
     let part_text = part.as_ref().map(vrml::write);
     let refs = ao::reference(&World::new(d, viewer), &s, desc.seed);
@@ -520,10 +522,13 @@ fn run(seeds: &[u64], every: usize) {
          pixels with an error above rounding ({:.2} %), median reported/true {median:.2}; \
          march's fitted order {slowest:.2} at worst, {typical:.2} median; mc \
          worst |error|/se {worst_z:.2} (z {z:.2}), zero-se pixels differing {zero_se}; \
-         ao: {} scenes ({} whole, the rest their AO part; {} of {} with gas refused as \
-         they should be), pixels {} estimated, {} exactly 1, {} exactly 0, \
-         {} misses, {} on another surface (not checked), worst |error| beyond the bound / sigma {:.2} \
-         (z {z_ao:.2}, {} directions), summed error {:.2} sigma (z {z_bias:.2}); seconds in reference, exact, march, mc, ao {secs:.1?}",
+         ao: {} scenes ({} whole, {} of them with gas; the rest their AO part, {} of {} with \
+         gas and Cylinders or Cones refused as they should be), pixels {} estimated ({} through \
+         gas), {} exactly 1, {} exactly 0, {} misses, {} on another surface (not checked), \
+         worst |error| beyond the error channel / sigma {:.2} ({:.2} through gas; z {z_ao:.2}, \
+         {} directions), \
+         summed error {:.2} sigma over {} pixels (z {z_bias:.2}); seconds in reference, exact, \
+         march, mc, ao {secs:.1?}",
         seeds.len(),
         failures.len(),
         late.len(),
@@ -532,16 +537,20 @@ fn run(seeds: &[u64], every: usize) {
         100.0 * coverage,
         ao.scenes,
         ao.whole,
+        ao.whole_gas,
         ao.refused,
         ao.to_refuse,
         ao.estimated,
+        ao.estimated_gas,
         ao.open,
         ao.inside,
         ao.misses,
         ao.on_another,
         ao.worst_z,
+        ao.worst_z_gas,
         ao::SIDE * ao::SIDE,
         ao.bias_z(),
+        ao.bias_pixels,
     );
     assert!(
         failures.is_empty(),

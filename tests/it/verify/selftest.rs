@@ -3,7 +3,10 @@
 //! `C (1 - exp(-tau_chord))` (constant, linear, quadratic profiles, tau 1e-6 to 7e2), thin gas
 //! single scattering to first order, the VRML lighting equation on a lit sphere, a known
 //! chord's transmittance, and the AO reference (`ao.rs`) against the closed forms of what one
-//! sphere (with and without a reach) and one triangle block.
+//! sphere (with and without a reach) and one triangle block, its gas optical depths against
+//! the quadrature of the density, and what one gas sphere takes away against a closed form
+//! (thin gas) and one-dimensional integrals (gas about the normal, outside and around the
+//! point, with and without a reach).
 
 use glam::DVec3;
 use gtsphere::render::Integrator;
@@ -330,7 +333,7 @@ fn verify_ao_reference_matches_closed_forms() {
             let world = World::new(&scene, true);
             let got = reference(&world, &s, k as u64)[(3 * scene.width + 4) as usize];
             match (got, blocked) {
-                (AoRef::Estimate(p), Some(b)) => {
+                (AoRef::Estimate { p, gas: false }, Some(b)) => {
                     let want = 1.0 - b;
                     let sigma = (want * (1.0 - want) / n).sqrt();
                     assert!(
@@ -343,4 +346,237 @@ fn verify_ao_reference_matches_closed_forms() {
             }
         }
     }
+}
+
+/// The AO reference's closed-form optical depths (`ao::gas_depth`) equal the quadrature of
+/// the density (`World::depth`) on chords of every profile through, beside and from inside a
+/// sphere, grazing ones included; and its `erf` matches tabulated values.
+#[test]
+fn verify_ao_gas_depth_closed_forms_match_quadrature() {
+    use super::ao::{erf, gas_depth};
+    use super::world::Gas;
+    use crate::support::Rng;
+
+    // erf at 0.5, 1, 2, 3.5 (Abramowitz and Stegun, table 7.1, and its continuation).
+    for (x, want) in [
+        (0.5, 0.520_499_877_813_046_5),
+        (1.0, 0.842_700_792_949_714_9),
+        (2.0, 0.995_322_265_018_952_7),
+        (3.5, 0.999_999_256_901_627_7),
+    ] {
+        assert!(rel(erf(x), want) < 1e-14, "erf({x}) = {}", erf(x));
+        assert!(rel(erf(-x), -want) < 1e-14);
+    }
+    let mut rng = Rng::new(71);
+    let profiles = [
+        Profile::Constant,
+        Profile::Linear,
+        Profile::Quadratic,
+        Profile::Gaussian(0.15),
+        Profile::Gaussian(0.6),
+        Profile::Gaussian(1.0),
+    ];
+    let mut chords = 0;
+    for k in 0..600 {
+        let profile = profiles[k % profiles.len()];
+        let r = rng.log10(-2.0, 0.5);
+        let c = DVec3::new(
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+        );
+        let g = Gas {
+            c,
+            r,
+            sigma0: rng.log10(-3.0, 3.0),
+            m: mat(0.5, profile),
+        };
+        // A line at a distance from the centre up to the radius, grazing in one case of
+        // five; the point on it before, inside or past the sphere.
+        let w = DVec3::new(
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+        )
+        .normalize();
+        let side = w.any_orthonormal_vector();
+        let off = if k % 5 == 0 {
+            1.0 - rng.log10(-9.0, -3.0)
+        } else {
+            rng.f()
+        };
+        let x = c + side * off * r + w * r * rng.range(-3.0, 1.0);
+        let Some((t0, t1)) = sphere_roots(c, r, x, w) else {
+            continue;
+        };
+        let (a, b) = (t0.max(0.0), t1);
+        if b <= a {
+            continue;
+        }
+        // The whole chord, and a piece of it.
+        for (a, b) in [(a, b), (a + 0.3 * (b - a), a + 0.8 * (b - a))] {
+            let want = World::depth(&g, x, w, a, b);
+            let got = gas_depth(&g, x, w, a, b);
+            assert!(
+                (got - want).abs() <= 1e-10 * want + 1e-13 * g.sigma0 * r,
+                "{profile:?}, r {r}, sigma0 {}, offset {off}: closed form {got}, quadrature \
+                 {want}",
+                g.sigma0
+            );
+            chords += 1;
+        }
+    }
+    assert!(chords > 800, "{chords} chords");
+}
+
+/// The AO reference at the point (0, 0, 1) on top of a unit sphere, seen by the centre pixel,
+/// with gas: (a) thin constant gas, optical depth `tau << 1` along any chord, far above the
+/// plane: with uniform weighting `1 - AO = (sigma / 2 pi) integral over the ball of |y -
+/// x|^-2 dy = (sigma / 2 pi) (pi / d) [(r^2 - d^2) ln((d + r) / (d - r)) + 2 d r]` to first
+/// order in `tau` (the ball's chord integrated over directions is its volume seen with the
+/// `t^2` of the solid angle left out); (b) a gas sphere of any profile centred on the normal,
+/// outside the point or around it, with and without a reach: by symmetry `1 - AO` is the
+/// one-dimensional integral over the angle `theta` from the normal of `1 - exp(-tau(theta))`
+/// times `sin theta` (uniform) or `2 sin theta cos theta` (cosine), `tau` from the quadrature
+/// of the density (`World::depth`).
+#[test]
+fn verify_ao_reference_gas_matches_closed_forms() {
+    use super::ao::{reference, settings, AoRef, SIDE};
+    use super::quad;
+    use gtsphere::render::ao::Weighting;
+
+    let x = DVec3::Z;
+    let n = f64::from(SIDE * SIDE);
+    let centre = (3 * 9 + 4) as usize;
+    let base = at(DVec3::ZERO, Geometry::Sphere { r: 1.0 }, None);
+    // A gas sphere whose optical depth along a diameter is `tau`.
+    let gas = |c: DVec3, r: f64, tau: f64, profile: Profile| {
+        at(c, Geometry::Sphere { r }, Some(mat((-tau).exp(), profile)))
+    };
+    let ao = |node: Node, reach: f64, w: Weighting, seed: u64| {
+        let scene = desc(vec![base.clone(), node], None);
+        let mut s = settings(0);
+        s.reach = reach;
+        s.weighting = w;
+        let world = World::new(&scene, true);
+        (reference(&world, &s, seed)[centre], world)
+    };
+
+    // (a) Thin constant gas: sigma r = 1e-6.
+    let (c, r) = (DVec3::new(0.3, 0.0, 2.0), 0.6);
+    let d = (c - x).length();
+    let sigma = 1e-6 / r;
+    let want = sigma / 2.0 * ((r * r - d * d) * ((d + r) / (d - r)).ln() + 2.0 * d * r) / d;
+    let (got, _) = ao(
+        gas(c, r, 2.0 * sigma * r, Profile::Constant),
+        f64::INFINITY,
+        Weighting::Uniform,
+        1,
+    );
+    let AoRef::Estimate { p, gas: true } = got else {
+        panic!("thin gas: reference {got:?}");
+    };
+    // 1 - V is at most tau_max = 2 sigma r, so its variance is at most tau_max (1 - AO); and
+    // 1 - exp(-tau) is tau to within tau^2 / 2.
+    let tau_max = 2.0 * sigma * r;
+    let sd = (tau_max * want / n).sqrt();
+    assert!(
+        ((1.0 - p) - want).abs() <= 5.0 * sd + tau_max * want,
+        "thin gas: 1 - AO {}, closed form {want} (sd {sd:.1e})",
+        1.0 - p
+    );
+    assert!(want > 10.0 * (5.0 * sd), "thin gas: the check is too loose");
+
+    // (b) A gas sphere centred at x + h n, radius r, diameter depth tau, reach D.
+    let cases = [
+        (1.0, 0.5, 2.0, Profile::Constant, f64::INFINITY),
+        (1.0, 0.5, 2.0, Profile::Constant, 0.8),
+        (1.0, 0.6, 5.0, Profile::Linear, f64::INFINITY),
+        (1.2, 0.7, 3.0, Profile::Quadratic, 1.0),
+        (1.0, 0.5, 40.0, Profile::Gaussian(0.3), f64::INFINITY),
+        (0.2, 0.6, 3.0, Profile::Constant, f64::INFINITY),
+        (0.2, 0.6, 3.0, Profile::Constant, 0.7),
+        (0.3, 0.9, 2.0, Profile::Gaussian(0.5), 0.6),
+        (0.1, 0.5, 4.0, Profile::Linear, f64::INFINITY),
+    ];
+    for (k, (h, r, tau, profile, reach)) in cases.into_iter().enumerate() {
+        for w in [Weighting::Cosine, Weighting::Uniform] {
+            let (got, world) = ao(
+                gas(x + h * DVec3::Z, r, tau, profile),
+                reach,
+                w,
+                10 + k as u64,
+            );
+            let g = world.prims[1].gas().expect("gas");
+            let depth = |theta: f64| {
+                let dir = DVec3::new(theta.sin(), 0.0, theta.cos());
+                match sphere_roots(g.c, g.r, x, dir) {
+                    Some((t0, t1)) if t1.min(reach) > t0.max(0.0) => {
+                        World::depth(&g, x, dir, t0.max(0.0), t1.min(reach))
+                    }
+                    _ => 0.0,
+                }
+            };
+            let density = |theta: f64| match w {
+                Weighting::Uniform => theta.sin(),
+                Weighting::Cosine => 2.0 * theta.sin() * theta.cos(),
+            };
+            // Kinks: the sphere's rim seen from outside, and where the reach crosses it.
+            let mut cuts = vec![0.0, std::f64::consts::FRAC_PI_2];
+            if h > r {
+                cuts.push((r / h).asin());
+            }
+            if reach.is_finite() {
+                let cos = (reach * reach + h * h - r * r) / (2.0 * reach * h);
+                if cos.abs() < 1.0 {
+                    cuts.push(cos.acos());
+                }
+            }
+            cuts.retain(|t| *t <= std::f64::consts::FRAC_PI_2);
+            cuts.sort_by(f64::total_cmp);
+            let blocked: f64 = cuts
+                .windows(2)
+                .map(|p| quad::scalar(|t| -(-depth(t)).exp_m1() * density(t), p[0], p[1], 1e-10))
+                .sum();
+            let want = 1.0 - blocked;
+            let AoRef::Estimate { p, gas: true } = got else {
+                panic!("case {k} {w:?}: reference {got:?}");
+            };
+            let sigma = (want * (1.0 - want) / n).sqrt();
+            assert!(
+                (p - want).abs() <= 5.0 * sigma && blocked > 0.02,
+                "case {k} {w:?}: reference {p}, integral {want} (sigma {sigma:.1e})"
+            );
+        }
+    }
+}
+
+/// The AO refusal judge (`ao::Unsupported::judge`) takes a message that gives both counts
+/// after "this scene has" and rejects one that leaves a count out, gives a wrong one, or
+/// names ellipsoids.
+#[test]
+fn verify_ao_refusal_judge_needs_both_counts() {
+    use super::ao::Unsupported;
+
+    let u = Unsupported { gas: 12, rounds: 3 };
+    let head = "ambient occlusion knows ..., and this scene has ";
+    for good in [
+        "12 gas spheres, 3 cylinders or cones",
+        "12 gas spheres and 3 cylinders and cones",
+        "3 closed cylinders or cones, 12 gas spheres",
+    ] {
+        let m = format!("{head}{good}");
+        assert_eq!(u.judge(&m), None, "{m}");
+    }
+    for bad in [
+        "12 gas spheres",
+        "2 gas spheres, 3 cylinders or cones",
+        "12 gas spheres, 13 cylinders or cones",
+        "12 gas spheres, 3 ellipsoids, 3 cylinders or cones",
+        "3 cylinders or cones",
+    ] {
+        let m = format!("{head}{bad}");
+        assert!(u.judge(&m).is_some(), "{m}");
+    }
+    assert!(u.judge("12 gas spheres, 3 cylinders").is_some());
 }
