@@ -124,7 +124,7 @@ fn angle(a: DVec3, b: DVec3) -> f64 {
     a.dot(b).clamp(-1.0, 1.0).acos()
 }
 
-/// Whether the circle of `c` crosses the cap `domain` (meets it and is not wholly inside).
+/// Whether the circle of `c` has a point in the cap `domain`.
 fn crosses(c: &Cap, domain: &Cap) -> bool {
     let (delta, beta, theta) = (
         angle(domain.axis, c.axis),
