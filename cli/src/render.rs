@@ -510,6 +510,9 @@ pub fn run(args: &RenderArgs) -> Result<ExitCode, Error> {
     if let Some(note) = exact_ao.and_then(|a| ao::cost_note(&a, &scene_counts)) {
         say(note);
     }
+    if let Some(note) = exact_ao.and_then(|a| ao::gas_note(&a, prep.gas_spheres)) {
+        say(note);
+    }
     let bar = TileBar::new(!args.quiet);
     let done = pool.install(|| render_view(&view, opts, &bar))?;
     match opts.region {

@@ -182,6 +182,25 @@ pub fn cost_note(ao: &AoSettings, counts: &SurfaceCounts) -> Option<String> {
     })
 }
 
+/// From how many gas spheres exact AO with no reach is worth a note on its cost.
+const MANY_GAS: usize = 200;
+
+/// A note on the cost of exact AO with no reach through `gas` gas spheres, when there are
+/// many: each point integrates the gas's transmittance over the directions between the
+/// circles of every gas sphere it sees, and each evaluation sums the depths of them all, so
+/// the work per pixel grows about as their number squared (tens of milliseconds among 40 on
+/// `samples/gas.wrl`, about 2 s among 250 in a random cloud: docs/benchmarks.md).
+pub fn gas_note(ao: &AoSettings, gas: usize) -> Option<String> {
+    (ao.reach.is_infinite() && gas >= MANY_GAS).then(|| {
+        format!(
+            "note: with no --ao-reach, exact AO through gas integrates over every gas sphere a \
+             point sees ({gas} in the scene), at a cost per pixel that grows about as their \
+             number squared: tens of milliseconds among 40, about 2 s among 250. \
+             --ao-reach D bounds it to those within D"
+        )
+    })
+}
+
 /// What a render with `ao` computes, in a sentence; `grid` is the voxel method's.
 pub fn describe(ao: &AoSettings, grid: Option<&voxel::Grid>) -> String {
     let method = match ao.method {
@@ -247,5 +266,15 @@ mod tests {
         );
         ao.reach = 2.0;
         assert_eq!(cost_note(&ao, &counts(10 * MANY_FACES, 0)), None);
+    }
+
+    #[test]
+    fn the_gas_note_comes_with_no_reach_among_many_gas_spheres_only() {
+        let mut ao = AoSettings::default();
+        let note = gas_note(&ao, MANY_GAS).expect("a note");
+        assert!(note.contains("--ao-reach") && note.contains(&MANY_GAS.to_string()));
+        assert_eq!(gas_note(&ao, MANY_GAS - 1), None);
+        ao.reach = 2.0;
+        assert_eq!(gas_note(&ao, 10 * MANY_GAS), None);
     }
 }
