@@ -7,6 +7,7 @@
 //! - `polygon`: what a triangle or a face of a Box blocks, an intersection of caps;
 //! - `bracket`: a Cylinder or a Cone, between the polyhedra inscribed in it and about it;
 //! - `gas`: what gas spheres take from the opaque occluders' AO, by nested quadrature;
+//! - `supported`: which scenes exact AO takes;
 //! - `union`: the measure of the union of those regions, in closed form;
 //! - `sky`: which directions the regions found so far block whole, to leave out occluders
 //!   hidden behind them;
@@ -25,6 +26,7 @@ pub(crate) mod gas;
 pub mod methods;
 pub(crate) mod polygon;
 pub(crate) mod sky;
+mod supported;
 pub(crate) mod union;
 
 use glam::DVec3;
@@ -43,6 +45,7 @@ use cap::{blocked_by_ball, Blocked, Cap};
 pub use methods::AoMethod;
 use polygon::{blocked_by_box, blocked_by_triangle, coplanar, is_sliver, BoxBlocks};
 use sky::Sky;
+pub(crate) use supported::unsupported;
 pub use union::Weighting;
 use union::{
     covered_fraction, covered_fraction_of_regions, Cone, RegionScratch, Regions, UnionScratch,
@@ -221,8 +224,10 @@ pub(crate) fn unoccluded_to(
         around.gather_gas(&prep.bvh, sky, &mut s.gas, &mut s.stack);
     }
     if !s.rounds.is_empty() {
-        // (`unsupported` refuses gas beside Cylinders and Cones.)
-        debug_assert!(s.gas.is_empty());
+        debug_assert!(
+            s.gas.is_empty(),
+            "`unsupported` refuses gas beside round solids"
+        );
         return bracketed(prep, (x, n), (reach, w), tol, s);
     }
     let v = if s.regions.is_empty() {
@@ -424,8 +429,7 @@ impl Around {
         stack: &mut Vec<u32>,
     ) {
         let Around { x, n, reach, .. } = *self;
-        // (A point on a gas sphere's surface, as the per-particle table takes one, does not
-        // see that sphere.)
+        // (A gas sphere's own surface point, for the per-particle table, does not see it.)
         let own = self.own.and_then(Opaque::sphere);
         bvh.near_region(
             |lo, hi| self.may_hold((lo, hi), (0.0, reach), sky),
@@ -585,58 +589,6 @@ pub(crate) fn radiance_of_hit(
         error: colour.max_element() * error,
         covered: true,
     }
-}
-
-/// Why `prep` cannot be rendered with exact AO, if it cannot: the occluders exact AO knows
-/// are opaque spheres, triangles and Boxes (exactly), closed Cylinders and Cones (to the
-/// tolerance, `bracket`), and gas spheres (to the tolerance, [`gas`]) where no Cylinder or
-/// Cone occludes.
-pub(crate) fn unsupported(prep: &Prepared) -> Option<String> {
-    let (mut ellipsoids, mut gas) = (0, 0);
-    for q in prep.bvh.packed() {
-        if q.is_ellipsoid() {
-            ellipsoids += 1;
-        } else if q.is_gas() {
-            gas += 1;
-        }
-    }
-    let (mut open, mut closed) = (0, 0);
-    for t in &prep.surfaces.items {
-        if let Traced::Solid { solid, .. } = t {
-            if bracket::is_round(solid) {
-                if bracket::is_closed_round(solid) {
-                    closed += 1;
-                } else {
-                    open += 1;
-                }
-            }
-        }
-    }
-    let beside = |count: usize, other: usize| if other > 0 { count } else { 0 };
-    let what = [
-        (beside(gas, closed), "gas spheres"),
-        (
-            beside(closed, gas),
-            "closed cylinders or cones beside the gas",
-        ),
-        (ellipsoids, "ellipsoids (spheres under a non-uniform scale)"),
-        (
-            open,
-            "open cylinders or cones (a side, cap or base left out)",
-        ),
-    ];
-    let found: Vec<String> = what
-        .iter()
-        .filter(|(count, _)| *count > 0)
-        .map(|(count, what)| format!("{count} {what}"))
-        .collect();
-    (!found.is_empty()).then(|| {
-        format!(
-            "ambient occlusion knows opaque spheres, triangles, boxes, closed cylinders and \
-             cones, and gas spheres where no cylinder or cone occludes, and this scene has {}",
-            found.join(", ")
-        )
-    })
 }
 
 #[cfg(test)]
