@@ -2,9 +2,17 @@
 # docs/evaluation.md's tables: each AO method and Tachyon's AO against gtsphere's exact AO.
 #   usage: benches/ao/run.sh [SCENE...]     (pymol, random, fcc; default all three)
 #   environment: DIR (default /tmp/gtsphere-ao-eval), GTSPHERE (default target/release/gtsphere),
-#                TACHYON (default tachyon), SIZE (default 384), REACH (default 4)
+#                TACHYON (default tachyon), SIZE (default 384), REACH (default 4),
+#                INF_SIZE (default 192)
+# Two parts per scene. At reach REACH, SIZE x SIZE: every method and Tachyon against exact AO
+# at that reach. At any distance (no --ao-reach), INF_SIZE x INF_SIZE, as exact AO at any
+# distance costs far more per pixel: Tachyon (which has no AO distance) at 4 to 1024 samples
+# and gtsphere's mc at 16, 256 and 1024 rays, both rendered again at INF_SIZE, against exact AO
+# at any distance (rows "inf ...").
 # Prints one line per method: scene, method, seconds (wall, one run), RMSE and largest error
-# against exact; heat maps (error scale 0 to 0.5) go to $DIR.
+# against exact, the mean of (method - exact) over the pixels where either is nonzero, and the
+# correlation of that error between horizontal neighbours (0 for independent noise); heat maps
+# (error scale 0 to 0.5) go to $DIR.
 set -eu
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 DIR=${DIR:-/tmp/gtsphere-ao-eval}
@@ -12,23 +20,52 @@ GTS=${GTSPHERE:-$ROOT/target/release/gtsphere}
 TACHYON=${TACHYON:-tachyon}
 SIZE=${SIZE:-384}
 REACH=${REACH:-4}
+INF_SIZE=${INF_SIZE:-192}
 mkdir -p "$DIR"
 
 secs() { python3 -c "import time; print('%.2f' % time.time())"; }
 
-compare() {  # scene method seconds image
-    line=$("$GTS" compare "$4" "$DIR/$1-exact.npy" --heatmap "$DIR/$1-$2-error.png" \
-        --heatmap-max 0.5)
-    echo "$1 | $2 | $3 | $(echo "$line" | tr '\n' ' ')"
+since() { python3 -c "print('%.2f' % ($(secs) - $1))"; }
+
+compare() {  # scene method seconds image [reference, default exact]
+    ref=$DIR/$1-${5:-exact}.npy
+    line=$("$GTS" compare "$4" "$ref" --heatmap "$DIR/$1-$2-error.png" --heatmap-max 0.5)
+    mean=$(python3 -c "
+import numpy as np
+a, b = (np.load(f).astype(float) for f in ('$4', '$ref'))
+a, b = (x if x.ndim == 2 else x[..., 0] for x in (a, b))
+a, b = np.nan_to_num(a), np.nan_to_num(b)
+m = (a != 0) | (b != 0)
+e, p = a - b, m[:, 1:] & m[:, :-1]
+c = np.corrcoef(e[:, 1:][p], e[:, :-1][p])[0, 1]
+print('mean difference %+.4f over %d pixels, neighbour correlation %.2f'
+      % (e[m].mean(), m.sum(), c))")
+    echo "$1 | $2 | $3 | $(echo "$line" | tr '\n' ' ') $mean"
 }
 
-render() {  # scene name options...
+render() {  # scene name options...: at $SIZE, reach $REACH; prints the seconds
     s=$1; n=$2; shift 2
     t0=$(secs)
     "$GTS" render "$DIR/$s.wrl" --viewpoint eval --integrator ao --ao-reach "$REACH" \
         --width "$SIZE" --height "$SIZE" --sampler center -o "$DIR/$s-$n.npy" -q "$@"
-    t1=$(secs)
-    python3 -c "print('%.2f' % ($t1 - $t0))"
+    since "$t0"
+}
+
+renderinf() {  # scene name options...: at $INF_SIZE, any distance; prints the seconds
+    s=$1; n=$2; shift 2
+    t0=$(secs)
+    "$GTS" render "$DIR/$s-inf.wrl" --viewpoint eval --integrator ao \
+        --width "$INF_SIZE" --height "$INF_SIZE" --sampler center -o "$DIR/$s-inf-$n.npy" -q "$@"
+    since "$t0"
+}
+
+run_tachyon() {  # scene samples: $DIR/$1.dat to $DIR/$1-tachyon$2.npy; prints the seconds
+    t0=$(secs)
+    "$TACHYON" "$DIR/$1.dat" -add_skylight 1 -skylight_samples "$2" -format PPM48 \
+        -o "$DIR/$1-tachyon$2.ppm" > /dev/null
+    t=$(since "$t0")
+    python3 "$ROOT/benches/ao/ppm48.py" "$DIR/$1-tachyon$2.ppm" "$DIR/$1-tachyon$2.npy"
+    echo "$t"
 }
 
 for s in ${*:-pymol random fcc}; do
@@ -41,19 +78,21 @@ for s in ${*:-pymol random fcc}; do
     t=$(render "$s" dir64 --ao-method directions --ao-directions 64); compare "$s" dir64 "$t" "$DIR/$s-dir64.npy"
     t=$(render "$s" sum --ao-method sum); compare "$s" sum "$t" "$DIR/$s-sum.npy"
     t=$(render "$s" voxel --ao-method voxel); compare "$s" voxel "$t" "$DIR/$s-voxel.npy"
-    # Tachyon's AO has no reach: also judged against mc at any distance, 1024 rays
-    "$GTS" render "$DIR/$s.wrl" --viewpoint eval --integrator ao --ao-method mc \
-        --ao-samples 1024 --width "$SIZE" --height "$SIZE" --sampler center \
-        -o "$DIR/$s-mcinf.npy" -q
     for n in 4 16 64 256; do
-        t0=$(secs)
-        "$TACHYON" "$DIR/$s.dat" -add_skylight 1 -skylight_samples "$n" -format PPM48 \
-            -o "$DIR/$s-tachyon$n.ppm" > /dev/null
-        t1=$(secs)
-        python3 "$ROOT/benches/ao/ppm48.py" "$DIR/$s-tachyon$n.ppm" "$DIR/$s-tachyon$n.npy"
-        compare "$s" "tachyon$n" "$(python3 -c "print('%.2f' % ($t1 - $t0))")" "$DIR/$s-tachyon$n.npy"
-        line=$("$GTS" compare "$DIR/$s-tachyon$n.npy" "$DIR/$s-mcinf.npy")
-        echo "$s | tachyon$n against mc 1024 at any distance | | $(echo "$line" | tr '\n' ' ')"
+        t=$(run_tachyon "$s" "$n"); compare "$s" "tachyon$n" "$t" "$DIR/$s-tachyon$n.npy"
+    done
+
+    # any distance, at $INF_SIZE: Tachyon has no AO distance, so this is its like-for-like row
+    python3 "$ROOT/benches/ao/scenes.py" "$s" "$DIR/$s-inf.wrl" "$DIR/$s-inf.dat" \
+        --size "$INF_SIZE"
+    t=$(renderinf "$s" exact); echo "$s | inf exact ($INF_SIZE) | $t |"
+    for n in 16 256 1024; do
+        t=$(renderinf "$s" "mc$n" --ao-method mc --ao-samples "$n")
+        compare "$s" "inf-mc$n" "$t" "$DIR/$s-inf-mc$n.npy" inf-exact
+    done
+    for n in 4 16 64 256 1024; do
+        t=$(run_tachyon "$s-inf" "$n")
+        compare "$s" "inf-tachyon$n" "$t" "$DIR/$s-inf-tachyon$n.npy" inf-exact
     done
 done
 
