@@ -249,21 +249,6 @@ pub(crate) fn unoccluded_to(
     ((v - loss).max(0.0), error)
 }
 
-/// [`unoccluded_to`] among occluders none of which is a Cylinder or a Cone: exact.
-#[cfg(test)]
-pub(crate) fn unoccluded(
-    prep: &Prepared,
-    x: DVec3,
-    n: DVec3,
-    own: Option<Opaque>,
-    reach: (f64, Weighting),
-    s: &mut AoScratch,
-) -> f64 {
-    let (v, error) = unoccluded_to(prep, x, n, own, reach, 0.0, s);
-    assert_eq!(error, 0.0, "a round solid near the point");
-    v
-}
-
 /// The end of [`unoccluded_to`] with the round solids `s.rounds` among the occluders: the
 /// unoccluded fractions among their inner and their outer polyhedra, with more sides until
 /// they are within `2 tol` (`bracket`); their mean and half their gap.

@@ -69,11 +69,15 @@ use glam::{DAffine3, DVec3};
 use gtsphere::render::ao::{AoMethod, AoSettings, Weighting};
 use gtsphere::render::Film;
 
+use super::reference::gas_depth::gas_depth;
 use super::reference::sphere_roots;
-use super::scenes::{Geometry, Material, Node, Profile, SceneDesc};
+use super::scenes::SceneDesc;
 use super::world::{Gas, Solid, World};
 use crate::support::Rng;
 use crate::surface_reference::{blocks_from, RefShape};
+
+mod refusal;
+pub use refusal::{ao_part, Unsupported};
 
 /// Directions per pixel: a `SIDE` x `SIDE` grid.
 pub const SIDE: u32 = 256;
@@ -130,99 +134,6 @@ pub fn cli_args(s: &AoSettings, tol: f64) -> String {
     };
     out.push_str(&format!(" --ao-weighting {w}"));
     out
-}
-
-/// What a scene holds that AO refuses together: gas spheres and Cylinders or Cones (the
-/// generator's Cylinders and Cones have all their parts, and it makes no ellipsoids). Either
-/// kind alone is rendered.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Unsupported {
-    pub gas: usize,
-    /// Cylinders and Cones.
-    pub rounds: usize,
-}
-
-/// Whether shape node `geometry` with `material` is a gas sphere.
-fn is_gas(geometry: &Geometry, material: &Option<Material>) -> bool {
-    matches!(geometry, Geometry::Sphere { .. }) && material.is_some_and(|m| m.transparency > 0.0)
-}
-
-impl Unsupported {
-    pub fn of(nodes: &[Node]) -> Unsupported {
-        let mut u = Unsupported::default();
-        for n in nodes {
-            match n {
-                Node::Shape { geometry, material } => {
-                    if is_gas(geometry, material) {
-                        u.gas += 1;
-                    }
-                    if matches!(geometry, Geometry::Cylinder { .. } | Geometry::Cone { .. }) {
-                        u.rounds += 1;
-                    }
-                }
-                Node::Group { children, .. } => {
-                    let inner = Unsupported::of(children);
-                    u.gas += inner.gas;
-                    u.rounds += inner.rounds;
-                }
-                Node::Point(_) | Node::Directional(_) => {}
-            }
-        }
-        u
-    }
-
-    /// Whether AO must refuse the scene: it has gas and Cylinders or Cones.
-    pub fn refused(&self) -> bool {
-        self.gas > 0 && self.rounds > 0
-    }
-
-    /// What is wrong with `message`, the library's refusal: what it says the scene has (after
-    /// "this scene has") must give the count of gas spheres and the count of Cylinders and
-    /// Cones (a number followed by words naming cylinders or cones), and name no ellipsoids.
-    pub fn judge(&self, message: &str) -> Option<String> {
-        let m = message.to_lowercase();
-        let Some(at) = m.rfind("this scene has") else {
-            return Some("does not say what the scene has".into());
-        };
-        let has = &m[at + "this scene has".len()..];
-        // The phrases of the list, each a count and what it counts.
-        let phrases: Vec<&str> = has
-            .split([',', ';'])
-            .flat_map(|p| p.split(" and "))
-            .map(str::trim)
-            .collect();
-        let counts = |n: usize, words: &[&str]| {
-            phrases.iter().any(|p| {
-                p.split_whitespace().next() == Some(n.to_string().as_str())
-                    && words.iter().any(|w| p.contains(w))
-            })
-        };
-        if !counts(self.gas, &["gas sphere"]) {
-            return Some(format!("does not say {} gas sphere(s)", self.gas));
-        }
-        if !counts(self.rounds, &["cylinder", "cone"]) {
-            return Some(format!("does not say {} cylinders or cones", self.rounds));
-        }
-        if has.contains("ellipsoid") {
-            return Some("names ellipsoids, which the scene has none of".into());
-        }
-        None
-    }
-}
-
-/// `nodes` without their gas spheres.
-pub fn ao_part(nodes: &[Node]) -> Vec<Node> {
-    nodes
-        .iter()
-        .filter_map(|n| match n {
-            Node::Shape { geometry, material } => (!is_gas(geometry, material)).then(|| n.clone()),
-            Node::Group { xf, children } => Some(Node::Group {
-                xf: *xf,
-                children: ao_part(children),
-            }),
-            _ => Some(n.clone()),
-        })
-        .collect()
 }
 
 /// The reference at one pixel.
@@ -375,60 +286,6 @@ fn rises(o: &Occluder, x: DVec3, n: DVec3, reach: f64, band: f64) -> bool {
 /// `reach` of `x` (`band`: rounding, counted against it).
 fn gas_rises(g: &Gas, x: DVec3, n: DVec3, reach: f64, band: f64) -> bool {
     (g.c - x).length() - g.r <= reach + band && n.dot(g.c - x) + g.r > -band
-}
-
-/// `erf(x)` from the series `2/sqrt(pi) exp(-x^2) sum_k (2 x^2)^k x / (1 3 ... (2k + 1))`,
-/// whose terms are all of the sign of `x` (no cancellation); 1 in magnitude past 6, where
-/// `erfc` is below 2e-17.
-pub fn erf(x: f64) -> f64 {
-    if x.abs() >= 6.0 {
-        return x.signum();
-    }
-    let x2 = x * x;
-    let (mut term, mut sum) = (x, x);
-    let mut k = 0.0;
-    while term.abs() > 1e-17 * sum.abs() {
-        k += 1.0;
-        term *= 2.0 * x2 / (2.0 * k + 1.0);
-        sum += term;
-    }
-    std::f64::consts::FRAC_2_SQRT_PI * (-x2).exp() * sum
-}
-
-/// Optical depth of gas `g` along `x + s w` (`w` unit), `s` in `[a, b]` inside the sphere, in
-/// closed form: with `v` the parameter from the line's closest approach to the centre (at
-/// distance `d`) and `rho^2 = d^2 + v^2`, the integral over `v` of `sigma0 f(rho / r)`:
-/// constant `v`; quadratic `((r^2 - d^2) v - v^3 / 3) / r^2`; linear `v - (v rho + d^2
-/// asinh(v / d)) / (2 r)`; gaussian of width `s` `exp(-d^2 / (2 s^2 r^2)) s r sqrt(pi / 2)
-/// erf(v / (sqrt 2 s r))`. (`World::depth` integrates the density numerically; the
-/// self-test `verify_ao_gas_depth_closed_forms_match_quadrature` holds these to it.)
-pub fn gas_depth(g: &Gas, x: DVec3, w: DVec3, a: f64, b: f64) -> f64 {
-    let line = g.line(x, w);
-    let (va, vb) = (a - line.sc, b - line.sc);
-    let (r, d2) = (g.r, line.d2);
-    let integral = match g.m.profile {
-        Profile::Constant => vb - va,
-        Profile::Quadratic => {
-            ((r * r - d2) * (vb - va) - (vb.powi(3) - va.powi(3)) / 3.0) / (r * r)
-        }
-        Profile::Linear => {
-            let d = d2.sqrt();
-            let prim = |v: f64| {
-                let tail = if d > 0.0 { d2 * (v / d).asinh() } else { 0.0 };
-                (v * (d2 + v * v).sqrt() + tail) / 2.0
-            };
-            (vb - va) - (prim(vb) - prim(va)) / r
-        }
-        Profile::Gaussian(width) => {
-            let sr = width * r;
-            let k = std::f64::consts::SQRT_2 * sr;
-            (-d2 / (2.0 * sr * sr)).exp()
-                * sr
-                * (std::f64::consts::PI / 2.0).sqrt()
-                * (erf(vb / k) - erf(va / k))
-        }
-    };
-    g.sigma0 * integral.max(0.0)
 }
 
 /// The transmittance of the gas spheres `gas` along `x + s w`, `0 <= s <= reach`.

@@ -26,6 +26,7 @@ use super::world::{Gas, LightKind, Line, Prim, Solid, World};
 use crate::surface_reference::{blocks_from, first_hit, RefShape};
 
 mod breakpoints;
+pub mod gas_depth;
 
 /// Grid points per gas piece at which the light states are sampled.
 pub const GRID: usize = 64;

@@ -348,12 +348,12 @@ fn verify_ao_reference_matches_closed_forms() {
     }
 }
 
-/// The AO reference's closed-form optical depths (`ao::gas_depth`) equal the quadrature of
+/// The AO reference's closed-form optical depths (`reference::gas_depth`) equal the quadrature of
 /// the density (`World::depth`) on chords of every profile through, beside and from inside a
 /// sphere, grazing ones included; and its `erf` matches tabulated values.
 #[test]
 fn verify_ao_gas_depth_closed_forms_match_quadrature() {
-    use super::ao::{erf, gas_depth};
+    use super::reference::gas_depth::{erf, gas_depth};
     use super::world::Gas;
     use crate::support::Rng;
 

@@ -5,7 +5,8 @@
 use glam::DVec3;
 
 use super::super::cap::{blocked_by_ball, Blocked};
-use super::super::{unoccluded as exact, AoScratch, AoSettings, Weighting};
+use super::super::tests::unoccluded as exact;
+use super::super::{AoScratch, AoSettings, Weighting};
 use super::{directions, mc, sum, voxel, AoMethod};
 use crate::render::sampler::Rng;
 use crate::render::visibility::Opaque;

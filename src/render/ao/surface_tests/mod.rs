@@ -8,9 +8,10 @@ use glam::{DAffine3, DMat3, DQuat, DVec3};
 
 use super::cap::{blocked_by_ball, form_factor as one_cap, Blocked};
 use super::polygon::{blocked_by_box, blocked_by_polygon, BoxBlocks};
+use super::tests::unoccluded;
 use super::tests::Mix;
 use super::union::{covered_fraction_of_regions, RegionScratch, Regions, Weighting};
-use super::{unoccluded, AoScratch};
+use super::AoScratch;
 use crate::geom::shapes::{triangle_hit, Solid};
 use crate::render::visibility::Opaque;
 use crate::render::{self, PrepareOptions, Prepared};
