@@ -138,6 +138,20 @@ fn visibility(
     (-tau).exp()
 }
 
+/// The direction about `n` of the point `(s, t)` of the unit square, mapped so that equal
+/// areas have equal weight `w`: cosine, the disc's area lifted onto the hemisphere (Nusselt);
+/// uniform, `cos θ` uniform.
+fn weighted(n: DVec3, w: Weighting, s: f64, t: f64) -> DVec3 {
+    let (u, v) = n.any_orthonormal_pair();
+    let z = match w {
+        Weighting::Cosine => (1.0 - s).sqrt(),
+        Weighting::Uniform => 1.0 - s,
+    };
+    let rho = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * t;
+    z * n + rho * (phi.cos() * u + phi.sin() * v)
+}
+
 /// The stratified Monte Carlo estimate of AO at `x` (normal `n`), `side^2` directions, and
 /// the upper bound of its standard deviation (a mean of values in [0, 1]).
 fn monte_carlo(
@@ -147,21 +161,12 @@ fn monte_carlo(
     side: u32,
     rng: &mut Mix,
 ) -> (f64, f64) {
-    let (u, v) = n.any_orthonormal_pair();
     let mut sum = 0.0;
     for i in 0..side {
         for j in 0..side {
             let s = (f64::from(i) + rng.next()) / f64::from(side);
             let t = (f64::from(j) + rng.next()) / f64::from(side);
-            // Cosine: the disc's area mapped up (Nusselt); uniform: cos θ uniform.
-            let z = match w {
-                Weighting::Cosine => (1.0 - s).sqrt(),
-                Weighting::Uniform => 1.0 - s,
-            };
-            let rho = (1.0 - z * z).max(0.0).sqrt();
-            let phi = 2.0 * PI * t;
-            let dir = z * n + rho * (phi.cos() * u + phi.sin() * v);
-            sum += visibility(prep, (x, dir), reach, own, boxes);
+            sum += visibility(prep, (x, weighted(n, w, s, t)), reach, own, boxes);
         }
     }
     let count = f64::from(side * side);
@@ -507,15 +512,7 @@ fn a_particles_mean_among_gas_takes_monte_carlo() {
         let mut sum = 0.0;
         for _ in 0..N {
             let n = rng.unit();
-            let (u, v) = n.any_orthonormal_pair();
-            let (s1, s2) = (rng.next(), rng.next());
-            let z = match w {
-                Weighting::Cosine => (1.0 - s1).sqrt(),
-                Weighting::Uniform => 1.0 - s1,
-            };
-            let rho = (1.0 - z * z).max(0.0).sqrt();
-            let phi = 2.0 * PI * s2;
-            let dir = z * n + rho * (phi.cos() * u + phi.sin() * v);
+            let dir = weighted(n, w, rng.next(), rng.next());
             sum += visibility(&prep, (p.center + p.radius * n, dir), reach, Some(k), &[]);
         }
         let mc = sum / N as f64;
