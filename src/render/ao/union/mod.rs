@@ -253,7 +253,7 @@ pub fn covered_fraction(n: DVec3, caps: &[Cap], w: Weighting, s: &mut UnionScrat
     // A cap that a larger one holds by far (the test `meets` begins with) changes neither the
     // union nor any other circle's pieces inside or outside it: left out first, at one dot
     // product per pair and no crossing. (On the PyMOL rod of docs/evaluation.md at any
-    // reach, most caps that the sky leaves are such: 14 times faster there.)
+    // reach, most caps that the sky leaves are such: 32 x 32 pixels in 2.8 s rather than 109 s.)
     let mut k = 1;
     while k < s.circles.len() {
         let ci = s.circles[k];
