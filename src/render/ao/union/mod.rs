@@ -214,6 +214,29 @@ fn meets(i: &Circle, j: &Circle) -> Meets {
     Meets::Crosses(mid - half, mid + half)
 }
 
+/// Whether some circle of `circles` holds the cone of unit `axis` and radius `angle` (of
+/// cosine `cos` and sine `sin`) by far: its radius larger and its axis nearer than the
+/// difference of the radii by a margin, the test [`meets`] begins with.
+fn held_by_far(circles: &[Circle], (axis, cos, sin, angle): (DVec3, f64, f64, f64)) -> bool {
+    circles
+        .iter()
+        .any(|c| angle < c.angle && axis.dot(c.axis) > cos * c.cos + sin * c.sin + 1e-9)
+}
+
+/// Leaves out of `circles[from..]` the caps that another of them holds by far
+/// ([`held_by_far`]).
+fn drop_held(circles: &mut Vec<Circle>, from: usize) {
+    let mut k = from;
+    while k < circles.len() {
+        let c = circles[k];
+        if held_by_far(&circles[from..], (c.axis, c.cos, c.sin, c.angle)) {
+            circles.swap_remove(k);
+        } else {
+            k += 1;
+        }
+    }
+}
+
 /// How directions are weighted in the measure of the covered part of the hemisphere.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Weighting {
@@ -254,18 +277,7 @@ pub fn covered_fraction(n: DVec3, caps: &[Cap], w: Weighting, s: &mut UnionScrat
     // union nor any other circle's pieces inside or outside it: left out first, at one dot
     // product per pair and no crossing. (On the PyMOL rod of docs/evaluation.md at any
     // reach, most caps that the sky leaves are such: 32 x 32 pixels in 2.8 s rather than 109 s.)
-    let mut k = 1;
-    while k < s.circles.len() {
-        let ci = s.circles[k];
-        let held = s.circles[1..].iter().any(|cj| {
-            ci.angle < cj.angle && ci.axis.dot(cj.axis) > ci.cos * cj.cos + ci.sin * cj.sin + 1e-9
-        });
-        if held {
-            s.circles.swap_remove(k);
-        } else {
-            k += 1;
-        }
-    }
+    drop_held(&mut s.circles, 1);
     let mut sum = 0.0;
     for i in 0..s.circles.len() {
         let ci = s.circles[i];

@@ -4,7 +4,7 @@
 
 use glam::DVec3;
 
-use super::{meets, Circle, Meets, Regions, Weighting};
+use super::{drop_held, held_by_far, meets, Circle, Meets, Regions, Weighting};
 use crate::render::ao::cap::Cap;
 
 /// [`meets`] of circles `i` and `j` of `circles`, with the crossings of two circles
@@ -236,19 +236,7 @@ pub fn covered_fraction_of_regions(
             .filter(|c| !below_horizon(n, c))
             .map(|c| Circle::new(c.axis, c.cos)),
     );
-    let held = |caps: &[Circle], (axis, cos, sin, angle): (DVec3, f64, f64, f64)| {
-        caps.iter()
-            .any(|c| angle < c.angle && axis.dot(c.axis) > cos * c.cos + sin * c.sin + 1e-9)
-    };
-    let mut k = 0;
-    while k < s.caps.len() {
-        let c = s.caps[k];
-        if held(&s.caps, (c.axis, c.cos, c.sin, c.angle)) {
-            s.caps.swap_remove(k);
-        } else {
-            k += 1;
-        }
-    }
+    drop_held(&mut s.caps, 0);
     for &c in &s.caps {
         s.starts.push(s.circles.len() as u32);
         s.cones.push((c.axis, c.cos, c.sin, c.angle));
@@ -262,7 +250,7 @@ pub fn covered_fraction_of_regions(
         }
         let b = regions.bound(k);
         let (sin, cos) = b.angle.sin_cos();
-        if held(&s.caps, (b.axis, cos, sin, b.angle)) {
+        if held_by_far(&s.caps, (b.axis, cos, sin, b.angle)) {
             continue;
         }
         s.starts.push(s.circles.len() as u32);
